@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs every Debian package acoustic_firmness needs to build, test and run.
+# Idempotent: packages already present are left alone. Needs root (or sudo).
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain and checks
+  build-essential cmake pkg-config clang-format clang-tidy cppcheck catkin-lint
+  # numerics
+  libgsl-dev libfftw3-dev
+  # ROS 1 from Debian
+  catkin python3-catkin-pkg ros-core-dev ros-message-generation ros-message-runtime
+  libroscpp-dev librosbag-dev python3-rostest python3-rosbag python3-roslaunch python3-rostopic python3-rosnode python3-rosbag librostest-dev rosbash
+  libstd-msgs-dev python3-std-msgs ros-std-msgs libgeometry-msgs-dev python3-geometry-msgs ros-geometry-msgs
+  libvisualization-msgs-dev python3-visualization-msgs
+  libdiagnostic-msgs-dev python3-diagnostic-msgs libdiagnostic-updater-dev
+  liburdfdom-dev liburdfdom-headers-dev
+  libgtest-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "setup: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "setup: installing ${missing[*]}"
+$SUDO apt-get update -q
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

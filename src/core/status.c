@@ -1,0 +1,29 @@
+/* status.c — status strings and the process-wide GSL error policy. */
+#include "status.h"
+
+#include <gsl/gsl_errno.h>
+
+const char *af_strerror(af_status s)
+{
+  switch (s) {
+  case AF_OK: return "success";
+  case AF_EINVAL: return "argument outside its accepted range";
+  case AF_ENOMEM: return "out of memory";
+  case AF_ENOCONV: return "iteration did not converge";
+  case AF_ENOROOT: return "no root in the searched bracket";
+  case AF_ENUMERIC: return "non-finite value in a computation";
+  case AF_ENOLOBE: return "requested spectral lobe does not exist";
+  case AF_ESIZE: return "buffer too small";
+  case AF_EIO: return "input/output error";
+  case AF_ENODATA: return "not enough signal";
+  case AF_EROS: return "ROS layer error";
+  }
+  return "unknown status";
+}
+
+void af_status_init(void)
+{
+  /* GSL's default handler calls abort(); a grading station must not die on a
+   * bad apple, so every GSL status is checked where it is returned instead. */
+  gsl_set_error_handler_off();
+}
