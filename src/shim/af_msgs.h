@@ -1,0 +1,137 @@
+/* af_msgs.h — C mirrors of this package's ROS messages (msg/*.msg), plus the
+ * few standard ones the node uses. Plain structs, SI units in the names.
+ *
+ * Strings are fixed-size, NUL-terminated arrays: the shim truncates longer
+ * incoming strings (a frame_id longer than AF_FRAME_ID_MAX - 1 is cut) and
+ * never overflows. Arrays in incoming messages are borrowed: the pointer is
+ * valid only during the callback. */
+#ifndef AF_MSGS_H
+#define AF_MSGS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AF_FRAME_ID_MAX 64
+#define AF_TEXT_MAX 256
+#define AF_UNIT_MAX 16
+#define AF_SOURCE_MAX 16
+
+typedef struct {
+  uint32_t sec;
+  uint32_t nsec;
+} af_time;
+
+typedef struct {
+  af_time stamp;
+  char frame_id[AF_FRAME_ID_MAX];
+} af_header;
+
+typedef struct {
+  double x, y, z;
+} af_vec3;
+
+/* acoustic_firmness/SignalChunk */
+typedef struct {
+  af_header header;         /* stamp = time of data[0] */
+  uint64_t first_sample;    /* running index of data[0] */
+  double sample_rate_hz;
+  char unit[AF_UNIT_MAX];
+  const float *data;        /* borrowed (incoming) or caller-owned (outgoing) */
+  size_t n;                 /* samples in data */
+} af_signal_chunk;
+
+/* acoustic_firmness/AppleEstimate */
+typedef struct {
+  af_header header;
+  uint32_t apple_id;
+  double mass_kg;
+  double equatorial_radius_m;
+  double strike_radius_m; /* 0 = unknown */
+  af_vec3 stem_axis;      /* in header.frame_id; zero = unknown */
+  double confidence;      /* [0, 1] */
+} af_apple_estimate;
+
+/* acoustic_firmness/ExcitationBand */
+typedef struct {
+  af_header header;
+  uint32_t apple_id;
+  double contact_time_s;
+  double peak_force_n;
+  uint8_t lobe;
+  double band_low_hz;
+  double band_high_hz;
+  double resonance_hz;
+  double resonance_low_hz;
+  double resonance_high_hz;
+  double excitation_at_resonance_db;
+} af_excitation_band;
+
+/* acoustic_firmness/StrikeAdvice */
+typedef struct {
+  af_header header;
+  uint32_t apple_id;
+  double strike_radius_m;
+  double min_strike_radius_m;
+  double strike_latitude_rad;
+  bool rotate;
+  af_vec3 rotation_axis;
+  double rotation_angle_rad;
+  char text[AF_TEXT_MAX];
+} af_strike_advice;
+
+/* acoustic_firmness/Reliability */
+typedef struct {
+  af_header header;
+  uint32_t apple_id;
+  char source[AF_SOURCE_MAX]; /* "predicted" or "measured" */
+  bool reliable;
+  bool excites_mode;
+  bool no_damage;
+  double max_shear_stress_pa;
+  double yield_shear_stress_pa;
+  char reason[AF_TEXT_MAX];
+} af_reliability;
+
+/* visualization_msgs/Marker (the subset the node draws); published as a
+ * visualization_msgs/MarkerArray through af_marker_array. */
+typedef enum {
+  AF_MARKER_ARROW = 0,
+  AF_MARKER_CUBE = 1,
+  AF_MARKER_SPHERE = 2,
+  AF_MARKER_CYLINDER = 3,
+  AF_MARKER_LINE_STRIP = 4,
+  AF_MARKER_TEXT = 9
+} af_marker_type;
+
+#define AF_MARKER_MAX_POINTS 64
+
+typedef struct {
+  af_header header;
+  char ns[32];
+  int32_t id;
+  af_marker_type type;
+  bool delete_marker;     /* action DELETE instead of ADD */
+  af_vec3 position;       /* [m] */
+  double orientation[4];  /* quaternion x, y, z, w */
+  af_vec3 scale;          /* [m] */
+  float rgba[4];          /* [0, 1] */
+  double lifetime_s;      /* 0 = forever */
+  char text[AF_TEXT_MAX]; /* TEXT markers */
+  af_vec3 points[AF_MARKER_MAX_POINTS]; /* ARROW (2 points) and LINE_STRIP */
+  size_t n_points;
+} af_marker;
+
+typedef struct {
+  const af_marker *markers;
+  size_t n;
+} af_marker_array;
+
+#ifdef __cplusplus
+}
+#endif
+#endif
