@@ -80,8 +80,9 @@ af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_resu
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,
                                      double r_hi_m, double *r_min_m);
 
-/* One-line reason why r is not reliable ("" when reliable), into buf. */
-void af_model_reason(const af_model_result *r, char *buf, size_t len);
+/* One-line reason why r is not reliable ("" when reliable), into buf;
+ * lobe is the configured lobe (p->lobe). */
+void af_model_reason(const af_model_result *r, unsigned lobe, char *buf, size_t len);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,7 @@
 /* stress.h — contact pressure, subsurface shear and the yield criterion.
  *
  * a = sqrt(R d), p0 = 3 F / (2 pi a^2) (Johnson, Contact Mechanics, eq. 4.23;
- * equals 2 a E*/(pi R) when elastic; the paper's eq. 3 carries an extra
+ * equals 2 a E* / (pi R) when elastic; the paper's eq. 3 carries an extra
  * sqrt(R2) and is dimensionally wrong). The maximum shear stress lies on the
  * axis below the surface: tau_max = ratio(nu) p0 at z = depth(nu) a. The paper
  * uses 0.31 at 0.48 a; the exact Hertz values are 0.3100 at 0.481 a (nu 0.30),

@@ -1,0 +1,203 @@
+/* cli_flags.c — the flag table of firmness_model and its parser. */
+#include "cli_flags.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const af_cli_flag flags[] = {
+    {"E2", "impact.fruit_modulus_pa", AF_FLAG_DOUBLE, "fruit elastic modulus [Pa]"},
+    {"nu2", "impact.fruit_poisson", AF_FLAG_DOUBLE, "fruit Poisson ratio [-]"},
+    {"R2", "impact.strike_radius_m", AF_FLAG_DOUBLE, "local radius of curvature under the hammer [m]"},
+    {"e", "impact.restitution", AF_FLAG_DOUBLE, "coefficient of restitution [-]"},
+    {"mass", "fruit_mass_kg", AF_FLAG_DOUBLE, "fruit mass [kg]"},
+    {"density", "fruit_density_kg_m3", AF_FLAG_DOUBLE, "fruit density [kg/m3]"},
+    {"hammer-mass", "impact.hammer_mass_kg", AF_FLAG_DOUBLE, "hammer mass [kg]"},
+    {"v0", "impact.velocity_m_s", AF_FLAG_DOUBLE, "contact velocity [m/s]"},
+    {"hammer-E", "impact.hammer_modulus_pa", AF_FLAG_DOUBLE, "hammer tip modulus [Pa], 0 = rigid"},
+    {"hammer-nu", "impact.hammer_poisson", AF_FLAG_DOUBLE, "hammer tip Poisson ratio [-]"},
+    {"hammer-radius", "impact.hammer_radius_m", AF_FLAG_DOUBLE, "hammer tip radius [m], 0 = flat"},
+    {"gravity", "impact.gravity_m_s2", AF_FLAG_DOUBLE, "gravity along the strike [m/s2]"},
+    {"damping", "impact.damping", AF_FLAG_DAMPING, "damping law: paper | exact | hu-guo"},
+    {"lobe", "lobe", AF_FLAG_LOBE, "spectral lobe of the criterion, 1 = main lobe"},
+    {"band-level", "band_level", AF_FLAG_BAND, "half-power reading: power-half | amplitude-half"},
+    {"shear-ratio", "shear_ratio", AF_FLAG_SHEAR, "tau_max/p0: paper (0.31) | exact (for nu2)"},
+    {"yield-ratio", "yield_ratio", AF_FLAG_DOUBLE, "yield shear stress / E2 [-] (calibration)"},
+    {"modulus-factor", "modulus_factor", AF_FLAG_DOUBLE, "dynamic / quasi-static modulus [-]"},
+};
+#define N_FLAGS (sizeof flags / sizeof flags[0])
+
+/* The double field of a flag of kind AF_FLAG_DOUBLE. */
+static double *double_field(const af_cli_flag *f, af_model_params *p)
+{
+  static const struct {
+    const char *field;
+    size_t offset;
+  } offsets[] = {
+      {"impact.fruit_modulus_pa", offsetof(af_model_params, impact.fruit_modulus_pa)},
+      {"impact.fruit_poisson", offsetof(af_model_params, impact.fruit_poisson)},
+      {"impact.strike_radius_m", offsetof(af_model_params, impact.strike_radius_m)},
+      {"impact.restitution", offsetof(af_model_params, impact.restitution)},
+      {"fruit_mass_kg", offsetof(af_model_params, fruit_mass_kg)},
+      {"fruit_density_kg_m3", offsetof(af_model_params, fruit_density_kg_m3)},
+      {"impact.hammer_mass_kg", offsetof(af_model_params, impact.hammer_mass_kg)},
+      {"impact.velocity_m_s", offsetof(af_model_params, impact.velocity_m_s)},
+      {"impact.hammer_modulus_pa", offsetof(af_model_params, impact.hammer_modulus_pa)},
+      {"impact.hammer_poisson", offsetof(af_model_params, impact.hammer_poisson)},
+      {"impact.hammer_radius_m", offsetof(af_model_params, impact.hammer_radius_m)},
+      {"impact.gravity_m_s2", offsetof(af_model_params, impact.gravity_m_s2)},
+      {"yield_ratio", offsetof(af_model_params, yield_ratio)},
+      {"modulus_factor", offsetof(af_model_params, modulus_factor)},
+  };
+  for (size_t k = 0; k < sizeof offsets / sizeof offsets[0]; k++)
+    if (strcmp(offsets[k].field, f->field) == 0)
+      return (double *)((char *)p + offsets[k].offset);
+  return NULL;
+}
+
+const af_cli_flag *af_cli_flag_find(const char *name)
+{
+  if (strncmp(name, "--", 2) == 0)
+    name += 2;
+  for (size_t k = 0; k < N_FLAGS; k++)
+    if (strcmp(flags[k].name, name) == 0)
+      return &flags[k];
+  return NULL;
+}
+
+static bool parse_number(const char *text, double *out)
+{
+  char *end;
+  errno = 0;
+  *out = strtod(text, &end);
+  return end != text && *end == '\0' && errno != ERANGE;
+}
+
+bool af_cli_flag_set(const af_cli_flag *f, const char *text, af_model_params *p)
+{
+  double v;
+  af_status st = AF_OK;
+  switch (f->kind) {
+  case AF_FLAG_DOUBLE:
+    if (!parse_number(text, &v)) {
+      fprintf(stderr, "firmness_model: --%s '%s' is not a number\n", f->name, text);
+      return false;
+    }
+    *double_field(f, p) = v;
+    return true;
+  case AF_FLAG_LOBE:
+    if (!parse_number(text, &v) || v != floor(v) || v < 1 || v > AF_MODEL_MAX_LOBES) {
+      fprintf(stderr, "firmness_model: --lobe '%s' must be a whole number in 1 .. %d\n", text,
+              AF_MODEL_MAX_LOBES);
+      return false;
+    }
+    p->lobe = (unsigned)v;
+    return true;
+  case AF_FLAG_DAMPING: st = af_damping_law_parse(text, &p->impact.damping); break;
+  case AF_FLAG_BAND: st = af_band_level_parse(text, &p->band_level); break;
+  case AF_FLAG_SHEAR: st = af_shear_ratio_parse(text, &p->shear_ratio); break;
+  }
+  if (st != AF_OK)
+    fprintf(stderr, "firmness_model: --%s '%s' must be one of: %s\n", f->name, text,
+            strchr(f->help, ':') + 2);
+  return st == AF_OK;
+}
+
+double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p)
+{
+  switch (f->kind) {
+  case AF_FLAG_DOUBLE: return *double_field(f, (af_model_params *)p);
+  case AF_FLAG_LOBE: return p->lobe;
+  case AF_FLAG_DAMPING: return p->impact.damping;
+  case AF_FLAG_BAND: return p->band_level;
+  case AF_FLAG_SHEAR: return p->shear_ratio;
+  }
+  return NAN;
+}
+
+/* --profile default|paper, looked for first so that later flags override it. */
+static bool apply_profile(int argc, char **argv, int first, af_model_params *p)
+{
+  *p = af_model_params_default();
+  for (int k = first; k < argc; k++) {
+    if (strcmp(argv[k], "--profile") != 0)
+      continue;
+    const char *v = k + 1 < argc ? argv[k + 1] : "";
+    if (strcmp(v, "paper") == 0)
+      *p = af_model_params_paper();
+    else if (strcmp(v, "default") != 0) {
+      fprintf(stderr, "firmness_model: --profile '%s' must be one of: default | paper\n", v);
+      return false;
+    }
+  }
+  return true;
+}
+
+static const af_cli_flag *flag_of_field(const char *field)
+{
+  for (size_t k = 0; k < N_FLAGS; k++)
+    if (strcmp(flags[k].field, field) == 0)
+      return &flags[k];
+  return NULL;
+}
+
+static bool validate(const af_model_params *p)
+{
+  af_param_error err;
+  if (af_model_params_check(p, &err) == AF_OK)
+    return true;
+  const af_cli_flag *f = flag_of_field(err.field);
+  fprintf(stderr, "firmness_model: --%s %g is outside the accepted range %s\n",
+          f ? f->name : err.field, err.value, err.range);
+  return false;
+}
+
+bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest, int *n_rest)
+{
+  if (n_rest)
+    *n_rest = 0;
+  if (!apply_profile(argc, argv, first, p))
+    return false;
+  for (int k = first; k < argc; k++) {
+    if (strcmp(argv[k], "--profile") == 0) {
+      k++;
+      continue;
+    }
+    const af_cli_flag *f = strncmp(argv[k], "--", 2) == 0 ? af_cli_flag_find(argv[k]) : NULL;
+    if (f == NULL) {
+      if (rest == NULL) {
+        fprintf(stderr, "firmness_model: unknown argument '%s' (see --help)\n", argv[k]);
+        return false;
+      }
+      rest[(*n_rest)++] = k;
+      continue;
+    }
+    if (k + 1 >= argc) {
+      fprintf(stderr, "firmness_model: --%s needs a value\n", f->name);
+      return false;
+    }
+    if (!af_cli_flag_set(f, argv[++k], p))
+      return false;
+  }
+  return validate(p);
+}
+
+void af_cli_print_flags(void)
+{
+  af_model_params d = af_model_params_default();
+  for (size_t k = 0; k < N_FLAGS; k++) {
+    const af_cli_flag *f = &flags[k];
+    char def[32];
+    switch (f->kind) {
+    case AF_FLAG_DOUBLE: snprintf(def, sizeof def, "%g", af_cli_flag_get(f, &d)); break;
+    case AF_FLAG_LOBE: snprintf(def, sizeof def, "%u", d.lobe); break;
+    case AF_FLAG_DAMPING: snprintf(def, sizeof def, "%s", af_damping_law_name(d.impact.damping)); break;
+    case AF_FLAG_BAND: snprintf(def, sizeof def, "%s", af_band_level_name(d.band_level)); break;
+    case AF_FLAG_SHEAR: snprintf(def, sizeof def, "%s", af_shear_ratio_name(d.shear_ratio)); break;
+    }
+    printf("  --%-15s %-52s (default %s)\n", f->name, f->help, def);
+  }
+}

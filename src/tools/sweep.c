@@ -1,0 +1,166 @@
+/* sweep.c — `firmness_model sweep`: CSV rows over a linear range of one flag,
+ * with a progress bar on stderr when stderr is a terminal. */
+#include "sweep.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli_flags.h"
+#include "report.h"
+
+typedef struct {
+  const af_cli_flag *param;
+  double from, to;
+  long steps;
+  const char *csv_path; /* NULL = stdout */
+} af_sweep_args;
+
+static bool parse_double_arg(const char *flag, const char *text, double *out)
+{
+  char *end;
+  errno = 0;
+  *out = strtod(text, &end);
+  if (end == text || *end != '\0' || !isfinite(*out)) {
+    fprintf(stderr, "firmness_model sweep: %s '%s' is not a finite number\n", flag, text);
+    return false;
+  }
+  return true;
+}
+
+/* Reads the sweep's own flags from the arguments the model parser left. */
+static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_args *a)
+{
+  double steps = NAN;
+  bool have_from = false, have_to = false;
+  memset(a, 0, sizeof *a);
+  for (int k = 0; k < n_rest; k++) {
+    const char *flag = argv[rest[k]];
+    const char *value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1 ? argv[rest[k + 1]] : NULL;
+    if (value == NULL) {
+      fprintf(stderr, "firmness_model sweep: unknown argument or missing value '%s'\n", flag);
+      return false;
+    }
+    k++;
+    if (strcmp(flag, "--param") == 0) {
+      a->param = af_cli_flag_find(value);
+      if (a->param == NULL) {
+        fprintf(stderr, "firmness_model sweep: --param '%s' is not a model flag (see --help)\n",
+                value);
+        return false;
+      }
+    } else if (strcmp(flag, "--from") == 0) {
+      have_from = parse_double_arg(flag, value, &a->from);
+      if (!have_from)
+        return false;
+    } else if (strcmp(flag, "--to") == 0) {
+      have_to = parse_double_arg(flag, value, &a->to);
+      if (!have_to)
+        return false;
+    } else if (strcmp(flag, "--steps") == 0) {
+      if (!parse_double_arg(flag, value, &steps))
+        return false;
+    } else if (strcmp(flag, "--csv") == 0) {
+      a->csv_path = value;
+    } else {
+      fprintf(stderr, "firmness_model sweep: unknown argument '%s' (see --help)\n", flag);
+      return false;
+    }
+  }
+  if (a->param == NULL || !have_from || !have_to || isnan(steps)) {
+    fprintf(stderr, "firmness_model sweep: needs --param NAME --from X --to Y --steps N\n");
+    return false;
+  }
+  if (steps != floor(steps) || steps < 1 || steps > 1e6) {
+    fprintf(stderr, "firmness_model sweep: --steps %g must be a whole number in 1 .. 1000000\n",
+            steps);
+    return false;
+  }
+  if (a->param->kind != AF_FLAG_DOUBLE && a->param->kind != AF_FLAG_LOBE) {
+    fprintf(stderr, "firmness_model sweep: --param %s is a choice, not a number: run each value\n",
+            a->param->name);
+    return false;
+  }
+  a->steps = (long)steps;
+  return true;
+}
+
+static void progress(long done, long total)
+{
+  int width = 40, filled = (int)(width * done / total);
+  fprintf(stderr, "\r[%.*s%*s] %ld/%ld", filled, "########################################",
+          width - filled, "", done, total);
+  if (done == total)
+    fputc('\n', stderr);
+  fflush(stderr);
+}
+
+/* Runs every point; a point the model refuses stops the sweep with the flag
+ * and value named, since later rows would silently miss. */
+static int run_sweep(const af_sweep_args *a, const af_model_params *base, FILE *out)
+{
+  af_model *m;
+  af_report rep;
+  bool bar = isatty(STDERR_FILENO);
+  char text[64];
+  if (af_model_create(&m) != AF_OK) {
+    fprintf(stderr, "firmness_model sweep: cannot create the model workspace\n");
+    return 1;
+  }
+  af_report_csv_header(out, a->param->name);
+  for (long k = 0; k < a->steps; k++) {
+    double v = a->steps == 1 ? a->from : a->from + (a->to - a->from) * k / (a->steps - 1);
+    af_model_params p = *base;
+    snprintf(text, sizeof text, "%.17g", v);
+    if (!af_cli_flag_set(a->param, text, &p)) {
+      af_model_destroy(m);
+      return AF_CLI_EXIT_USAGE;
+    }
+    af_param_error err;
+    af_status st = af_model_params_check(&p, &err);
+    if (st == AF_OK)
+      st = af_report_compute(m, &p, &rep);
+    if (st != AF_OK) {
+      fprintf(stderr, "firmness_model sweep: --%s %g: %s\n", a->param->name, v,
+              st == AF_EINVAL ? err.range : af_strerror(st));
+      af_model_destroy(m);
+      return st == AF_EINVAL ? AF_CLI_EXIT_USAGE : 1;
+    }
+    af_report_csv_row(out, v, &rep);
+    if (bar)
+      progress(k + 1, a->steps);
+  }
+  af_model_destroy(m);
+  return 0;
+}
+
+int af_sweep_main(int argc, char **argv, int first)
+{
+  af_model_params base;
+  af_sweep_args a;
+  int *rest = malloc((size_t)argc * sizeof *rest);
+  int n_rest = 0, code;
+  if (rest == NULL)
+    return 1;
+  if (!af_cli_parse_model(argc, argv, first, &base, rest, &n_rest) ||
+      !parse_sweep_args(argv, rest, n_rest, &a)) {
+    free(rest);
+    return AF_CLI_EXIT_USAGE;
+  }
+  free(rest);
+  FILE *out = a.csv_path ? fopen(a.csv_path, "w") : stdout;
+  if (out == NULL) {
+    fprintf(stderr, "firmness_model sweep: cannot write --csv %s: %s\n", a.csv_path,
+            strerror(errno));
+    return 1;
+  }
+  code = run_sweep(&a, &base, out);
+  if (a.csv_path && fclose(out) != 0 && code == 0) {
+    fprintf(stderr, "firmness_model sweep: error closing %s\n", a.csv_path);
+    code = 1;
+  }
+  return code;
+}

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# CLI tests of firmness_model: JSON keys, bad input (exit 2, flag named),
+# sweep CSV, profiles, bench. Usage: test_cli.sh /path/to/firmness_model
+set -u
+FM=${1:?path to firmness_model}
+PY=/usr/bin/python3
+pass=0
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+# expect_usage "what" pattern args...: exit code 2, one line on stderr naming pattern
+expect_usage() {
+  local pattern=$1
+  shift
+  "$FM" "$@" >"$tmp/out" 2>"$tmp/err"
+  local code=$?
+  if [ "$code" -ne 2 ]; then
+    bad "'$*' exited $code, expected 2"
+  elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
+    bad "'$*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
+  else
+    ok
+  fi
+}
+
+# json_check 'python expression on d' args...
+json_check() {
+  local expr=$1
+  shift
+  if "$FM" "$@" --json >"$tmp/json" 2>"$tmp/err" &&
+    "$PY" -c "import json,sys,math; d=json.load(open('$tmp/json')); sys.exit(0 if ($expr) else 1)"; then
+    ok
+  else
+    bad "'$* --json' does not satisfy: $expr ($(cat "$tmp/err"))"
+  fi
+}
+
+keys="contact_time_s peak_force_N max_deformation_m delivered_restitution lobes band_low_Hz band_high_Hz resonance_Hz excitation_at_resonance_dB max_contact_pressure_Pa max_shear_stress_Pa yield_shear_stress_Pa min_strike_radius_m excites_mode no_damage reliable"
+pykeys=$(printf "'%s'," $keys)
+json_check "all(k in d for k in [$pykeys])"
+json_check "all(set(l) == {'index','start_Hz','end_Hz','peak_Hz','band_low_Hz','band_high_Hz'} for l in d['lobes']) and [l['index'] for l in d['lobes']] == list(range(1, len(d['lobes']) + 1))"
+# The paper's optimal strike on the average apple, default profile: a ~1.3 ms,
+# ~35-40 N pulse, the 0S2 near 682 Hz (PHYSICS.md 5), reliable.
+json_check "1.2e-3 < d['contact_time_s'] < 1.5e-3 and 30 < d['peak_force_N'] < 40 and abs(d['resonance_Hz'] - 682) < 3 and d['reliable'] is True"
+# The flags land: a harder apple gives a shorter pulse.
+json_check "d['contact_time_s'] < 1.2e-3" --E2 12e6
+# Paper profile: lobe 2 at power-half never holds the 0S2 (PHYSICS.md 7).
+json_check "d['excites_mode'] is False and d['reliable'] is False" --profile paper
+json_check "d['excites_mode'] is True" --profile paper --lobe 1 --band-level amplitude-half
+# A sharp bump: bruise risk.
+json_check "d['no_damage'] is False and d['reliable'] is False" --R2 0.005
+
+expect_usage "--R2" --R2 -0.01
+expect_usage "--R2" --R2 0
+expect_usage "--mass" --mass 0
+expect_usage "--E2" --E2 -8e6
+expect_usage "--E2" --E2 nan
+expect_usage "--e" --e 1.5
+expect_usage "--e" --e 0
+expect_usage "--nu2" --nu2 0.5
+expect_usage "--nu2" --nu2 -0.1
+expect_usage "--hammer-mass" --hammer-mass abc
+expect_usage "--v0" --v0
+expect_usage "--damping" --damping linear
+expect_usage "--band-level" --band-level half
+expect_usage "--shear-ratio" --shear-ratio 0.3
+expect_usage "--lobe" --lobe 0
+expect_usage "--profile" --profile fancy
+expect_usage "--frobnicate" --frobnicate 3
+expect_usage "--steps" sweep --param E2 --from 2e6 --to 12e6 --steps 0
+expect_usage "--param" sweep --param colour --from 1 --to 2 --steps 2
+expect_usage "--E2" sweep --param E2 --from -1 --to 12e6 --steps 3
+
+if "$FM" sweep --param E2 --from 2e6 --to 12e6 --steps 6 >"$tmp/sweep.csv" 2>"$tmp/err" &&
+  [ "$(wc -l <"$tmp/sweep.csv")" -eq 7 ] && head -1 "$tmp/sweep.csv" | grep -q '^E2,contact_time_s,'; then
+  ok
+else
+  bad "sweep to stdout: $(cat "$tmp/err")"
+fi
+# Contact time falls as E2 rises (PHYSICS.md 7: 2.41 -> 1.17 ms over 2 -> 12 MPa).
+if "$PY" -c "
+import csv,sys
+rows=list(csv.DictReader(open('$tmp/sweep.csv')))
+t=[float(r['contact_time_s']) for r in rows]
+sys.exit(0 if all(a > b for a, b in zip(t, t[1:])) else 1)"; then ok; else bad "contact time not falling with E2"; fi
+if "$FM" sweep --param R2 --from 0.01 --to 0.05 --steps 3 --csv "$tmp/r2.csv" >/dev/null 2>&1 &&
+  [ "$(wc -l <"$tmp/r2.csv")" -eq 4 ]; then ok; else bad "sweep --csv"; fi
+
+if "$FM" bench --seconds 0.2 | grep -q "evaluations/second"; then ok; else bad "bench"; fi
+if "$FM" --help | grep -q -- "--hammer-radius"; then ok; else bad "--help lists flags"; fi
+
+echo "test_cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ] && [ "$pass" -gt 0 ]

@@ -1,0 +1,107 @@
+/* test_resonance.c — the 0S2 root of Lamb's equation and the sphere
+ * frequency/modulus conversions against PHYSICS.md 5. */
+#include "resonance.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "af_test.h"
+
+#define MPA 1e6 /* [Pa] */
+#define G 1e-3  /* [kg] */
+
+/* xi of Lamb's equation: PHYSICS.md 5, to 1e-4 absolute. */
+static void test_lamb_root(void)
+{
+  const double nu[] = {0.25, 0.30, 0.35, 0.40, 0.49};
+  const double xi_ref[] = {2.6399, 2.6462, 2.6519, 2.6569, 2.6648};
+  for (size_t i = 0; i < sizeof nu / sizeof nu[0]; ++i) {
+    double xi = NAN;
+    AF_CHECK_STATUS(af_resonance_lamb_root(nu[i], &xi), AF_OK);
+    AF_CHECK_ABS(xi, xi_ref[i], 1e-4);
+  }
+  /* the ends of the accepted range still give a root in the expected band */
+  double xi0 = NAN, xi_half = NAN;
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.0, &xi0), AF_OK);
+  AF_CHECK(xi0 > 2.5 && xi0 < 2.6399);
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.4999, &xi_half), AF_OK);
+  AF_CHECK(xi_half > 2.6648 && xi_half < 2.7);
+}
+
+/* E = C f^2 m^(2/3) rho^(1/3): C = 5.641 (nu 0.30), 5.833 (nu 0.35), to 0.1 %. */
+static void test_modulus_constant(void)
+{
+  const double nu[] = {0.30, 0.35};
+  const double c_ref[] = {5.641, 5.833};
+  const double f_hz = 700.0, m_kg = 175 * G, rho = 840.0;
+  for (size_t i = 0; i < 2; ++i) {
+    double xi = NAN;
+    AF_CHECK_STATUS(af_resonance_lamb_root(nu[i], &xi), AF_OK);
+    double e_pa = af_resonance_modulus_pa(xi, f_hz, nu[i], rho, m_kg);
+    AF_CHECK_REL(e_pa / (af_resonance_stiffness_factor(f_hz, m_kg) * cbrt(rho)), c_ref[i], 1e-3);
+  }
+}
+
+/* Frequency table for rho 840, nu 0.35 (PHYSICS.md 5), to 0.3 %. */
+static void test_frequency_table(void)
+{
+  const double e_pa[] = {2 * MPA, 8 * MPA, 12 * MPA};
+  const double m_kg[] = {100 * G, 175 * G, 250 * G};
+  const double f_ref[3][3] = {{411, 341, 303}, {821, 682, 605}, {1006, 835, 741}};
+  double xi = NAN;
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &xi), AF_OK);
+  for (size_t i = 0; i < 3; ++i)
+    for (size_t j = 0; j < 3; ++j)
+      AF_CHECK_REL(af_resonance_frequency_hz(xi, e_pa[i], 0.35, 840.0, m_kg[j]), f_ref[i][j],
+                   3e-3);
+}
+
+/* The inverse, the scaling laws and the helpers. */
+static void test_inverse_and_scaling(void)
+{
+  double xi = NAN;
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &xi), AF_OK);
+  const double e_pa = 8 * MPA, m_kg = 175 * G, rho = 840.0;
+  double f = af_resonance_frequency_hz(xi, e_pa, 0.35, rho, m_kg);
+  AF_CHECK_REL(af_resonance_modulus_pa(xi, f, 0.35, rho, m_kg), e_pa, 1e-12);
+  AF_CHECK_REL(af_resonance_frequency_hz(xi, af_resonance_modulus_pa(xi, 1000.0, 0.35, rho, m_kg),
+                                         0.35, rho, m_kg),
+               1000.0, 1e-12);
+  /* f ~ sqrt(E), f ~ m^(-1/3) */
+  AF_CHECK_REL(af_resonance_frequency_hz(xi, 4.0 * e_pa, 0.35, rho, m_kg), 2.0 * f, 1e-12);
+  AF_CHECK_REL(af_resonance_frequency_hz(xi, e_pa, 0.35, rho, 8.0 * m_kg), 0.5 * f, 1e-12);
+  /* a = (3 m / (4 pi rho))^(1/3): a 1000 kg/m3, 4.18879 g sphere has a 1 cm radius */
+  AF_CHECK_REL(af_resonance_sphere_radius_m(4.0 / 3.0 * 3.14159265358979 * 1e-3, 1000.0), 0.01,
+               1e-12);
+  AF_CHECK_REL(af_resonance_stiffness_factor(500.0, 0.125), 500.0 * 500.0 * 0.25, 1e-12);
+}
+
+static void test_bad_input(void)
+{
+  double xi = 1.0;
+  AF_CHECK_STATUS(af_resonance_lamb_root(-0.01, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.5, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_lamb_root(NAN, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_lamb_root(0.3, NULL), AF_EINVAL);
+  AF_CHECK(xi == 1.0); /* untouched on failure */
+  AF_CHECK(isnan(af_resonance_sphere_radius_m(0.0, 840.0)));
+  AF_CHECK(isnan(af_resonance_sphere_radius_m(0.1, -1.0)));
+  AF_CHECK(isnan(af_resonance_frequency_hz(2.65, -1.0, 0.35, 840.0, 0.175)));
+  AF_CHECK(isnan(af_resonance_frequency_hz(2.65, 8e6, 0.5, 840.0, 0.175)));
+  AF_CHECK(isnan(af_resonance_frequency_hz(0.0, 8e6, 0.35, 840.0, 0.175)));
+  AF_CHECK(isnan(af_resonance_frequency_hz(2.65, 8e6, 0.35, 840.0, INFINITY)));
+  AF_CHECK(isnan(af_resonance_modulus_pa(2.65, 0.0, 0.35, 840.0, 0.175)));
+  AF_CHECK(isnan(af_resonance_modulus_pa(2.65, 700.0, 0.35, 0.0, 0.175)));
+  AF_CHECK(isnan(af_resonance_stiffness_factor(700.0, 0.0)));
+  AF_CHECK(isnan(af_resonance_stiffness_factor(NAN, 0.175)));
+}
+
+int main(void)
+{
+  test_lamb_root();
+  test_modulus_constant();
+  test_frequency_table();
+  test_inverse_and_scaling();
+  test_bad_input();
+  return af_test_summary("test_resonance");
+}
