@@ -142,8 +142,8 @@ static int af_sphere_args_ok(double xi, double poisson, double density_kg_m3, do
          isfinite(density_kg_m3) && mass_kg > 0.0 && isfinite(mass_kg);
 }
 
-double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson,
-                                 double density_kg_m3, double mass_kg)
+double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
+                                 double mass_kg)
 {
   if (!af_sphere_args_ok(xi, poisson, density_kg_m3, mass_kg) || !(modulus_pa > 0.0) ||
       !isfinite(modulus_pa))

@@ -14,11 +14,14 @@
 #define AF_SHEAR_PAPER_DEPTH 0.48
 /* Search for the maximum over zeta = z / a: the bracket holds it for every nu
  * in [0, 0.5) (0.43..0.55 a), the guess beats both ends (tau(0) = (1/2 - nu)/2
- * <= 0.25 < tau(0.5), tau(5) < 0.03). Tolerance on zeta, iteration cap. */
+ * <= 0.25 < tau(0.5), tau(5) < 0.03). Tolerance: width of the final bracket
+ * on zeta; Brent cannot shrink it below 2 sqrt(DBL_EPSILON) zeta ~ 1.7e-8 here,
+ * so the depth is known to 2e-8 and the ratio (flat at its maximum) to
+ * rounding. Iteration cap. */
 #define AF_SHEAR_ZETA_LO 0.0
 #define AF_SHEAR_ZETA_GUESS 0.5
 #define AF_SHEAR_ZETA_HI 5.0
-#define AF_SHEAR_ZETA_TOL 1e-9
+#define AF_SHEAR_ZETA_TOL 2e-8
 #define AF_SHEAR_MAX_ITER 200
 
 const char *af_shear_ratio_name(af_shear_ratio mode)
@@ -51,7 +54,8 @@ double af_stress_contact_radius_m(double radius_m, double deformation_m)
   return sqrt(radius_m * deformation_m);
 }
 
-double af_stress_hertz_contact_radius_m(double force_n, double radius_m, double effective_modulus_pa)
+double af_stress_hertz_contact_radius_m(double force_n, double radius_m,
+                                        double effective_modulus_pa)
 {
   if (!(force_n >= 0.0 && radius_m > 0.0 && effective_modulus_pa > 0.0) || !isfinite(force_n) ||
       !isfinite(radius_m) || !isfinite(effective_modulus_pa))
@@ -69,8 +73,8 @@ double af_stress_center_pressure_pa(double force_n, double contact_radius_m)
 af_status af_stress_max_center_pressure_pa(const double *force_n, const double *deformation_m,
                                            size_t n, double radius_m, double *p0_pa, size_t *at)
 {
-  if ((n > 0 && (force_n == NULL || deformation_m == NULL)) || p0_pa == NULL ||
-      !(radius_m > 0.0) || !isfinite(radius_m))
+  if ((n > 0 && (force_n == NULL || deformation_m == NULL)) || p0_pa == NULL || !(radius_m > 0.0) ||
+      !isfinite(radius_m))
     return AF_EINVAL;
   double best = -INFINITY;
   size_t best_k = 0;

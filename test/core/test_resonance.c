@@ -52,8 +52,7 @@ static void test_frequency_table(void)
   AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &xi), AF_OK);
   for (size_t i = 0; i < 3; ++i)
     for (size_t j = 0; j < 3; ++j)
-      AF_CHECK_REL(af_resonance_frequency_hz(xi, e_pa[i], 0.35, 840.0, m_kg[j]), f_ref[i][j],
-                   3e-3);
+      AF_CHECK_REL(af_resonance_frequency_hz(xi, e_pa[i], 0.35, 840.0, m_kg[j]), f_ref[i][j], 3e-3);
 }
 
 /* The inverse, the scaling laws and the helpers. */
