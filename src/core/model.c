@@ -41,7 +41,7 @@ af_model_params af_model_params_default(void)
   p.lobe = 1;
   p.band_level = AF_BAND_AMPLITUDE_HALF;
   p.shear_ratio = AF_SHEAR_EXACT;
-  p.yield_ratio = 0.035;
+  p.yield_ratio = 0.04;
   return p;
 }
 
