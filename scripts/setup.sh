@@ -14,8 +14,10 @@ PACKAGES=(
   libstd-msgs-dev python3-std-msgs ros-std-msgs libgeometry-msgs-dev python3-geometry-msgs ros-geometry-msgs
   libvisualization-msgs-dev python3-visualization-msgs
   libdiagnostic-msgs-dev python3-diagnostic-msgs libdiagnostic-updater-dev
-  liburdfdom-dev liburdfdom-headers-dev
+  liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
   libgtest-dev
+  # the node's rostests (Python test nodes)
+  python3-rospy python3-rosparam python3-roslib python3-rospkg python3-rosunit
 )
 
 missing=()

@@ -1,4 +1,4 @@
-/* af_msgs.h — C mirrors of this package's ROS messages (msg/*.msg), plus the
+/* af_msgs.h — C mirrors of this package's ROS messages (the .msg files in msg/), plus the
  * few standard ones the node uses. Plain structs, SI units in the names.
  *
  * Strings are fixed-size, NUL-terminated arrays: the shim truncates longer
