@@ -39,7 +39,7 @@ typedef struct {
   size_t max_lobes;   /* lobes located at most */
 } af_spectrum_config;
 
-/* max_samples 1024, fft_size 8192, max_lobes 8. */
+/* max_samples 1024, fft_size 4096, max_lobes 8. */
 af_spectrum_config af_spectrum_config_default(void);
 
 typedef struct af_spectrum af_spectrum;
