@@ -47,7 +47,7 @@ json_check "all(set(l) == {'index','start_Hz','end_Hz','peak_Hz','band_low_Hz','
 # ~35-40 N pulse, the 0S2 near 682 Hz (PHYSICS.md 5), reliable.
 json_check "1.2e-3 < d['contact_time_s'] < 1.5e-3 and 30 < d['peak_force_N'] < 40 and abs(d['resonance_Hz'] - 682) < 3 and d['reliable'] is True"
 # The flags land: a harder apple gives a shorter pulse.
-json_check "d['contact_time_s'] < 1.2e-3" --E2 12e6
+json_check "d['contact_time_s'] < 1.25e-3 and d['peak_force_N'] > 40" --E2 12e6
 # Paper profile: lobe 2 at power-half never holds the 0S2 (PHYSICS.md 7).
 json_check "d['excites_mode'] is False and d['reliable'] is False" --profile paper
 json_check "d['excites_mode'] is True" --profile paper --lobe 1 --band-level amplitude-half
