@@ -1,0 +1,622 @@
+/* station.c — per-apple prediction, strike advice, streams and diagnostics. */
+#include "station.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "advice.h"
+#include "markers.h"
+#include "model.h"
+#include "resonance.h"
+#include "streams.h"
+#include "text.h"
+
+#ifndef M_PI /* strict C11 <math.h> does not define it */
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Subscriber queues: apples come a few per second; chunks at 50 kHz in
+ * blocks of a few ms, so a second of them fits. */
+#define AF_APPLE_QUEUE 10
+#define AF_CHUNK_QUEUE 200
+#define AF_OUTPUT_QUEUE 10
+/* Diagnostics period [s] follows the updater (~diagnostic_period). */
+
+struct af_station {
+  af_ros *ros;
+  const af_node_config *cfg;
+  af_model *model;
+  af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
+  af_ros_diag *diag;
+  af_stream force, audio;
+  /* Output scratch, kept here so that no callback allocates. */
+  af_excitation_band band;
+  af_strike_advice advice;
+  af_reliability reliability;
+  af_marker markers[AF_MARKERS_COUNT];
+  /* Counters and last values for the diagnostics. */
+  unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
+  bool last_apple_invalid;
+  unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
+  char last_reason[AF_TEXT_MAX];
+  char last_geometry_note[AF_TEXT_MAX];
+  bool have_band;
+};
+
+/* What one apple's evaluation found. */
+typedef struct {
+  double polar_semi_axis_m;
+  char geometry_note[AF_TEXT_MAX]; /* why the strike direction is unknown ("" when known) */
+  bool frame_known;                /* the apple's frame is in the URDF */
+  double rotation_to_root[9];      /* of the apple's frame, row-major */
+  af_advice_geometry geo;
+  af_model_params params;
+  af_model_result result;
+  double min_strike_radius_m; /* 0 = none in the search bracket */
+  af_advice_rotation rotation;
+  double centre_m[3]; /* apple centre in its frame, for the markers */
+} af_apple_work;
+
+static double deg(double rad)
+{
+  return rad * 180.0 / M_PI;
+}
+
+static void vec_of(const af_vec3 *v, double out[3])
+{
+  out[0] = v->x, out[1] = v->y, out[2] = v->z;
+}
+
+/* --- validation ------------------------------------------------------------ */
+
+/* One field of an AppleEstimate and its accepted range. */
+typedef struct {
+  const char *field;
+  double value;
+  double lo, hi;
+  bool zero_ok; /* 0 = unknown is accepted too */
+  const char *unit;
+} af_field_check;
+
+static bool field_ok(const af_field_check *f, char *why, size_t len)
+{
+  if (isfinite(f->value) &&
+      ((f->zero_ok && f->value == 0.0) || (f->value >= f->lo && f->value <= f->hi)))
+    return true;
+  const char *sp = f->unit[0] ? " " : "";
+  if (isinf(f->lo) && isinf(f->hi))
+    af_text(why, len,
+            "invalid AppleEstimate: %s = %g is outside the accepted range (any finite "
+            "value)",
+            f->field, f->value);
+  else
+    af_text(why, len,
+            "invalid AppleEstimate: %s = %g%s%s is outside the accepted range %s[%g, %g]%s%s",
+            f->field, f->value, sp, f->unit, f->zero_ok ? "0 (unknown) or " : "", f->lo, f->hi, sp,
+            f->unit);
+  return false;
+}
+
+/* Every field finite and in range, and mass and radius a plausible shape. */
+static bool apple_valid(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w,
+                        char *why, size_t len)
+{
+  const af_field_check checks[] = {
+      {"mass", a->mass_kg, c->mass_min_kg, c->mass_max_kg, false, "kg"},
+      {"equatorial_radius", a->equatorial_radius_m, c->equatorial_radius_min_m,
+       c->equatorial_radius_max_m, false, "m"},
+      {"strike_radius", a->strike_radius_m, c->strike_radius_min_m, c->strike_radius_max_m, true,
+       "m"},
+      {"stem_axis.x", a->stem_axis.x, -INFINITY, INFINITY, false, ""},
+      {"stem_axis.y", a->stem_axis.y, -INFINITY, INFINITY, false, ""},
+      {"stem_axis.z", a->stem_axis.z, -INFINITY, INFINITY, false, ""},
+      {"confidence", a->confidence, 0.0, 1.0, false, ""},
+  };
+  for (size_t k = 0; k < sizeof checks / sizeof checks[0]; k++)
+    if (!field_ok(&checks[k], why, len))
+      return false;
+  /* The shape follows from mass, density and equatorial radius; an absurd
+   * aspect means the estimates disagree with each other. */
+  w->polar_semi_axis_m =
+      af_advice_polar_semi_axis_m(a->mass_kg, c->model.fruit_density_kg_m3, a->equatorial_radius_m);
+  double aspect = w->polar_semi_axis_m / a->equatorial_radius_m;
+  if (aspect >= c->aspect_ratio_min && aspect <= c->aspect_ratio_max)
+    return true;
+  af_text(why, len,
+          "invalid AppleEstimate: mass = %g kg and equatorial_radius = %g m give a polar "
+          "semi-axis of %.4f m (density %g kg/m3), aspect %.2f outside the accepted range [%g, %g]",
+          a->mass_kg, a->equatorial_radius_m, w->polar_semi_axis_m, c->model.fruit_density_kg_m3,
+          aspect, c->aspect_ratio_min, c->aspect_ratio_max);
+  return false;
+}
+
+/* --- geometry -------------------------------------------------------------- */
+
+/* v (root axes) in the axes of the frame whose rotation to the root is r: r^T v. */
+static void root_to_frame(const double r[9], const double v[3], double out[3])
+{
+  for (int i = 0; i < 3; i++)
+    out[i] = r[i] * v[0] + r[3 + i] * v[1] + r[6 + i] * v[2];
+}
+
+/* The strike direction in the apple's frame: the URDF's hammer axis (in the
+ * root frame) turned into that frame; zero, with a note, when unknown. */
+static void strike_direction(const af_node_config *c, const char *frame, af_apple_work *w,
+                             double d[3])
+{
+  d[0] = d[1] = d[2] = 0.0;
+  if (!c->hammer_axis_known) {
+    af_text(w->geometry_note, sizeof w->geometry_note, "hammer axis unknown (no URDF)");
+    return;
+  }
+  w->frame_known =
+      frame[0] != '\0' && af_urdf_rotation_to_root(c->urdf, frame, w->rotation_to_root) == AF_OK;
+  if (!w->frame_known) {
+    af_text(w->geometry_note, sizeof w->geometry_note, "frame '%s' unknown to the URDF", frame);
+    return;
+  }
+  const double axis[3] = {c->hammer.strike_axis.x, c->hammer.strike_axis.y,
+                          c->hammer.strike_axis.z};
+  root_to_frame(w->rotation_to_root, axis, d);
+}
+
+/* Where the apple's centre is drawn: the strike point lies
+ * marker_strike_distance_m along the hammer axis from the hammer link's
+ * origin, and the centre behind it. Display only; the origin when unknown. */
+static void marker_centre(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w)
+{
+  double stem[3], p[3], q[3];
+  af_vec3 origin;
+  memset(w->centre_m, 0, sizeof w->centre_m);
+  if (!w->frame_known || af_urdf_position_in_root(c->urdf, a->header.frame_id, &origin) != AF_OK)
+    return;
+  const af_vec3 *h = &c->hammer_origin_m, *s = &c->hammer.strike_axis;
+  const double D = c->marker_strike_distance_m;
+  const double strike[3] = {h->x + D * s->x - origin.x, h->y + D * s->y - origin.y,
+                            h->z + D * s->z - origin.z}; /* from the frame origin, root axes */
+  root_to_frame(w->rotation_to_root, strike, q);
+  vec_of(&a->stem_axis, stem);
+  af_advice_surface_point_m(a->equatorial_radius_m, w->polar_semi_axis_m, stem, w->geo.normal, p);
+  for (int i = 0; i < 3; i++)
+    w->centre_m[i] = q[i] - p[i];
+}
+
+/* Geometry of the strike on this apple: direction, latitude and R2. */
+static void locate_strike(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w)
+{
+  af_advice_input in;
+  memset(&in, 0, sizeof in);
+  in.equatorial_radius_m = a->equatorial_radius_m;
+  in.polar_semi_axis_m = w->polar_semi_axis_m;
+  vec_of(&a->stem_axis, in.stem_axis);
+  in.strike_radius_m = a->strike_radius_m;
+  strike_direction(c, a->header.frame_id, w, in.strike_direction);
+  /* Cannot fail: apple_valid checked a, c and the strike radius. */
+  af_advice_geometry_eval(&in, &w->geo);
+}
+
+/* The model at the cultivar's nominal modulus, R2_min and the advice. */
+static af_status evaluate(af_station *st, const af_apple_estimate *a, af_apple_work *w)
+{
+  const af_node_config *c = st->cfg;
+  w->params = c->model;
+  w->params.fruit_mass_kg = a->mass_kg;
+  w->params.impact.strike_radius_m = w->geo.strike_radius_m;
+  af_status s = af_model_evaluate(st->model, &w->params, &w->result);
+  if (s != AF_OK)
+    return s;
+  s = af_model_min_strike_radius(st->model, &w->params, c->r2_search_low_m, c->r2_search_high_m,
+                                 &w->min_strike_radius_m);
+  if (s != AF_OK) {
+    /* AF_ENOROOT: not reliable even at the top of the bracket; 0 = none. */
+    if (s != AF_ENOROOT)
+      af_ros_log(st->ros, AF_LOG_WARN, "apple %u: R2_min search failed: %s", a->apple_id,
+                 af_strerror(s));
+    w->min_strike_radius_m = 0.0;
+  }
+  double stem[3];
+  vec_of(&a->stem_axis, stem);
+  af_advice_decide(&w->geo, stem, c->latitude_tolerance_rad, w->min_strike_radius_m, &w->rotation);
+  if (c->markers_enabled)
+    marker_centre(c, a, w);
+  return AF_OK;
+}
+
+/* --- outputs --------------------------------------------------------------- */
+
+static void fill_band(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
+                      af_excitation_band *b)
+{
+  const af_model_result *r = &w->result;
+  const af_model_params *p = &w->params;
+  memset(b, 0, sizeof *b);
+  b->header = a->header;
+  b->apple_id = a->apple_id;
+  b->contact_time_s = r->impact.contact_time_s;
+  b->peak_force_n = r->impact.peak_force_n;
+  b->lobe = (uint8_t)p->lobe;
+  b->band_low_hz = r->band.band_low_hz; /* zeros when the lobe does not exist */
+  b->band_high_hz = r->band.band_high_hz;
+  b->resonance_hz = r->resonance_hz;
+  /* 0S2 grows with the modulus: the firmness range maps onto its ends. */
+  b->resonance_low_hz =
+      af_resonance_frequency_hz(c->resonance_xi, p->modulus_factor * c->modulus_min_pa,
+                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
+  b->resonance_high_hz =
+      af_resonance_frequency_hz(c->resonance_xi, p->modulus_factor * c->modulus_max_pa,
+                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
+  b->excitation_at_resonance_db = r->excitation_at_resonance_db;
+}
+
+/* "the strike point is 35 deg towards the stem", or why it is not known. */
+static void where_text(const af_apple_work *w, char *buf, size_t len)
+{
+  double lat_deg = deg(w->geo.latitude_rad);
+  if (!w->geo.direction_known)
+    af_text(buf, len, "strike point unknown (%s)%s", w->geometry_note,
+            w->geo.r2_source == AF_R2_EQUATORIAL ? ", R2 = the equatorial radius" : "");
+  else if (!w->geo.latitude_known)
+    af_text(buf, len, "stem axis unknown, latitude taken as the equator");
+  else if (fabs(lat_deg) < 0.5)
+    af_text(buf, len, "strike point on the equator");
+  else
+    af_text(buf, len, "strike point %.0f deg from the equator towards the %s", fabs(lat_deg),
+            lat_deg > 0.0 ? "stem" : "calyx");
+}
+
+static void advice_text(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
+                        char *buf, size_t len)
+{
+  char where[160], radius[96], todo[160];
+  const af_advice_rotation *rot = &w->rotation;
+  where_text(w, where, sizeof where);
+  if (w->min_strike_radius_m > 0.0)
+    af_text(radius, sizeof radius, "R2 %.1f mm %s the %.1f mm minimum",
+            w->geo.strike_radius_m * 1e3, rot->radius_small ? "is below" : "meets",
+            w->min_strike_radius_m * 1e3);
+  else
+    af_text(radius, sizeof radius, "R2 %.1f mm; no R2 in [%g, %g] mm is reliable",
+            w->geo.strike_radius_m * 1e3, c->r2_search_low_m * 1e3, c->r2_search_high_m * 1e3);
+  if (!rot->rotate)
+    af_text(todo, sizeof todo, "strike as placed");
+  else if (rot->latitude_off) {
+    /* Said as a positive angle: -phi about k is +phi about -k. */
+    double sign = rot->angle_rad < 0.0 ? -1.0 : 1.0;
+    af_text(todo, sizeof todo,
+            "turn the apple %.0f deg right-handed about (%.2f, %.2f, %.2f) in %s to bring the "
+            "equator under the hammer",
+            deg(fabs(rot->angle_rad)), sign * rot->axis[0], sign * rot->axis[1],
+            sign * rot->axis[2], a->header.frame_id);
+  } else
+    af_text(todo, sizeof todo, "turn the apple to strike a flatter spot (R2 >= %.1f mm)",
+            w->min_strike_radius_m * 1e3);
+  af_text(buf, len, "apple %u: %s; %s: %s.", a->apple_id, where, radius, todo);
+}
+
+static void fill_advice(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
+                        af_strike_advice *adv)
+{
+  memset(adv, 0, sizeof *adv);
+  adv->header = a->header;
+  adv->apple_id = a->apple_id;
+  adv->strike_radius_m = w->geo.strike_radius_m;
+  adv->min_strike_radius_m = w->min_strike_radius_m;
+  adv->strike_latitude_rad = w->geo.latitude_rad;
+  adv->rotate = w->rotation.rotate;
+  adv->rotation_axis.x = w->rotation.axis[0];
+  adv->rotation_axis.y = w->rotation.axis[1];
+  adv->rotation_axis.z = w->rotation.axis[2];
+  adv->rotation_angle_rad = w->rotation.angle_rad;
+  advice_text(c, a, w, adv->text, sizeof adv->text);
+}
+
+static void fill_reliability(const af_apple_estimate *a, const af_apple_work *w,
+                             af_reliability *rel)
+{
+  const af_model_result *r = &w->result;
+  memset(rel, 0, sizeof *rel);
+  rel->header = a->header;
+  rel->apple_id = a->apple_id;
+  af_text(rel->source, sizeof rel->source, "predicted");
+  rel->excites_mode = r->excites_mode;
+  rel->no_damage = r->no_damage;
+  rel->max_shear_stress_pa = r->max_shear_stress_pa;
+  rel->yield_shear_stress_pa = r->yield_shear_stress_pa;
+  char model_reason[AF_TEXT_MAX];
+  af_model_reason(r, w->params.lobe, model_reason, sizeof model_reason);
+  /* R2 is the input the verdict hangs on most (the paper's 31 mm): when it
+   * is only the equatorial radius because the strike point is unknown, the
+   * prediction cannot be trusted whatever the model says. */
+  bool r2_guessed = w->geo.r2_source == AF_R2_EQUATORIAL;
+  rel->reliable = r->reliable && !r2_guessed;
+  if (r2_guessed)
+    af_text(rel->reason, sizeof rel->reason,
+            "%s: R2 unknown, equatorial radius %.1f mm assumed%s%s", w->geometry_note,
+            w->geo.strike_radius_m * 1e3, model_reason[0] ? "; " : "", model_reason);
+  else
+    af_text(rel->reason, sizeof rel->reason, "%s", model_reason);
+}
+
+static void publish_markers(af_station *st, const af_apple_estimate *a, const af_apple_work *w)
+{
+  const af_node_config *c = st->cfg;
+  char label[AF_TEXT_MAX];
+  af_text(label, sizeof label, "apple %u: band %.0f-%.0f Hz, 0S2 %.0f Hz, %s", a->apple_id,
+          st->band.band_low_hz, st->band.band_high_hz, st->band.resonance_hz,
+          st->reliability.reliable ? "reliable" : "NOT reliable");
+  af_markers_scene scene;
+  memset(&scene, 0, sizeof scene);
+  scene.header = a->header;
+  memcpy(scene.centre_m, w->centre_m, sizeof scene.centre_m);
+  scene.equatorial_radius_m = a->equatorial_radius_m;
+  scene.polar_semi_axis_m = w->polar_semi_axis_m;
+  vec_of(&a->stem_axis, scene.stem_axis);
+  scene.direction_known = w->geo.direction_known;
+  memcpy(scene.normal, w->geo.normal, sizeof scene.normal);
+  scene.rotate = w->rotation.rotate;
+  memcpy(scene.rotation_axis, w->rotation.axis, sizeof scene.rotation_axis);
+  scene.reliable = st->reliability.reliable;
+  scene.text = label;
+  scene.lifetime_s = c->marker_lifetime_s;
+  scene.arrow_length_m = c->marker_arrow_length_m;
+  af_marker_array arr = {st->markers, af_markers_build(&scene, st->markers)};
+  if (af_ros_publish(st->markers_pub, &arr) != AF_OK)
+    af_ros_log(st->ros, AF_LOG_WARN, "markers not published: %s", af_ros_last_error(st->ros));
+}
+
+static void publish(af_station *st, af_ros_pub *pub, const void *msg, const char *topic)
+{
+  if (af_ros_publish(pub, msg) != AF_OK)
+    af_ros_log(st->ros, AF_LOG_ERROR, "%s not published: %s", topic, af_ros_last_error(st->ros));
+}
+
+/* A Reliability saying why this apple got no prediction. */
+static void reject_apple(af_station *st, const af_apple_estimate *a, const char *why)
+{
+  af_reliability *rel = &st->reliability;
+  memset(rel, 0, sizeof *rel);
+  rel->header = a->header;
+  rel->apple_id = a->apple_id;
+  af_text(rel->source, sizeof rel->source, "predicted");
+  af_text(rel->reason, sizeof rel->reason, "%s", why);
+  st->apples_invalid++;
+  st->apples_unreliable++;
+  st->last_apple_invalid = true;
+  af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", a->apple_id, why);
+  af_ros_log(st->ros, AF_LOG_WARN, "apple %u: no prediction: %s", a->apple_id, why);
+  publish(st, st->reliability_pub, rel, "reliability");
+  af_ros_diag_force_update(st->diag);
+}
+
+static void on_apple(const void *msg, void *user)
+{
+  af_station *st = user;
+  const af_apple_estimate *a = msg;
+  af_apple_work w;
+  char why[AF_TEXT_MAX];
+  memset(&w, 0, sizeof w);
+  st->apples++;
+  if (!apple_valid(st->cfg, a, &w, why, sizeof why)) {
+    reject_apple(st, a, why);
+    return;
+  }
+  locate_strike(st->cfg, a, &w);
+  af_status s = evaluate(st, a, &w);
+  if (s != AF_OK) {
+    st->model_failures++;
+    af_text(why, sizeof why, "model evaluation failed: %s", af_strerror(s));
+    reject_apple(st, a, why);
+    return;
+  }
+  st->last_apple_invalid = false;
+  fill_band(st->cfg, a, &w, &st->band);
+  fill_advice(st->cfg, a, &w, &st->advice);
+  fill_reliability(a, &w, &st->reliability);
+  publish(st, st->band_pub, &st->band, "excitation_band");
+  publish(st, st->advice_pub, &st->advice, "strike_advice");
+  publish(st, st->reliability_pub, &st->reliability, "reliability");
+  if (st->cfg->markers_enabled)
+    publish_markers(st, a, &w);
+  st->have_band = true;
+  st->apples_rotate += st->advice.rotate;
+  af_text(st->last_geometry_note, sizeof st->last_geometry_note, "%s", w.geometry_note);
+  if (!st->reliability.reliable) {
+    st->apples_unreliable++;
+    af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", a->apple_id,
+            st->reliability.reason);
+  }
+  af_ros_log(st->ros, AF_LOG_DEBUG, "%s", st->advice.text);
+}
+
+/* --- streams --------------------------------------------------------------- */
+
+static bool power_of_two(unsigned long long n)
+{
+  return n != 0 && (n & (n - 1)) == 0;
+}
+
+/* Checks and buffers a chunk; problems are warned about at the 1st, 2nd,
+ * 4th, 8th ... occurrence so that a broken stream cannot flood the log. */
+static void on_chunk(af_station *st, af_stream *s, const af_signal_chunk *c)
+{
+  af_ring_write_info info;
+  af_chunk_verdict v = af_stream_push(s, c, af_time_to_s(af_ros_now(st->ros)), &info);
+  unsigned long long count = v != AF_CHUNK_OK       ? af_stream_bad_chunks(s)
+                             : info.gap_samples > 0 ? s->gaps
+                             : info.restarted       ? s->restarts
+                                                    : 0;
+  if (power_of_two(count))
+    af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
+}
+
+static void on_force(const void *msg, void *user)
+{
+  af_station *st = user;
+  on_chunk(st, &st->force, msg);
+}
+
+static void on_audio(const void *msg, void *user)
+{
+  af_station *st = user;
+  on_chunk(st, &st->audio, msg);
+}
+
+/* --- diagnostics ------------------------------------------------------------ */
+
+static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
+{
+  char key[64];
+  af_text(key, sizeof key, "%s chunks", s->name);
+  af_diag_add(d, key, "%llu", (unsigned long long)s->chunks);
+  af_text(key, sizeof key, "%s gaps", s->name);
+  af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
+              (unsigned long long)s->lost_samples);
+  af_text(key, sizeof key, "%s restarts", s->name);
+  af_diag_add(d, key, "%llu", (unsigned long long)s->restarts);
+  af_text(key, sizeof key, "%s bad chunks", s->name);
+  af_diag_add(d, key, "%llu (rate %llu, unit %llu, NaN/inf %llu)",
+              (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
+              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_data);
+  af_text(key, sizeof key, "%s last problem", s->name);
+  af_diag_add(d, key, "%s", s->last_problem);
+  af_text(key, sizeof key, "%s ring [samples]", s->name);
+  af_diag_add(d, key, "%zu at %g Hz, expected unit %s", s->cfg->capacity_samples,
+              s->cfg->sample_rate_hz, s->cfg->units[0]);
+  af_text(key, sizeof key, "%s state", s->name);
+  af_diag_add(d, key, "%s", !s->seen ? "no chunk yet" : stale ? "stale" : "live");
+}
+
+static void diag_task(af_diag_status *d, void *user)
+{
+  af_station *st = user;
+  const af_node_config *c = st->cfg;
+  double now_s = af_time_to_s(af_ros_now(st->ros));
+  bool force_stale = af_stream_stale(&st->force, now_s, c->stream_stale_after_s);
+  bool audio_stale = af_stream_stale(&st->audio, now_s, c->stream_stale_after_s);
+  unsigned long long problems = st->force.gaps + st->audio.gaps + af_stream_bad_chunks(&st->force) +
+                                af_stream_bad_chunks(&st->audio) + st->force.restarts +
+                                st->audio.restarts;
+  bool new_problems = problems != st->stream_problems_seen;
+  st->stream_problems_seen = problems;
+  if (st->last_apple_invalid)
+    af_diag_summary(d, AF_DIAG_WARN, "last apple got no prediction");
+  else if (new_problems)
+    af_diag_summary(d, AF_DIAG_WARN, "stream gaps or bad chunks since the last report");
+  else if (force_stale || audio_stale)
+    af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
+  else
+    af_diag_summary(d, AF_DIAG_OK, "ok");
+  af_diag_add(d, "cultivar", "%s", c->cultivar);
+  af_diag_add(d, "URDF source", "%s", c->urdf_source);
+  af_diag_add(d, "hammer mass [kg]", "%g from %s", c->hammer.mass_kg, c->hammer_mass_source);
+  af_diag_add(d, "hammer tip radius [m]", "%g from %s", c->hammer.tip_radius_m,
+              c->hammer_tip_source);
+  af_diag_add(d, "parameters", "%s (private; config/station.yaml + cultivar YAML)",
+              af_ros_node_name(st->ros));
+  af_diag_add(d, "apples processed", "%llu", st->apples);
+  af_diag_add(d, "apples without prediction", "%llu (model failures %llu)", st->apples_invalid,
+              st->model_failures);
+  af_diag_add(d, "apples unreliable", "%llu", st->apples_unreliable);
+  af_diag_add(d, "apples to rotate", "%llu", st->apples_rotate);
+  af_diag_add(d, "last unreliable reason", "%s", st->last_reason);
+  af_diag_add(d, "last geometry note", "%s", st->last_geometry_note);
+  if (st->have_band) {
+    af_diag_add(d, "last band [Hz]", "%.1f .. %.1f (lobe %u)", st->band.band_low_hz,
+                st->band.band_high_hz, (unsigned)st->band.lobe);
+    af_diag_add(d, "last resonance [Hz]", "%.1f (firmness range %.1f .. %.1f)",
+                st->band.resonance_hz, st->band.resonance_low_hz, st->band.resonance_high_hz);
+  }
+  diag_stream(d, &st->force, force_stale);
+  diag_stream(d, &st->audio, audio_stale);
+}
+
+/* --- life cycle -------------------------------------------------------------- */
+
+static af_status advertise(af_station *st)
+{
+  af_status s = af_ros_advertise(st->ros, "excitation_band", AF_MSG_EXCITATION_BAND,
+                                 AF_OUTPUT_QUEUE, false, &st->band_pub);
+  if (s == AF_OK)
+    s = af_ros_advertise(st->ros, "strike_advice", AF_MSG_STRIKE_ADVICE, AF_OUTPUT_QUEUE, false,
+                         &st->advice_pub);
+  if (s == AF_OK)
+    s = af_ros_advertise(st->ros, "reliability", AF_MSG_RELIABILITY, AF_OUTPUT_QUEUE, false,
+                         &st->reliability_pub);
+  if (s == AF_OK && st->cfg->markers_enabled)
+    s = af_ros_advertise(st->ros, "markers", AF_MSG_MARKER_ARRAY, AF_OUTPUT_QUEUE, false,
+                         &st->markers_pub);
+  return s;
+}
+
+static af_status subscribe(af_station *st)
+{
+  af_ros_sub *sub; /* owned by the af_ros */
+  af_status s =
+      af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
+  if (s == AF_OK)
+    s = af_ros_subscribe(st->ros, "audio", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_audio, st, &sub);
+  if (s == AF_OK)
+    s = af_ros_subscribe(st->ros, "apple", AF_MSG_APPLE_ESTIMATE, AF_APPLE_QUEUE, on_apple, st,
+                         &sub);
+  return s;
+}
+
+/* Makes each part in turn; *what names the one that failed. */
+static af_status build(af_station *st, const char **what)
+{
+  af_status s;
+  *what = "the model";
+  if ((s = af_model_create(&st->model)) != AF_OK)
+    return s;
+  *what = "the force ring";
+  if ((s = af_stream_init(&st->force, "force", &st->cfg->force)) != AF_OK)
+    return s;
+  *what = "the audio ring";
+  if ((s = af_stream_init(&st->audio, "audio", &st->cfg->audio)) != AF_OK)
+    return s;
+  *what = "the diagnostics";
+  if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
+      (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
+    return s;
+  *what = "the publishers";
+  if ((s = advertise(st)) != AF_OK)
+    return s;
+  *what = "the subscribers";
+  return subscribe(st);
+}
+
+af_status af_station_create(af_ros *ros, const af_node_config *cfg, af_station **out)
+{
+  *out = NULL;
+  af_station *st = calloc(1, sizeof *st);
+  if (!st)
+    return AF_ENOMEM;
+  st->ros = ros;
+  st->cfg = cfg;
+  const char *what;
+  af_status s = build(st, &what);
+  if (s != AF_OK) {
+    af_ros_log(ros, AF_LOG_FATAL, "could not create %s: %s %s", what, af_strerror(s),
+               af_ros_last_error(ros));
+    af_station_destroy(st);
+    return s;
+  }
+  *out = st;
+  return AF_OK;
+}
+
+void af_station_destroy(af_station *st)
+{
+  if (!st)
+    return;
+  af_model_destroy(st->model);
+  af_stream_fini(&st->force);
+  af_stream_fini(&st->audio);
+  free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
+}
+
+void af_station_update(af_station *st)
+{
+  af_ros_diag_update(st->diag);
+}

@@ -1,0 +1,24 @@
+/* text.h — formatting into the fixed-size text fields of the messages. */
+#ifndef AF_NODE_TEXT_H
+#define AF_NODE_TEXT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* snprintf into buf[len], cut at len - 1 characters. Operator texts and
+ * reasons are capped by the message fields (AF_TEXT_MAX): a long one is
+ * meant to be cut, never to overflow, so one place says so instead of
+ * every call site silencing -Wformat-truncation. */
+void af_text(char *buf, size_t len, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+#ifdef __cplusplus
+}
+#endif
+#endif
