@@ -35,7 +35,8 @@ void af_criteria_reason(const af_lobe *band, unsigned lobe, double resonance_hz,
     snprintf(part, sizeof part, "spectrum has no lobe %u", lobe);
     append(buf, len, &used, part);
   } else if (!af_criteria_excites_mode(band, resonance_hz)) {
-    snprintf(part, sizeof part, "resonance %.0f Hz outside the half-power band [%.0f, %.0f] Hz of lobe %u",
+    snprintf(part, sizeof part,
+             "resonance %.0f Hz outside the half-power band [%.0f, %.0f] Hz of lobe %u",
              resonance_hz, band->band_low_hz, band->band_high_hz, lobe);
     append(buf, len, &used, part);
   }

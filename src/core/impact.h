@@ -37,16 +37,16 @@ const char *af_damping_law_name(af_damping_law law);
 af_status af_damping_law_parse(const char *name, af_damping_law *law);
 
 typedef struct {
-  double hammer_mass_kg;         /* m1 > 0 */
-  double velocity_m_s;           /* v0 > 0, contact velocity */
-  double hammer_modulus_pa;      /* E1 >= 0; 0 = rigid hammer */
-  double hammer_poisson;         /* nu1 in [0, 0.5) */
-  double hammer_radius_m;        /* R1 >= 0; 0 = flat face */
-  double fruit_modulus_pa;       /* E2 > 0 */
-  double fruit_poisson;          /* nu2 in [0, 0.5) */
-  double strike_radius_m;        /* R2 > 0, local radius of curvature of the fruit */
-  double restitution;            /* e in (0, 1]; 1 = elastic */
-  double gravity_m_s2;           /* >= 0; 9.80665 by default, 0 to switch it off */
+  double hammer_mass_kg;    /* m1 > 0 */
+  double velocity_m_s;      /* v0 > 0, contact velocity */
+  double hammer_modulus_pa; /* E1 >= 0; 0 = rigid hammer */
+  double hammer_poisson;    /* nu1 in [0, 0.5) */
+  double hammer_radius_m;   /* R1 >= 0; 0 = flat face */
+  double fruit_modulus_pa;  /* E2 > 0 */
+  double fruit_poisson;     /* nu2 in [0, 0.5) */
+  double strike_radius_m;   /* R2 > 0, local radius of curvature of the fruit */
+  double restitution;       /* e in (0, 1]; 1 = elastic */
+  double gravity_m_s2;      /* >= 0; 9.80665 by default, 0 to switch it off */
   af_damping_law damping;
 } af_impact_params;
 
@@ -74,8 +74,8 @@ void af_impact_destroy(af_impact *w); /* NULL-safe */
 af_status af_impact_chi(const af_impact *w, af_damping_law law, double e, double *chi);
 
 typedef struct {
-  double contact_time_s;        /* d returns to 0 (event-located) */
-  double peak_force_n;          /* max F, refined between samples */
+  double contact_time_s; /* d returns to 0 (event-located) */
+  double peak_force_n;   /* max F, refined between samples */
   double time_of_peak_s;
   double max_deformation_m;     /* max d (where d' = 0) */
   double delivered_restitution; /* -d'(t_c)/v0 */

@@ -82,7 +82,8 @@ af_status af_model_params_check(const af_model_params *p, af_param_error *err)
   const af_range ranges[] = {
       {"impact.hammer_mass_kg", i->hammer_mass_kg, 0, INFINITY, 1, 1, "(0, inf) kg"},
       {"impact.velocity_m_s", i->velocity_m_s, 0, INFINITY, 1, 1, "(0, inf) m/s"},
-      {"impact.hammer_modulus_pa", i->hammer_modulus_pa, 0, INFINITY, 0, 1, "[0, inf) Pa, 0 = rigid"},
+      {"impact.hammer_modulus_pa", i->hammer_modulus_pa, 0, INFINITY, 0, 1,
+       "[0, inf) Pa, 0 = rigid"},
       {"impact.hammer_poisson", i->hammer_poisson, 0, 0.5, 0, 1, "[0, 0.5)"},
       {"impact.hammer_radius_m", i->hammer_radius_m, 0, INFINITY, 0, 1, "[0, inf) m, 0 = flat"},
       {"impact.fruit_modulus_pa", i->fruit_modulus_pa, 0, INFINITY, 1, 1, "(0, inf) Pa"},
@@ -189,8 +190,8 @@ static af_status run_impact(af_model *m, const af_impact_params *ip, af_impact_r
   double dt_s = af_impact_hertz_contact_time_s(ip) / AF_MODEL_SAMPLES_PER_PULSE;
   af_status st = AF_ESIZE;
   for (int attempt = 0; attempt < 3 && st == AF_ESIZE; attempt++, dt_s *= 2.0)
-    st = af_impact_run(m->impact, ip, dt_s, m->force_n, m->deformation_m, AF_MODEL_MAX_SAMPLES,
-                       res);
+    st =
+        af_impact_run(m->impact, ip, dt_s, m->force_n, m->deformation_m, AF_MODEL_MAX_SAMPLES, res);
   return st;
 }
 

@@ -25,8 +25,8 @@ double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3);
 
 /* 0S2 frequency [Hz] of a sphere of the given (dynamic) modulus [Pa], nu,
  * density [kg/m3] and mass [kg], with xi from af_resonance_lamb_root(nu). */
-double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson,
-                                 double density_kg_m3, double mass_kg);
+double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
+                                 double mass_kg);
 
 /* The inverse: the modulus [Pa] whose 0S2 frequency is f_hz. */
 double af_resonance_modulus_pa(double xi, double f_hz, double poisson, double density_kg_m3,

@@ -27,7 +27,8 @@ af_status af_shear_ratio_parse(const char *name, af_shear_ratio *mode);
 /* a = sqrt(R d) [m]. */
 double af_stress_contact_radius_m(double radius_m, double deformation_m);
 /* Elastic Hertz contact radius from the force: a = (3 F R / (4 E*))^(1/3) [m]. */
-double af_stress_hertz_contact_radius_m(double force_n, double radius_m, double effective_modulus_pa);
+double af_stress_hertz_contact_radius_m(double force_n, double radius_m,
+                                        double effective_modulus_pa);
 /* p0 = 3 F / (2 pi a^2) [Pa]. */
 double af_stress_center_pressure_pa(double force_n, double contact_radius_m);
 

@@ -31,15 +31,13 @@ static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seco
 {
   for (int k = 0; k < n_rest; k++) {
     char *end;
-    if (strcmp(argv[rest[k]], "--seconds") != 0 || k + 1 >= n_rest ||
-        rest[k + 1] != rest[k] + 1) {
+    if (strcmp(argv[rest[k]], "--seconds") != 0 || k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
       fprintf(stderr, "firmness_model bench: unknown argument '%s'\n", argv[rest[k]]);
       return false;
     }
     *seconds = strtod(argv[rest[++k]], &end);
     if (*end != '\0' || !(*seconds > 0.0 && *seconds <= 600.0)) {
-      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, 600]\n",
-              argv[rest[k]]);
+      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, 600]\n", argv[rest[k]]);
       return false;
     }
   }

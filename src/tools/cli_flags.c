@@ -8,54 +8,52 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define AF_DOUBLE_FLAG(name, field, help)                                                          \
+  {                                                                                                \
+    name, #field, AF_FLAG_DOUBLE, offsetof(af_model_params, field), help                           \
+  }
+#define AF_CHOICE_FLAG(name, field, kind, help)                                                    \
+  {                                                                                                \
+    name, field, kind, 0, help                                                                     \
+  }
+
 static const af_cli_flag flags[] = {
-    {"E2", "impact.fruit_modulus_pa", AF_FLAG_DOUBLE, "fruit elastic modulus [Pa]"},
-    {"nu2", "impact.fruit_poisson", AF_FLAG_DOUBLE, "fruit Poisson ratio [-]"},
-    {"R2", "impact.strike_radius_m", AF_FLAG_DOUBLE, "local radius of curvature under the hammer [m]"},
-    {"e", "impact.restitution", AF_FLAG_DOUBLE, "coefficient of restitution [-]"},
-    {"mass", "fruit_mass_kg", AF_FLAG_DOUBLE, "fruit mass [kg]"},
-    {"density", "fruit_density_kg_m3", AF_FLAG_DOUBLE, "fruit density [kg/m3]"},
-    {"hammer-mass", "impact.hammer_mass_kg", AF_FLAG_DOUBLE, "hammer mass [kg]"},
-    {"v0", "impact.velocity_m_s", AF_FLAG_DOUBLE, "contact velocity [m/s]"},
-    {"hammer-E", "impact.hammer_modulus_pa", AF_FLAG_DOUBLE, "hammer tip modulus [Pa], 0 = rigid"},
-    {"hammer-nu", "impact.hammer_poisson", AF_FLAG_DOUBLE, "hammer tip Poisson ratio [-]"},
-    {"hammer-radius", "impact.hammer_radius_m", AF_FLAG_DOUBLE, "hammer tip radius [m], 0 = flat"},
-    {"gravity", "impact.gravity_m_s2", AF_FLAG_DOUBLE, "gravity along the strike [m/s2]"},
-    {"damping", "impact.damping", AF_FLAG_DAMPING, "damping law: paper | exact | hu-guo"},
-    {"lobe", "lobe", AF_FLAG_LOBE, "spectral lobe of the criterion, 1 = main lobe"},
-    {"band-level", "band_level", AF_FLAG_BAND, "half-power reading: power-half | amplitude-half"},
-    {"shear-ratio", "shear_ratio", AF_FLAG_SHEAR, "tau_max/p0: paper (0.31) | exact (for nu2)"},
-    {"yield-ratio", "yield_ratio", AF_FLAG_DOUBLE, "yield shear stress / E2 [-] (calibration)"},
-    {"modulus-factor", "modulus_factor", AF_FLAG_DOUBLE, "dynamic / quasi-static modulus [-]"},
+    AF_DOUBLE_FLAG("E2", impact.fruit_modulus_pa, "fruit elastic modulus [Pa]"),
+    AF_DOUBLE_FLAG("nu2", impact.fruit_poisson, "fruit Poisson ratio [-]"),
+    AF_DOUBLE_FLAG("R2", impact.strike_radius_m, "local radius of curvature under the hammer [m]"),
+    AF_DOUBLE_FLAG("e", impact.restitution, "coefficient of restitution [-]"),
+    AF_DOUBLE_FLAG("mass", fruit_mass_kg, "fruit mass [kg]"),
+    AF_DOUBLE_FLAG("density", fruit_density_kg_m3, "fruit density [kg/m3]"),
+    AF_DOUBLE_FLAG("hammer-mass", impact.hammer_mass_kg, "hammer mass [kg]"),
+    AF_DOUBLE_FLAG("v0", impact.velocity_m_s, "contact velocity [m/s]"),
+    AF_DOUBLE_FLAG("hammer-E", impact.hammer_modulus_pa, "hammer tip modulus [Pa], 0 = rigid"),
+    AF_DOUBLE_FLAG("hammer-nu", impact.hammer_poisson, "hammer tip Poisson ratio [-]"),
+    AF_DOUBLE_FLAG("hammer-radius", impact.hammer_radius_m, "hammer tip radius [m], 0 = flat"),
+    AF_DOUBLE_FLAG("gravity", impact.gravity_m_s2, "gravity along the strike [m/s2]"),
+    AF_CHOICE_FLAG("damping", "impact.damping", AF_FLAG_DAMPING,
+                   "damping law: paper | exact | hu-guo"),
+    AF_CHOICE_FLAG("lobe", "lobe", AF_FLAG_LOBE, "spectral lobe of the criterion, 1 = main lobe"),
+    AF_CHOICE_FLAG("band-level", "band_level", AF_FLAG_BAND,
+                   "half-power reading: power-half | amplitude-half"),
+    AF_CHOICE_FLAG("shear-ratio", "shear_ratio", AF_FLAG_SHEAR,
+                   "tau_max/p0: paper (0.31) | exact (for nu2)"),
+    AF_DOUBLE_FLAG("yield-ratio", yield_ratio, "yield shear stress / E2 [-] (calibration)"),
+    AF_DOUBLE_FLAG("modulus-factor", modulus_factor, "dynamic / quasi-static modulus [-]"),
 };
 #define N_FLAGS (sizeof flags / sizeof flags[0])
 
-/* The double field of a flag of kind AF_FLAG_DOUBLE. */
-static double *double_field(const af_cli_flag *f, af_model_params *p)
+/* The double fields are reached by offset; memcpy keeps that free of
+ * pointer casts between unrelated types. */
+static void set_double(const af_cli_flag *f, af_model_params *p, double v)
 {
-  static const struct {
-    const char *field;
-    size_t offset;
-  } offsets[] = {
-      {"impact.fruit_modulus_pa", offsetof(af_model_params, impact.fruit_modulus_pa)},
-      {"impact.fruit_poisson", offsetof(af_model_params, impact.fruit_poisson)},
-      {"impact.strike_radius_m", offsetof(af_model_params, impact.strike_radius_m)},
-      {"impact.restitution", offsetof(af_model_params, impact.restitution)},
-      {"fruit_mass_kg", offsetof(af_model_params, fruit_mass_kg)},
-      {"fruit_density_kg_m3", offsetof(af_model_params, fruit_density_kg_m3)},
-      {"impact.hammer_mass_kg", offsetof(af_model_params, impact.hammer_mass_kg)},
-      {"impact.velocity_m_s", offsetof(af_model_params, impact.velocity_m_s)},
-      {"impact.hammer_modulus_pa", offsetof(af_model_params, impact.hammer_modulus_pa)},
-      {"impact.hammer_poisson", offsetof(af_model_params, impact.hammer_poisson)},
-      {"impact.hammer_radius_m", offsetof(af_model_params, impact.hammer_radius_m)},
-      {"impact.gravity_m_s2", offsetof(af_model_params, impact.gravity_m_s2)},
-      {"yield_ratio", offsetof(af_model_params, yield_ratio)},
-      {"modulus_factor", offsetof(af_model_params, modulus_factor)},
-  };
-  for (size_t k = 0; k < sizeof offsets / sizeof offsets[0]; k++)
-    if (strcmp(offsets[k].field, f->field) == 0)
-      return (double *)((char *)p + offsets[k].offset);
-  return NULL;
+  memcpy((char *)p + f->offset, &v, sizeof v);
+}
+
+static double get_double(const af_cli_flag *f, const af_model_params *p)
+{
+  double v;
+  memcpy(&v, (const char *)p + f->offset, sizeof v);
+  return v;
 }
 
 const af_cli_flag *af_cli_flag_find(const char *name)
@@ -86,7 +84,7 @@ bool af_cli_flag_set(const af_cli_flag *f, const char *text, af_model_params *p)
       fprintf(stderr, "firmness_model: --%s '%s' is not a number\n", f->name, text);
       return false;
     }
-    *double_field(f, p) = v;
+    set_double(f, p, v);
     return true;
   case AF_FLAG_LOBE:
     if (!parse_number(text, &v) || v != floor(v) || v < 1 || v > AF_MODEL_MAX_LOBES) {
@@ -109,7 +107,7 @@ bool af_cli_flag_set(const af_cli_flag *f, const char *text, af_model_params *p)
 double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p)
 {
   switch (f->kind) {
-  case AF_FLAG_DOUBLE: return *double_field(f, (af_model_params *)p);
+  case AF_FLAG_DOUBLE: return get_double(f, p);
   case AF_FLAG_LOBE: return p->lobe;
   case AF_FLAG_DAMPING: return p->impact.damping;
   case AF_FLAG_BAND: return p->band_level;
@@ -155,7 +153,8 @@ static bool validate(const af_model_params *p)
   return false;
 }
 
-bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest, int *n_rest)
+bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
+                        int *n_rest)
 {
   if (n_rest)
     *n_rest = 0;
@@ -194,7 +193,9 @@ void af_cli_print_flags(void)
     switch (f->kind) {
     case AF_FLAG_DOUBLE: snprintf(def, sizeof def, "%g", af_cli_flag_get(f, &d)); break;
     case AF_FLAG_LOBE: snprintf(def, sizeof def, "%u", d.lobe); break;
-    case AF_FLAG_DAMPING: snprintf(def, sizeof def, "%s", af_damping_law_name(d.impact.damping)); break;
+    case AF_FLAG_DAMPING:
+      snprintf(def, sizeof def, "%s", af_damping_law_name(d.impact.damping));
+      break;
     case AF_FLAG_BAND: snprintf(def, sizeof def, "%s", af_band_level_name(d.band_level)); break;
     case AF_FLAG_SHEAR: snprintf(def, sizeof def, "%s", af_shear_ratio_name(d.shear_ratio)); break;
     }

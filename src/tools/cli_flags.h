@@ -5,18 +5,26 @@
 #define AF_CLI_FLAGS_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "model.h"
 
 /* Exit code for bad input, as rig scripts expect. */
 #define AF_CLI_EXIT_USAGE 2
 
-typedef enum { AF_FLAG_DOUBLE, AF_FLAG_LOBE, AF_FLAG_DAMPING, AF_FLAG_BAND, AF_FLAG_SHEAR } af_flag_kind;
+typedef enum {
+  AF_FLAG_DOUBLE,
+  AF_FLAG_LOBE,
+  AF_FLAG_DAMPING,
+  AF_FLAG_BAND,
+  AF_FLAG_SHEAR
+} af_flag_kind;
 
 typedef struct {
   const char *name;  /* without the leading "--" */
   const char *field; /* af_model_params field, as af_param_error names it */
   af_flag_kind kind;
+  size_t offset; /* of the double field in af_model_params (AF_FLAG_DOUBLE only) */
   const char *help;
 } af_cli_flag;
 
@@ -35,7 +43,8 @@ double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p);
  * model are left to the caller when *rest is not NULL: their indices are
  * stored in rest[] and counted in *n_rest; otherwise they are errors. Then
  * validates p. false after printing a one-line error on stderr. */
-bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest, int *n_rest);
+bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
+                        int *n_rest);
 
 /* Prints the model flags with units and defaults for --help. */
 void af_cli_print_flags(void);

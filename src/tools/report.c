@@ -68,7 +68,8 @@ void af_report_text(FILE *out, const af_report *rep)
   const af_model_params *p = &rep->params;
   const af_model_result *r = &rep->result;
   char reason[256];
-  fprintf(out, "strike: hammer %.1f g at %.2f m/s on E2 %.2f MPa, R2 %.1f mm, e %.2f (%s damping)\n",
+  fprintf(out,
+          "strike: hammer %.1f g at %.2f m/s on E2 %.2f MPa, R2 %.1f mm, e %.2f (%s damping)\n",
           p->impact.hammer_mass_kg * 1e3, p->impact.velocity_m_s, p->impact.fruit_modulus_pa * 1e-6,
           p->impact.strike_radius_m * 1e3, p->impact.restitution,
           af_damping_law_name(p->impact.damping));
@@ -98,21 +99,23 @@ void af_report_text(FILE *out, const af_report *rep)
 
 void af_report_csv_header(FILE *out, const char *param)
 {
-  fprintf(out, "%s,contact_time_s,peak_force_N,max_deformation_m,delivered_restitution,"
-               "band_low_Hz,band_high_Hz,resonance_Hz,excitation_at_resonance_dB,"
-               "max_contact_pressure_Pa,max_shear_stress_Pa,yield_shear_stress_Pa,"
-               "min_strike_radius_m,excites_mode,no_damage,reliable\n",
+  fprintf(out,
+          "%s,contact_time_s,peak_force_N,max_deformation_m,delivered_restitution,"
+          "band_low_Hz,band_high_Hz,resonance_Hz,excitation_at_resonance_dB,"
+          "max_contact_pressure_Pa,max_shear_stress_Pa,yield_shear_stress_Pa,"
+          "min_strike_radius_m,excites_mode,no_damage,reliable\n",
           param);
 }
 
 void af_report_csv_row(FILE *out, double value, const af_report *rep)
 {
   const af_model_result *r = &rep->result;
-  fprintf(out, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,%d,%d\n",
-          value, r->impact.contact_time_s, r->impact.peak_force_n, r->impact.max_deformation_m,
-          r->impact.delivered_restitution, r->band_found ? r->band.band_low_hz : NAN,
-          r->band_found ? r->band.band_high_hz : NAN, r->resonance_hz,
-          r->excitation_at_resonance_db, r->max_contact_pressure_pa, r->max_shear_stress_pa,
-          r->yield_shear_stress_pa, rep->min_strike_radius_m, r->excites_mode, r->no_damage,
-          r->reliable);
+  fprintf(
+      out,
+      "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,%d,%d\n",
+      value, r->impact.contact_time_s, r->impact.peak_force_n, r->impact.max_deformation_m,
+      r->impact.delivered_restitution, r->band_found ? r->band.band_low_hz : NAN,
+      r->band_found ? r->band.band_high_hz : NAN, r->resonance_hz, r->excitation_at_resonance_db,
+      r->max_contact_pressure_pa, r->max_shear_stress_pa, r->yield_shear_stress_pa,
+      rep->min_strike_radius_m, r->excites_mode, r->no_damage, r->reliable);
 }

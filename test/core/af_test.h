@@ -52,7 +52,7 @@ static int af_test_failed;
       af_test_passed++;                                                                            \
     } else {                                                                                       \
       af_test_failed++;                                                                            \
-      fprintf(stderr, "%s:%d: FAIL %s returned %d, expected %d\n", __FILE__, __LINE__, #call, s_, \
+      fprintf(stderr, "%s:%d: FAIL %s returned %d, expected %d\n", __FILE__, __LINE__, #call, s_,  \
               (int)(expected));                                                                    \
     }                                                                                              \
   } while (0)
