@@ -20,6 +20,11 @@ PACKAGES=(
   python3-rospy python3-rosparam python3-roslib python3-rospkg python3-rosunit
 )
 
+# --rviz: also what scripts/rviz_shot.sh needs (not needed to build or test).
+if [ "${1:-}" = "--rviz" ]; then
+  PACKAGES+=(rviz xvfb imagemagick)
+fi
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
