@@ -3,12 +3,15 @@
  *   firmness_model [model flags] [--json]          one strike
  *   firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE]
  *   firmness_model bench [--seconds S]
+ *   firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ
+ *                          --mass KG --R2 M [--audio-offset S]
  *
  * Bad input exits with code 2 and a one-line message naming the flag. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "analyze.h"
 #include "bench.h"
 #include "cli_flags.h"
 #include "report.h"
@@ -19,7 +22,11 @@ static void usage(void)
   printf("usage: firmness_model [--profile default|paper] [model flags] [--json]\n"
          "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] "
          "[model flags]\n"
-         "       firmness_model bench [--seconds S] [model flags]\n\n"
+         "       firmness_model bench [--seconds S] [model flags]\n"
+         "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
+         "--mass KG --R2 M\n"
+         "                      [--audio-offset S] [--modulus-min PA] [--modulus-max PA] [--bench] "
+         "[model flags]\n\n"
          "Predicts the hammer impact on an apple (Hertz contact with hysteresis damping), its\n"
          "excitation spectrum, the 0S2 resonance and the subsurface shear, and tells whether\n"
          "the strike is reliable. Defaults: the paper's optimal strike on the average apple\n"
@@ -74,5 +81,7 @@ int main(int argc, char **argv)
     return af_sweep_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "bench") == 0)
     return af_bench_main(argc, argv, 2);
+  if (argc > 1 && strcmp(argv[1], "analyze") == 0)
+    return af_analyze_main(argc, argv, 2);
   return single(argc, argv);
 }

@@ -1,0 +1,466 @@
+/* measure.c — one measured strike end to end: the detector's figures, the
+ * measured band, the inverse fit, the 0S2 from the microphone, the criteria
+ * and the reason (see measure.h). */
+#include "measure.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "criteria.h"
+#include "resonance.h"
+#include "stress.h"
+
+/* The measured pulse goes through a spectrum sized as the model's
+ * (model.c), or as the fit's longest pulse when that is longer (a faster
+ * force stream): 1024 samples is 20 ms at 50 kHz, twice the detector's
+ * default max_contact_s; the 4x zero-padding only has to put a grid point
+ * inside every minimum, the refinement does the rest. */
+#define AF_MEASURE_SPECTRUM_SAMPLES 1024
+#define AF_MEASURE_SPECTRUM_PADDING 4
+/* The response refuses shorter windows and noise segments (response.c). */
+#define AF_MEASURE_MIN_AUDIO 8
+/* The 0S2 search stops this far below the audio's Nyquist frequency: the
+ * response needs f_hi < Nyquist, and a microphone's anti-alias filter has
+ * eaten the last few per cent anyway. */
+#define AF_MEASURE_NYQUIST_FRACTION 0.98
+
+struct af_measure {
+  af_measure_config cfg;
+  af_spectrum *spectrum;
+  af_fit *fit;
+  af_response *response;
+  size_t window_samples; /* audio analysed at most [samples] */
+  size_t noise_samples;  /* noise reference used at most [samples] */
+  /* xi and tau_max/p0 depend on the Poisson ratio (and the shear mode)
+   * only; their GSL solvers allocate, so they are solved on the first strike
+   * of a new ratio and cached, as model.c does. */
+  double xi_poisson, xi;
+  double shear_poisson, shear_ratio;
+  af_shear_ratio shear_mode;
+};
+
+/* What the steps of one strike found, for the criteria and the reason. */
+typedef struct {
+  af_status band_status; /* af_strike_measure_band */
+  af_lobe band;
+  af_status fit_status;   /* af_fit_pulse */
+  double fit_residual;    /* relative residual, NaN when the fit did not run */
+  af_status audio_status; /* af_response_analyze; AF_ENODATA also for no audio */
+  size_t n_audio;
+  double f_lo_hz, f_hi_hz; /* searched 0S2 range */
+  af_status judge_status;  /* Lamb root or shear ratio failed (a bad Poisson ratio) */
+} af_measure_steps;
+
+/* ---- configuration and life cycle ------------------------------------------ */
+
+af_measure_config af_measure_config_default(void)
+{
+  af_measure_config c;
+  c.fit = af_fit_config_default();
+  c.fit.fit_velocity = false; /* the rig sets v0 */
+  c.response = af_response_config_default();
+  c.audio_delay_s = 0.5e-3;
+  c.audio_window_s = 0.040;
+  c.noise_window_s = 0.020;
+  c.range_margin = 0.15;
+  return c;
+}
+
+static bool af_finite_nonneg(double v)
+{
+  return isfinite(v) && v >= 0.0;
+}
+
+/* Checks the fields measure.c owns; the fit and response configurations are
+ * checked by their own create. Sets the window lengths in samples. */
+static af_status af_measure_check(const af_measure_config *c, size_t *window_n, size_t *noise_n)
+{
+  double rate = c->response.sample_rate_hz;
+  if (!(isfinite(rate) && rate > 0.0) || !af_finite_nonneg(c->audio_delay_s) ||
+      !(isfinite(c->audio_window_s) && c->audio_window_s > 0.0) ||
+      !af_finite_nonneg(c->noise_window_s) || !(c->range_margin >= 0.0 && c->range_margin < 1.0))
+    return AF_EINVAL;
+  double w = round(c->audio_window_s * rate), z = round(c->noise_window_s * rate);
+  double cap = (double)c->response.window_samples;
+  if (w < AF_MEASURE_MIN_AUDIO || w > cap || z > cap)
+    return AF_EINVAL;
+  *window_n = (size_t)w;
+  *noise_n = (size_t)z;
+  return AF_OK;
+}
+
+/* The spectrum for pulses up to the fit's longest (at least the model's
+ * 1024 samples); an absurd length is left to af_spectrum_create to refuse. */
+static af_status af_measure_spectrum_create(size_t fit_max_samples, af_spectrum **out)
+{
+  af_spectrum_config sc = af_spectrum_config_default();
+  sc.max_samples =
+      fit_max_samples > AF_MEASURE_SPECTRUM_SAMPLES ? fit_max_samples : AF_MEASURE_SPECTRUM_SAMPLES;
+  sc.max_lobes = AF_MODEL_MAX_LOBES;
+  sc.fft_size = 1;
+  while (sc.fft_size / AF_MEASURE_SPECTRUM_PADDING < sc.max_samples && sc.fft_size < SIZE_MAX / 4)
+    sc.fft_size *= 2;
+  return af_spectrum_create(&sc, out);
+}
+
+af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
+{
+  size_t window_n = 0, noise_n = 0;
+  if (out == NULL)
+    return AF_EINVAL;
+  *out = NULL;
+  if (cfg == NULL || af_measure_check(cfg, &window_n, &noise_n) != AF_OK)
+    return AF_EINVAL;
+  af_status_init();
+  af_measure *m = calloc(1, sizeof *m);
+  if (m == NULL)
+    return AF_ENOMEM;
+  m->cfg = *cfg;
+  m->window_samples = window_n;
+  m->noise_samples = noise_n;
+  m->xi_poisson = m->shear_poisson = NAN;
+  af_status st = af_fit_create(&cfg->fit, &m->fit);
+  if (st == AF_OK)
+    st = af_measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
+  if (st == AF_OK)
+    st = af_response_create(&cfg->response, &m->response);
+  if (st != AF_OK) {
+    af_measure_destroy(m);
+    return st;
+  }
+  *out = m;
+  return AF_OK;
+}
+
+void af_measure_destroy(af_measure *m)
+{
+  if (m == NULL)
+    return;
+  af_spectrum_destroy(m->spectrum);
+  af_fit_destroy(m->fit);
+  af_response_destroy(m->response);
+  free(m);
+}
+
+const af_measure_config *af_measure_get_config(const af_measure *m)
+{
+  return m == NULL ? NULL : &m->cfg;
+}
+
+/* ---- caches ------------------------------------------------------------------ */
+
+static af_status af_cached_xi(af_measure *m, double poisson, double *xi)
+{
+  if (poisson != m->xi_poisson) {
+    af_status st = af_resonance_lamb_root(poisson, &m->xi);
+    if (st != AF_OK)
+      return st;
+    m->xi_poisson = poisson;
+  }
+  *xi = m->xi;
+  return AF_OK;
+}
+
+static af_status af_cached_shear_ratio(af_measure *m, af_shear_ratio mode, double poisson,
+                                       double *ratio)
+{
+  if (poisson != m->shear_poisson || mode != m->shear_mode) {
+    double depth;
+    af_status st = af_stress_shear_ratio(mode, poisson, &m->shear_ratio, &depth);
+    if (st != AF_OK)
+      return st;
+    m->shear_poisson = poisson;
+    m->shear_mode = mode;
+  }
+  *ratio = m->shear_ratio;
+  return AF_OK;
+}
+
+/* ---- the steps of one strike ---------------------------------------------- */
+
+static bool af_apple_valid(const af_measure_apple *a)
+{
+  return af_model_params_check(&a->model, NULL) == AF_OK && isfinite(a->modulus_max_pa) &&
+         a->modulus_min_pa > 0.0 && a->modulus_max_pa > a->modulus_min_pa;
+}
+
+/* Every figure NaN, the detector's copied: a part that fails leaves NaN. */
+static void af_report_start(const af_strike_event *ev, const af_measure_apple *apple,
+                            af_measure_report *out)
+{
+  memset(out, 0, sizeof *out);
+  out->contact_time_s = ev->contact_time_s;
+  out->peak_force_n = ev->peak_force_n;
+  out->impulse_n_s = ev->impulse_n_s;
+  out->lobe = apple->model.lobe;
+  out->band_low_hz = out->band_high_hz = NAN;
+  out->resonance_hz = out->resonance_q = out->snr_db = NAN;
+  out->stiffness_factor = out->modulus_from_resonance_pa = NAN;
+  out->fitted_modulus_pa = out->fitted_restitution = out->fit_residual = NAN;
+  out->fitted_modulus_se_pa = out->fitted_restitution_se = NAN;
+  out->max_shear_stress_pa = out->yield_shear_stress_pa = NAN;
+  out->double_hit = ev->double_hit;
+  out->clipped = ev->clipped;
+  out->lost_samples = ev->lost_samples > UINT32_MAX ? UINT32_MAX : (uint32_t)ev->lost_samples;
+}
+
+/* The band of the configured lobe, by the code path of the model's spectrum. */
+static void af_step_band(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
+                         af_measure_report *out, af_measure_steps *s)
+{
+  s->band_status = af_strike_measure_band(m->spectrum, ev, apple->model.band_level,
+                                          apple->model.lobe, &s->band, NULL);
+  if (s->band_status != AF_OK)
+    return;
+  out->band_low_hz = s->band.band_low_hz;
+  out->band_high_hz = s->band.band_high_hz;
+}
+
+/* E2 and e (v0 when configured free, t0) from the prediction's nominal
+ * apple. The start's e must lie inside the fit's open range: an elastic
+ * (e = 1) prediction starts just below it. */
+static void af_step_fit(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
+                        af_measure_report *out, af_measure_steps *s)
+{
+  af_impact_params start = apple->model.impact;
+  af_fit_result r;
+  start.restitution = fmin(fmax(start.restitution, 2.0 * AF_FIT_RESTITUTION_MIN), 0.95);
+  s->fit_status = ev->pulse_n == NULL ? AF_EINVAL
+                                      : af_fit_pulse(m->fit, &start, ev->pulse_n, ev->n_samples,
+                                                     ev->dt_s, ev->pulse_t0_s, &r);
+  s->fit_residual =
+      s->fit_status == AF_EINVAL || s->fit_status == AF_ESIZE ? NAN : r.relative_residual;
+  out->fit_residual = s->fit_residual;
+  if (s->fit_status != AF_OK)
+    return;
+  out->fitted_modulus_pa = r.modulus_pa;
+  out->fitted_modulus_se_pa = r.modulus_se_pa;
+  out->fitted_restitution = r.restitution;
+  out->fitted_restitution_se = r.restitution_se;
+}
+
+/* The model's 0S2 over the cultivar's firmness range for this apple's mass,
+ * widened by the margin, kept below the audio's Nyquist frequency. */
+static void af_resonance_range(const af_measure *m, const af_measure_apple *apple, double xi,
+                               double *f_lo_hz, double *f_hi_hz)
+{
+  const af_model_params *p = &apple->model;
+  double nu = p->impact.fruit_poisson, margin = m->cfg.range_margin;
+  double lo = af_resonance_frequency_hz(xi, p->modulus_factor * apple->modulus_min_pa, nu,
+                                        p->fruit_density_kg_m3, p->fruit_mass_kg);
+  double hi = af_resonance_frequency_hz(xi, p->modulus_factor * apple->modulus_max_pa, nu,
+                                        p->fruit_density_kg_m3, p->fruit_mass_kg);
+  *f_lo_hz = lo * (1.0 - margin);
+  *f_hi_hz =
+      fmin(hi * (1.0 + margin), 0.5 * AF_MEASURE_NYQUIST_FRACTION * m->cfg.response.sample_rate_hz);
+}
+
+/* The noise reference is this strike's own (cleared, then added): the report
+ * then depends on this strike's audio alone, not on the history of the
+ * station, and a changed noise environment shows at once. Its last
+ * noise_samples samples, those nearest the strike; too short or non-finite:
+ * the window's own noise band instead. */
+static void af_set_noise(af_measure *m, const float *noise, size_t n_noise)
+{
+  af_response_clear_noise(m->response);
+  if (noise == NULL || n_noise < AF_MEASURE_MIN_AUDIO || m->noise_samples < AF_MEASURE_MIN_AUDIO)
+    return;
+  size_t n = n_noise < m->noise_samples ? n_noise : m->noise_samples;
+  (void)af_response_add_noise(m->response, noise + (n_noise - n), n);
+}
+
+/* The 0S2 peak in the model's range; stiffness factor and the modulus,
+ * divided by the modulus factor so that it compares with the quasi-static E2
+ * of the contact and of the fit. */
+static void af_step_audio(af_measure *m, const af_measure_apple *apple, const float *audio,
+                          size_t n_audio, const float *noise, size_t n_noise,
+                          af_measure_report *out, af_measure_steps *s)
+{
+  const af_model_params *p = &apple->model;
+  af_response_result r;
+  double xi;
+  s->n_audio = audio == NULL ? 0 : n_audio;
+  s->audio_status = AF_ENODATA;
+  s->judge_status = af_cached_xi(m, p->impact.fruit_poisson, &xi);
+  if (s->judge_status != AF_OK || s->n_audio < AF_MEASURE_MIN_AUDIO)
+    return;
+  af_resonance_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
+  af_set_noise(m, noise, n_noise);
+  size_t n = s->n_audio < m->window_samples ? s->n_audio : m->window_samples;
+  s->audio_status = af_response_analyze(m->response, audio, n, s->f_lo_hz, s->f_hi_hz, &r);
+  if (s->audio_status == AF_OK || s->audio_status == AF_ENODATA)
+    out->snr_db = r.snr_db; /* the best candidate's, to say how far below the threshold */
+  if (s->audio_status != AF_OK)
+    return;
+  out->resonance_hz = r.frequency_hz;
+  out->resonance_q = r.q;
+  out->stiffness_factor = af_resonance_stiffness_factor(r.frequency_hz, p->fruit_mass_kg);
+  out->modulus_from_resonance_pa =
+      af_resonance_modulus_pa(xi, r.frequency_hz, p->impact.fruit_poisson, p->fruit_density_kg_m3,
+                              p->fruit_mass_kg) /
+      p->modulus_factor;
+}
+
+/* tau_max from the measured peak force through the elastic Hertz contact
+ * radius with the fitted E2 (the deformation is not measured), against the
+ * yield stress of the fitted E2. */
+static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_measure_report *out,
+                           af_measure_steps *s)
+{
+  const af_model_params *p = &apple->model;
+  double ratio;
+  if (!isfinite(out->fitted_modulus_pa) || !isfinite(out->peak_force_n))
+    return;
+  af_status st = af_cached_shear_ratio(m, p->shear_ratio, p->impact.fruit_poisson, &ratio);
+  if (st != AF_OK) {
+    s->judge_status = st;
+    return;
+  }
+  af_impact_params fitted = p->impact;
+  fitted.fruit_modulus_pa = out->fitted_modulus_pa;
+  double a_m = af_stress_hertz_contact_radius_m(fmax(out->peak_force_n, 0.0),
+                                                af_impact_effective_radius_m(&fitted),
+                                                af_impact_effective_modulus_pa(&fitted));
+  out->max_shear_stress_pa = ratio * af_stress_center_pressure_pa(out->peak_force_n, a_m);
+  out->yield_shear_stress_pa = af_stress_yield_shear_pa(p->yield_ratio, out->fitted_modulus_pa);
+}
+
+/* ---- verdict and reason ------------------------------------------------------- */
+
+/* Appends one part to the reason, "; "-separated, never overflowing. */
+static void af_reason_add(af_measure_report *out, const char *fmt, ...)
+{
+  size_t used = strlen(out->reason);
+  if (used + 3 >= sizeof out->reason)
+    return;
+  if (used > 0) {
+    memcpy(out->reason + used, "; ", 3);
+    used += 2;
+  }
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(out->reason + used, sizeof out->reason - used, fmt, ap);
+  va_end(ap);
+}
+
+static const char *af_fit_failure(af_status st)
+{
+  switch (st) {
+  case AF_EINVAL: return "pulse too short or not finite";
+  case AF_ESIZE: return "pulse longer than the fit's max_samples";
+  case AF_ENODATA: return "the model does not explain the pulse";
+  case AF_ENOCONV: return "not converged";
+  case AF_ENUMERIC: return "numerical failure";
+  default: return af_strerror(st);
+  }
+}
+
+/* The parts that make a strike unclean, whatever the criteria say. */
+static void af_reason_clean(const af_strike_event *ev, const af_measure_steps *s,
+                            af_measure_report *out)
+{
+  if (ev->double_hit)
+    af_reason_add(out, "double hit");
+  if (ev->clipped)
+    af_reason_add(out, "clipped at full scale");
+  if (ev->lost_samples > 0)
+    af_reason_add(out, "%llu samples lost", (unsigned long long)ev->lost_samples);
+  if (ev->truncated)
+    af_reason_add(out, "contact truncated");
+  if (s->band_status != AF_OK && s->band_status != AF_ENOLOBE)
+    af_reason_add(out, "excitation spectrum failed: %s", af_strerror(s->band_status));
+  if (s->fit_status != AF_OK && isfinite(s->fit_residual))
+    af_reason_add(out, "fit failed: %s (residual %.0f %% of the peak)",
+                  af_fit_failure(s->fit_status), 100.0 * s->fit_residual);
+  else if (s->fit_status != AF_OK)
+    af_reason_add(out, "fit failed: %s", af_fit_failure(s->fit_status));
+  if (s->judge_status != AF_OK)
+    af_reason_add(out, "Poisson ratio: %s", af_strerror(s->judge_status));
+}
+
+static void af_reason_audio(const af_measure *m, const af_measure_steps *s, af_measure_report *out)
+{
+  if (s->judge_status != AF_OK || s->audio_status == AF_OK)
+    return;
+  if (s->n_audio == 0)
+    af_reason_add(out, "no audio");
+  else if (s->n_audio < AF_MEASURE_MIN_AUDIO)
+    af_reason_add(out, "no audio (%zu samples)", s->n_audio);
+  else if (s->audio_status == AF_ENODATA && isfinite(out->snr_db))
+    af_reason_add(out,
+                  "no 0S2 resonance above the SNR threshold (%.0f dB; best %.1f dB in [%.0f, "
+                  "%.0f] Hz)",
+                  m->cfg.response.snr_threshold_db, out->snr_db, s->f_lo_hz, s->f_hi_hz);
+  else if (s->audio_status == AF_ENODATA)
+    af_reason_add(out,
+                  "no 0S2 resonance above the SNR threshold (%.0f dB; silence in [%.0f, %.0f] Hz)",
+                  m->cfg.response.snr_threshold_db, s->f_lo_hz, s->f_hi_hz);
+  else if (s->audio_status == AF_EINVAL)
+    af_reason_add(out, "0S2 range [%.0f, %.0f] Hz beyond the audio's Nyquist frequency", s->f_lo_hz,
+                  s->f_hi_hz);
+  else
+    af_reason_add(out, "audio analysis failed: %s", af_strerror(s->audio_status));
+}
+
+/* The criteria's own words for what was measured. A criterion that could not
+ * be judged (no resonance, no fitted E2) is already explained above: it is
+ * handed to af_criteria_reason as holding, so that its words are left out. */
+static void af_reason_criteria(const af_measure_apple *apple, const af_measure_steps *s,
+                               af_measure_report *out)
+{
+  static const af_lobe any_band = {
+      .end_hz = INFINITY, .band_low_hz = -INFINITY, .band_high_hz = INFINITY};
+  const af_lobe *band = s->band_status == AF_OK ? &s->band : NULL;
+  double f = out->resonance_hz, shear = out->max_shear_stress_pa;
+  double yield = out->yield_shear_stress_pa;
+  if ((band == NULL && s->band_status != AF_ENOLOBE) || (band != NULL && !isfinite(f))) {
+    band = &any_band;
+    f = 0.0;
+  }
+  if (!isfinite(shear) || !isfinite(yield)) {
+    shear = 0.0;
+    yield = 1.0;
+  }
+  char part[AF_MEASURE_REASON_MAX];
+  af_criteria_reason(band, apple->model.lobe, f, shear, yield, part, sizeof part);
+  if (part[0] != '\0')
+    af_reason_add(out, "%s", part);
+}
+
+static void af_verdict(const af_measure *m, const af_strike_event *ev,
+                       const af_measure_apple *apple, const af_measure_steps *s,
+                       af_measure_report *out)
+{
+  out->excites_mode =
+      af_criteria_excites_mode(s->band_status == AF_OK ? &s->band : NULL, out->resonance_hz);
+  out->no_damage = isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
+                   af_criteria_no_damage(out->max_shear_stress_pa, out->yield_shear_stress_pa);
+  af_reason_clean(ev, s, out);
+  af_reason_audio(m, s, out);
+  af_reason_criteria(apple, s, out);
+  bool clean = !ev->double_hit && !ev->clipped && ev->lost_samples == 0 && !ev->truncated &&
+               s->fit_status == AF_OK && s->audio_status == AF_OK && s->judge_status == AF_OK;
+  out->reliable = clean && out->excites_mode && out->no_damage;
+  if (!out->reliable && out->reason[0] == '\0')
+    af_reason_add(out, "not reliable"); /* unreachable: every failure above has words */
+}
+
+af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
+                            const float *audio, size_t n_audio, const float *noise, size_t n_noise,
+                            af_measure_report *out)
+{
+  if (m == NULL || ev == NULL || apple == NULL || out == NULL || (audio == NULL && n_audio > 0) ||
+      !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !af_apple_valid(apple))
+    return AF_EINVAL;
+  af_measure_steps s = {.band_status = AF_OK, .fit_residual = NAN, .f_lo_hz = NAN, .f_hi_hz = NAN};
+  af_report_start(ev, apple, out);
+  af_step_band(m, ev, apple, out, &s);
+  af_step_fit(m, ev, apple, out, &s);
+  af_step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
+  af_step_stress(m, apple, out, &s);
+  af_verdict(m, ev, apple, &s, out);
+  return AF_OK;
+}

@@ -1,0 +1,105 @@
+/* measure.h — one measured strike, end to end: from a detected force pulse
+ * (strike.h) and the microphone window cut at its time, the StrikeReport
+ * figures and the measured reliability.
+ *
+ *   force pulse ──> contact time, peak, impulse (the detector's)
+ *               ──> spectrum, lobes, half-power band (spectrum.h: the same
+ *                   code path as the model's spectrum)
+ *               ──> inverse fit of E2, e (v0, t0) (fit.h), started from the
+ *                   model's prediction for the matched apple
+ *   audio window ─> 0S2 peak inside the model's range for this apple's mass
+ *                   (resonance.h over [modulus_min, modulus_max], widened by
+ *                   a margin), Q, SNR (response.h); stiffness factor and the
+ *                   modulus through Lamb's relation
+ *   criteria    ──> excites_mode: the measured resonance in the measured band
+ *                   of the configured lobe (same settings as the prediction);
+ *                   no_damage: tau_max from the measured peak force and the
+ *                   fitted E2 (elastic Hertz contact radius), below the yield
+ *                   stress of the fitted E2; reliable = both and a clean
+ *                   strike (no double hit, clipping, lost samples, failed fit,
+ *                   or resonance below the SNR threshold), with the reason.
+ *
+ * Create once (all workspaces), then af_measure_strike per strike: no
+ * allocation per strike. Used by the node and by `firmness_model analyze`. */
+#ifndef AF_MEASURE_H
+#define AF_MEASURE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fit.h"
+#include "model.h"
+#include "response.h"
+#include "status.h"
+#include "strike.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AF_MEASURE_REASON_MAX 256
+
+typedef struct {
+  af_fit_config fit;           /* inverse fit (fit_velocity false when the rig sets v0) */
+  af_response_config response; /* microphone analysis (sample rate, window, SNR threshold) */
+  double audio_delay_s;        /* audio window starts this long after the contact start [s], >= 0 */
+  double audio_window_s;       /* analysed audio length [s], > 0, <= response.window_samples / rate */
+  double noise_window_s;       /* audio just before the strike used as the noise reference [s], >= 0 (0 = none) */
+  double range_margin;         /* relative widening of the model's 0S2 range, [0, 1) */
+} af_measure_config;
+
+/* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,
+ * window 40 ms, noise 20 ms, margin 0.15. */
+af_measure_config af_measure_config_default(void);
+
+/* The apple the strike is judged for: the model parameters of its prediction
+ * (mass, strike radius, nominal E2, e, nu, density, hammer, criteria settings)
+ * and the cultivar's firmness range for the 0S2 search. */
+typedef struct {
+  af_model_params model;
+  double modulus_min_pa;
+  double modulus_max_pa;
+} af_measure_apple;
+
+/* The figures of msg/StrikeReport.msg plus the measured Reliability. NaN
+ * where a figure could not be measured. */
+typedef struct {
+  double contact_time_s, peak_force_n, impulse_n_s;
+  unsigned lobe;
+  double band_low_hz, band_high_hz;         /* measured band of the configured lobe */
+  double resonance_hz, resonance_q, snr_db; /* 0S2 from the microphone */
+  double stiffness_factor;                  /* f^2 m^(2/3) [Hz^2 kg^(2/3)] */
+  double modulus_from_resonance_pa;         /* Lamb, divided by the modulus factor */
+  double fitted_modulus_pa, fitted_restitution, fit_residual; /* residual: RMS / peak */
+  double fitted_modulus_se_pa, fitted_restitution_se;
+  bool double_hit, clipped;
+  uint32_t lost_samples;
+  bool excites_mode, no_damage, reliable;
+  double max_shear_stress_pa, yield_shear_stress_pa;
+  char reason[AF_MEASURE_REASON_MAX]; /* "" when reliable */
+} af_measure_report;
+
+typedef struct af_measure af_measure;
+
+af_status af_measure_create(const af_measure_config *cfg, af_measure **out);
+void af_measure_destroy(af_measure *m); /* NULL-safe */
+const af_measure_config *af_measure_get_config(const af_measure *m);
+
+/* Measures one strike. ev: the detector's event (its pulse is read during the
+ * call only). audio: the window cut from the audio stream starting
+ * audio_delay_s after ev's contact start (by sample index), n_audio samples
+ * (may be shorter than the configured window, or 0 when no audio: then the
+ * resonance figures are NaN and the reason says so); noise: the audio just
+ * before the strike (may be NULL). Always fills *out (reason set) unless an
+ * argument is invalid (AF_EINVAL). Returns AF_OK when every figure was
+ * measured; a failed part (fit, resonance) is reported in out->reason with
+ * reliable false, and the call still returns AF_OK. */
+af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
+                            const float *audio, size_t n_audio, const float *noise, size_t n_noise,
+                            af_measure_report *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
