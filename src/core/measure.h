@@ -44,9 +44,10 @@ typedef struct {
   af_fit_config fit;           /* inverse fit (fit_velocity false when the rig sets v0) */
   af_response_config response; /* microphone analysis (sample rate, window, SNR threshold) */
   double audio_delay_s;        /* audio window starts this long after the contact start [s], >= 0 */
-  double audio_window_s;       /* analysed audio length [s], > 0, <= response.window_samples / rate */
-  double noise_window_s;       /* audio just before the strike used as the noise reference [s], >= 0 (0 = none) */
-  double range_margin;         /* relative widening of the model's 0S2 range, [0, 1) */
+  double audio_window_s; /* analysed audio length [s], > 0, <= response.window_samples / rate */
+  double noise_window_s; /* audio just before the strike used as the noise reference [s], >= 0 (0 =
+                            none) */
+  double range_margin;   /* relative widening of the model's 0S2 range, [0, 1) */
 } af_measure_config;
 
 /* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,
