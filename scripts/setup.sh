@@ -18,6 +18,8 @@ PACKAGES=(
   libgtest-dev
   # the node's rostests (Python test nodes)
   python3-rospy python3-rosparam python3-roslib python3-rospkg python3-rosunit
+  # scripts/bench_node.sh (the node's PID from its XML-RPC API)
+  python3-rosgraph
 )
 
 # --rviz: also what scripts/rviz_shot.sh needs (not needed to build or test).

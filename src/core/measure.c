@@ -65,6 +65,7 @@ af_measure_config af_measure_config_default(void)
   c.audio_delay_s = 0.5e-3;
   c.audio_window_s = 0.040;
   c.noise_window_s = 0.020;
+  c.noise_guard_s = 0.005;
   c.range_margin = 0.15;
   return c;
 }
@@ -81,7 +82,8 @@ static af_status af_measure_check(const af_measure_config *c, size_t *window_n, 
   double rate = c->response.sample_rate_hz;
   if (!(isfinite(rate) && rate > 0.0) || !af_finite_nonneg(c->audio_delay_s) ||
       !(isfinite(c->audio_window_s) && c->audio_window_s > 0.0) ||
-      !af_finite_nonneg(c->noise_window_s) || !(c->range_margin >= 0.0 && c->range_margin < 1.0))
+      !af_finite_nonneg(c->noise_window_s) || !af_finite_nonneg(c->noise_guard_s) ||
+      !(c->range_margin >= 0.0 && c->range_margin < 1.0))
     return AF_EINVAL;
   double w = round(c->audio_window_s * rate), z = round(c->noise_window_s * rate);
   double cap = (double)c->response.window_samples;

@@ -45,13 +45,15 @@ typedef struct {
   af_response_config response; /* microphone analysis (sample rate, window, SNR threshold) */
   double audio_delay_s;        /* audio window starts this long after the contact start [s], >= 0 */
   double audio_window_s; /* analysed audio length [s], > 0, <= response.window_samples / rate */
+  double noise_guard_s;  /* the noise reference ends this long before the contact start [s],
+                            >= 0: stamp jitter must not put the strike's ringing into it */
   double noise_window_s; /* audio just before the strike used as the noise reference [s], >= 0 (0 =
                             none) */
   double range_margin;   /* relative widening of the model's 0S2 range, [0, 1) */
 } af_measure_config;
 
 /* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,
- * window 40 ms, noise 20 ms, margin 0.15. */
+ * window 40 ms, noise 20 ms ending 5 ms before the contact, margin 0.15. */
 af_measure_config af_measure_config_default(void);
 
 /* The apple the strike is judged for: the model parameters of its prediction

@@ -131,3 +131,22 @@ size_t af_markers_build(const af_markers_scene *s, af_marker out[AF_MARKERS_COUN
   af_text(t->text, sizeof t->text, "%s", s->text ? s->text : "");
   return AF_MARKERS_COUNT;
 }
+
+void af_markers_measured_label(const af_header *header, const double centre_m[3], double top_m,
+                               const char *text, double lifetime_s, af_marker *out)
+{
+  memset(out, 0, sizeof *out);
+  out->header = *header;
+  af_text(out->ns, sizeof out->ns, "firmness_measured");
+  out->id = 0;
+  out->type = AF_MARKER_TEXT;
+  out->orientation[3] = 1.0;
+  out->lifetime_s = lifetime_s;
+  /* The apple's label is at top + 2 h; this line 1.5 h above it. */
+  out->position.x = centre_m[0];
+  out->position.y = centre_m[1];
+  out->position.z = centre_m[2] + top_m + 3.5 * AF_LABEL_HEIGHT_M;
+  out->scale.z = AF_LABEL_HEIGHT_M;
+  set_rgba(out, 0.6f, 0.9f, 1.0f, 1.0f);
+  af_text(out->text, sizeof out->text, "%s", text ? text : "");
+}

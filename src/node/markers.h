@@ -42,6 +42,13 @@ typedef struct {
 /* Fills out[AF_MARKERS_COUNT]; returns AF_MARKERS_COUNT. No allocation. */
 size_t af_markers_build(const af_markers_scene *s, af_marker out[AF_MARKERS_COUNT]);
 
+/* The measured strike's line of text (namespace "firmness_measured", id 0,
+ * replaced by each strike), one line above the apple's label: header, centre
+ * and the larger semi-axis top_m of the apple it was matched to. No
+ * allocation. */
+void af_markers_measured_label(const af_header *header, const double centre_m[3], double top_m,
+                               const char *text, double lifetime_s, af_marker *out);
+
 #ifdef __cplusplus
 }
 #endif

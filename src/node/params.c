@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "measure.h"
 #include "resonance.h"
+#include "strike.h"
 #include "text.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
@@ -226,6 +228,161 @@ static af_status load_streams(af_ros *r, af_node_config *c, char *err, size_t le
   const af_double_param stale = {
       "stream_stale_after_s", &c->stream_stale_after_s, 0.0, INFINITY, true, true, "s"};
   return st == AF_OK ? get_double(r, &stale, err, len) : st;
+}
+
+/* Smallest power of two >= n (n >= 1). */
+static size_t power_of_two_at_least(size_t n)
+{
+  size_t p = 1;
+  while (p < n)
+    p <<= 1;
+  return p;
+}
+
+/* The strike detector on the force stream (~strike_*). */
+static af_status load_detector(af_ros *r, af_node_config *c, char *err, size_t len)
+{
+  af_strike_config *d = &c->measured.strike;
+  *d = af_strike_config_default(); /* every field is overwritten below */
+  d->sample_rate_hz = c->force.sample_rate_hz;
+  const af_double_param table[] = {
+      {"strike_full_scale_n", &d->full_scale_n, 0.0, 1e6, true, false, "N"},
+      {"strike_threshold_noise_factor", &d->threshold_noise_factor, 0.0, 1e3, true, false,
+       "(x noise RMS)"},
+      {"strike_threshold_min_n", &d->threshold_min_n, 0.0, 1e6, false, false, "N"},
+      {"strike_pre_trigger_s", &d->pre_trigger_s, 0.0, 1.0, true, false, "s"},
+      {"strike_baseline_time_constant_s", &d->baseline_time_constant_s, 0.0, 10.0, true, false,
+       "s"},
+      {"strike_baseline_window_s", &d->baseline_window_s, 0.0, 1.0, true, false, "s"},
+      {"strike_double_hit_gap_s", &d->double_hit_gap_s, 0.0, 1.0, false, false, "s"},
+      {"strike_max_contact_s", &d->max_contact_s, 0.0, 1.0, true, false, "s"},
+      {"strike_post_s", &d->post_s, 0.0, 1.0, true, false, "s"},
+      {"strike_rise_fit_level", &d->rise_fit_level, 0.0, 1.0, true, true, "(of the peak)"},
+      {"strike_fall_fit_level", &d->fall_fit_level, 0.0, 1.0, true, true, "(of the peak)"},
+  };
+  af_status st = get_doubles(r, table, sizeof table / sizeof table[0], err, len);
+  if (st == AF_OK)
+    st = check_order("strike_baseline_window_s", d->baseline_window_s, "strike_pre_trigger_s",
+                     d->pre_trigger_s, err, len);
+  if (st == AF_OK)
+    st = check_order("strike_baseline_window_s", d->baseline_window_s, "strike_post_s", d->post_s,
+                     err, len);
+  if (st == AF_OK && d->post_s < d->double_hit_gap_s) {
+    af_text(err, len,
+            "parameter ~strike_post_s = %g must be at least ~strike_double_hit_gap_s = %g (a "
+            "bounce must be ruled out before the strike is emitted)",
+            d->post_s, d->double_hit_gap_s);
+    st = AF_EINVAL;
+  }
+  if (st != AF_OK)
+    return st;
+  /* The longest span an event covers: pre-trigger, a contact and a bounce of
+   * the longest kind, the gap between them, the wait after (strike.c). */
+  double fs = d->sample_rate_hz;
+  double span = ceil(d->pre_trigger_s * fs) + 2.0 * ceil(d->max_contact_s * fs) +
+                ceil(d->double_hit_gap_s * fs) + ceil(d->post_s * fs) + 4.0;
+  if (span > 16777216.0) {
+    af_text(err, len,
+            "parameters ~strike_pre_trigger_s, ~strike_max_contact_s, ~strike_double_hit_gap_s "
+            "and ~strike_post_s give an event span of %.0f samples at %g Hz, above the 2^24 "
+            "accepted",
+            span, fs);
+    return AF_EINVAL;
+  }
+  c->measured.pulse_capacity_samples = (size_t)span;
+  /* The core's own check (it also allocates: start-up only). */
+  af_strike *trial = NULL;
+  st = af_strike_create(d, &trial);
+  af_strike_destroy(trial);
+  if (st != AF_OK)
+    af_text(err, len,
+            "the strike detector refuses the ~strike_* parameters at ~force_sample_rate_hz = %g "
+            "Hz: %s (a window shorter than 2 samples?)",
+            fs, af_strerror(st));
+  return st;
+}
+
+/* The measurement of each strike (~measure_*) and the pending queue. */
+static af_status load_measure(af_ros *r, af_node_config *c, char *err, size_t len)
+{
+  af_measured_config *mc = &c->measured;
+  af_measure_config *m = &mc->measure;
+  *m = af_measure_config_default(); /* the fit and response settings not exposed stay the core's */
+  double pending, snr_db;
+  const af_double_param table[] = {
+      {"measure_audio_delay_s", &m->audio_delay_s, 0.0, 1.0, false, false, "s"},
+      {"measure_audio_window_s", &m->audio_window_s, 0.0, 1.0, true, false, "s"},
+      {"measure_noise_window_s", &m->noise_window_s, 0.0, 1.0, false, false, "s (0 = none)"},
+      {"measure_noise_guard_s", &m->noise_guard_s, 0.0, 1.0, false, false, "s"},
+      {"measure_range_margin", &m->range_margin, 0.0, 1.0, false, true, "(relative)"},
+      {"measure_snr_threshold_db", &snr_db, -100.0, 100.0, false, false, "dB"},
+      {"strike_pending_size", &pending, 1.0, 1000.0, false, false, "strikes"},
+      {"apple_stale_after_s", &mc->apple_stale_after_s, 0.0, 3600.0, true, false, "s"},
+  };
+  af_status st = af_ros_param_bool(r, "measure_fit_velocity", &m->fit.fit_velocity);
+  if (st != AF_OK)
+    return missing_or_wrong(st, "measure_fit_velocity", "true or false", err, len);
+  st = get_doubles(r, table, sizeof table / sizeof table[0], err, len);
+  if (st != AF_OK)
+    return st;
+  if (pending != floor(pending)) {
+    af_text(err, len, "parameter ~strike_pending_size = %g must be a whole number in [1, 1000]",
+            pending);
+    return AF_EINVAL;
+  }
+  mc->pending_size = (size_t)pending;
+  double fs = c->audio.sample_rate_hz;
+  /* Rounded as the measurement rounds them (measure.c). */
+  double window = round(m->audio_window_s * fs), noise = round(m->noise_window_s * fs);
+  if (window < 8.0) {
+    af_text(err, len,
+            "parameter ~measure_audio_window_s = %g gives %.0f audio samples at %g Hz, fewer "
+            "than the 8 the analysis needs",
+            m->audio_window_s, window, fs);
+    return AF_EINVAL;
+  }
+  if (noise > 0.0 && noise < 8.0) {
+    af_text(err, len,
+            "parameter ~measure_noise_window_s = %g gives %.0f audio samples at %g Hz: 0 (none) "
+            "or at least 8",
+            m->noise_window_s, noise, fs);
+    return AF_EINVAL;
+  }
+  /* The ring must hold the noise before the strike, the delay and the window. */
+  double needed_s = m->noise_window_s + m->noise_guard_s + m->audio_delay_s + m->audio_window_s;
+  if (!(needed_s < c->audio.buffer_s)) {
+    af_text(
+        err, len,
+        "parameters ~measure_noise_window_s + ~measure_noise_guard_s + ~measure_audio_delay_s + "
+        "~measure_audio_window_s = %g s must be below ~audio_buffer_s = %g s",
+        needed_s, c->audio.buffer_s);
+    return AF_EINVAL;
+  }
+  mc->audio_window_samples = (size_t)window;
+  mc->noise_window_samples = (size_t)noise;
+  /* The analysis holds the longer of the two windows, zero-padded 4 times. */
+  af_response_config *rc = &m->response;
+  rc->sample_rate_hz = fs;
+  rc->window_samples = mc->audio_window_samples > mc->noise_window_samples
+                           ? mc->audio_window_samples
+                           : mc->noise_window_samples;
+  rc->fft_size = power_of_two_at_least(4 * rc->window_samples);
+  rc->snr_threshold_db = snr_db;
+  /* The fit: the strike's own damping law; sized for the longest contact. */
+  m->fit.damping = c->model.impact.damping;
+  size_t longest = (size_t)ceil(mc->strike.max_contact_s * c->force.sample_rate_hz) + 2;
+  if (longest > m->fit.max_samples)
+    m->fit.max_samples = longest;
+  /* The core's own check (it also allocates: start-up only). */
+  af_measure *trial = NULL;
+  st = af_measure_create(m, &trial);
+  af_measure_destroy(trial);
+  if (st != AF_OK)
+    af_text(err, len,
+            "the strike measurement refuses the ~measure_* parameters at "
+            "~audio_sample_rate_hz = %g Hz: %s",
+            fs, af_strerror(st));
+  return st;
 }
 
 static af_status load_markers(af_ros *r, af_node_config *c, char *err, size_t len)
@@ -463,6 +620,10 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
     st = load_cultivar(ros, cfg, err, err_len);
   if (st == AF_OK)
     st = load_streams(ros, cfg, err, err_len);
+  if (st == AF_OK)
+    st = load_detector(ros, cfg, err, err_len);
+  if (st == AF_OK)
+    st = load_measure(ros, cfg, err, err_len);
   if (st == AF_OK)
     st = load_markers(ros, cfg, err, err_len);
   if (st == AF_OK)

@@ -17,7 +17,9 @@
 #include "af_msgs.h"
 #include "af_ros.h"
 #include "af_urdf.h"
+#include "measure.h"
 #include "model.h"
+#include "strike.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -34,6 +36,19 @@ typedef struct {
   size_t capacity_samples;    /* ceil(buffer_s * sample_rate_hz) */
   char units[2][AF_UNIT_MAX]; /* accepted SignalChunk.unit values ("" = unused slot) */
 } af_stream_config;
+
+/* The measured strikes: the detector on the force stream, the measurement of
+ * each strike, the queue of strikes waiting for their audio, and the match
+ * to an AppleEstimate. */
+typedef struct {
+  af_strike_config strike;       /* ~strike_*; sample rate = ~force_sample_rate_hz */
+  af_measure_config measure;     /* ~measure_*; response and fit sized from them */
+  size_t pending_size;           /* ~strike_pending_size: strikes waiting for audio */
+  size_t pulse_capacity_samples; /* longest event span the detector can emit */
+  size_t audio_window_samples;   /* round(measure_audio_window_s * audio rate) */
+  size_t noise_window_samples;   /* round(measure_noise_window_s * audio rate); 0 = none */
+  double apple_stale_after_s;    /* ~apple_stale_after_s */
+} af_measured_config;
 
 typedef struct {
   /* --- rig (station.yaml, URDF) --- */
@@ -56,6 +71,8 @@ typedef struct {
   /* --- streams --- */
   af_stream_config force, audio;
   double stream_stale_after_s;
+  /* --- measured strikes --- */
+  af_measured_config measured;
   /* --- rviz markers --- */
   bool markers_enabled;
   double marker_lifetime_s;

@@ -7,6 +7,7 @@
 
 #include "advice.h"
 #include "markers.h"
+#include "measured.h"
 #include "model.h"
 #include "resonance.h"
 #include "streams.h"
@@ -17,9 +18,12 @@
 #endif
 
 /* Subscriber queues: apples come a few per second; chunks at 50 kHz in
- * blocks of a few ms, so a second of them fits. */
+ * blocks of ~20 ms. A chunk must never be dropped (it would be a gap under
+ * a strike): 1000 chunks ride out 20 s of a real-time stream, or a bag
+ * replayed several times faster than real time while a strike is measured.
+ * The queue holds messages only while the node is behind. */
 #define AF_APPLE_QUEUE 10
-#define AF_CHUNK_QUEUE 200
+#define AF_CHUNK_QUEUE 1000
 #define AF_OUTPUT_QUEUE 10
 /* Diagnostics period [s] follows the updater (~diagnostic_period). */
 
@@ -30,6 +34,7 @@ struct af_station {
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
   af_stream force, audio;
+  af_measured *measured; /* the strikes measured on the streams */
   /* Output scratch, kept here so that no callback allocates. */
   af_excitation_band band;
   af_strike_advice advice;
@@ -385,6 +390,8 @@ static void reject_apple(af_station *st, const af_apple_estimate *a, const char 
   st->last_apple_invalid = true;
   af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", a->apple_id, why);
   af_ros_log(st->ros, AF_LOG_WARN, "apple %u: no prediction: %s", a->apple_id, why);
+  const double origin[3] = {0.0, 0.0, 0.0};
+  af_measured_apple(st->measured, a, NULL, why, origin, 0.0);
   publish(st, st->reliability_pub, rel, "reliability");
   af_ros_diag_force_update(st->diag);
 }
@@ -410,6 +417,9 @@ static void on_apple(const void *msg, void *user)
     return;
   }
   st->last_apple_invalid = false;
+  /* The prediction a strike on this apple will be judged with. */
+  af_measured_apple(st->measured, a, &w.params, NULL, w.centre_m,
+                    fmax(a->equatorial_radius_m, w.polar_semi_axis_m));
   fill_band(st->cfg, a, &w, &st->band);
   fill_advice(st->cfg, a, &w, &st->advice);
   fill_reliability(a, &w, &st->reliability);
@@ -438,7 +448,7 @@ static bool power_of_two(unsigned long long n)
 
 /* Checks and buffers a chunk; problems are warned about at the 1st, 2nd,
  * 4th, 8th ... occurrence so that a broken stream cannot flood the log. */
-static void on_chunk(af_station *st, af_stream *s, const af_signal_chunk *c)
+static af_chunk_verdict on_chunk(af_station *st, af_stream *s, const af_signal_chunk *c)
 {
   af_ring_write_info info;
   af_chunk_verdict v = af_stream_push(s, c, af_time_to_s(af_ros_now(st->ros)), &info);
@@ -448,18 +458,25 @@ static void on_chunk(af_station *st, af_stream *s, const af_signal_chunk *c)
                                                     : 0;
   if (power_of_two(count))
     af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
+  return v;
 }
 
+/* An accepted force chunk also feeds the strike detector; an accepted audio
+ * chunk may complete the window a pending strike waits for. */
 static void on_force(const void *msg, void *user)
 {
   af_station *st = user;
-  on_chunk(st, &st->force, msg);
+  double entry_wall_s = af_measured_wall_s();
+  if (on_chunk(st, &st->force, msg) == AF_CHUNK_OK)
+    af_measured_force(st->measured, msg, entry_wall_s);
 }
 
 static void on_audio(const void *msg, void *user)
 {
   af_station *st = user;
-  on_chunk(st, &st->audio, msg);
+  double entry_wall_s = af_measured_wall_s();
+  if (on_chunk(st, &st->audio, msg) == AF_CHUNK_OK)
+    af_measured_audio(st->measured, entry_wall_s);
 }
 
 /* --- diagnostics ------------------------------------------------------------ */
@@ -499,12 +516,15 @@ static void diag_task(af_diag_status *d, void *user)
                                 st->audio.restarts;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
+  const char *strike_warning = af_measured_warning(st->measured);
   if (st->last_apple_invalid)
     af_diag_summary(d, AF_DIAG_WARN, "last apple got no prediction");
   else if (new_problems)
     af_diag_summary(d, AF_DIAG_WARN, "stream gaps or bad chunks since the last report");
   else if (force_stale || audio_stale)
     af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
+  else if (strike_warning)
+    af_diag_summary(d, AF_DIAG_WARN, strike_warning);
   else
     af_diag_summary(d, AF_DIAG_OK, "ok");
   af_diag_add(d, "cultivar", "%s", c->cultivar);
@@ -529,6 +549,7 @@ static void diag_task(af_diag_status *d, void *user)
   }
   diag_stream(d, &st->force, force_stale);
   diag_stream(d, &st->audio, audio_stale);
+  af_measured_diag(st->measured, d);
 }
 
 /* --- life cycle -------------------------------------------------------------- */
@@ -582,6 +603,9 @@ static af_status build(af_station *st, const char **what)
   *what = "the publishers";
   if ((s = advertise(st)) != AF_OK)
     return s;
+  if ((s = af_measured_create(st->ros, st->cfg, &st->force, &st->audio, st->reliability_pub,
+                              st->markers_pub, &st->measured, what)) != AF_OK)
+    return s;
   *what = "the subscribers";
   return subscribe(st);
 }
@@ -610,6 +634,7 @@ void af_station_destroy(af_station *st)
 {
   if (!st)
     return;
+  af_measured_destroy(st->measured);
   af_model_destroy(st->model);
   af_stream_fini(&st->force);
   af_stream_fini(&st->audio);
@@ -618,5 +643,6 @@ void af_station_destroy(af_station *st)
 
 void af_station_update(af_station *st)
 {
+  af_measured_poll(st->measured);
   af_ros_diag_update(st->diag);
 }

@@ -77,6 +77,9 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_signal_chunk *c, double n
     s->chunks++;
     s->seen = true;
     s->last_rx_s = now_s;
+    s->map_stamp_ns = af_time_to_ns(c->header.stamp);
+    s->map_first_sample = c->first_sample;
+    memcpy(s->frame_id, c->header.frame_id, sizeof s->frame_id);
     if (w.gap_samples > 0) {
       s->gaps++;
       s->lost_samples += w.gap_samples;
@@ -103,4 +106,31 @@ uint64_t af_stream_bad_chunks(const af_stream *s)
 bool af_stream_stale(const af_stream *s, double now_s, double stale_after_s)
 {
   return s->seen && now_s - s->last_rx_s > stale_after_s;
+}
+
+int64_t af_time_to_ns(af_time t)
+{
+  return (int64_t)t.sec * 1000000000LL + (int64_t)t.nsec;
+}
+
+af_time af_time_from_ns(int64_t ns)
+{
+  af_time t = {0, 0};
+  if (ns > 0) {
+    t.sec = (uint32_t)(ns / 1000000000LL);
+    t.nsec = (uint32_t)(ns % 1000000000LL);
+  }
+  return t;
+}
+
+int64_t af_stream_time_ns(const af_stream *s, double index)
+{
+  double offset_s = (index - (double)s->map_first_sample) / s->cfg->sample_rate_hz;
+  return s->map_stamp_ns + (int64_t)llround(offset_s * 1e9);
+}
+
+double af_stream_index_at(const af_stream *s, int64_t t_ns)
+{
+  return (double)s->map_first_sample +
+         (double)(t_ns - s->map_stamp_ns) * 1e-9 * s->cfg->sample_rate_hz;
 }

@@ -1,7 +1,15 @@
 /* streams.h — the force and audio inputs: each SignalChunk checked (rate,
  * unit, finite data), buffered in its ring (src/core/ring.h) and counted for
- * the diagnostics. The rings are where the measured-strike detection will
- * read its windows. */
+ * the diagnostics. The rings are where the measured strikes read their
+ * audio windows (measured.h).
+ *
+ * Time <-> sample index: each stream keeps the stamp and first_sample of its
+ * latest accepted chunk (SignalChunk.header.stamp is the time of data[0]), so
+ * sample i is at stamp + (i - first_sample) / sample_rate and time t at index
+ * first_sample + (t - stamp) sample_rate. The latest chunk, not the first:
+ * a restart or a gap re-anchors the mapping, and a clock that drifts against
+ * the sample counter is followed chunk by chunk. Times are integer
+ * nanoseconds (a double of seconds since 1970 keeps only ~0.2 us). */
 #ifndef AF_NODE_STREAMS_H
 #define AF_NODE_STREAMS_H
 
@@ -35,6 +43,10 @@ typedef struct {
   bool seen;                             /* a chunk was accepted */
   double last_rx_s;                      /* ROS time of the last accepted chunk [s] */
   char last_problem[AF_TEXT_MAX];
+  /* The latest accepted chunk: the time <-> index mapping and its frame. */
+  int64_t map_stamp_ns;      /* header.stamp [ns] */
+  uint64_t map_first_sample; /* its first_sample */
+  char frame_id[AF_FRAME_ID_MAX];
 } af_stream;
 
 /* Makes the ring (capacity from cfg). AF_ENOMEM on failure. */
@@ -46,6 +58,16 @@ void af_stream_fini(af_stream *s); /* safe on a zeroed or finished stream */
  * restarts. No allocation. */
 af_chunk_verdict af_stream_push(af_stream *s, const af_signal_chunk *c, double now_s,
                                 af_ring_write_info *info);
+
+/* A ROS time in integer nanoseconds. */
+int64_t af_time_to_ns(af_time t);
+af_time af_time_from_ns(int64_t ns); /* ns >= 0 */
+
+/* Time [ns] of the (fractional) sample index of s, by the latest chunk's
+ * mapping (meaningful once s->seen). */
+int64_t af_stream_time_ns(const af_stream *s, double index);
+/* The (fractional) sample index of s at time t_ns, by the same mapping. */
+double af_stream_index_at(const af_stream *s, int64_t t_ns);
 
 /* Refused chunks so far, all kinds. */
 uint64_t af_stream_bad_chunks(const af_stream *s);

@@ -37,12 +37,12 @@ typedef struct {
 
 /* acoustic_firmness/SignalChunk */
 typedef struct {
-  af_header header;         /* stamp = time of data[0] */
-  uint64_t first_sample;    /* running index of data[0] */
+  af_header header;      /* stamp = time of data[0] */
+  uint64_t first_sample; /* running index of data[0] */
   double sample_rate_hz;
   char unit[AF_UNIT_MAX];
-  const float *data;        /* borrowed (incoming) or caller-owned (outgoing) */
-  size_t n;                 /* samples in data */
+  const float *data; /* borrowed (incoming) or caller-owned (outgoing) */
+  size_t n;          /* samples in data */
 } af_signal_chunk;
 
 /* acoustic_firmness/AppleEstimate */
@@ -97,6 +97,29 @@ typedef struct {
   char reason[AF_TEXT_MAX];
 } af_reliability;
 
+/* acoustic_firmness/StrikeReport: one measured strike. NaN where a figure
+ * could not be measured. */
+typedef struct {
+  af_header header;                 /* stamp = contact start; frame = the force chunk's */
+  uint32_t apple_id;                /* 0 = no apple estimate matched */
+  double contact_time_s;            /* [s] */
+  double peak_force_n;              /* [N] */
+  double impulse_n_s;               /* [N s] */
+  double band_low_hz;               /* half-power band of the configured lobe [Hz] */
+  double band_high_hz;              /* [Hz] */
+  double resonance_hz;              /* 0S2 from the microphone [Hz] */
+  double resonance_q;               /* quality factor [-] */
+  double snr_db;                    /* [dB] */
+  double stiffness_factor;          /* f^2 m^(2/3) [Hz^2 kg^(2/3)] */
+  double modulus_from_resonance_pa; /* Lamb, divided by the modulus factor [Pa] */
+  double fitted_modulus_pa;         /* impact model fitted to the pulse [Pa] */
+  double fitted_restitution;        /* [-] */
+  double fit_residual;              /* RMS / peak [-] */
+  bool double_hit;
+  bool clipped;
+  uint32_t lost_samples; /* force samples missing around the strike */
+} af_strike_report;
+
 /* visualization_msgs/Marker (the subset the node draws); published as a
  * visualization_msgs/MarkerArray through af_marker_array. */
 typedef enum {
@@ -115,13 +138,13 @@ typedef struct {
   char ns[32];
   int32_t id;
   af_marker_type type;
-  bool delete_marker;     /* action DELETE instead of ADD */
-  af_vec3 position;       /* [m] */
-  double orientation[4];  /* quaternion x, y, z, w */
-  af_vec3 scale;          /* [m] */
-  float rgba[4];          /* [0, 1] */
-  double lifetime_s;      /* 0 = forever */
-  char text[AF_TEXT_MAX]; /* TEXT markers */
+  bool delete_marker;                   /* action DELETE instead of ADD */
+  af_vec3 position;                     /* [m] */
+  double orientation[4];                /* quaternion x, y, z, w */
+  af_vec3 scale;                        /* [m] */
+  float rgba[4];                        /* [0, 1] */
+  double lifetime_s;                    /* 0 = forever */
+  char text[AF_TEXT_MAX];               /* TEXT markers */
   af_vec3 points[AF_MARKER_MAX_POINTS]; /* ARROW (2 points) and LINE_STRIP */
   size_t n_points;
 } af_marker;

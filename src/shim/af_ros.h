@@ -40,10 +40,17 @@ typedef enum {
   AF_MSG_EXCITATION_BAND,  /* af_excitation_band   <-> acoustic_firmness/ExcitationBand */
   AF_MSG_STRIKE_ADVICE,    /* af_strike_advice     <-> acoustic_firmness/StrikeAdvice */
   AF_MSG_RELIABILITY,      /* af_reliability       <-> acoustic_firmness/Reliability */
-  AF_MSG_MARKER_ARRAY      /* af_marker_array       -> visualization_msgs/MarkerArray (publish only) */
+  AF_MSG_MARKER_ARRAY, /* af_marker_array       -> visualization_msgs/MarkerArray (publish only) */
+  AF_MSG_STRIKE_REPORT /* af_strike_report     <-> acoustic_firmness/StrikeReport */
 } af_msg_type;
 
-typedef enum { AF_LOG_DEBUG = 0, AF_LOG_INFO, AF_LOG_WARN, AF_LOG_ERROR, AF_LOG_FATAL } af_log_level;
+typedef enum {
+  AF_LOG_DEBUG = 0,
+  AF_LOG_INFO,
+  AF_LOG_WARN,
+  AF_LOG_ERROR,
+  AF_LOG_FATAL
+} af_log_level;
 
 typedef void (*af_ros_callback)(const void *msg, void *user);
 
@@ -105,7 +112,12 @@ af_status af_ros_subscribe(af_ros *r, const char *topic, af_msg_type type, unsig
 /* diagnostic_updater: one updater per node, on /diagnostics.
  * hardware_id names the station (e.g. the lane). */
 typedef struct af_diag_status af_diag_status;
-typedef enum { AF_DIAG_OK = 0, AF_DIAG_WARN = 1, AF_DIAG_ERROR = 2, AF_DIAG_STALE = 3 } af_diag_level;
+typedef enum {
+  AF_DIAG_OK = 0,
+  AF_DIAG_WARN = 1,
+  AF_DIAG_ERROR = 2,
+  AF_DIAG_STALE = 3
+} af_diag_level;
 /* Fills a status; called from af_ros_diag_update when the updater's period is due. */
 typedef void (*af_diag_fn)(af_diag_status *st, void *user);
 void af_diag_summary(af_diag_status *st, af_diag_level level, const char *message);

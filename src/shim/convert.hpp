@@ -24,6 +24,7 @@
 #include <acoustic_firmness/Reliability.h>
 #include <acoustic_firmness/SignalChunk.h>
 #include <acoustic_firmness/StrikeAdvice.h>
+#include <acoustic_firmness/StrikeReport.h>
 #include <geometry_msgs/Vector3.h>
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -70,6 +71,9 @@ void from_ros(const acoustic_firmness::StrikeAdvice &m, af_strike_advice &c);
 
 void to_ros(const af_reliability &c, acoustic_firmness::Reliability &m);
 void from_ros(const acoustic_firmness::Reliability &m, af_reliability &c);
+
+void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m);
+void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c);
 
 // Markers are publish-only: there is no ROS -> C direction.
 void to_ros(const af_marker &c, visualization_msgs::Marker &m);

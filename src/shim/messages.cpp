@@ -173,6 +173,50 @@ void from_ros(const acoustic_firmness::Reliability &m, af_reliability &c)
   copy_string(m.reason, c.reason);
 }
 
+void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m)
+{
+  to_ros(c.header, m.header);
+  m.apple_id = c.apple_id;
+  m.contact_time = c.contact_time_s;
+  m.peak_force = c.peak_force_n;
+  m.impulse = c.impulse_n_s;
+  m.band_low = c.band_low_hz;
+  m.band_high = c.band_high_hz;
+  m.resonance = c.resonance_hz;
+  m.resonance_q = c.resonance_q;
+  m.snr_db = c.snr_db;
+  m.stiffness_factor = c.stiffness_factor;
+  m.modulus_from_resonance = c.modulus_from_resonance_pa;
+  m.fitted_modulus = c.fitted_modulus_pa;
+  m.fitted_restitution = c.fitted_restitution;
+  m.fit_residual = c.fit_residual;
+  m.double_hit = c.double_hit;
+  m.clipped = c.clipped;
+  m.lost_samples = c.lost_samples;
+}
+
+void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
+{
+  from_ros(m.header, c.header);
+  c.apple_id = m.apple_id;
+  c.contact_time_s = m.contact_time;
+  c.peak_force_n = m.peak_force;
+  c.impulse_n_s = m.impulse;
+  c.band_low_hz = m.band_low;
+  c.band_high_hz = m.band_high;
+  c.resonance_hz = m.resonance;
+  c.resonance_q = m.resonance_q;
+  c.snr_db = m.snr_db;
+  c.stiffness_factor = m.stiffness_factor;
+  c.modulus_from_resonance_pa = m.modulus_from_resonance;
+  c.fitted_modulus_pa = m.fitted_modulus;
+  c.fitted_restitution = m.fitted_restitution;
+  c.fit_residual = m.fit_residual;
+  c.double_hit = m.double_hit != 0;
+  c.clipped = m.clipped != 0;
+  c.lost_samples = m.lost_samples;
+}
+
 namespace
 {
 

@@ -78,6 +78,9 @@ af_status af_ros_advertise(af_ros *r, const char *topic, af_msg_type type, unsig
     case AF_MSG_MARKER_ARRAY:
       advertise_as<af_marker_array, visualization_msgs::MarkerArray>(nh, topic, queue, latch, *p);
       break;
+    case AF_MSG_STRIKE_REPORT:
+      advertise_as<af_strike_report, StrikeReport>(nh, topic, queue, latch, *p);
+      break;
     default:
       return af_shim::invalid(r, "af_ros_advertise: unknown message type " +
                                      std::to_string(static_cast<int>(type)) + " for " + topic);
@@ -153,6 +156,9 @@ af_status af_ros_subscribe(af_ros *r, const char *topic, af_msg_type type, unsig
       subscribe_as<StrikeAdvice, af_strike_advice>(nh, topic, queue, *s);
       break;
     case AF_MSG_RELIABILITY: subscribe_as<Reliability, af_reliability>(nh, topic, queue, *s); break;
+    case AF_MSG_STRIKE_REPORT:
+      subscribe_as<StrikeReport, af_strike_report>(nh, topic, queue, *s);
+      break;
     case AF_MSG_MARKER_ARRAY:
       return af_shim::invalid(r, std::string("af_ros_subscribe: MarkerArray is publish-only (") +
                                      topic + ")");

@@ -21,10 +21,6 @@
 #include "strike.h"
 
 #define AF_ANALYZE_CHUNK 1024 /* samples per write, as the node's SignalChunks */
-/* The noise reference ends this long before the detected contact start, so
- * that a few ms of misalignment between the two recordings cannot put the
- * strike's own ringing into it [s]. */
-#define AF_ANALYZE_NOISE_GUARD_S 5e-3
 /* The fit takes pulses up to this long at any force rate (its default 256
  * samples at 50 kHz) [s]. */
 #define AF_ANALYZE_FIT_SPAN_S 5.12e-3
@@ -293,7 +289,7 @@ static void af_on_strike(const af_strike_event *ev, void *user)
   size_t n_audio, n_noise;
   const float *audio = af_audio_cut(c, af_audio_index(c, start_s + mc->audio_delay_s),
                                     lround(mc->audio_window_s * rate), &n_audio);
-  long noise_end = af_audio_index(c, start_s - AF_ANALYZE_NOISE_GUARD_S);
+  long noise_end = af_audio_index(c, start_s - mc->noise_guard_s);
   long noise_n = lround(mc->noise_window_s * rate);
   const float *noise = af_audio_cut(c, noise_end - noise_n, noise_n, &n_noise);
   af_measure_report r;

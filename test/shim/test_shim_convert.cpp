@@ -4,6 +4,7 @@
 // other side, and converts back.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -338,6 +339,104 @@ TEST(Reliability, BothWaysAndTruncation)
   EXPECT_FALSE(back.excites_mode);
   EXPECT_EQ(std::string(back.source), m.source.substr(0, AF_SOURCE_MAX - 1));
   EXPECT_EQ(std::string(back.reason), std::string(AF_TEXT_MAX - 1, 'r'));
+}
+
+TEST(StrikeReport, BothWaysAndNaN)
+{
+  af_strike_report c;
+  poison(c);
+  c.header = c_header(1700000123u, 456789u, "force_transducer");
+  c.apple_id = 4000000001u;
+  c.contact_time_s = 1.4375e-3;
+  c.peak_force_n = 35.26;
+  c.impulse_n_s = 0.02245;
+  c.band_low_hz = 0.0;
+  c.band_high_hz = 722.2;
+  c.resonance_hz = 681.6;
+  c.resonance_q = 31.5;
+  c.snr_db = 28.75;
+  c.stiffness_factor = 1.457e5;
+  c.modulus_from_resonance_pa = 8.01e6;
+  c.fitted_modulus_pa = 7.95e6;
+  c.fitted_restitution = 0.598;
+  c.fit_residual = 0.0123;
+  c.double_hit = true;
+  c.clipped = false;
+  c.lost_samples = 4000000002u;
+
+  acoustic_firmness::StrikeReport m;
+  af_shim::to_ros(c, m);
+  expect_header(m.header, 1700000123u, 456789u, "force_transducer");
+  EXPECT_EQ(m.apple_id, 4000000001u);
+  EXPECT_EQ(m.contact_time, 1.4375e-3);
+  EXPECT_EQ(m.peak_force, 35.26);
+  EXPECT_EQ(m.impulse, 0.02245);
+  EXPECT_EQ(m.band_low, 0.0);
+  EXPECT_EQ(m.band_high, 722.2);
+  EXPECT_EQ(m.resonance, 681.6);
+  EXPECT_EQ(m.resonance_q, 31.5);
+  EXPECT_EQ(m.snr_db, 28.75);
+  EXPECT_EQ(m.stiffness_factor, 1.457e5);
+  EXPECT_EQ(m.modulus_from_resonance, 8.01e6);
+  EXPECT_EQ(m.fitted_modulus, 7.95e6);
+  EXPECT_EQ(m.fitted_restitution, 0.598);
+  EXPECT_EQ(m.fit_residual, 0.0123);
+  EXPECT_TRUE(m.double_hit);
+  EXPECT_FALSE(m.clipped);
+  EXPECT_EQ(m.lost_samples, 4000000002u);
+
+  af_strike_report back;
+  poison(back);
+  af_shim::from_ros(m, back);
+  expect_header(back.header, 1700000123u, 456789u, "force_transducer");
+  EXPECT_EQ(back.apple_id, 4000000001u);
+  EXPECT_EQ(back.contact_time_s, 1.4375e-3);
+  EXPECT_EQ(back.peak_force_n, 35.26);
+  EXPECT_EQ(back.impulse_n_s, 0.02245);
+  EXPECT_EQ(back.band_low_hz, 0.0);
+  EXPECT_EQ(back.band_high_hz, 722.2);
+  EXPECT_EQ(back.resonance_hz, 681.6);
+  EXPECT_EQ(back.resonance_q, 31.5);
+  EXPECT_EQ(back.snr_db, 28.75);
+  EXPECT_EQ(back.stiffness_factor, 1.457e5);
+  EXPECT_EQ(back.modulus_from_resonance_pa, 8.01e6);
+  EXPECT_EQ(back.fitted_modulus_pa, 7.95e6);
+  EXPECT_EQ(back.fitted_restitution, 0.598);
+  EXPECT_EQ(back.fit_residual, 0.0123);
+  EXPECT_TRUE(back.double_hit);
+  EXPECT_FALSE(back.clipped);
+  EXPECT_EQ(back.lost_samples, 4000000002u);
+
+  // A strike without an apple: the model-dependent figures are NaN and stay
+  // NaN both ways (no conversion turns them into 0).
+  c.apple_id = 0;
+  c.resonance_hz = c.resonance_q = c.snr_db = c.stiffness_factor = NAN;
+  c.modulus_from_resonance_pa = c.fitted_modulus_pa = c.fitted_restitution = NAN;
+  c.fit_residual = NAN;
+  c.double_hit = false;
+  c.clipped = true;
+  c.lost_samples = 0;
+  af_shim::to_ros(c, m);
+  EXPECT_EQ(m.apple_id, 0u);
+  EXPECT_TRUE(std::isnan(m.resonance));
+  EXPECT_TRUE(std::isnan(m.resonance_q));
+  EXPECT_TRUE(std::isnan(m.snr_db));
+  EXPECT_TRUE(std::isnan(m.stiffness_factor));
+  EXPECT_TRUE(std::isnan(m.modulus_from_resonance));
+  EXPECT_TRUE(std::isnan(m.fitted_modulus));
+  EXPECT_TRUE(std::isnan(m.fitted_restitution));
+  EXPECT_TRUE(std::isnan(m.fit_residual));
+  EXPECT_FALSE(m.double_hit);
+  EXPECT_TRUE(m.clipped);
+  EXPECT_EQ(m.lost_samples, 0u);
+  poison(back);
+  af_shim::from_ros(m, back);
+  EXPECT_TRUE(std::isnan(back.resonance_hz));
+  EXPECT_TRUE(std::isnan(back.fitted_modulus_pa));
+  EXPECT_TRUE(std::isnan(back.fit_residual));
+  EXPECT_FALSE(back.double_hit);
+  EXPECT_TRUE(back.clipped);
+  EXPECT_EQ(back.contact_time_s, 1.4375e-3);
 }
 
 namespace

@@ -1,0 +1,171 @@
+#!/usr/bin/env bash
+# Benchmark of the node's measured strikes (not a timed test): replays a bag
+# of synthetic strikes (strike_bag: 50 kHz force + 48 kHz audio, one strike
+# every 0.5 s) at real time through station.launch and prints
+#  - the node's CPU per second of streamed input: utime + stime from
+#    /proc/<pid>/stat over the replay, divided by the bag's duration
+#    (target: under 2 % of one core), and its idle CPU before the replay;
+#  - the latency per strike from the last sample it needs (the audio chunk
+#    completing its window [start + delay, start + delay + window]) to its
+#    StrikeReport (target: under 2 ms): end to end, as a subscriber sees the
+#    two messages arrive (both through TCP on this host), and inside the
+#    node (the callback that completed the window to the publish, from
+#    /diagnostics), with the node's time in af_measure_strike.
+#
+#   bash scripts/bench_node.sh [--seconds S]    (default 20 s of input)
+#
+# Runs its own ROS master on $AF_BENCH_PORT (default 11346) and stops it and
+# the node (by PID) on exit.
+set -euo pipefail
+source "$(dirname "$0")/env.sh"
+
+seconds=20
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds=$2; shift 2 ;;
+    *) echo "bench_node.sh: unknown argument $1 (--seconds S)" >&2; exit 2 ;;
+  esac
+done
+strikes=$(/usr/bin/python3 -c "print(max(1, round(($seconds - 1.5) / 0.5)))")
+
+devel_lib="$AF_BUILD/devel/lib/acoustic_firmness"
+if [ ! -x "$devel_lib/firmness_node" ] || [ ! -x "$devel_lib/strike_bag" ]; then
+  bash "$AF_ROOT/scripts/setup.sh"
+  bash "$AF_ROOT/scripts/build.sh"
+fi
+af_source_devel
+
+port=${AF_BENCH_PORT:-11346}
+export ROS_MASTER_URI="http://localhost:$port"
+unset ROS_NAMESPACE
+work=$(mktemp -d /tmp/af_bench.XXXXXX)
+core_pid="" launch_pid=""
+cleanup() {
+  for pid in $launch_pid $core_pid; do
+    kill "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  done
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed 11 --out "$work/bench.bag"
+roscore -p "$port" >"$work/roscore.log" 2>&1 &
+core_pid=$!
+for _ in $(seq 100); do
+  rosparam list >/dev/null 2>&1 && break
+  kill -0 "$core_pid" 2>/dev/null || { cat "$work/roscore.log"; exit 1; }
+  sleep 0.2
+done
+rosparam set /use_sim_time true
+roslaunch acoustic_firmness station.launch >"$work/launch.log" 2>&1 &
+launch_pid=$!
+
+cat >"$work/bench.py" <<'EOF'
+import math, os, subprocess, sys, threading, time
+import rosgraph, rospy, xmlrpc.client
+from acoustic_firmness.msg import SignalChunk, StrikeReport
+from diagnostic_msgs.msg import DiagnosticArray
+
+bag, seconds = sys.argv[1], float(sys.argv[2])
+node = '/lane1/firmness_node'
+rospy.init_node('bench_node', disable_signals=True)
+lock = threading.Lock()
+chunks = []    # (first_sample, n, receive wall time)
+reports = []   # (msg, receive wall time)
+diag = {}
+
+
+def on_audio(m):
+    t = time.time()
+    with lock:
+        chunks.append((m.first_sample, len(m.data), m.header.stamp.to_sec(), m.sample_rate, t))
+
+
+def on_report(m):
+    t = time.time()
+    with lock:
+        reports.append((m, t))
+
+
+def on_diag(m):
+    for s in m.status:
+        if s.hardware_id == node:
+            with lock:
+                diag.update({kv.key: kv.value for kv in s.values})
+
+
+rospy.Subscriber('/lane1/audio', SignalChunk, on_audio, queue_size=1000, tcp_nodelay=True)
+rospy.Subscriber('/lane1/strike_report', StrikeReport, on_report, queue_size=100, tcp_nodelay=True)
+rospy.Subscriber('/diagnostics', DiagnosticArray, on_diag, queue_size=10)
+
+# The node's PID, from its own XML-RPC API.
+master = rosgraph.Master('/bench_node')
+end = time.time() + 30.0
+pid = None
+while time.time() < end and pid is None:
+    try:
+        _, _, pid = xmlrpc.client.ServerProxy(master.lookupNode(node)).getPid('/bench_node')
+    except Exception:
+        time.sleep(0.2)
+if pid is None:
+    sys.exit('bench: %s did not come up' % node)
+tick = os.sysconf('SC_CLK_TCK')
+
+
+def cpu_s():
+    with open('/proc/%d/stat' % pid) as f:
+        fields = f.read().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / tick   # utime, stime
+
+
+delay = rospy.get_param(node + '/measure_audio_delay_s')
+window = rospy.get_param(node + '/measure_audio_window_s')
+time.sleep(1.0)
+c0, w0 = cpu_s(), time.time()
+time.sleep(3.0)
+idle = (cpu_s() - c0) / (time.time() - w0)
+
+c0, w0 = cpu_s(), time.time()
+env = dict(os.environ)
+env.pop('ROS_NAMESPACE', None)
+subprocess.run(['rosbag', 'play', '--clock', '-q', bag], check=True, stdout=subprocess.DEVNULL, env=env)
+c1, w1 = cpu_s(), time.time()
+time.sleep(1.5)   # the last diagnostics
+cpu = c1 - c0
+
+with lock:
+    chunks_, reports_, diag_ = list(chunks), list(reports), dict(diag)
+lat = []
+for m, t_rx in reports_:
+    # The window's last sample, by the node's rule (measured.h): the first
+    # sample at or after start + delay, then round(window * rate) samples.
+    first0, _, stamp0, rate, _ = chunks_[0]
+    i0 = math.ceil(first0 + (m.header.stamp.to_sec() + delay - stamp0) * rate - 1e-6)
+    i_last = i0 + int(round(window * rate)) - 1
+    for first, n, _, _, t_chunk in chunks_:
+        if first <= i_last < first + n:   # the chunk that completes the window
+            lat.append((t_rx - t_chunk) * 1e3)
+            break
+lat.sort()
+
+
+def q(p):
+    return lat[min(len(lat) - 1, int(p * len(lat)))] if lat else float('nan')
+
+
+print('bench: %d strikes in %.1f s of input (force 50 kHz + audio 48 kHz, 1024-sample chunks), '
+      'replayed at real time in %.1f s wall' % (len(reports_), seconds, w1 - w0))
+print('  node CPU: %.3f s over the replay = %.2f %% of one core per second of streamed input '
+      '(target < 2 %%); idle before the replay %.2f %%' % (cpu, 100.0 * cpu / seconds, 100.0 * idle))
+print('  strike latency, end to end (audio chunk completing the window -> StrikeReport, as a '
+      'subscriber sees them) [ms]: median %.3f, 90 %% %.3f, max %.3f over %d (target < 2 ms)' % (
+          q(0.5), q(0.9), lat[-1] if lat else float('nan'), len(lat)))
+print('  inside the node [ms]: %s' % diag_.get('strike report latency [ms]', 'n/a'))
+print('  af_measure_strike [ms]: %s' % diag_.get('strike measure time [ms]', 'n/a'))
+print('  strikes %s, without audio %s, queue overflows %s, force gaps %s, audio gaps %s' % (
+    diag_.get('strikes'), diag_.get('strikes without audio'), diag_.get('strike queue overflows'),
+    diag_.get('force gaps'), diag_.get('audio gaps')))
+rospy.signal_shutdown('done')
+EOF
+/usr/bin/python3 "$work/bench.py" "$work/bench.bag" "$(/usr/bin/python3 -c "print(1.0 + $strikes * 0.5 + 0.5)")"

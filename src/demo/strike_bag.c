@@ -1,0 +1,436 @@
+/* strike_bag — a rosbag of synthetic strikes for the replay demo and the
+ * strikes rostest, with the truth it was made from.
+ *
+ *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
+ *              [--spacing S]
+ *
+ * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
+ * 1 s lead-in, with a random sub-millisecond offset:
+ *  - an apple: E2 uniform in the cultivar's [2, 12] MPa, mass uniform in
+ *    [100, 250] g, a sphere of the cultivar's density (840 kg/m3);
+ *  - force (50 kHz, N, frame force_transducer): the impact model's pulse
+ *    (af_impact_run, at 1/64 of the sample step, linearly interpolated at
+ *    the samples) for the station's defaults (config/station.yaml,
+ *    config/jonagold.yaml, config/rig.urdf: 10 g rigid flat hammer at
+ *    1.4 m/s, e 0.6, nu 0.35, R2 40 mm, gravity, exact damping) on that
+ *    apple; plus white noise at 40 dB below the smallest peak of the bag,
+ *    50 Hz hum, an offset and a slow drift;
+ *  - audio (48 kHz, Pa, frame microphone): the apple's 0S2 mode at Lamb's
+ *    frequency (modulus factor 1) ringing from the contact start with
+ *    Q 30, a mode twice as loud at 2.6 kHz (above every apple's 0S2 range:
+ *    the support, say) with Q 60, and white noise 30 dB below the 0S2
+ *    amplitude;
+ *  - an AppleEstimate 0.2 s before the strike (camera_optical_frame,
+ *    strike_radius 40 mm, stem axis (1, 0, 0): perpendicular to the rig's
+ *    strike direction, +z of that frame).
+ * Topics /NS/force, /NS/audio, /NS/apple (NS default lane1), in 1024-sample
+ * SignalChunks whose header stamp is the time of their first sample (bag
+ * start 1700000000 s + first_sample / rate) and whose bag time is that of
+ * their last. The truth CSV (default: FILE without .bag + .truth.csv) has
+ * one row per strike: apple_id, modulus_pa, mass_kg, resonance_hz (0S2),
+ * contact_time_s and peak_force_n (the model's), contact_start_s (stamp).
+ *
+ * Self-contained (a seeded splitmix64 generator): the same seed gives the
+ * same bag on every machine. Exit 0, 2 on bad arguments, 1 on failure. */
+#include <errno.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "af_bag.h"
+#include "impact.h"
+#include "resonance.h"
+
+#ifndef M_PI /* strict C11 <math.h> does not define it */
+#define M_PI 3.14159265358979323846
+#endif
+
+#define FORCE_RATE_HZ 50000.0
+#define AUDIO_RATE_HZ 48000.0
+#define CHUNK 1024
+#define OVERSAMPLE 64
+#define FINE_CAP 65536 /* 41 ms at dt/64: far beyond the softest apple's contact */
+#define BAG_START_S 1700000000.0
+#define LEAD_IN_S 1.0
+#define TAIL_S 0.5
+#define APPLE_LEAD_S 0.2
+
+/* The cultivar (config/jonagold.yaml). */
+#define MODULUS_MIN_PA 2.0e6
+#define MODULUS_MAX_PA 12.0e6
+#define MASS_MIN_KG 0.100
+#define MASS_MAX_KG 0.250
+#define DENSITY_KG_M3 840.0
+#define STRIKE_RADIUS_M 0.04
+
+/* Imperfections. */
+#define FORCE_SNR_DB 40.0
+#define HUM_HZ 50.0
+#define AUDIO_SNR_DB 30.0
+#define MODE_AMPLITUDE_PA 0.2
+#define MODE_Q 30.0
+#define LOUD_MODE_HZ 2600.0
+#define LOUD_MODE_Q 60.0
+#define LOUD_MODE_GAIN 2.0
+
+/* ---- seeded generator (splitmix64 + Marsaglia's polar method) ---------- */
+
+typedef struct {
+  uint64_t state;
+  int has_spare;
+  double spare;
+} rng;
+
+static uint64_t rng_next(rng *g)
+{
+  uint64_t z = (g->state += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+static double uniform(rng *g) /* [0, 1) */
+{
+  return (double)(rng_next(g) >> 11) * 0x1.0p-53;
+}
+
+static double gauss(rng *g)
+{
+  if (g->has_spare) {
+    g->has_spare = 0;
+    return g->spare;
+  }
+  double u, v, s;
+  do {
+    u = 2.0 * uniform(g) - 1.0;
+    v = 2.0 * uniform(g) - 1.0;
+    s = u * u + v * v;
+  } while (s >= 1.0 || s == 0.0);
+  double f = sqrt(-2.0 * log(s) / s);
+  g->spare = v * f;
+  g->has_spare = 1;
+  return u * f;
+}
+
+/* ---- the strikes ----------------------------------------------------------- */
+
+typedef struct {
+  double t_s; /* contact start, from the bag start [s] */
+  double modulus_pa, mass_kg, radius_m;
+  double resonance_hz, tau_s; /* 0S2 and its amplitude decay time */
+  af_impact_result res;
+  double *force_n; /* res.n_samples at fine_dt */
+} strike;
+
+static const double FINE_DT_S = 1.0 / (FORCE_RATE_HZ * OVERSAMPLE);
+
+/* The pulse of s at time u after its contact start [N]. */
+static double pulse_at(const strike *s, double u)
+{
+  double tc = s->res.contact_time_s;
+  size_t n = s->res.n_samples;
+  if (!(u > 0.0) || !(u < tc) || n == 0)
+    return 0.0;
+  double x = u / FINE_DT_S;
+  size_t j = (size_t)x;
+  if (j + 1 < n)
+    return s->force_n[j] + (x - (double)j) * (s->force_n[j + 1] - s->force_n[j]);
+  double t_last = (double)(n - 1) * FINE_DT_S; /* last fine sample .. t_c: linear to 0 */
+  return tc > t_last ? s->force_n[n - 1] * (tc - u) / (tc - t_last) : 0.0;
+}
+
+static af_impact_params impact_for(const strike *s)
+{
+  af_impact_params p = af_impact_params_default(); /* 10 g rigid flat, 1.4 m/s, e 0.6, nu 0.35 */
+  p.fruit_modulus_pa = s->modulus_pa;
+  p.strike_radius_m = STRIKE_RADIUS_M;
+  p.damping = AF_DAMPING_EXACT;
+  return p;
+}
+
+/* ---- arguments ---------------------------------------------------------------- */
+
+typedef struct {
+  long strikes;
+  const char *out, *truth, *ns;
+  uint64_t seed;
+  double spacing_s;
+} args;
+
+static int usage(const char *msg, const char *value)
+{
+  if (msg)
+    fprintf(stderr, "strike_bag: %s%s%s\n", msg, value ? " " : "", value ? value : "");
+  fprintf(stderr, "usage: strike_bag --strikes N --out FILE [--seed S] [--truth FILE] "
+                  "[--ns NAME] [--spacing SECONDS]\n");
+  return 2;
+}
+
+static int parse(int argc, char **argv, args *a)
+{
+  a->strikes = 0;
+  a->out = a->truth = NULL;
+  a->ns = "lane1";
+  a->seed = 1;
+  a->spacing_s = 0.5;
+  for (int i = 1; i < argc; i++) {
+    const char *flag = argv[i];
+    if (strcmp(flag, "--help") == 0 || strcmp(flag, "-h") == 0)
+      return usage(NULL, NULL);
+    if (i + 1 >= argc)
+      return usage("missing value for", flag);
+    const char *v = argv[++i];
+    char *end = NULL;
+    errno = 0;
+    if (strcmp(flag, "--strikes") == 0) {
+      a->strikes = strtol(v, &end, 10);
+      if (errno || *end || a->strikes < 1 || a->strikes > 100000)
+        return usage("--strikes must be a whole number in [1, 100000], got", v);
+    } else if (strcmp(flag, "--seed") == 0) {
+      unsigned long long s = strtoull(v, &end, 10);
+      if (errno || *end || v[0] == '-')
+        return usage("--seed must be a non-negative whole number, got", v);
+      a->seed = (uint64_t)s;
+    } else if (strcmp(flag, "--spacing") == 0) {
+      a->spacing_s = strtod(v, &end);
+      if (errno || *end || !(a->spacing_s >= 0.1 && a->spacing_s <= 60.0))
+        return usage("--spacing must be in [0.1, 60] s, got", v);
+    } else if (strcmp(flag, "--out") == 0) {
+      a->out = v;
+    } else if (strcmp(flag, "--truth") == 0) {
+      a->truth = v;
+    } else if (strcmp(flag, "--ns") == 0) {
+      a->ns = v;
+    } else {
+      return usage("unknown flag", flag);
+    }
+  }
+  if (a->strikes == 0)
+    return usage("--strikes is required", NULL);
+  if (a->out == NULL || a->out[0] == '\0')
+    return usage("--out is required", NULL);
+  return 0;
+}
+
+/* ---- writing ------------------------------------------------------------------ */
+
+static af_time stamp_of(double t_s)
+{
+  double abs_s = BAG_START_S + t_s;
+  af_time t;
+  double sec = floor(abs_s);
+  long long ns = llround((abs_s - sec) * 1e9);
+  if (ns >= 1000000000LL) {
+    sec += 1.0;
+    ns -= 1000000000LL;
+  }
+  t.sec = (uint32_t)sec;
+  t.nsec = (uint32_t)ns;
+  return t;
+}
+
+/* Chunk number k of a stream into c (samples in buf). */
+static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t first, rng *g,
+                       double noise_rms, float *buf, af_signal_chunk *c)
+{
+  const double rate = force ? FORCE_RATE_HZ : AUDIO_RATE_HZ;
+  const double two_pi = 2.0 * M_PI;
+  memset(c, 0, sizeof *c);
+  c->header.stamp = stamp_of((double)first / rate);
+  snprintf(c->header.frame_id, sizeof c->header.frame_id, "%s",
+           force ? "force_transducer" : "microphone");
+  c->first_sample = first;
+  c->sample_rate_hz = rate;
+  snprintf(c->unit, sizeof c->unit, "%s", force ? "N" : "Pa");
+  c->data = buf;
+  c->n = CHUNK;
+  /* The strikes that reach into this chunk (the audio rings for 0.5 s). */
+  const double t_first = (double)first / rate, t_last = (double)(first + CHUNK) / rate;
+  size_t near[16], n_near = 0;
+  for (size_t j = 0; j < n_strikes && n_near < 16; j++)
+    if (s[j].t_s < t_last && s[j].t_s + (force ? s[j].res.contact_time_s : 0.5) > t_first)
+      near[n_near++] = j;
+  for (size_t k = 0; k < CHUNK; k++) {
+    double t = (double)(first + k) / rate;
+    double x = noise_rms * gauss(g);
+    if (force)
+      x += 0.5 * noise_rms * sin(two_pi * HUM_HZ * t + 0.3) + 0.4 + 0.01 * t;
+    for (size_t i = 0; i < n_near; i++) {
+      size_t j = near[i];
+      double u = t - s[j].t_s;
+      if (u <= 0.0 || u > (force ? s[j].res.contact_time_s : 0.5))
+        continue;
+      if (force) {
+        x += pulse_at(&s[j], u);
+      } else {
+        x += MODE_AMPLITUDE_PA * exp(-u / s[j].tau_s) * sin(two_pi * s[j].resonance_hz * u);
+        x += LOUD_MODE_GAIN * MODE_AMPLITUDE_PA * exp(-u * M_PI * LOUD_MODE_HZ / LOUD_MODE_Q) *
+             sin(two_pi * LOUD_MODE_HZ * u + 1.0);
+      }
+    }
+    buf[k] = (float)x;
+  }
+}
+
+static int fail(const char *what, af_status st)
+{
+  fprintf(stderr, "strike_bag: %s: %s (%s)\n", what, af_strerror(st), af_bag_last_error(NULL));
+  return 1;
+}
+
+/* Draws the strikes and runs the model for each; *min_peak_n: the smallest peak. */
+static int make_strikes(const args *a, af_impact *w, double *fine, strike *s, size_t n,
+                        double *min_peak_n)
+{
+  double xi;
+  const af_impact_params nominal = af_impact_params_default();
+  if (af_resonance_lamb_root(nominal.fruit_poisson, &xi) != AF_OK)
+    return fail("Lamb root", AF_ENOROOT);
+  rng g = {a->seed, 0, 0.0};
+  *min_peak_n = INFINITY;
+  for (size_t k = 0; k < n; k++) {
+    strike *sk = &s[k];
+    sk->modulus_pa = MODULUS_MIN_PA + (MODULUS_MAX_PA - MODULUS_MIN_PA) * uniform(&g);
+    sk->mass_kg = MASS_MIN_KG + (MASS_MAX_KG - MASS_MIN_KG) * uniform(&g);
+    sk->radius_m = af_resonance_sphere_radius_m(sk->mass_kg, DENSITY_KG_M3);
+    sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * uniform(&g); /* sub-sample offsets */
+    sk->resonance_hz = af_resonance_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson,
+                                                 DENSITY_KG_M3, sk->mass_kg);
+    sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
+    af_impact_params p = impact_for(sk);
+    af_status st = af_impact_run(w, &p, FINE_DT_S, fine, NULL, FINE_CAP, &sk->res);
+    if (st != AF_OK)
+      return fail("impact model", st);
+    sk->force_n = malloc((sk->res.n_samples + 1) * sizeof *sk->force_n);
+    if (!sk->force_n)
+      return fail("pulse", AF_ENOMEM);
+    memcpy(sk->force_n, fine, sk->res.n_samples * sizeof *fine);
+    *min_peak_n = fmin(*min_peak_n, sk->res.peak_force_n);
+  }
+  return 0;
+}
+
+static int write_truth(const char *path, const strike *s, size_t n)
+{
+  FILE *tf = fopen(path, "w");
+  if (!tf) {
+    fprintf(stderr, "strike_bag: cannot write %s: %s\n", path, strerror(errno));
+    return 1;
+  }
+  fprintf(tf, "apple_id,modulus_pa,mass_kg,resonance_hz,contact_time_s,peak_force_n,"
+              "contact_start_s\n");
+  for (size_t k = 0; k < n; k++)
+    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f\n", k + 1, s[k].modulus_pa, s[k].mass_kg,
+            s[k].resonance_hz, s[k].res.contact_time_s, s[k].res.peak_force_n,
+            BAG_START_S + s[k].t_s);
+  if (fclose(tf) != 0) {
+    fprintf(stderr, "strike_bag: cannot write %s\n", path);
+    return 1;
+  }
+  return 0;
+}
+
+/* The bag: the three streams merged in bag-time order. */
+static int write_bag(const args *a, const strike *s, size_t n, double force_noise,
+                     double audio_noise, const char *truth_path)
+{
+  char topic[3][128]; /* force, audio, apple */
+  snprintf(topic[0], sizeof topic[0], "/%s/force", a->ns);
+  snprintf(topic[1], sizeof topic[1], "/%s/audio", a->ns);
+  snprintf(topic[2], sizeof topic[2], "/%s/apple", a->ns);
+  af_bag *bag = NULL;
+  af_status st = af_bag_open_write(a->out, &bag);
+  if (st != AF_OK)
+    return fail(a->out, st);
+  const double duration_s = LEAD_IN_S + (double)n * a->spacing_s + TAIL_S;
+  uint64_t next_force = 0, next_audio = 0;
+  size_t next_apple = 0;
+  rng gf = {a->seed ^ 0xF0F0F0F0ULL, 0, 0.0}, ga = {a->seed ^ 0x0A0A0A0AULL, 0, 0.0};
+  float buf[CHUNK];
+  for (;;) {
+    double tf_s = (double)(next_force + CHUNK) / FORCE_RATE_HZ; /* bag time: the last sample */
+    double ta_s = (double)(next_audio + CHUNK) / AUDIO_RATE_HZ;
+    double tp_s = next_apple < n ? s[next_apple].t_s - APPLE_LEAD_S : INFINITY;
+    bool force_due = tf_s <= duration_s, audio_due = ta_s <= duration_s;
+    if (!force_due && !audio_due && next_apple >= n)
+      break;
+    af_signal_chunk c;
+    if (tp_s <= fmin(force_due ? tf_s : INFINITY, audio_due ? ta_s : INFINITY)) {
+      const strike *sk = &s[next_apple];
+      af_apple_estimate e;
+      memset(&e, 0, sizeof e);
+      e.header.stamp = stamp_of(tp_s);
+      snprintf(e.header.frame_id, sizeof e.header.frame_id, "camera_optical_frame");
+      e.apple_id = (uint32_t)(next_apple + 1);
+      e.mass_kg = sk->mass_kg;
+      e.equatorial_radius_m = sk->radius_m;
+      e.strike_radius_m = STRIKE_RADIUS_M;
+      e.stem_axis.x = 1.0;
+      e.confidence = 0.9;
+      st = af_bag_write(bag, topic[2], AF_MSG_APPLE_ESTIMATE, &e, e.header.stamp);
+      next_apple++;
+    } else if (force_due && (!audio_due || tf_s <= ta_s)) {
+      make_chunk(s, n, true, next_force, &gf, force_noise, buf, &c);
+      st = af_bag_write(bag, topic[0], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(tf_s));
+      next_force += CHUNK;
+    } else {
+      make_chunk(s, n, false, next_audio, &ga, audio_noise, buf, &c);
+      st = af_bag_write(bag, topic[1], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(ta_s));
+      next_audio += CHUNK;
+    }
+    if (st != AF_OK) {
+      fprintf(stderr, "strike_bag: writing %s: %s (%s)\n", a->out, af_strerror(st),
+              af_bag_last_error(bag));
+      af_bag_close(bag);
+      return 1;
+    }
+  }
+  st = af_bag_close(bag);
+  if (st != AF_OK)
+    return fail(a->out, st);
+  printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz, audio %llu at %.0f "
+         "Hz), seed %llu -> %s, truth %s\n",
+         n, duration_s, (unsigned long long)next_force, FORCE_RATE_HZ,
+         (unsigned long long)next_audio, AUDIO_RATE_HZ, (unsigned long long)a->seed, a->out,
+         truth_path);
+  return 0;
+}
+
+int main(int argc, char **argv)
+{
+  args a;
+  int rc = parse(argc, argv, &a);
+  if (rc)
+    return rc;
+  char truth_path[1024];
+  if (a.truth) {
+    snprintf(truth_path, sizeof truth_path, "%s", a.truth);
+  } else {
+    size_t len = strlen(a.out);
+    size_t stem = len > 4 && strcmp(a.out + len - 4, ".bag") == 0 ? len - 4 : len;
+    snprintf(truth_path, sizeof truth_path, "%.*s.truth.csv", (int)stem, a.out);
+  }
+  const size_t n = (size_t)a.strikes;
+  strike *s = calloc(n, sizeof *s);
+  double *fine = calloc(FINE_CAP, sizeof *fine);
+  af_impact *w = NULL;
+  double min_peak_n = INFINITY;
+  if (!s || !fine || af_impact_create(&w) != AF_OK)
+    rc = fail("workspace", AF_ENOMEM);
+  if (rc == 0)
+    rc = make_strikes(&a, w, fine, s, n, &min_peak_n);
+  if (rc == 0)
+    rc = write_truth(truth_path, s, n);
+  if (rc == 0)
+    rc = write_bag(&a, s, n, min_peak_n * pow(10.0, -FORCE_SNR_DB / 20.0),
+                   MODE_AMPLITUDE_PA * pow(10.0, -AUDIO_SNR_DB / 20.0), truth_path);
+  for (size_t k = 0; s && k < n; k++)
+    free(s[k].force_n);
+  af_impact_destroy(w);
+  free(fine);
+  free(s);
+  return rc;
+}

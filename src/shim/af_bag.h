@@ -1,0 +1,54 @@
+/* af_bag.h — writing rosbags from C (the shim's rosbag::Bag, write mode).
+ *
+ * For tools that make recordings (src/demo/strike_bag.c): the messages are
+ * the C structs of af_msgs.h, converted as the publishers convert them
+ * (convert.hpp), so a bag written here replays exactly as a live node would
+ * have published. No ROS master and no ros::init are needed.
+ *
+ * Conventions of af_ros.h: an opaque handle made by a function returning
+ * af_status with the handle through an OUT pointer; nothing throws across
+ * this API (rosbag::BagException -> AF_EIO, a C struct that cannot be
+ * represented -> AF_EINVAL, std::bad_alloc -> AF_ENOMEM, anything else ->
+ * AF_EROS); af_bag_last_error() holds the message. Not thread-safe: one
+ * writer per bag. Each write allocates (the message and rosbag's buffers):
+ * this is for tools, not for the node's loop. */
+#ifndef AF_BAG_H
+#define AF_BAG_H
+
+#include "af_msgs.h"
+#include "af_ros.h"
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct af_bag af_bag;
+
+/* Creates (or truncates) the bag file at path, uncompressed. AF_EINVAL for a
+ * NULL or empty path or NULL out, AF_EIO when the file cannot be opened;
+ * *out is NULL on error and af_bag_last_error(NULL) says why. */
+af_status af_bag_open_write(const char *path, af_bag **out);
+
+/* Writes msg, the C struct of type (af_msgs.h), on topic (an absolute name
+ * such as "/lane1/force": a bag has no namespace to resolve in) at the
+ * bag time stamp (what `rosbag play` publishes it at; > 0). Types as
+ * af_ros_advertise, AF_MSG_MARKER_ARRAY included. AF_EINVAL for a NULL
+ * argument, an empty topic, an unknown type, a zero stamp or a struct that
+ * cannot be represented; AF_EIO when rosbag fails. */
+af_status af_bag_write(af_bag *bag, const char *topic, af_msg_type type, const void *msg,
+                       af_time stamp);
+
+/* Closes the file (writes the index) and frees bag. NULL-safe (AF_OK).
+ * Returns AF_EIO when the close failed (the message is then in
+ * af_bag_last_error(NULL)); bag is freed either way. */
+af_status af_bag_close(af_bag *bag);
+
+/* The last error of bag, or of the last handle-less call when bag is NULL
+ * ("" when none). Never NULL. */
+const char *af_bag_last_error(const af_bag *bag);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
