@@ -242,6 +242,10 @@ static void af_step_fit(af_measure *m, const af_strike_event *ev, const af_measu
   out->fitted_modulus_se_pa = r.modulus_se_pa;
   out->fitted_restitution = r.restitution;
   out->fitted_restitution_se = r.restitution_se;
+  /* The fitted model's contact time uses every sample of the pulse: 0.3 %
+   * RMS at 40 dB against the detector's 1 % from its two edges alone
+   * (strike.h), whose figure stays the fallback when the fit fails. */
+  out->contact_time_s = r.contact_time_s;
 }
 
 /* The model's 0S2 over the cultivar's firmness range for this apple's mass,

@@ -68,7 +68,8 @@ typedef struct {
 /* The figures of msg/StrikeReport.msg plus the measured Reliability. NaN
  * where a figure could not be measured. */
 typedef struct {
-  double contact_time_s, peak_force_n, impulse_n_s;
+  double contact_time_s; /* of the fitted impact model; the detector's when the fit fails */
+  double peak_force_n, impulse_n_s; /* the detector's */
   unsigned lobe;
   double band_low_hz, band_high_hz;         /* measured band of the configured lobe */
   double resonance_hz, resonance_q, snr_db; /* 0S2 from the microphone */
