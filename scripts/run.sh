@@ -1,11 +1,9 @@
 #!/usr/bin/env bash
-# The main job: builds if needed, then runs the impact model on the paper's
-# optimal strike (extra arguments go to firmness_model, e.g. --json).
+# The main job: the station's replay demo (scripts/demo.sh). Builds if needed,
+# synthesizes a bag of strikes (force 50 kHz, audio 48 kHz, an AppleEstimate
+# before each), replays it through the station node with replay.launch, and
+# prints one line per measured strike against the truth it was made from.
+# Arguments go to demo.sh (--strikes N --seed S --rate R --keep DIR).
+# The model alone: source build/devel/setup.bash; rosrun acoustic_firmness firmness_model
 set -euo pipefail
-source "$(dirname "$0")/env.sh"
-[ -x "$AF_BUILD/devel/lib/acoustic_firmness/firmness_model" ] || {
-  bash "$AF_ROOT/scripts/setup.sh"
-  bash "$AF_ROOT/scripts/build.sh"
-}
-af_source_devel
-exec rosrun acoustic_firmness firmness_model "$@"
+exec bash "$(dirname "$0")/demo.sh" "$@"

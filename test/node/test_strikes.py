@@ -4,7 +4,7 @@ strike_bag (force at 50 kHz, audio at 48 kHz, an AppleEstimate 0.2 s before
 each strike; truth CSV beside it) is replayed with `rosbag play --clock` on
 simulated time, faster than real time, through firmness_node. Exactly one
 StrikeReport and one measured Reliability per strike, none lost; apple ids,
-contact start, 0S2 resonance (1 %) and contact time (2 %) against the truth;
+contact start, 0S2 resonance (1 %) and contact time (1 %) against the truth;
 no chunk lost on the way (/diagnostics). Then a strike on a restarted stream
 with no apple in sight: apple_id 0, NaN for the model-dependent figures and
 the reason. And two refusals of bad strike parameters at start-up."""
@@ -37,7 +37,9 @@ SEED = 7
 # 51.5 s take ~10 s); chunks must never be dropped (checked below).
 RATE = 5.0
 RESONANCE_RTOL = 0.01
-CONTACT_TIME_RTOL = 0.02
+# The report's contact time is the fitted model's (measure.h): 0.3 % RMS at
+# 40 dB, 1 % is about 3 standard errors.
+CONTACT_TIME_RTOL = 0.01
 # The detector places the contact start within a fraction of a sample
 # (strike.h: 0.2 sample RMS at 40 dB); the stamp must say the same time.
 START_TOL_S = 5.0 / 50000.0
