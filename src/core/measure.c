@@ -36,10 +36,9 @@ struct af_measure {
   size_t noise_samples;  /* noise reference used at most [samples] */
   /* xi and tau_max/p0 depend on the Poisson ratio (and the shear mode)
    * only; their GSL solvers allocate, so they are solved on the first strike
-   * of a new ratio and cached, as model.c does. */
-  double xi_poisson, xi;
-  double shear_poisson, shear_ratio;
-  af_shear_ratio shear_mode;
+   * of a new ratio and cached. */
+  af_lamb_cache xi;
+  af_shear_cache shear;
 };
 
 /* What the steps of one strike found, for the criteria and the reason. */
@@ -123,7 +122,8 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   m->cfg = *cfg;
   m->window_samples = window_n;
   m->noise_samples = noise_n;
-  m->xi_poisson = m->shear_poisson = NAN;
+  af_lamb_cache_init(&m->xi);
+  af_shear_cache_init(&m->shear);
   af_status st = af_fit_create(&cfg->fit, &m->fit);
   if (st == AF_OK)
     st = af_measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
@@ -150,35 +150,6 @@ void af_measure_destroy(af_measure *m)
 const af_measure_config *af_measure_get_config(const af_measure *m)
 {
   return m == NULL ? NULL : &m->cfg;
-}
-
-/* ---- caches ------------------------------------------------------------------ */
-
-static af_status af_cached_xi(af_measure *m, double poisson, double *xi)
-{
-  if (poisson != m->xi_poisson) {
-    af_status st = af_resonance_lamb_root(poisson, &m->xi);
-    if (st != AF_OK)
-      return st;
-    m->xi_poisson = poisson;
-  }
-  *xi = m->xi;
-  return AF_OK;
-}
-
-static af_status af_cached_shear_ratio(af_measure *m, af_shear_ratio mode, double poisson,
-                                       double *ratio)
-{
-  if (poisson != m->shear_poisson || mode != m->shear_mode) {
-    double depth;
-    af_status st = af_stress_shear_ratio(mode, poisson, &m->shear_ratio, &depth);
-    if (st != AF_OK)
-      return st;
-    m->shear_poisson = poisson;
-    m->shear_mode = mode;
-  }
-  *ratio = m->shear_ratio;
-  return AF_OK;
 }
 
 /* ---- the steps of one strike ---------------------------------------------- */
@@ -290,7 +261,7 @@ static void af_step_audio(af_measure *m, const af_measure_apple *apple, const fl
   double xi;
   s->n_audio = audio == NULL ? 0 : n_audio;
   s->audio_status = AF_ENODATA;
-  s->judge_status = af_cached_xi(m, p->impact.fruit_poisson, &xi);
+  s->judge_status = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (s->judge_status != AF_OK || s->n_audio < AF_MEASURE_MIN_AUDIO)
     return;
   af_resonance_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
@@ -320,7 +291,8 @@ static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_meas
   double ratio;
   if (!isfinite(out->fitted_modulus_pa) || !isfinite(out->peak_force_n))
     return;
-  af_status st = af_cached_shear_ratio(m, p->shear_ratio, p->impact.fruit_poisson, &ratio);
+  af_status st =
+      af_stress_shear_ratio_cached(&m->shear, p->shear_ratio, p->impact.fruit_poisson, &ratio);
   if (st != AF_OK) {
     s->judge_status = st;
     return;

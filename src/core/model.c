@@ -26,9 +26,8 @@ struct af_model {
   double *force_n;
   double *deformation_m;
   /* xi and the shear ratio depend on the Poisson ratio only: cached. */
-  double xi_poisson, xi;
-  double shear_poisson, shear_ratio;
-  af_shear_ratio shear_mode;
+  af_lamb_cache xi;
+  af_shear_cache shear;
 };
 
 af_model_params af_model_params_default(void)
@@ -130,7 +129,8 @@ af_status af_model_create(af_model **out)
   sc.max_lobes = AF_MODEL_MAX_LOBES;
   m->force_n = malloc(AF_MODEL_MAX_SAMPLES * sizeof *m->force_n);
   m->deformation_m = malloc(AF_MODEL_MAX_SAMPLES * sizeof *m->deformation_m);
-  m->xi_poisson = m->shear_poisson = NAN;
+  af_lamb_cache_init(&m->xi);
+  af_shear_cache_init(&m->shear);
   if (m->force_n == NULL || m->deformation_m == NULL) {
     af_model_destroy(m);
     return AF_ENOMEM;
@@ -155,32 +155,6 @@ void af_model_destroy(af_model *m)
   free(m->force_n);
   free(m->deformation_m);
   free(m);
-}
-
-static af_status cached_xi(af_model *m, double poisson, double *xi)
-{
-  if (poisson != m->xi_poisson) {
-    af_status st = af_resonance_lamb_root(poisson, &m->xi);
-    if (st != AF_OK)
-      return st;
-    m->xi_poisson = poisson;
-  }
-  *xi = m->xi;
-  return AF_OK;
-}
-
-static af_status cached_shear_ratio(af_model *m, af_shear_ratio mode, double poisson, double *ratio)
-{
-  if (poisson != m->shear_poisson || mode != m->shear_mode) {
-    double depth;
-    af_status st = af_stress_shear_ratio(mode, poisson, &m->shear_ratio, &depth);
-    if (st != AF_OK)
-      return st;
-    m->shear_poisson = poisson;
-    m->shear_mode = mode;
-  }
-  *ratio = m->shear_ratio;
-  return AF_OK;
 }
 
 /* Samples the pulse; a pulse longer than the buffer (very lossy fruit) is
@@ -220,7 +194,7 @@ static af_status stress_figures(af_model *m, const af_model_params *p, af_model_
   af_status st = af_stress_max_center_pressure_pa(m->force_n, m->deformation_m, r->impact.n_samples,
                                                   radius_m, &r->max_contact_pressure_pa, NULL);
   if (st == AF_OK)
-    st = cached_shear_ratio(m, p->shear_ratio, p->impact.fruit_poisson, &ratio);
+    st = af_stress_shear_ratio_cached(&m->shear, p->shear_ratio, p->impact.fruit_poisson, &ratio);
   if (st != AF_OK)
     return st;
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
@@ -239,7 +213,7 @@ af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_resu
   if (st == AF_OK)
     st = spectrum_figures(m, p, r);
   if (st == AF_OK)
-    st = cached_xi(m, p->impact.fruit_poisson, &xi);
+    st = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (st == AF_OK)
     st = stress_figures(m, p, r);
   if (st != AF_OK)

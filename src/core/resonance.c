@@ -169,3 +169,21 @@ double af_resonance_stiffness_factor(double f_hz, double mass_kg)
     return NAN;
   return f_hz * f_hz * cbrt(mass_kg * mass_kg);
 }
+
+void af_lamb_cache_init(af_lamb_cache *c)
+{
+  c->poisson = NAN;
+  c->xi = NAN;
+}
+
+af_status af_resonance_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi)
+{
+  if (poisson != c->poisson) {
+    af_status st = af_resonance_lamb_root(poisson, &c->xi);
+    if (st != AF_OK)
+      return st;
+    c->poisson = poisson;
+  }
+  *xi = c->xi;
+  return AF_OK;
+}

@@ -20,6 +20,18 @@ extern "C" {
  * if the root finder fails. */
 af_status af_resonance_lamb_root(double poisson, double *xi);
 
+/* xi of the last Poisson ratio asked: the root costs ~17 us and its GSL
+ * solver allocates, while a station asks for the same ratio at every strike.
+ * Initialise with af_lamb_cache_init. */
+typedef struct {
+  double poisson; /* NaN: empty */
+  double xi;
+} af_lamb_cache;
+
+void af_lamb_cache_init(af_lamb_cache *c);
+/* af_resonance_lamb_root, solved only when poisson differs from the cached one. */
+af_status af_resonance_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi);
+
 /* Radius [m] of the sphere of this mass [kg] and density [kg/m3]. */
 double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3);
 

@@ -165,3 +165,24 @@ double af_stress_yield_shear_pa(double yield_ratio, double modulus_pa)
     return NAN;
   return yield_ratio * modulus_pa;
 }
+
+void af_shear_cache_init(af_shear_cache *c)
+{
+  c->mode = AF_SHEAR_EXACT;
+  c->poisson = NAN;
+  c->ratio = NAN;
+}
+
+af_status af_stress_shear_ratio_cached(af_shear_cache *c, af_shear_ratio mode, double poisson,
+                                       double *ratio)
+{
+  if (poisson != c->poisson || mode != c->mode) {
+    af_status st = af_stress_shear_ratio(mode, poisson, &c->ratio, NULL);
+    if (st != AF_OK)
+      return st;
+    c->poisson = poisson;
+    c->mode = mode;
+  }
+  *ratio = c->ratio;
+  return AF_OK;
+}

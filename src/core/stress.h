@@ -43,6 +43,20 @@ af_status af_stress_max_center_pressure_pa(const double *force_n, const double *
 af_status af_stress_shear_ratio(af_shear_ratio mode, double poisson, double *ratio,
                                 double *depth_over_a);
 
+/* tau_max / p0 of the last mode and Poisson ratio asked (its GSL minimiser
+ * allocates; a station asks for the same pair at every strike). Initialise
+ * with af_shear_cache_init. */
+typedef struct {
+  af_shear_ratio mode;
+  double poisson; /* NaN: empty */
+  double ratio;
+} af_shear_cache;
+
+void af_shear_cache_init(af_shear_cache *c);
+/* af_stress_shear_ratio's ratio, solved only when mode or poisson changed. */
+af_status af_stress_shear_ratio_cached(af_shear_cache *c, af_shear_ratio mode, double poisson,
+                                       double *ratio);
+
 /* Yield shear stress [Pa] = yield_ratio * E2: a calibration, not a literature
  * value (PHYSICS.md 6). */
 double af_stress_yield_shear_pa(double yield_ratio, double modulus_pa);

@@ -95,8 +95,26 @@ static void test_bad_input(void)
   AF_CHECK(isnan(af_resonance_stiffness_factor(NAN, 0.175)));
 }
 
+/* The cache answers as the solver does, for the ratio asked now. */
+static void test_cache(void)
+{
+  af_lamb_cache c;
+  double xi = 0.0;
+  af_lamb_cache_init(&c);
+  AF_CHECK(isnan(c.poisson));
+  AF_CHECK_STATUS(af_resonance_lamb_root_cached(&c, 0.25, &xi), AF_OK);
+  AF_CHECK_ABS(xi, 2.6399, 1e-4);
+  AF_CHECK_STATUS(af_resonance_lamb_root_cached(&c, 0.49, &xi), AF_OK);
+  AF_CHECK_ABS(xi, 2.6648, 1e-4);
+  AF_CHECK_STATUS(af_resonance_lamb_root_cached(&c, 0.49, &xi), AF_OK);
+  AF_CHECK_ABS(xi, 2.6648, 1e-4);
+  AF_CHECK_STATUS(af_resonance_lamb_root_cached(&c, 0.5, &xi), AF_EINVAL);
+  AF_CHECK_ABS(c.poisson, 0.49, 0.0);
+}
+
 int main(void)
 {
+  test_cache();
   test_lamb_root();
   test_modulus_constant();
   test_frequency_table();

@@ -157,8 +157,24 @@ static void test_bad_input(void)
   AF_CHECK(isnan(af_stress_center_pressure_pa(INFINITY, 1e-3)));
 }
 
+/* The cache answers as the minimiser does, for the mode and ratio asked now. */
+static void test_cache(void)
+{
+  af_shear_cache c;
+  double ratio = 0.0;
+  af_shear_cache_init(&c);
+  AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_EXACT, 0.30, &ratio), AF_OK);
+  AF_CHECK_REL(ratio, 0.3100, 5e-4);
+  AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_PAPER, 0.30, &ratio), AF_OK);
+  AF_CHECK_REL(ratio, 0.31, 1e-12);
+  AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_EXACT, 0.35, &ratio), AF_OK);
+  AF_CHECK_REL(ratio, 0.2987, 5e-4);
+  AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_EXACT, -0.1, &ratio), AF_EINVAL);
+}
+
 int main(void)
 {
+  test_cache();
   test_shear_ratio_exact();
   test_shear_ratio_paper();
   test_reference_strike();
