@@ -30,8 +30,8 @@
  * one row per strike: apple_id, modulus_pa, mass_kg, resonance_hz (0S2),
  * contact_time_s and peak_force_n (the model's), contact_start_s (stamp).
  *
- * Self-contained (a seeded splitmix64 generator): the same seed gives the
- * same bag on every machine. Exit 0, 2 on bad arguments, 1 on failure. */
+ * Seeded (af_synth_rng, splitmix64): the same seed gives the same bag on
+ * every machine. Exit 0, 2 on bad arguments, 1 on failure. */
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
@@ -43,6 +43,7 @@
 #include "af_bag.h"
 #include "impact.h"
 #include "resonance.h"
+#include "synth.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
 #define M_PI 3.14159265358979323846
@@ -76,71 +77,17 @@
 #define LOUD_MODE_Q 60.0
 #define LOUD_MODE_GAIN 2.0
 
-/* ---- seeded generator (splitmix64 + Marsaglia's polar method) ---------- */
-
-typedef struct {
-  uint64_t state;
-  int has_spare;
-  double spare;
-} rng;
-
-static uint64_t rng_next(rng *g)
-{
-  uint64_t z = (g->state += 0x9E3779B97F4A7C15ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
-static double uniform(rng *g) /* [0, 1) */
-{
-  return (double)(rng_next(g) >> 11) * 0x1.0p-53;
-}
-
-static double gauss(rng *g)
-{
-  if (g->has_spare) {
-    g->has_spare = 0;
-    return g->spare;
-  }
-  double u, v, s;
-  do {
-    u = 2.0 * uniform(g) - 1.0;
-    v = 2.0 * uniform(g) - 1.0;
-    s = u * u + v * v;
-  } while (s >= 1.0 || s == 0.0);
-  double f = sqrt(-2.0 * log(s) / s);
-  g->spare = v * f;
-  g->has_spare = 1;
-  return u * f;
-}
-
 /* ---- the strikes ----------------------------------------------------------- */
 
 typedef struct {
   double t_s; /* contact start, from the bag start [s] */
   double modulus_pa, mass_kg, radius_m;
   double resonance_hz, tau_s; /* 0S2 and its amplitude decay time */
-  af_impact_result res;
-  double *force_n; /* res.n_samples at fine_dt */
+  af_synth_pulse pulse;       /* the model's force at FINE_DT_S, in force_n */
+  double *force_n;            /* owned: pulse.n samples */
 } strike;
 
 static const double FINE_DT_S = 1.0 / (FORCE_RATE_HZ * OVERSAMPLE);
-
-/* The pulse of s at time u after its contact start [N]. */
-static double pulse_at(const strike *s, double u)
-{
-  double tc = s->res.contact_time_s;
-  size_t n = s->res.n_samples;
-  if (!(u > 0.0) || !(u < tc) || n == 0)
-    return 0.0;
-  double x = u / FINE_DT_S;
-  size_t j = (size_t)x;
-  if (j + 1 < n)
-    return s->force_n[j] + (x - (double)j) * (s->force_n[j + 1] - s->force_n[j]);
-  double t_last = (double)(n - 1) * FINE_DT_S; /* last fine sample .. t_c: linear to 0 */
-  return tc > t_last ? s->force_n[n - 1] * (tc - u) / (tc - t_last) : 0.0;
-}
 
 static af_impact_params impact_for(const strike *s)
 {
@@ -233,8 +180,8 @@ static af_time stamp_of(double t_s)
 }
 
 /* Chunk number k of a stream into c (samples in buf). */
-static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t first, rng *g,
-                       double noise_rms, float *buf, af_signal_chunk *c)
+static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t first,
+                       af_synth_rng *g, double noise_rms, float *buf, af_signal_chunk *c)
 {
   const double rate = force ? FORCE_RATE_HZ : AUDIO_RATE_HZ;
   const double two_pi = 2.0 * M_PI;
@@ -251,20 +198,20 @@ static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t f
   const double t_first = (double)first / rate, t_last = (double)(first + CHUNK) / rate;
   size_t near[16], n_near = 0;
   for (size_t j = 0; j < n_strikes && n_near < 16; j++)
-    if (s[j].t_s < t_last && s[j].t_s + (force ? s[j].res.contact_time_s : 0.5) > t_first)
+    if (s[j].t_s < t_last && s[j].t_s + (force ? s[j].pulse.res.contact_time_s : 0.5) > t_first)
       near[n_near++] = j;
   for (size_t k = 0; k < CHUNK; k++) {
     double t = (double)(first + k) / rate;
-    double x = noise_rms * gauss(g);
+    double x = noise_rms * af_synth_gauss(g);
     if (force)
       x += 0.5 * noise_rms * sin(two_pi * HUM_HZ * t + 0.3) + 0.4 + 0.01 * t;
     for (size_t i = 0; i < n_near; i++) {
       size_t j = near[i];
       double u = t - s[j].t_s;
-      if (u <= 0.0 || u > (force ? s[j].res.contact_time_s : 0.5))
+      if (u <= 0.0 || u > (force ? s[j].pulse.res.contact_time_s : 0.5))
         continue;
       if (force) {
-        x += pulse_at(&s[j], u);
+        x += af_synth_pulse_at(&s[j].pulse, u);
       } else {
         x += MODE_AMPLITUDE_PA * exp(-u / s[j].tau_s) * sin(two_pi * s[j].resonance_hz * u);
         x += LOUD_MODE_GAIN * MODE_AMPLITUDE_PA * exp(-u * M_PI * LOUD_MODE_HZ / LOUD_MODE_Q) *
@@ -289,26 +236,29 @@ static int make_strikes(const args *a, af_impact *w, double *fine, strike *s, si
   const af_impact_params nominal = af_impact_params_default();
   if (af_resonance_lamb_root(nominal.fruit_poisson, &xi) != AF_OK)
     return fail("Lamb root", AF_ENOROOT);
-  rng g = {a->seed, 0, 0.0};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, a->seed);
   *min_peak_n = INFINITY;
   for (size_t k = 0; k < n; k++) {
     strike *sk = &s[k];
-    sk->modulus_pa = MODULUS_MIN_PA + (MODULUS_MAX_PA - MODULUS_MIN_PA) * uniform(&g);
-    sk->mass_kg = MASS_MIN_KG + (MASS_MAX_KG - MASS_MIN_KG) * uniform(&g);
+    sk->modulus_pa = MODULUS_MIN_PA + (MODULUS_MAX_PA - MODULUS_MIN_PA) * af_synth_uniform(&g);
+    sk->mass_kg = MASS_MIN_KG + (MASS_MAX_KG - MASS_MIN_KG) * af_synth_uniform(&g);
     sk->radius_m = af_resonance_sphere_radius_m(sk->mass_kg, DENSITY_KG_M3);
-    sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * uniform(&g); /* sub-sample offsets */
+    /* sub-sample offsets */
+    sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * af_synth_uniform(&g);
     sk->resonance_hz = af_resonance_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson,
                                                  DENSITY_KG_M3, sk->mass_kg);
     sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
     af_impact_params p = impact_for(sk);
-    af_status st = af_impact_run(w, &p, FINE_DT_S, fine, NULL, FINE_CAP, &sk->res);
+    af_status st = af_synth_pulse_run(w, &p, FINE_DT_S, fine, FINE_CAP, &sk->pulse);
     if (st != AF_OK)
       return fail("impact model", st);
-    sk->force_n = malloc((sk->res.n_samples + 1) * sizeof *sk->force_n);
+    sk->force_n = malloc((sk->pulse.n + 1) * sizeof *sk->force_n);
     if (!sk->force_n)
       return fail("pulse", AF_ENOMEM);
-    memcpy(sk->force_n, fine, sk->res.n_samples * sizeof *fine);
-    *min_peak_n = fmin(*min_peak_n, sk->res.peak_force_n);
+    memcpy(sk->force_n, fine, sk->pulse.n * sizeof *fine);
+    sk->pulse.force_n = sk->force_n; /* off the shared scratch buffer */
+    *min_peak_n = fmin(*min_peak_n, sk->pulse.res.peak_force_n);
   }
   return 0;
 }
@@ -324,7 +274,7 @@ static int write_truth(const char *path, const strike *s, size_t n)
               "contact_start_s\n");
   for (size_t k = 0; k < n; k++)
     fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f\n", k + 1, s[k].modulus_pa, s[k].mass_kg,
-            s[k].resonance_hz, s[k].res.contact_time_s, s[k].res.peak_force_n,
+            s[k].resonance_hz, s[k].pulse.res.contact_time_s, s[k].pulse.res.peak_force_n,
             BAG_START_S + s[k].t_s);
   if (fclose(tf) != 0) {
     fprintf(stderr, "strike_bag: cannot write %s\n", path);
@@ -348,7 +298,9 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
   const double duration_s = LEAD_IN_S + (double)n * a->spacing_s + TAIL_S;
   uint64_t next_force = 0, next_audio = 0;
   size_t next_apple = 0;
-  rng gf = {a->seed ^ 0xF0F0F0F0ULL, 0, 0.0}, ga = {a->seed ^ 0x0A0A0A0AULL, 0, 0.0};
+  af_synth_rng gf, ga;
+  af_synth_rng_seed(&gf, a->seed ^ 0xF0F0F0F0ULL);
+  af_synth_rng_seed(&ga, a->seed ^ 0x0A0A0A0AULL);
   float buf[CHUNK];
   for (;;) {
     double tf_s = (double)(next_force + CHUNK) / FORCE_RATE_HZ; /* bag time: the last sample */
@@ -425,8 +377,8 @@ int main(int argc, char **argv)
   if (rc == 0)
     rc = write_truth(truth_path, s, n);
   if (rc == 0)
-    rc = write_bag(&a, s, n, min_peak_n * pow(10.0, -FORCE_SNR_DB / 20.0),
-                   MODE_AMPLITUDE_PA * pow(10.0, -AUDIO_SNR_DB / 20.0), truth_path);
+    rc = write_bag(&a, s, n, af_synth_noise_rms(min_peak_n, FORCE_SNR_DB),
+                   af_synth_noise_rms(MODE_AMPLITUDE_PA, AUDIO_SNR_DB), truth_path);
   for (size_t k = 0; s && k < n; k++)
     free(s[k].force_n);
   af_impact_destroy(w);

@@ -28,39 +28,16 @@
 #include <string.h>
 
 #include "af_test.h"
+#include "synth.h"
 
 #define PI 3.14159265358979323846
 #define FS_HZ 48000.0
 
-/* ---- deterministic noise (splitmix64, Box-Muller) --------------------------- */
+/* ---- deterministic noise (af_synth_rng: splitmix64, polar method) ---------- */
 
-typedef struct {
-  uint64_t state;
-} rng;
-
-static uint64_t rng_next(rng *g)
+static double rng_range(af_synth_rng *g, double lo, double hi)
 {
-  uint64_t z = (g->state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-/* uniform in (0, 1) */
-static double rng_uniform(rng *g)
-{
-  return ((double)(rng_next(g) >> 11) + 0.5) / 9007199254740992.0;
-}
-
-static double rng_range(rng *g, double lo, double hi)
-{
-  return lo + (hi - lo) * rng_uniform(g);
-}
-
-static double rng_gauss(rng *g)
-{
-  double u1 = rng_uniform(g), u2 = rng_uniform(g);
-  return sqrt(-2.0 * log(u1)) * cos(2.0 * PI * u2);
+  return lo + (hi - lo) * af_synth_uniform(g);
 }
 
 /* ---- synthesis ------------------------------------------------------------- */
@@ -89,7 +66,7 @@ static double mode_value(const mode *m, double t)
   return m->amplitude * exp(-sigma * t) * cos(2.0 * PI * m->f_hz * t + m->phase);
 }
 
-static void synth(const strike *s, float *x, size_t n, rng *g)
+static void synth(const strike *s, float *x, size_t n, af_synth_rng *g)
 {
   for (size_t k = 0; k < n; ++k) {
     double t = (double)k / FS_HZ, v = 0.0;
@@ -97,7 +74,7 @@ static void synth(const strike *s, float *x, size_t n, rng *g)
       v += mode_value(&s->modes[i], t - s->onset_s);
     v += s->hum * cos(2.0 * PI * 50.0 * t + s->hum_phase) +
          0.2 * s->hum * cos(2.0 * PI * 150.0 * t + 2.0 * s->hum_phase);
-    v += s->noise_std * rng_gauss(g);
+    v += s->noise_std * af_synth_gauss(g);
     x[k] = (float)v;
   }
 }
@@ -132,7 +109,7 @@ static double true_snr_db(const af_response_config *c, const strike *s, size_t n
 /* A random strike: 0S2 at f0 with Q q0; a louder mode at 2.35 f0 (the
  * example's 1.6 kHz for 682 Hz) above the range, one at 0.513 f0 (350 Hz)
  * below it, a weak one at 1.3 f0 inside it; relative phases random. */
-static strike random_strike(rng *g, double f0, double q0, double snr_db)
+static strike random_strike(af_synth_rng *g, double f0, double q0, double snr_db)
 {
   strike s = {{{f0, q0, 1.0, rng_range(g, 0.0, 2.0 * PI)},
                {2.35 * f0, 25.0, 4.0, rng_range(g, 0.0, 2.0 * PI)},
@@ -257,7 +234,8 @@ static void test_single_mode(void)
   af_response *r = NULL;
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
   float *x = malloc(c.window_samples * sizeof *x);
-  rng g = {1};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 1);
   const double onsets_s[] = {0.0, 0.002};
   for (size_t i = 0; i < 2; ++i) {
     strike s = {{{682.0, 30.0, 0.8, 0.3}}, 1, onsets_s[i], 0.0, 0.0, 0.0};
@@ -291,7 +269,8 @@ static scan_result scan(af_response *r, int trials, double snr_db, uint64_t seed
   const af_response_config *c = af_response_get_config(r);
   size_t n = c->window_samples;
   float *x = malloc(n * sizeof *x);
-  rng g = {seed};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, seed);
   scan_result worst = {0.0, 0.0, 0.0, 0};
   for (int t = 0; t < trials; ++t) {
     double f0 = exp(rng_range(&g, log(300.0), log(1300.0)));
@@ -349,7 +328,8 @@ static void test_not_loudest(void)
   af_response *r = NULL;
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
   float *x = malloc(c.window_samples * sizeof *x);
-  rng g = {3};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 3);
   strike s = random_strike(&g, 682.0, 30.0, 30.0);
   s.modes[1].f_hz = 1600.0;
   s.onset_s = 0.0005;
@@ -380,7 +360,8 @@ static void test_no_peak(void)
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
   size_t n = c.window_samples;
   float *x = malloc(n * sizeof *x);
-  rng g = {11};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 11);
   int found = 0, reported = 0;
   double best_snr_db = -INFINITY;
   for (int t = 0; t < 1000; ++t) {
@@ -440,17 +421,18 @@ static void test_noise_reference(void)
   size_t n = c.window_samples;
   enum { SEGMENTS = 8 };
   float *pre = malloc(SEGMENTS * n * sizeof *pre), *x = malloc(n * sizeof *x);
-  rng g = {5};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 5);
   const double a = 0.95, sigma_e = 0.01, f0 = 682.0;
   double y = 0.0;
   for (size_t k = 0; k < n; ++k) /* settle the filter, then the pre-strike audio */
-    y = a * y + sigma_e * rng_gauss(&g);
+    y = a * y + sigma_e * af_synth_gauss(&g);
   for (size_t k = 0; k < SEGMENTS * n; ++k)
-    pre[k] = (float)(y = a * y + sigma_e * rng_gauss(&g));
+    pre[k] = (float)(y = a * y + sigma_e * af_synth_gauss(&g));
   strike s = {{{f0, 30.0, 1.0, 1.0}}, 1, 0.001, 0.0, 0.0, 0.0};
   synth(&s, x, n, &g);
   for (size_t k = 0; k < n; ++k)
-    x[k] += (float)(y = a * y + sigma_e * rng_gauss(&g));
+    x[k] += (float)(y = a * y + sigma_e * af_synth_gauss(&g));
   double complex den = 1.0 - a * cexp(-I * 2.0 * PI * f0 / FS_HZ);
   double psd_per_sample = sigma_e * sigma_e / creal(den * conj(den));
 
@@ -494,7 +476,8 @@ static void test_strong_hum(void)
   af_response *r = NULL;
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
   float *x = malloc(c.window_samples * sizeof *x);
-  rng g = {13};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 13);
   strike s = {{{350.0, 30.0, 1.0, 0.4}}, 1, 0.002, 0.01, 3.0, 0.9};
   synth(&s, x, c.window_samples, &g);
   af_response_result res;
@@ -514,7 +497,8 @@ static void test_other_windows(void)
   af_response *r = NULL;
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
   float *x = malloc(c.window_samples * sizeof *x);
-  rng g = {9};
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 9);
   strike s = {{{1000.0, 20.0, 1.0, 0.2}}, 1, 0.0, 0.01, 0.0, 0.0};
   synth(&s, x, c.window_samples, &g);
   af_response_result res;
