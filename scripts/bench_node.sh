@@ -28,15 +28,9 @@ while [ $# -gt 0 ]; do
 done
 strikes=$(/usr/bin/python3 -c "print(max(1, round(($seconds - 1.5) / 0.5)))")
 
-devel_lib="$AF_BUILD/devel/lib/acoustic_firmness"
-if [ ! -x "$devel_lib/firmness_node" ] || [ ! -x "$devel_lib/strike_bag" ]; then
-  bash "$AF_ROOT/scripts/setup.sh"
-  bash "$AF_ROOT/scripts/build.sh"
-fi
-af_source_devel
+af_ensure_station_built
 
 port=${AF_BENCH_PORT:-11346}
-export ROS_MASTER_URI="http://localhost:$port"
 unset ROS_NAMESPACE
 work=$(mktemp -d /tmp/af_bench.XXXXXX)
 core_pid="" launch_pid=""
@@ -50,13 +44,8 @@ cleanup() {
 trap cleanup EXIT
 
 rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed 11 --out "$work/bench.bag"
-roscore -p "$port" >"$work/roscore.log" 2>&1 &
-core_pid=$!
-for _ in $(seq 100); do
-  rosparam list >/dev/null 2>&1 && break
-  kill -0 "$core_pid" 2>/dev/null || { cat "$work/roscore.log"; exit 1; }
-  sleep 0.2
-done
+af_start_master "$port" "$work/roscore.log" || { core_pid=$AF_MASTER_PID; exit 1; }
+core_pid=$AF_MASTER_PID
 rosparam set /use_sim_time true
 roslaunch acoustic_firmness station.launch >"$work/launch.log" 2>&1 &
 launch_pid=$!

@@ -25,15 +25,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-devel_lib="$AF_BUILD/devel/lib/acoustic_firmness"
-if [ ! -x "$devel_lib/firmness_node" ] || [ ! -x "$devel_lib/strike_bag" ]; then
-  bash "$AF_ROOT/scripts/setup.sh"
-  bash "$AF_ROOT/scripts/build.sh"
-fi
-af_source_devel
+af_ensure_station_built
 
 port=${AF_DEMO_PORT:-11345}
-export ROS_MASTER_URI="http://localhost:$port"
 unset ROS_NAMESPACE
 work=$(mktemp -d /tmp/af_demo.XXXXXX)
 core_pid="" summary_pid=""
@@ -52,13 +46,8 @@ trap cleanup EXIT
 
 rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed "$seed" --out "$work/demo.bag"
 
-roscore -p "$port" >"$work/roscore.log" 2>&1 &
-core_pid=$!
-for _ in $(seq 100); do
-  rosparam list >/dev/null 2>&1 && break
-  kill -0 "$core_pid" 2>/dev/null || { cat "$work/roscore.log"; echo "demo: roscore failed" >&2; exit 1; }
-  sleep 0.2
-done
+af_start_master "$port" "$work/roscore.log" || { core_pid=$AF_MASTER_PID; exit 1; }
+core_pid=$AF_MASTER_PID
 
 # The summary: one line per strike, as the node publishes them.
 cat >"$work/summary.py" <<'EOF'

@@ -6,16 +6,7 @@
 # searched range and white noise), written as raw little-endian float32; the
 # JSON checked against that truth; bad input exits 2 naming the flag or file.
 # Usage: test_analyze.sh /path/to/firmness_model
-set -u
-FM=${1:?path to firmness_model}
-PY=/usr/bin/python3
-pass=0
-fail=0
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+source "$(dirname "$0")/harness.sh" "$@"
 
 # The recording: 3 strikes of the default strike (10 g hammer, 1.4 m/s, E2
 # 8 MPa, nu 0.35, R2 40 mm, e 0.6 by the exact law's chi 0.975) at 0.1, 0.4
@@ -145,41 +136,32 @@ json_check "d == []" --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@
 json_check "len(d) == 3 and all(r['excites_mode'] is False and 'lobe 2' in r['reason'] for r in d)" \
   "${run[@]}" --profile paper
 
-# expect_usage pattern args...: exit 2, one line on stderr naming pattern
-expect_usage() {
+# expect_analyze_usage pattern args...: as expect_usage, for `analyze args`.
+expect_analyze_usage() {
   local pattern=$1
   shift
-  "$FM" analyze "$@" >"$tmp/out" 2>"$tmp/err"
-  local code=$?
-  if [ "$code" -ne 2 ]; then
-    bad "'analyze $*' exited $code, expected 2"
-  elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
-    bad "'analyze $*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
-  else
-    ok
-  fi
+  expect_usage "$pattern" analyze "$@"
 }
 
 A=(--audio "$tmp/audio.f32")
 F=(--force "$tmp/force.f32")
-expect_usage "--force" "${A[@]}" "${base[@]}"
-expect_usage "--audio" "${F[@]}" "${base[@]}"
-expect_usage "--rate-force" "${F[@]}" "${A[@]}" --rate-audio 48000 --mass 0.175 --R2 0.04
-expect_usage "--rate-force" "${F[@]}" "${A[@]}" --rate-force abc --rate-audio 48000 --mass 0.175 --R2 0.04
-expect_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 0 --mass 0.175 --R2 0.04
-expect_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio -48000 --mass 0.175 --R2 0.04
-expect_usage "--mass" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04
-expect_usage "--R2" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175
-expect_usage "--R2" "${F[@]}" "${A[@]}" "${base[@]}" --R2 -0.01
-expect_usage "--mass" "${F[@]}" "${A[@]}" "${base[@]}" --mass 0
-expect_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset nan
-expect_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset
-expect_usage "--bogus" "${F[@]}" "${A[@]}" "${base[@]}" --bogus 1
-expect_usage "$tmp/missing.f32" --force "$tmp/missing.f32" "${A[@]}" "${base[@]}"
-expect_usage "$tmp/missing.f32" "${F[@]}" --audio "$tmp/missing.f32" "${base[@]}"
-expect_usage "$tmp/odd.f32" --force "$tmp/odd.f32" "${A[@]}" "${base[@]}"
-expect_usage "$tmp/odd.f32" "${F[@]}" --audio "$tmp/odd.f32" "${base[@]}"
-expect_usage "--modulus-max" "${F[@]}" "${A[@]}" "${base[@]}" --modulus-min 12e6 --modulus-max 2e6
+expect_analyze_usage "--force" "${A[@]}" "${base[@]}"
+expect_analyze_usage "--audio" "${F[@]}" "${base[@]}"
+expect_analyze_usage "--rate-force" "${F[@]}" "${A[@]}" --rate-audio 48000 --mass 0.175 --R2 0.04
+expect_analyze_usage "--rate-force" "${F[@]}" "${A[@]}" --rate-force abc --rate-audio 48000 --mass 0.175 --R2 0.04
+expect_analyze_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 0 --mass 0.175 --R2 0.04
+expect_analyze_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio -48000 --mass 0.175 --R2 0.04
+expect_analyze_usage "--mass" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04
+expect_analyze_usage "--R2" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175
+expect_analyze_usage "--R2" "${F[@]}" "${A[@]}" "${base[@]}" --R2 -0.01
+expect_analyze_usage "--mass" "${F[@]}" "${A[@]}" "${base[@]}" --mass 0
+expect_analyze_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset nan
+expect_analyze_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset
+expect_analyze_usage "--bogus" "${F[@]}" "${A[@]}" "${base[@]}" --bogus 1
+expect_analyze_usage "$tmp/missing.f32" --force "$tmp/missing.f32" "${A[@]}" "${base[@]}"
+expect_analyze_usage "$tmp/missing.f32" "${F[@]}" --audio "$tmp/missing.f32" "${base[@]}"
+expect_analyze_usage "$tmp/odd.f32" --force "$tmp/odd.f32" "${A[@]}" "${base[@]}"
+expect_analyze_usage "$tmp/odd.f32" "${F[@]}" --audio "$tmp/odd.f32" "${base[@]}"
+expect_analyze_usage "--modulus-max" "${F[@]}" "${A[@]}" "${base[@]}" --modulus-min 12e6 --modulus-max 2e6
 
-echo "test_analyze: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+summary test_analyze

@@ -1,31 +1,7 @@
 #!/usr/bin/env bash
 # CLI tests of firmness_model: JSON keys, bad input (exit 2, flag named),
 # sweep CSV, profiles, bench. Usage: test_cli.sh /path/to/firmness_model
-set -u
-FM=${1:?path to firmness_model}
-PY=/usr/bin/python3
-pass=0
-fail=0
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-
-# expect_usage "what" pattern args...: exit code 2, one line on stderr naming pattern
-expect_usage() {
-  local pattern=$1
-  shift
-  "$FM" "$@" >"$tmp/out" 2>"$tmp/err"
-  local code=$?
-  if [ "$code" -ne 2 ]; then
-    bad "'$*' exited $code, expected 2"
-  elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
-    bad "'$*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
-  else
-    ok
-  fi
-}
+source "$(dirname "$0")/harness.sh" "$@"
 
 # json_check 'python expression on d' args...
 json_check() {
@@ -93,5 +69,4 @@ if "$FM" sweep --param R2 --from 0.01 --to 0.05 --steps 3 --csv "$tmp/r2.csv" >/
 if "$FM" bench --seconds 0.2 | grep -q "evaluations/second"; then ok; else bad "bench"; fi
 if "$FM" --help | grep -q -- "--hammer-radius"; then ok; else bad "--help lists flags"; fi
 
-echo "test_cli: $pass passed, $fail failed"
-[ "$fail" -eq 0 ] && [ "$pass" -gt 0 ]
+summary test_cli

@@ -1,0 +1,35 @@
+# Sourced by the CLI tests (test/cli/test_*.sh): the program under test, a
+# scratch folder, pass/fail counters and the bad-input check.
+# Usage in a test: source "$(dirname "$0")/harness.sh" "$@"
+set -u
+FM=${1:?path to firmness_model}
+PY=/usr/bin/python3
+pass=0
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+# expect_usage pattern args...: firmness_model args exits 2 with one line on
+# stderr that names pattern (the flag or file at fault).
+expect_usage() {
+  local pattern=$1
+  shift
+  "$FM" "$@" >"$tmp/out" 2>"$tmp/err"
+  local code=$?
+  if [ "$code" -ne 2 ]; then
+    bad "'$*' exited $code, expected 2"
+  elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
+    bad "'$*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
+  else
+    ok
+  fi
+}
+
+# Prints the plain closing line and gives the script's exit status.
+summary() {
+  echo "$1: $pass passed, $fail failed"
+  [ "$fail" -eq 0 ] && [ "$pass" -gt 0 ]
+}
