@@ -152,6 +152,17 @@ const af_measure_config *af_measure_get_config(const af_measure *m)
   return m == NULL ? NULL : &m->cfg;
 }
 
+af_status af_measure_prepare(af_measure *m, const af_model_params *p)
+{
+  double xi, ratio;
+  if (m == NULL || p == NULL)
+    return AF_EINVAL;
+  af_status st = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
+  if (st == AF_OK)
+    st = af_stress_shear_ratio_cached(&m->shear, p->shear_ratio, p->impact.fruit_poisson, &ratio);
+  return st;
+}
+
 /* ---- the steps of one strike ---------------------------------------------- */
 
 static bool af_apple_valid(const af_measure_apple *a)

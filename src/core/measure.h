@@ -90,6 +90,12 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out);
 void af_measure_destroy(af_measure *m); /* NULL-safe */
 const af_measure_config *af_measure_get_config(const af_measure *m);
 
+/* Solves the Poisson-ratio caches (Lamb's xi, tau_max/p0) for these settings
+ * ahead of the first strike: their GSL solvers allocate, and no strike may.
+ * Call at start-up with the cultivar's model parameters; a strike on an apple
+ * with another Poisson ratio or shear mode solves (and allocates) once more. */
+af_status af_measure_prepare(af_measure *m, const af_model_params *p);
+
 /* Measures one strike. ev: the detector's event (its pulse is read during the
  * call only). audio: the window cut from the audio stream starting
  * audio_delay_s after ev's contact start (by sample index), n_audio samples

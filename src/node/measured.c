@@ -577,7 +577,8 @@ af_status af_measured_create(af_ros *ros, const af_node_config *cfg, const af_st
   if ((s = af_strike_create(&m->mc->strike, &m->detector)) != AF_OK)
     goto fail;
   *what = "the strike measurement";
-  if ((s = af_measure_create(&m->mc->measure, &m->measure)) != AF_OK)
+  if ((s = af_measure_create(&m->mc->measure, &m->measure)) != AF_OK ||
+      (s = af_measure_prepare(m->measure, &cfg->model)) != AF_OK)
     goto fail;
   *what = "the strike spectrum";
   af_spectrum_config sc = af_spectrum_config_default();

@@ -429,6 +429,8 @@ static int af_analyze_files(const af_analyze_args *a, const af_model_params *p)
   c.audio = audio;
   af_measure_config mc = af_analyze_measure_config(a);
   af_status st = af_measure_create(&mc, &c.m);
+  if (st == AF_OK)
+    st = af_measure_prepare(c.m, &c.apple.model);
   int code;
   if (st != AF_OK) {
     fprintf(stderr, "firmness_model analyze: --rate-audio %g: the measurement refuses it: %s\n",

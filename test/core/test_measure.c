@@ -653,7 +653,8 @@ static void test_bad_arguments(void)
 /* ---- no allocation per strike ---------------------------------------------------- */
 
 /* The detector and the measurement of every strike, streamed with the
- * count armed (after one strike has filled the Poisson-ratio caches). */
+ * count armed from the first strike on (af_measure_prepare has filled the
+ * Poisson-ratio caches). */
 static void test_no_allocation(void)
 {
   if (!ALLOC_COUNTING) {
@@ -666,8 +667,8 @@ static void test_no_allocation(void)
   af_strike_config sc = af_strike_config_default();
   recording rec;
   synth_recording(&rec, &default_apple, 8, 101);
-  p = (pipeline){.m = m, .apple = &apple, .rec = &rec};
-  run_pipeline(&sc, &p, 0, 0); /* warm */
+  AF_CHECK_STATUS(af_measure_prepare(m, &apple.model), AF_OK);
+  AF_CHECK_STATUS(af_measure_prepare(NULL, &apple.model), AF_EINVAL);
   p = (pipeline){.m = m, .apple = &apple, .rec = &rec, .count_allocs = true};
   alloc_count = 0;
   run_pipeline(&sc, &p, 0, 0);
