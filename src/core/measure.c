@@ -172,14 +172,13 @@ static bool af_apple_valid(const af_measure_apple *a)
 }
 
 /* Every figure NaN, the detector's copied: a part that fails leaves NaN. */
-static void af_report_start(const af_strike_event *ev, const af_measure_apple *apple,
-                            af_measure_report *out)
+static void af_report_start(const af_strike_event *ev, unsigned lobe, af_measure_report *out)
 {
   memset(out, 0, sizeof *out);
   out->contact_time_s = ev->contact_time_s;
   out->peak_force_n = ev->peak_force_n;
   out->impulse_n_s = ev->impulse_n_s;
-  out->lobe = apple->model.lobe;
+  out->lobe = lobe;
   out->band_low_hz = out->band_high_hz = NAN;
   out->resonance_hz = out->resonance_q = out->snr_db = NAN;
   out->stiffness_factor = out->modulus_from_resonance_pa = NAN;
@@ -192,11 +191,10 @@ static void af_report_start(const af_strike_event *ev, const af_measure_apple *a
 }
 
 /* The band of the configured lobe, by the code path of the model's spectrum. */
-static void af_step_band(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
-                         af_measure_report *out, af_measure_steps *s)
+static void af_step_band(af_measure *m, const af_strike_event *ev, af_band_level level,
+                         unsigned lobe, af_measure_report *out, af_measure_steps *s)
 {
-  s->band_status = af_strike_measure_band(m->spectrum, ev, apple->model.band_level,
-                                          apple->model.lobe, &s->band, NULL);
+  s->band_status = af_strike_measure_band(m->spectrum, ev, level, lobe, &s->band, NULL);
   if (s->band_status != AF_OK)
     return;
   out->band_low_hz = s->band.band_low_hz;
@@ -445,11 +443,22 @@ af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_m
       !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !af_apple_valid(apple))
     return AF_EINVAL;
   af_measure_steps s = {.band_status = AF_OK, .fit_residual = NAN, .f_lo_hz = NAN, .f_hi_hz = NAN};
-  af_report_start(ev, apple, out);
-  af_step_band(m, ev, apple, out, &s);
+  af_report_start(ev, apple->model.lobe, out);
+  af_step_band(m, ev, apple->model.band_level, apple->model.lobe, out, &s);
   af_step_fit(m, ev, apple, out, &s);
   af_step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
   af_step_stress(m, apple, out, &s);
   af_verdict(m, ev, apple, &s, out);
+  return AF_OK;
+}
+
+af_status af_measure_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
+                           unsigned lobe, af_measure_report *out)
+{
+  if (m == NULL || ev == NULL || out == NULL || !(isfinite(ev->dt_s) && ev->dt_s > 0.0))
+    return AF_EINVAL;
+  af_measure_steps s = {.band_status = AF_OK};
+  af_report_start(ev, lobe, out);
+  af_step_band(m, ev, level, lobe, out, &s);
   return AF_OK;
 }

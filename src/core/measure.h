@@ -90,6 +90,13 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out);
 void af_measure_destroy(af_measure *m); /* NULL-safe */
 const af_measure_config *af_measure_get_config(const af_measure *m);
 
+/* What the pulse alone gives, for a strike no apple matches: the detector's
+ * figures and flags and the measured band of lobe at level; every
+ * apple-dependent figure NaN, reliable false, reason "" (the caller knows
+ * why there is no apple). AF_EINVAL for a NULL argument or a bad dt. */
+af_status af_measure_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
+                           unsigned lobe, af_measure_report *out);
+
 /* Solves the Poisson-ratio caches (Lamb's xi, tau_max/p0) for these settings
  * ahead of the first strike: their GSL solvers allocate, and no strike may.
  * Call at start-up with the cultivar's model parameters; a strike on an apple

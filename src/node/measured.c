@@ -9,7 +9,6 @@
 
 #include "markers.h"
 #include "measure.h"
-#include "spectrum.h"
 #include "strike.h"
 #include "text.h"
 
@@ -51,7 +50,6 @@ struct af_measured {
   const af_stream *force, *audio;
   af_strike *detector;
   af_measure *measure;
-  af_spectrum *spectrum; /* the band of strikes without an apple */
   af_ros_pub *report_pub, *reliability_pub, *markers_pub;
   /* The pending queue: a ring of pending_size slots. */
   af_pending *pending;
@@ -145,28 +143,6 @@ static void publish(af_measured *m, af_ros_pub *pub, const void *msg, const char
 {
   if (af_ros_publish(pub, msg) != AF_OK)
     af_ros_log(m->ros, AF_LOG_ERROR, "%s not published: %s", topic, af_ros_last_error(m->ros));
-}
-
-/* The figures the detector alone gives; the model-dependent ones NaN. */
-static void report_from_detector(af_measured *m, const af_strike_event *ev, af_strike_report *r)
-{
-  r->contact_time_s = ev->contact_time_s;
-  r->peak_force_n = ev->peak_force_n;
-  r->impulse_n_s = ev->impulse_n_s;
-  af_lobe lobe;
-  if (af_strike_measure_band(m->spectrum, ev, m->cfg->model.band_level, m->cfg->model.lobe, &lobe,
-                             NULL) == AF_OK) {
-    r->band_low_hz = lobe.band_low_hz;
-    r->band_high_hz = lobe.band_high_hz;
-  } else {
-    r->band_low_hz = r->band_high_hz = NAN;
-  }
-  r->resonance_hz = r->resonance_q = r->snr_db = r->stiffness_factor = NAN;
-  r->modulus_from_resonance_pa = r->fitted_modulus_pa = r->fitted_restitution = NAN;
-  r->fit_residual = NAN;
-  r->double_hit = ev->double_hit;
-  r->clipped = ev->clipped;
-  r->lost_samples = ev->lost_samples > UINT32_MAX ? UINT32_MAX : (uint32_t)ev->lost_samples;
 }
 
 static void report_from_measure(const af_measure_report *q, af_strike_report *r)
@@ -273,8 +249,13 @@ static void measure_one(af_measured *m, af_pending *p, const float *audio, size_
       af_text(reason, sizeof reason, "measurement failed: %s", af_strerror(s));
     }
   }
-  if (!measured)
-    report_from_detector(m, &p->ev, r);
+  if (!measured) {
+    if (af_measure_pulse(m->measure, &p->ev, m->cfg->model.band_level, m->cfg->model.lobe,
+                         &m->mrep) == AF_OK)
+      report_from_measure(&m->mrep, r);
+    else
+      m->measure_errors++;
+  }
   if (rel->reliable && reason[0] == '\0')
     rel->reason[0] = '\0';
   else {
@@ -548,14 +529,6 @@ void af_measured_diag(const af_measured *m, af_diag_status *d)
 
 /* --- life cycle ------------------------------------------------------------------ */
 
-static size_t power_of_two_at_least(size_t n)
-{
-  size_t p = 1;
-  while (p < n)
-    p <<= 1;
-  return p;
-}
-
 af_status af_measured_create(af_ros *ros, const af_node_config *cfg, const af_stream *force,
                              const af_stream *audio, af_ros_pub *reliability_pub,
                              af_ros_pub *markers_pub, af_measured **out, const char **what)
@@ -579,13 +552,6 @@ af_status af_measured_create(af_ros *ros, const af_node_config *cfg, const af_st
   *what = "the strike measurement";
   if ((s = af_measure_create(&m->mc->measure, &m->measure)) != AF_OK ||
       (s = af_measure_prepare(m->measure, &cfg->model)) != AF_OK)
-    goto fail;
-  *what = "the strike spectrum";
-  af_spectrum_config sc = af_spectrum_config_default();
-  sc.max_samples = m->mc->pulse_capacity_samples;
-  sc.fft_size = power_of_two_at_least(4 * sc.max_samples);
-  sc.max_lobes = AF_MODEL_MAX_LOBES;
-  if ((s = af_spectrum_create(&sc, &m->spectrum)) != AF_OK)
     goto fail;
   *what = "the strike queue";
   s = AF_ENOMEM;
@@ -615,7 +581,6 @@ void af_measured_destroy(af_measured *m)
     return;
   af_strike_destroy(m->detector);
   af_measure_destroy(m->measure);
-  af_spectrum_destroy(m->spectrum);
   free(m->pending);
   free(m->pulses);
   free(m->audio_buf);

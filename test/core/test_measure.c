@@ -619,6 +619,42 @@ static void test_config(void)
   af_measure_destroy(m);
 }
 
+/* A strike no apple matches: the pulse's own figures and band, the band
+ * equal to the model's for the same clean pulse (the same spectrum code),
+ * nothing apple-dependent. */
+static void test_pulse_only(void)
+{
+  static double pulse[256];
+  af_impact *w = NULL;
+  af_impact_result res;
+  af_impact_params ip = af_impact_params_default();
+  AF_CHECK_STATUS(af_impact_create(&w), AF_OK);
+  AF_CHECK_STATUS(af_impact_run(w, &ip, DT_S, pulse, NULL, 256, &res), AF_OK);
+  af_impact_destroy(w);
+  af_strike_event ev = {.contact_time_s = res.contact_time_s,
+                        .peak_force_n = res.peak_force_n,
+                        .pulse_n = pulse,
+                        .n_samples = res.n_samples,
+                        .dt_s = DT_S};
+  af_model *model = NULL;
+  af_model_result predicted;
+  af_model_params mp = af_model_params_default();
+  AF_CHECK_STATUS(af_model_create(&model), AF_OK);
+  AF_CHECK_STATUS(af_model_evaluate(model, &mp, &predicted), AF_OK);
+  af_model_destroy(model);
+  af_measure *m = make_measure();
+  af_measure_report r;
+  AF_CHECK_STATUS(af_measure_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_OK);
+  AF_CHECK_REL(r.band_high_hz, predicted.band.band_high_hz, 0.01);
+  AF_CHECK_REL(r.contact_time_s, res.contact_time_s, 1e-12);
+  AF_CHECK(r.lobe == 1 && isnan(r.resonance_hz) && isnan(r.fitted_modulus_pa));
+  AF_CHECK(isnan(r.max_shear_stress_pa) && !r.reliable && r.reason[0] == '\0');
+  AF_CHECK_STATUS(af_measure_pulse(NULL, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_pulse(m, NULL, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, NULL), AF_EINVAL);
+  af_measure_destroy(m);
+}
+
 static void test_bad_arguments(void)
 {
   af_measure *m = make_measure();
@@ -691,6 +727,7 @@ int main(void)
   AF_CHECK_STATUS(af_impact_create(&impact), AF_OK);
   AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &lamb_xi), AF_OK);
   test_config();
+  test_pulse_only();
   test_bad_arguments();
   test_apples();
   test_flags();
