@@ -32,7 +32,7 @@ int main(int argc, char **argv)
     return EXIT_FAILURE;
   }
   af_ros_log(ros, AF_LOG_INFO, "cultivar %s; URDF %s; hammer %g kg (%s), tip radius %g m (%s)",
-             cfg.cultivar, cfg.urdf_source, cfg.hammer.mass_kg, cfg.hammer_mass_source,
+             cfg.lane.cultivar, cfg.urdf_source, cfg.hammer.mass_kg, cfg.hammer_mass_source,
              cfg.hammer.tip_radius_m, cfg.hammer_tip_source);
   if (!cfg.hammer_axis_known)
     af_ros_log(ros, AF_LOG_WARN,

@@ -128,8 +128,8 @@ void af_measured_apple(af_measured *m, const af_apple_estimate *a, const af_mode
   s->stamp_ns = af_time_to_ns(a->header.stamp);
   if (params) {
     s->apple.model = *params;
-    s->apple.modulus_min_pa = m->cfg->modulus_min_pa;
-    s->apple.modulus_max_pa = m->cfg->modulus_max_pa;
+    s->apple.modulus_min_pa = m->cfg->lane.modulus_min_pa;
+    s->apple.modulus_max_pa = m->cfg->lane.modulus_max_pa;
   }
   af_text(s->why, sizeof s->why, "%s", why ? why : "");
   if (centre_m)
@@ -250,7 +250,7 @@ static void measure_one(af_measured *m, af_pending *p, const float *audio, size_
     }
   }
   if (!measured) {
-    if (af_measure_pulse(m->measure, &p->ev, m->cfg->model.band_level, m->cfg->model.lobe,
+    if (af_measure_pulse(m->measure, &p->ev, m->cfg->lane.model.band_level, m->cfg->lane.model.lobe,
                          &m->mrep) == AF_OK)
       report_from_measure(&m->mrep, r);
     else
@@ -319,7 +319,7 @@ static af_audio_state audio_for(af_measured *m, const af_pending *p, size_t *n_n
 {
   const af_stream *s = m->audio;
   const af_measure_config *mc = &m->mc->measure;
-  const double stale_s = m->cfg->stream_stale_after_s;
+  const double stale_s = m->cfg->lane.stream_stale_after_s;
   const double t = now_s(m);
   /* The window is due delay + window after the strike; after that it gets
    * the stale time-out (a stream far behind, or stamps that disagree). */
@@ -540,7 +540,7 @@ af_status af_measured_create(af_ros *ros, const af_node_config *cfg, const af_st
     return AF_ENOMEM;
   m->ros = ros;
   m->cfg = cfg;
-  m->mc = &cfg->measured;
+  m->mc = &cfg->lane.measured;
   m->force = force;
   m->audio = audio;
   m->reliability_pub = reliability_pub;
@@ -551,7 +551,7 @@ af_status af_measured_create(af_ros *ros, const af_node_config *cfg, const af_st
     goto fail;
   *what = "the strike measurement";
   if ((s = af_measure_create(&m->mc->measure, &m->measure)) != AF_OK ||
-      (s = af_measure_prepare(m->measure, &cfg->model)) != AF_OK)
+      (s = af_measure_prepare(m->measure, &cfg->lane.model)) != AF_OK)
     goto fail;
   *what = "the strike queue";
   s = AF_ENOMEM;

@@ -147,7 +147,7 @@ static af_status check_order(const char *lo_name, double lo, const char *hi_name
 
 static af_status load_strike(af_ros *r, af_node_config *c, char *err, size_t len)
 {
-  af_model_params *m = &c->model;
+  af_model_params *m = &c->lane.model;
   af_impact_params *i = &m->impact;
   double latitude_tolerance_deg, lobe;
   const af_double_param table[] = {
@@ -157,10 +157,10 @@ static af_status load_strike(af_ros *r, af_node_config *c, char *err, size_t len
       {"hammer_poisson", &i->hammer_poisson, 0.0, 0.5, false, true, ""},
       {"lobe", &lobe, 1.0, AF_MODEL_MAX_LOBES, false, false, "(1 = main lobe)"},
       {"latitude_tolerance_deg", &latitude_tolerance_deg, 0.0, 90.0, false, false, "deg"},
-      {"r2_search_low_m", &c->r2_search_low_m, 0.0, 1.0, true, false, "m"},
-      {"r2_search_high_m", &c->r2_search_high_m, 0.0, 1.0, true, false, "m"},
-      {"strike_radius_min_m", &c->strike_radius_min_m, 0.0, 1.0, true, false, "m"},
-      {"strike_radius_max_m", &c->strike_radius_max_m, 0.0, 1.0, true, false, "m"},
+      {"r2_search_low_m", &c->lane.r2_search_low_m, 0.0, 1.0, true, false, "m"},
+      {"r2_search_high_m", &c->lane.r2_search_high_m, 0.0, 1.0, true, false, "m"},
+      {"strike_radius_min_m", &c->lane.strike_radius_min_m, 0.0, 1.0, true, false, "m"},
+      {"strike_radius_max_m", &c->lane.strike_radius_max_m, 0.0, 1.0, true, false, "m"},
   };
   af_status st = get_doubles(r, table, sizeof table / sizeof table[0], err, len);
   if (st == AF_OK && lobe != floor(lobe)) {
@@ -176,13 +176,13 @@ static af_status load_strike(af_ros *r, af_node_config *c, char *err, size_t len
   if (st == AF_OK)
     st = get_choice(r, "shear_ratio", "paper, exact", parse_shear, &m->shear_ratio, err, len);
   if (st == AF_OK)
-    st = check_order("r2_search_low_m", c->r2_search_low_m, "r2_search_high_m", c->r2_search_high_m,
-                     err, len);
+    st = check_order("r2_search_low_m", c->lane.r2_search_low_m, "r2_search_high_m",
+                     c->lane.r2_search_high_m, err, len);
   if (st == AF_OK)
-    st = check_order("strike_radius_min_m", c->strike_radius_min_m, "strike_radius_max_m",
-                     c->strike_radius_max_m, err, len);
+    st = check_order("strike_radius_min_m", c->lane.strike_radius_min_m, "strike_radius_max_m",
+                     c->lane.strike_radius_max_m, err, len);
   m->lobe = (unsigned)lobe;
-  c->latitude_tolerance_rad = latitude_tolerance_deg * M_PI / 180.0;
+  c->lane.latitude_tolerance_rad = latitude_tolerance_deg * M_PI / 180.0;
   return st;
 }
 
@@ -213,20 +213,21 @@ static af_status load_stream(af_ros *r, const char *prefix, af_stream_config *s,
 
 static af_status load_streams(af_ros *r, af_node_config *c, char *err, size_t len)
 {
-  af_status st = load_stream(r, "force", &c->force, err, len);
+  af_status st = load_stream(r, "force", &c->lane.force, err, len);
   if (st == AF_OK)
-    st = load_stream(r, "audio", &c->audio, err, len);
+    st = load_stream(r, "audio", &c->lane.audio, err, len);
   if (st != AF_OK)
     return st;
   /* The force transducer speaks newtons; the microphone pascals or volts. */
-  snprintf(c->force.units[0], AF_UNIT_MAX, "N");
-  st = get_string(r, "audio_unit", c->audio.units[0], AF_UNIT_MAX, err, len);
-  if (st == AF_OK && strcmp(c->audio.units[0], "Pa") != 0 && strcmp(c->audio.units[0], "V") != 0) {
-    af_text(err, len, "parameter ~audio_unit = '%s' is not one of: Pa, V", c->audio.units[0]);
+  snprintf(c->lane.force.units[0], AF_UNIT_MAX, "N");
+  st = get_string(r, "audio_unit", c->lane.audio.units[0], AF_UNIT_MAX, err, len);
+  if (st == AF_OK && strcmp(c->lane.audio.units[0], "Pa") != 0 &&
+      strcmp(c->lane.audio.units[0], "V") != 0) {
+    af_text(err, len, "parameter ~audio_unit = '%s' is not one of: Pa, V", c->lane.audio.units[0]);
     st = AF_EINVAL;
   }
   const af_double_param stale = {
-      "stream_stale_after_s", &c->stream_stale_after_s, 0.0, INFINITY, true, true, "s"};
+      "stream_stale_after_s", &c->lane.stream_stale_after_s, 0.0, INFINITY, true, true, "s"};
   return st == AF_OK ? get_double(r, &stale, err, len) : st;
 }
 
@@ -242,9 +243,9 @@ static size_t power_of_two_at_least(size_t n)
 /* The strike detector on the force stream (~strike_*). */
 static af_status load_detector(af_ros *r, af_node_config *c, char *err, size_t len)
 {
-  af_strike_config *d = &c->measured.strike;
+  af_strike_config *d = &c->lane.measured.strike;
   *d = af_strike_config_default(); /* every field is overwritten below */
-  d->sample_rate_hz = c->force.sample_rate_hz;
+  d->sample_rate_hz = c->lane.force.sample_rate_hz;
   const af_double_param table[] = {
       {"strike_full_scale_n", &d->full_scale_n, 0.0, 1e6, true, false, "N"},
       {"strike_threshold_noise_factor", &d->threshold_noise_factor, 0.0, 1e3, true, false,
@@ -289,7 +290,7 @@ static af_status load_detector(af_ros *r, af_node_config *c, char *err, size_t l
             span, fs);
     return AF_EINVAL;
   }
-  c->measured.pulse_capacity_samples = (size_t)span;
+  c->lane.measured.pulse_capacity_samples = (size_t)span;
   /* The core's own check (it also allocates: start-up only). */
   af_strike *trial = NULL;
   st = af_strike_create(d, &trial);
@@ -305,7 +306,7 @@ static af_status load_detector(af_ros *r, af_node_config *c, char *err, size_t l
 /* The measurement of each strike (~measure_*) and the pending queue. */
 static af_status load_measure(af_ros *r, af_node_config *c, char *err, size_t len)
 {
-  af_measured_config *mc = &c->measured;
+  af_measured_config *mc = &c->lane.measured;
   af_measure_config *m = &mc->measure;
   *m = af_measure_config_default(); /* the fit and response settings not exposed stay the core's */
   double pending, snr_db;
@@ -331,7 +332,7 @@ static af_status load_measure(af_ros *r, af_node_config *c, char *err, size_t le
     return AF_EINVAL;
   }
   mc->pending_size = (size_t)pending;
-  double fs = c->audio.sample_rate_hz;
+  double fs = c->lane.audio.sample_rate_hz;
   /* Rounded as the measurement rounds them (measure.c). */
   double window = round(m->audio_window_s * fs), noise = round(m->noise_window_s * fs);
   if (window < 8.0) {
@@ -350,12 +351,12 @@ static af_status load_measure(af_ros *r, af_node_config *c, char *err, size_t le
   }
   /* The ring must hold the noise before the strike, the delay and the window. */
   double needed_s = m->noise_window_s + m->noise_guard_s + m->audio_delay_s + m->audio_window_s;
-  if (!(needed_s < c->audio.buffer_s)) {
+  if (!(needed_s < c->lane.audio.buffer_s)) {
     af_text(
         err, len,
         "parameters ~measure_noise_window_s + ~measure_noise_guard_s + ~measure_audio_delay_s + "
         "~measure_audio_window_s = %g s must be below ~audio_buffer_s = %g s",
-        needed_s, c->audio.buffer_s);
+        needed_s, c->lane.audio.buffer_s);
     return AF_EINVAL;
   }
   mc->audio_window_samples = (size_t)window;
@@ -369,8 +370,8 @@ static af_status load_measure(af_ros *r, af_node_config *c, char *err, size_t le
   rc->fft_size = power_of_two_at_least(4 * rc->window_samples);
   rc->snr_threshold_db = snr_db;
   /* The fit: the strike's own damping law; sized for the longest contact. */
-  m->fit.damping = c->model.impact.damping;
-  size_t longest = (size_t)ceil(mc->strike.max_contact_s * c->force.sample_rate_hz) + 2;
+  m->fit.damping = c->lane.model.impact.damping;
+  size_t longest = (size_t)ceil(mc->strike.max_contact_s * c->lane.force.sample_rate_hz) + 2;
   if (longest > m->fit.max_samples)
     m->fit.max_samples = longest;
   /* The core's own check (it also allocates: start-up only). */
@@ -400,47 +401,48 @@ static af_status load_markers(af_ros *r, af_node_config *c, char *err, size_t le
 
 static af_status load_cultivar(af_ros *r, af_node_config *c, char *err, size_t len)
 {
-  af_model_params *m = &c->model;
+  af_model_params *m = &c->lane.model;
   af_impact_params *i = &m->impact;
   const af_double_param table[] = {
       {"modulus_nominal_pa", &i->fruit_modulus_pa, 0.0, INFINITY, true, true, "Pa"},
-      {"modulus_min_pa", &c->modulus_min_pa, 0.0, INFINITY, true, true, "Pa"},
-      {"modulus_max_pa", &c->modulus_max_pa, 0.0, INFINITY, true, true, "Pa"},
-      {"mass_min_kg", &c->mass_min_kg, 0.0, 10.0, true, false, "kg"},
-      {"mass_max_kg", &c->mass_max_kg, 0.0, 10.0, true, false, "kg"},
-      {"equatorial_radius_min_m", &c->equatorial_radius_min_m, 0.0, 1.0, true, false, "m"},
-      {"equatorial_radius_max_m", &c->equatorial_radius_max_m, 0.0, 1.0, true, false, "m"},
-      {"aspect_ratio_min", &c->aspect_ratio_min, 0.0, INFINITY, true, true, ""},
-      {"aspect_ratio_max", &c->aspect_ratio_max, 0.0, INFINITY, true, true, ""},
+      {"modulus_min_pa", &c->lane.modulus_min_pa, 0.0, INFINITY, true, true, "Pa"},
+      {"modulus_max_pa", &c->lane.modulus_max_pa, 0.0, INFINITY, true, true, "Pa"},
+      {"mass_min_kg", &c->lane.mass_min_kg, 0.0, 10.0, true, false, "kg"},
+      {"mass_max_kg", &c->lane.mass_max_kg, 0.0, 10.0, true, false, "kg"},
+      {"equatorial_radius_min_m", &c->lane.equatorial_radius_min_m, 0.0, 1.0, true, false, "m"},
+      {"equatorial_radius_max_m", &c->lane.equatorial_radius_max_m, 0.0, 1.0, true, false, "m"},
+      {"aspect_ratio_min", &c->lane.aspect_ratio_min, 0.0, INFINITY, true, true, ""},
+      {"aspect_ratio_max", &c->lane.aspect_ratio_max, 0.0, INFINITY, true, true, ""},
       {"restitution", &i->restitution, 0.0, 1.0, true, false, ""},
       {"fruit_poisson", &i->fruit_poisson, 0.0, 0.5, false, true, ""},
       {"density_kg_m3", &m->fruit_density_kg_m3, 0.0, INFINITY, true, true, "kg/m3"},
       {"yield_ratio", &m->yield_ratio, 0.0, 1.0, true, false, "(calibration, tau_y / E2)"},
       {"modulus_factor", &m->modulus_factor, 0.0, INFINITY, true, true, "(dynamic / static)"},
   };
-  af_status st = get_string(r, "cultivar", c->cultivar, sizeof c->cultivar, err, len);
+  af_status st = get_string(r, "cultivar", c->lane.cultivar, sizeof c->lane.cultivar, err, len);
   if (st == AF_OK)
     st = get_doubles(r, table, sizeof table / sizeof table[0], err, len);
-  if (st == AF_OK &&
-      !(c->modulus_min_pa <= i->fruit_modulus_pa && i->fruit_modulus_pa <= c->modulus_max_pa)) {
+  if (st == AF_OK && !(c->lane.modulus_min_pa <= i->fruit_modulus_pa &&
+                       i->fruit_modulus_pa <= c->lane.modulus_max_pa)) {
     af_text(err, len,
             "parameter ~modulus_nominal_pa = %g must lie in [~modulus_min_pa, "
             "~modulus_max_pa] = [%g, %g] Pa",
-            i->fruit_modulus_pa, c->modulus_min_pa, c->modulus_max_pa);
+            i->fruit_modulus_pa, c->lane.modulus_min_pa, c->lane.modulus_max_pa);
     st = AF_EINVAL;
   }
   if (st == AF_OK)
-    st = check_order("modulus_min_pa", c->modulus_min_pa, "modulus_max_pa", c->modulus_max_pa, err,
+    st = check_order("modulus_min_pa", c->lane.modulus_min_pa, "modulus_max_pa",
+                     c->lane.modulus_max_pa, err, len);
+  if (st == AF_OK)
+    st = check_order("mass_min_kg", c->lane.mass_min_kg, "mass_max_kg", c->lane.mass_max_kg, err,
                      len);
   if (st == AF_OK)
-    st = check_order("mass_min_kg", c->mass_min_kg, "mass_max_kg", c->mass_max_kg, err, len);
+    st = check_order("equatorial_radius_min_m", c->lane.equatorial_radius_min_m,
+                     "equatorial_radius_max_m", c->lane.equatorial_radius_max_m, err, len);
   if (st == AF_OK)
-    st = check_order("equatorial_radius_min_m", c->equatorial_radius_min_m,
-                     "equatorial_radius_max_m", c->equatorial_radius_max_m, err, len);
-  if (st == AF_OK)
-    st = check_order("aspect_ratio_min", c->aspect_ratio_min, "aspect_ratio_max",
-                     c->aspect_ratio_max, err, len);
-  if (st == AF_OK && af_resonance_lamb_root(i->fruit_poisson, &c->resonance_xi) != AF_OK) {
+    st = check_order("aspect_ratio_min", c->lane.aspect_ratio_min, "aspect_ratio_max",
+                     c->lane.aspect_ratio_max, err, len);
+  if (st == AF_OK && af_resonance_lamb_root(i->fruit_poisson, &c->lane.resonance_xi) != AF_OK) {
     af_text(err, len, "parameter ~fruit_poisson = %g: no 0S2 root of Lamb's equation found",
             i->fruit_poisson);
     st = AF_EINVAL;
@@ -559,8 +561,8 @@ static af_status load_hammer(af_ros *r, af_node_config *c, char *err, size_t len
     c->hammer.mass_kg = mass_kg;
   if (tip_given)
     c->hammer.tip_radius_m = tip_m;
-  c->model.impact.hammer_mass_kg = c->hammer.mass_kg;
-  c->model.impact.hammer_radius_m = c->hammer.tip_radius_m;
+  c->lane.model.impact.hammer_mass_kg = c->hammer.mass_kg;
+  c->lane.model.impact.hammer_radius_m = c->hammer.tip_radius_m;
   return AF_OK;
 }
 
@@ -592,13 +594,14 @@ static const char *param_of_field(const char *field)
  * extreme masses and moduli, and both ends of the R2 search. */
 static af_status check_model(af_node_config *c, char *err, size_t len)
 {
-  const double masses[] = {c->mass_min_kg, c->mass_max_kg};
-  const double moduli[] = {c->model.impact.fruit_modulus_pa, c->modulus_min_pa, c->modulus_max_pa};
-  const double radii[] = {c->r2_search_low_m, c->r2_search_high_m};
+  const double masses[] = {c->lane.mass_min_kg, c->lane.mass_max_kg};
+  const double moduli[] = {c->lane.model.impact.fruit_modulus_pa, c->lane.modulus_min_pa,
+                           c->lane.modulus_max_pa};
+  const double radii[] = {c->lane.r2_search_low_m, c->lane.r2_search_high_m};
   for (size_t i = 0; i < 2; i++)
     for (size_t j = 0; j < 3; j++)
       for (size_t k = 0; k < 2; k++) {
-        af_model_params p = c->model;
+        af_model_params p = c->lane.model;
         af_param_error e;
         p.fruit_mass_kg = masses[i];
         p.impact.fruit_modulus_pa = moduli[j];

@@ -108,11 +108,11 @@ static bool apple_valid(const af_node_config *c, const af_apple_estimate *a, af_
                         char *why, size_t len)
 {
   const af_field_check checks[] = {
-      {"mass", a->mass_kg, c->mass_min_kg, c->mass_max_kg, false, "kg"},
-      {"equatorial_radius", a->equatorial_radius_m, c->equatorial_radius_min_m,
-       c->equatorial_radius_max_m, false, "m"},
-      {"strike_radius", a->strike_radius_m, c->strike_radius_min_m, c->strike_radius_max_m, true,
-       "m"},
+      {"mass", a->mass_kg, c->lane.mass_min_kg, c->lane.mass_max_kg, false, "kg"},
+      {"equatorial_radius", a->equatorial_radius_m, c->lane.equatorial_radius_min_m,
+       c->lane.equatorial_radius_max_m, false, "m"},
+      {"strike_radius", a->strike_radius_m, c->lane.strike_radius_min_m,
+       c->lane.strike_radius_max_m, true, "m"},
       {"stem_axis.x", a->stem_axis.x, -INFINITY, INFINITY, false, ""},
       {"stem_axis.y", a->stem_axis.y, -INFINITY, INFINITY, false, ""},
       {"stem_axis.z", a->stem_axis.z, -INFINITY, INFINITY, false, ""},
@@ -123,16 +123,17 @@ static bool apple_valid(const af_node_config *c, const af_apple_estimate *a, af_
       return false;
   /* The shape follows from mass, density and equatorial radius; an absurd
    * aspect means the estimates disagree with each other. */
-  w->polar_semi_axis_m =
-      af_advice_polar_semi_axis_m(a->mass_kg, c->model.fruit_density_kg_m3, a->equatorial_radius_m);
+  w->polar_semi_axis_m = af_advice_polar_semi_axis_m(a->mass_kg, c->lane.model.fruit_density_kg_m3,
+                                                     a->equatorial_radius_m);
   double aspect = w->polar_semi_axis_m / a->equatorial_radius_m;
-  if (aspect >= c->aspect_ratio_min && aspect <= c->aspect_ratio_max)
+  if (aspect >= c->lane.aspect_ratio_min && aspect <= c->lane.aspect_ratio_max)
     return true;
   af_text(why, len,
           "invalid AppleEstimate: mass = %g kg and equatorial_radius = %g m give a polar "
           "semi-axis of %.4f m (density %g kg/m3), aspect %.2f outside the accepted range [%g, %g]",
-          a->mass_kg, a->equatorial_radius_m, w->polar_semi_axis_m, c->model.fruit_density_kg_m3,
-          aspect, c->aspect_ratio_min, c->aspect_ratio_max);
+          a->mass_kg, a->equatorial_radius_m, w->polar_semi_axis_m,
+          c->lane.model.fruit_density_kg_m3, aspect, c->lane.aspect_ratio_min,
+          c->lane.aspect_ratio_max);
   return false;
 }
 
@@ -205,14 +206,14 @@ static void locate_strike(const af_node_config *c, const af_apple_estimate *a, a
 static af_status evaluate(af_station *st, const af_apple_estimate *a, af_apple_work *w)
 {
   const af_node_config *c = st->cfg;
-  w->params = c->model;
+  w->params = c->lane.model;
   w->params.fruit_mass_kg = a->mass_kg;
   w->params.impact.strike_radius_m = w->geo.strike_radius_m;
   af_status s = af_model_evaluate(st->model, &w->params, &w->result);
   if (s != AF_OK)
     return s;
-  s = af_model_min_strike_radius(st->model, &w->params, c->r2_search_low_m, c->r2_search_high_m,
-                                 &w->min_strike_radius_m);
+  s = af_model_min_strike_radius(st->model, &w->params, c->lane.r2_search_low_m,
+                                 c->lane.r2_search_high_m, &w->min_strike_radius_m);
   if (s != AF_OK) {
     /* AF_ENOROOT: not reliable even at the top of the bracket; 0 = none. */
     if (s != AF_ENOROOT)
@@ -222,7 +223,8 @@ static af_status evaluate(af_station *st, const af_apple_estimate *a, af_apple_w
   }
   double stem[3];
   vec_of(&a->stem_axis, stem);
-  af_advice_decide(&w->geo, stem, c->latitude_tolerance_rad, w->min_strike_radius_m, &w->rotation);
+  af_advice_decide(&w->geo, stem, c->lane.latitude_tolerance_rad, w->min_strike_radius_m,
+                   &w->rotation);
   if (c->markers_enabled)
     marker_centre(c, a, w);
   return AF_OK;
@@ -246,10 +248,10 @@ static void fill_band(const af_node_config *c, const af_apple_estimate *a, const
   b->resonance_hz = r->resonance_hz;
   /* 0S2 grows with the modulus: the firmness range maps onto its ends. */
   b->resonance_low_hz =
-      af_resonance_frequency_hz(c->resonance_xi, p->modulus_factor * c->modulus_min_pa,
+      af_resonance_frequency_hz(c->lane.resonance_xi, p->modulus_factor * c->lane.modulus_min_pa,
                                 p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
   b->resonance_high_hz =
-      af_resonance_frequency_hz(c->resonance_xi, p->modulus_factor * c->modulus_max_pa,
+      af_resonance_frequency_hz(c->lane.resonance_xi, p->modulus_factor * c->lane.modulus_max_pa,
                                 p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
   b->excitation_at_resonance_db = r->excitation_at_resonance_db;
 }
@@ -282,7 +284,8 @@ static void advice_text(const af_node_config *c, const af_apple_estimate *a, con
             w->min_strike_radius_m * 1e3);
   else
     af_text(radius, sizeof radius, "R2 %.1f mm; no R2 in [%g, %g] mm is reliable",
-            w->geo.strike_radius_m * 1e3, c->r2_search_low_m * 1e3, c->r2_search_high_m * 1e3);
+            w->geo.strike_radius_m * 1e3, c->lane.r2_search_low_m * 1e3,
+            c->lane.r2_search_high_m * 1e3);
   if (!rot->rotate)
     af_text(todo, sizeof todo, "strike as placed");
   else if (rot->latitude_off) {
@@ -509,8 +512,8 @@ static void diag_task(af_diag_status *d, void *user)
   af_station *st = user;
   const af_node_config *c = st->cfg;
   double now_s = af_time_to_s(af_ros_now(st->ros));
-  bool force_stale = af_stream_stale(&st->force, now_s, c->stream_stale_after_s);
-  bool audio_stale = af_stream_stale(&st->audio, now_s, c->stream_stale_after_s);
+  bool force_stale = af_stream_stale(&st->force, now_s, c->lane.stream_stale_after_s);
+  bool audio_stale = af_stream_stale(&st->audio, now_s, c->lane.stream_stale_after_s);
   unsigned long long problems = st->force.gaps + st->audio.gaps + af_stream_bad_chunks(&st->force) +
                                 af_stream_bad_chunks(&st->audio) + st->force.restarts +
                                 st->audio.restarts;
@@ -527,7 +530,7 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_summary(d, AF_DIAG_WARN, strike_warning);
   else
     af_diag_summary(d, AF_DIAG_OK, "ok");
-  af_diag_add(d, "cultivar", "%s", c->cultivar);
+  af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
   af_diag_add(d, "hammer mass [kg]", "%g from %s", c->hammer.mass_kg, c->hammer_mass_source);
   af_diag_add(d, "hammer tip radius [m]", "%g from %s", c->hammer.tip_radius_m,
@@ -591,10 +594,10 @@ static af_status build(af_station *st, const char **what)
   if ((s = af_model_create(&st->model)) != AF_OK)
     return s;
   *what = "the force ring";
-  if ((s = af_stream_init(&st->force, "force", &st->cfg->force)) != AF_OK)
+  if ((s = af_stream_init(&st->force, "force", &st->cfg->lane.force)) != AF_OK)
     return s;
   *what = "the audio ring";
-  if ((s = af_stream_init(&st->audio, "audio", &st->cfg->audio)) != AF_OK)
+  if ((s = af_stream_init(&st->audio, "audio", &st->cfg->lane.audio)) != AF_OK)
     return s;
   *what = "the diagnostics";
   if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||

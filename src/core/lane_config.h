@@ -1,0 +1,71 @@
+/* lane_config.h — everything one station lane is configured with, outside
+ * ROS: the strike and the criteria (the model template), the cultivar, the
+ * force and audio streams, the strike detector, the measurement and the
+ * pending queue. The node (src/node/params.c, from its private parameters)
+ * and the desk tools (from the same YAML files) fill it through the one
+ * parameter table (settings.h) and af_lane_config_derive, so that a
+ * recording is judged with exactly the figures the node uses. */
+#ifndef AF_LANE_CONFIG_H
+#define AF_LANE_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "measure.h"
+#include "model.h"
+#include "strike.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AF_LANE_NAME_MAX 64 /* cultivar name, with its NUL */
+#define AF_LANE_UNIT_MAX 16 /* a stream unit, with its NUL (= SignalChunk.unit's cap) */
+
+/* One sampled input stream (force or audio). */
+typedef struct {
+  double sample_rate_hz;           /* expected rate; other rates are refused and counted [Hz] */
+  double buffer_s;                 /* ring length [s] */
+  size_t capacity_samples;         /* ceil(buffer_s * sample_rate_hz) */
+  char units[2][AF_LANE_UNIT_MAX]; /* accepted units ("" = unused slot) */
+} af_stream_config;
+
+/* The measured strikes: the detector on the force stream, the measurement of
+ * each strike, the queue of strikes waiting for their audio and apple. */
+typedef struct {
+  af_strike_config strike;       /* strike_*; sample rate = force_sample_rate_hz */
+  af_measure_config measure;     /* measure_*; response and fit sized from them */
+  size_t pending_size;           /* strike_pending_size: strikes waiting for audio */
+  size_t pulse_capacity_samples; /* longest event span the detector can emit */
+  size_t audio_window_samples;   /* round(measure_audio_window_s * audio rate) */
+  size_t noise_window_samples;   /* round(measure_noise_window_s * audio rate); 0 = none */
+  double apple_stale_after_s;    /* a strike matches an apple stamped at most this long before */
+  double apple_wait_s;           /* a strike waits this long for its own apple's estimate [s] */
+} af_measured_config;
+
+typedef struct {
+  /* --- the strike and the criteria --- */
+  af_model_params model;         /* template: per-apple mass and R2 filled in later */
+  double latitude_tolerance_rad; /* strike latitudes beyond this are advised to rotate [rad] */
+  double r2_search_low_m;        /* bracket of af_model_min_strike_radius [m] */
+  double r2_search_high_m;
+  double strike_radius_min_m; /* accepted AppleEstimate.strike_radius (when not 0) [m] */
+  double strike_radius_max_m;
+  /* --- streams --- */
+  af_stream_config force, audio;
+  double stream_stale_after_s; /* a stream silent this long is stale [s] */
+  /* --- measured strikes --- */
+  af_measured_config measured;
+  /* --- cultivar --- */
+  char cultivar[AF_LANE_NAME_MAX];
+  double modulus_min_pa, modulus_max_pa; /* firmness range of the resonance band [Pa] */
+  double mass_min_kg, mass_max_kg;
+  double equatorial_radius_min_m, equatorial_radius_max_m;
+  double aspect_ratio_min, aspect_ratio_max; /* polar / equatorial semi-axis */
+  double resonance_xi;                       /* Lamb root of the cultivar's Poisson ratio */
+} af_lane_config;
+
+#ifdef __cplusplus
+}
+#endif
+#endif
