@@ -4,7 +4,6 @@
 #include "measure.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -188,6 +187,7 @@ static void af_report_start(const af_strike_event *ev, unsigned lobe, af_measure
   out->double_hit = ev->double_hit;
   out->clipped = ev->clipped;
   out->lost_samples = ev->lost_samples > UINT32_MAX ? UINT32_MAX : (uint32_t)ev->lost_samples;
+  af_verdict_clear(&out->verdict);
 }
 
 /* The band of the configured lobe, by the code path of the model's spectrum. */
@@ -315,124 +315,86 @@ static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_meas
   out->yield_shear_stress_pa = af_stress_yield_shear_pa(p->yield_ratio, out->fitted_modulus_pa);
 }
 
-/* ---- verdict and reason ------------------------------------------------------- */
+/* ---- verdict ------------------------------------------------------------------ */
 
-/* Appends one part to the reason, "; "-separated, never overflowing. */
-static void af_reason_add(af_measure_report *out, const char *fmt, ...)
+/* The flags that make a strike unclean, whatever the criteria say. */
+static void af_verdict_clean(const af_strike_event *ev, const af_measure_steps *s, af_verdict *v)
 {
-  size_t used = strlen(out->reason);
-  if (used + 3 >= sizeof out->reason)
-    return;
-  if (used > 0) {
-    memcpy(out->reason + used, "; ", 3);
-    used += 2;
-  }
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(out->reason + used, sizeof out->reason - used, fmt, ap);
-  va_end(ap);
-}
-
-static const char *af_fit_failure(af_status st)
-{
-  switch (st) {
-  case AF_EINVAL: return "pulse too short or not finite";
-  case AF_ESIZE: return "pulse longer than the fit's max_samples";
-  case AF_ENODATA: return "the model does not explain the pulse";
-  case AF_ENOCONV: return "not converged";
-  case AF_ENUMERIC: return "numerical failure";
-  default: return af_strerror(st);
-  }
-}
-
-/* The parts that make a strike unclean, whatever the criteria say. */
-static void af_reason_clean(const af_strike_event *ev, const af_measure_steps *s,
-                            af_measure_report *out)
-{
-  if (ev->double_hit)
-    af_reason_add(out, "double hit");
-  if (ev->clipped)
-    af_reason_add(out, "clipped at full scale");
-  if (ev->lost_samples > 0)
-    af_reason_add(out, "%llu samples lost", (unsigned long long)ev->lost_samples);
-  if (ev->truncated)
-    af_reason_add(out, "contact truncated");
+  v->flags |= (ev->double_hit ? AF_VERDICT_DOUBLE_HIT : 0u) |
+              (ev->clipped ? AF_VERDICT_CLIPPED : 0u) |
+              (ev->lost_samples > 0 ? AF_VERDICT_LOST_SAMPLES : 0u) |
+              (ev->truncated ? AF_VERDICT_TRUNCATED : 0u);
+  v->lost_samples = ev->lost_samples;
+  v->spectrum_status = s->band_status;
   if (s->band_status != AF_OK && s->band_status != AF_ENOLOBE)
-    af_reason_add(out, "excitation spectrum failed: %s", af_strerror(s->band_status));
-  if (s->fit_status != AF_OK && isfinite(s->fit_residual))
-    af_reason_add(out, "fit failed: %s (residual %.0f %% of the peak)",
-                  af_fit_failure(s->fit_status), 100.0 * s->fit_residual);
-  else if (s->fit_status != AF_OK)
-    af_reason_add(out, "fit failed: %s", af_fit_failure(s->fit_status));
+    v->flags |= AF_VERDICT_SPECTRUM_FAILED;
+  v->fit_status = s->fit_status;
+  v->fit_residual = s->fit_residual;
+  if (s->fit_status != AF_OK)
+    v->flags |= AF_VERDICT_FIT_FAILED;
+  v->judge_status = s->judge_status;
   if (s->judge_status != AF_OK)
-    af_reason_add(out, "Poisson ratio: %s", af_strerror(s->judge_status));
+    v->flags |= AF_VERDICT_POISSON;
 }
 
-static void af_reason_audio(const af_measure *m, const af_measure_steps *s, af_measure_report *out)
+static void af_verdict_audio(const af_measure *m, const af_measure_steps *s,
+                             const af_measure_report *out, af_verdict *v)
 {
+  v->audio_status = s->audio_status;
+  v->snr_db = out->snr_db;
+  v->snr_threshold_db = m->cfg.response.snr_threshold_db;
+  v->f_lo_hz = s->f_lo_hz;
+  v->f_hi_hz = s->f_hi_hz;
+  v->n_audio = s->n_audio;
   if (s->judge_status != AF_OK || s->audio_status == AF_OK)
     return;
-  if (s->n_audio == 0)
-    af_reason_add(out, "no audio");
-  else if (s->n_audio < AF_MEASURE_MIN_AUDIO)
-    af_reason_add(out, "no audio (%zu samples)", s->n_audio);
-  else if (s->audio_status == AF_ENODATA && isfinite(out->snr_db))
-    af_reason_add(out,
-                  "no 0S2 resonance above the SNR threshold (%.0f dB; best %.1f dB in [%.0f, "
-                  "%.0f] Hz)",
-                  m->cfg.response.snr_threshold_db, out->snr_db, s->f_lo_hz, s->f_hi_hz);
-  else if (s->audio_status == AF_ENODATA)
-    af_reason_add(out,
-                  "no 0S2 resonance above the SNR threshold (%.0f dB; silence in [%.0f, %.0f] Hz)",
-                  m->cfg.response.snr_threshold_db, s->f_lo_hz, s->f_hi_hz);
+  if (s->n_audio < AF_MEASURE_MIN_AUDIO) {
+    v->flags |= AF_VERDICT_NO_AUDIO;
+    v->audio_cause = s->n_audio == 0 ? AF_AUDIO_NOT_GIVEN : AF_AUDIO_TOO_SHORT;
+  } else if (s->audio_status == AF_ENODATA)
+    v->flags |= AF_VERDICT_NO_RESONANCE;
   else if (s->audio_status == AF_EINVAL)
-    af_reason_add(out, "0S2 range [%.0f, %.0f] Hz beyond the audio's Nyquist frequency", s->f_lo_hz,
-                  s->f_hi_hz);
+    v->flags |= AF_VERDICT_RANGE_NYQUIST;
   else
-    af_reason_add(out, "audio analysis failed: %s", af_strerror(s->audio_status));
+    v->flags |= AF_VERDICT_AUDIO_FAILED;
 }
 
-/* The criteria's own words for what was measured. A criterion that could not
- * be judged (no resonance, no fitted E2) is already explained above: it is
- * handed to af_criteria_reason as holding, so that its words are left out. */
-static void af_reason_criteria(const af_measure_apple *apple, const af_measure_steps *s,
-                               af_measure_report *out)
+/* The criteria on what was measured. A criterion that could not be judged
+ * (no resonance, no fitted E2) is already flagged above. */
+static void af_verdict_criteria(const af_measure_apple *apple, const af_measure_steps *s,
+                                const af_measure_report *out, af_verdict *v)
 {
-  static const af_lobe any_band = {
-      .end_hz = INFINITY, .band_low_hz = -INFINITY, .band_high_hz = INFINITY};
-  const af_lobe *band = s->band_status == AF_OK ? &s->band : NULL;
-  double f = out->resonance_hz, shear = out->max_shear_stress_pa;
-  double yield = out->yield_shear_stress_pa;
-  if ((band == NULL && s->band_status != AF_ENOLOBE) || (band != NULL && !isfinite(f))) {
-    band = &any_band;
-    f = 0.0;
+  v->lobe = apple->model.lobe;
+  if (s->band_status == AF_ENOLOBE)
+    v->flags |= AF_VERDICT_NO_LOBE;
+  else if (s->band_status == AF_OK && isfinite(out->resonance_hz) && !out->excites_mode) {
+    v->flags |= AF_VERDICT_OUTSIDE_BAND;
+    v->resonance_hz = out->resonance_hz;
+    v->band_low_hz = s->band.band_low_hz;
+    v->band_high_hz = s->band.band_high_hz;
   }
-  if (!isfinite(shear) || !isfinite(yield)) {
-    shear = 0.0;
-    yield = 1.0;
+  if (isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
+      !out->no_damage) {
+    v->flags |= AF_VERDICT_DAMAGE;
+    v->max_shear_pa = out->max_shear_stress_pa;
+    v->yield_shear_pa = out->yield_shear_stress_pa;
   }
-  char part[AF_MEASURE_REASON_MAX];
-  af_criteria_reason(band, apple->model.lobe, f, shear, yield, part, sizeof part);
-  if (part[0] != '\0')
-    af_reason_add(out, "%s", part);
 }
 
-static void af_verdict(const af_measure *m, const af_strike_event *ev,
-                       const af_measure_apple *apple, const af_measure_steps *s,
-                       af_measure_report *out)
+static void af_verdict_judge(const af_measure *m, const af_strike_event *ev,
+                             const af_measure_apple *apple, const af_measure_steps *s,
+                             af_measure_report *out)
 {
+  af_verdict *v = &out->verdict;
   out->excites_mode =
       af_criteria_excites_mode(s->band_status == AF_OK ? &s->band : NULL, out->resonance_hz);
   out->no_damage = isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
                    af_criteria_no_damage(out->max_shear_stress_pa, out->yield_shear_stress_pa);
-  af_reason_clean(ev, s, out);
-  af_reason_audio(m, s, out);
-  af_reason_criteria(apple, s, out);
-  bool clean = !ev->double_hit && !ev->clipped && ev->lost_samples == 0 && !ev->truncated &&
-               s->fit_status == AF_OK && s->audio_status == AF_OK && s->judge_status == AF_OK;
-  out->reliable = clean && out->excites_mode && out->no_damage;
-  if (!out->reliable && out->reason[0] == '\0')
-    af_reason_add(out, "not reliable"); /* unreachable: every failure above has words */
+  af_verdict_clean(ev, s, v);
+  af_verdict_audio(m, s, out, v);
+  af_verdict_criteria(apple, s, out, v);
+  out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
+  af_verdict_format(v, out->reason, sizeof out->reason);
 }
 
 af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
@@ -448,7 +410,7 @@ af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_m
   af_step_fit(m, ev, apple, out, &s);
   af_step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
   af_step_stress(m, apple, out, &s);
-  af_verdict(m, ev, apple, &s, out);
+  af_verdict_judge(m, ev, apple, &s, out);
   return AF_OK;
 }
 

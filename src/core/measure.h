@@ -33,6 +33,7 @@
 #include "response.h"
 #include "status.h"
 #include "strike.h"
+#include "verdict.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -81,7 +82,8 @@ typedef struct {
   uint32_t lost_samples;
   bool excites_mode, no_damage, reliable;
   double max_shear_stress_pa, yield_shear_stress_pa;
-  char reason[AF_MEASURE_REASON_MAX]; /* "" when reliable */
+  af_verdict verdict;                 /* why not reliable, as flags and values */
+  char reason[AF_MEASURE_REASON_MAX]; /* af_verdict_format of verdict: "" when reliable */
 } af_measure_report;
 
 typedef struct af_measure af_measure;

@@ -1,0 +1,215 @@
+/* verdict.c — the flags of an unreliable strike in words (see verdict.h). */
+#include "verdict.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "criteria.h"
+
+void af_verdict_clear(af_verdict *v)
+{
+  memset(v, 0, sizeof *v);
+  v->fit_residual = v->snr_db = v->snr_threshold_db = NAN;
+  v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
+  v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = NAN;
+}
+
+/* Appends one part, "; "-separated, never overflowing. */
+static void add(char *buf, size_t len, const char *fmt, ...)
+{
+  size_t used = strlen(buf);
+  if (used + 3 >= len)
+    return;
+  if (used > 0) {
+    memcpy(buf + used, "; ", 3);
+    used += 2;
+  }
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf + used, len - used, fmt, ap);
+  va_end(ap);
+}
+
+static const char *fit_failure(af_status st)
+{
+  switch (st) {
+  case AF_EINVAL: return "pulse too short or not finite";
+  case AF_ESIZE: return "pulse longer than the fit's max_samples";
+  case AF_ENODATA: return "the model does not explain the pulse";
+  case AF_ENOCONV: return "not converged";
+  case AF_ENUMERIC: return "numerical failure";
+  default: return af_strerror(st);
+  }
+}
+
+const char *af_audio_cause_name(af_audio_cause c)
+{
+  switch (c) {
+  case AF_AUDIO_NOT_GIVEN: return "no audio given";
+  case AF_AUDIO_TOO_SHORT: return "audio window too short";
+  case AF_AUDIO_NONE_RECEIVED: return "no audio chunk received";
+  case AF_AUDIO_STREAM_STALE: return "audio stream stale";
+  case AF_AUDIO_BEFORE_STREAM: return "audio window before the audio stream";
+  case AF_AUDIO_NOT_RECEIVED: return "audio window not received";
+  case AF_AUDIO_LEFT_RING: return "audio window no longer in the ring";
+  case AF_AUDIO_UNREADABLE: return "audio window unreadable";
+  case AF_AUDIO_LOST_IN_WINDOW: return "audio window holds lost samples";
+  case AF_AUDIO_QUEUE_FULL: return "strike queue full";
+  case AF_AUDIO_STREAM_ENDED: return "recording ends before the audio window";
+  }
+  return "unknown";
+}
+
+/* The "no audio" part with its cause and values. */
+static void add_no_audio(const af_verdict *v, char *buf, size_t len)
+{
+  const unsigned long long first = v->audio_first, last = v->audio_last, end = v->audio_end;
+  switch (v->audio_cause) {
+  case AF_AUDIO_NOT_GIVEN: add(buf, len, "no audio"); break;
+  case AF_AUDIO_TOO_SHORT: add(buf, len, "no audio (%zu samples)", v->n_audio); break;
+  case AF_AUDIO_NONE_RECEIVED:
+    add(buf, len, "no audio (no audio chunk received within %g s of the strike)", v->audio_seconds);
+    break;
+  case AF_AUDIO_STREAM_STALE:
+    add(buf, len, "no audio (audio stream stale (silent for more than %g s))", v->audio_seconds);
+    break;
+  case AF_AUDIO_BEFORE_STREAM:
+    add(buf, len, "no audio (audio window starts %.4f s before the audio stream's first sample)",
+        v->audio_seconds);
+    break;
+  case AF_AUDIO_NOT_RECEIVED:
+    add(buf, len,
+        "no audio (audio window (samples %llu..%llu) not received within %g s of the strike "
+        "(audio at sample %llu))",
+        first, last, v->audio_seconds, end);
+    break;
+  case AF_AUDIO_LEFT_RING:
+    add(buf, len, "no audio (audio window (sample %llu) no longer in the %g s audio ring)", first,
+        v->audio_seconds);
+    break;
+  case AF_AUDIO_UNREADABLE:
+    add(buf, len, "no audio (audio window (samples %llu..%llu) could not be read from the ring)",
+        first, last);
+    break;
+  case AF_AUDIO_LOST_IN_WINDOW:
+    add(buf, len, "no audio (audio window holds %zu lost samples)", v->n_audio);
+    break;
+  case AF_AUDIO_QUEUE_FULL:
+    add(buf, len, "no audio (strike queue full (%zu strikes waiting for audio))", v->queue_size);
+    break;
+  case AF_AUDIO_STREAM_ENDED:
+    add(buf, len,
+        "no audio (the audio recording ends at sample %llu, before the window %llu..%llu)", end,
+        first, last);
+    break;
+  }
+}
+
+static void add_audio(const af_verdict *v, char *buf, size_t len)
+{
+  if (v->flags & AF_VERDICT_NO_AUDIO)
+    add_no_audio(v, buf, len);
+  if ((v->flags & AF_VERDICT_NO_RESONANCE) && isfinite(v->snr_db))
+    add(buf, len,
+        "no 0S2 resonance above the SNR threshold (%.0f dB; best %.1f dB in [%.0f, %.0f] Hz)",
+        v->snr_threshold_db, v->snr_db, v->f_lo_hz, v->f_hi_hz);
+  else if (v->flags & AF_VERDICT_NO_RESONANCE)
+    add(buf, len, "no 0S2 resonance above the SNR threshold (%.0f dB; silence in [%.0f, %.0f] Hz)",
+        v->snr_threshold_db, v->f_lo_hz, v->f_hi_hz);
+  if (v->flags & AF_VERDICT_RANGE_NYQUIST)
+    add(buf, len, "0S2 range [%.0f, %.0f] Hz beyond the audio's Nyquist frequency", v->f_lo_hz,
+        v->f_hi_hz);
+  if (v->flags & AF_VERDICT_AUDIO_FAILED)
+    add(buf, len, "audio analysis failed: %s", af_strerror(v->audio_status));
+  if (v->flags & AF_VERDICT_MODE_AMBIGUOUS)
+    add(buf, len, "ambiguous 0S2: %s", v->mode_text);
+}
+
+/* The criteria's own words (criteria.h), for the criteria flags alone. */
+static void add_criteria(const af_verdict *v, char *buf, size_t len)
+{
+  const uint32_t criteria = AF_VERDICT_NO_LOBE | AF_VERDICT_OUTSIDE_BAND | AF_VERDICT_DAMAGE;
+  if (!(v->flags & criteria))
+    return;
+  af_lobe band = {.end_hz = INFINITY, .band_low_hz = -INFINITY, .band_high_hz = INFINITY};
+  double f = 0.0, shear = 0.0, yield = 1.0;
+  if (v->flags & AF_VERDICT_OUTSIDE_BAND) {
+    band.band_low_hz = v->band_low_hz;
+    band.band_high_hz = v->band_high_hz;
+    f = v->resonance_hz;
+  }
+  if (v->flags & AF_VERDICT_DAMAGE) {
+    shear = v->max_shear_pa;
+    yield = v->yield_shear_pa;
+  }
+  char part[256];
+  af_criteria_reason((v->flags & AF_VERDICT_NO_LOBE) ? NULL : &band, v->lobe, f, shear, yield, part,
+                     sizeof part);
+  if (part[0] != '\0')
+    add(buf, len, "%s", part);
+}
+
+void af_verdict_format(const af_verdict *v, char *buf, size_t len)
+{
+  if (buf == NULL || len == 0)
+    return;
+  buf[0] = '\0';
+  if (v == NULL)
+    return;
+  const uint32_t f = v->flags;
+  if (f & AF_VERDICT_NO_APPLE)
+    add(buf, len, "no apple estimate within %g s before the strike", v->apple_stale_s);
+  if (f & AF_VERDICT_NO_PREDICTION)
+    add(buf, len, "apple %u got no prediction: %s", v->apple_id, v->apple_why);
+  if (f & AF_VERDICT_APPLE_DOUBTFUL)
+    add(buf, len, "doubtful apple match (apple %u: %s)", v->apple_id, v->doubtful_why);
+  if (f & AF_VERDICT_MEASURE_FAILED)
+    add(buf, len, "measurement failed: %s", af_strerror(v->measure_status));
+  if (f & AF_VERDICT_DOUBLE_HIT)
+    add(buf, len, "double hit");
+  if (f & AF_VERDICT_CLIPPED)
+    add(buf, len, "clipped at full scale");
+  if (f & AF_VERDICT_LOST_SAMPLES)
+    add(buf, len, "%llu samples lost", (unsigned long long)v->lost_samples);
+  if (f & AF_VERDICT_TRUNCATED)
+    add(buf, len, "contact truncated");
+  if (f & AF_VERDICT_SPECTRUM_FAILED)
+    add(buf, len, "excitation spectrum failed: %s", af_strerror(v->spectrum_status));
+  if ((f & AF_VERDICT_FIT_FAILED) && isfinite(v->fit_residual))
+    add(buf, len, "fit failed: %s (residual %.0f %% of the peak)", fit_failure(v->fit_status),
+        100.0 * v->fit_residual);
+  else if (f & AF_VERDICT_FIT_FAILED)
+    add(buf, len, "fit failed: %s", fit_failure(v->fit_status));
+  if (f & AF_VERDICT_POISSON)
+    add(buf, len, "Poisson ratio: %s", af_strerror(v->judge_status));
+  add_audio(v, buf, len);
+  add_criteria(v, buf, len);
+}
+
+const char *af_verdict_flag_name(af_verdict_flag f)
+{
+  switch (f) {
+  case AF_VERDICT_NO_APPLE: return "no_apple";
+  case AF_VERDICT_NO_PREDICTION: return "no_prediction";
+  case AF_VERDICT_APPLE_DOUBTFUL: return "apple_doubtful";
+  case AF_VERDICT_MEASURE_FAILED: return "measure_failed";
+  case AF_VERDICT_DOUBLE_HIT: return "double_hit";
+  case AF_VERDICT_CLIPPED: return "clipped";
+  case AF_VERDICT_LOST_SAMPLES: return "lost_samples";
+  case AF_VERDICT_TRUNCATED: return "truncated";
+  case AF_VERDICT_SPECTRUM_FAILED: return "spectrum_failed";
+  case AF_VERDICT_FIT_FAILED: return "fit_failed";
+  case AF_VERDICT_POISSON: return "poisson";
+  case AF_VERDICT_NO_AUDIO: return "no_audio";
+  case AF_VERDICT_NO_RESONANCE: return "no_resonance";
+  case AF_VERDICT_RANGE_NYQUIST: return "range_nyquist";
+  case AF_VERDICT_AUDIO_FAILED: return "audio_failed";
+  case AF_VERDICT_MODE_AMBIGUOUS: return "mode_ambiguous";
+  case AF_VERDICT_NO_LOBE: return "no_lobe";
+  case AF_VERDICT_OUTSIDE_BAND: return "outside_band";
+  case AF_VERDICT_DAMAGE: return "damage";
+  }
+  return "unknown";
+}

@@ -1,0 +1,102 @@
+/* verdict.h — why a strike is not reliable, as data: one flag per reason,
+ * the values each reason names, and one function that words them.
+ *
+ * The measurement (measure.h) sets the flags of the strike itself (a dirty
+ * pulse, a failed fit, no resonance, an ambiguous mode, the criteria); the
+ * lane (lane.h) adds those of the station (no apple, a doubtful match, no
+ * audio and why). A reason is never built as text and patched: the node, the
+ * desk tools and the tests read the flags, and af_verdict_format gives the
+ * one wording everyone prints. */
+#ifndef AF_VERDICT_H
+#define AF_VERDICT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* In the order the reason lists them. */
+typedef enum {
+  AF_VERDICT_NO_APPLE = 1u << 0,        /* no AppleEstimate matches the strike */
+  AF_VERDICT_NO_PREDICTION = 1u << 1,   /* its apple was refused (apple_why) */
+  AF_VERDICT_APPLE_DOUBTFUL = 1u << 2,  /* matched, but its own estimate may not have come */
+  AF_VERDICT_MEASURE_FAILED = 1u << 3,  /* af_measure_strike refused (measure_status) */
+  AF_VERDICT_DOUBLE_HIT = 1u << 4,      /* the hammer bounced */
+  AF_VERDICT_CLIPPED = 1u << 5,         /* a force sample at full scale */
+  AF_VERDICT_LOST_SAMPLES = 1u << 6,    /* force samples missing (lost_samples) */
+  AF_VERDICT_TRUNCATED = 1u << 7,       /* the contact was cut */
+  AF_VERDICT_SPECTRUM_FAILED = 1u << 8, /* the pulse's spectrum (spectrum_status) */
+  AF_VERDICT_FIT_FAILED = 1u << 9,      /* the inverse fit (fit_status, fit_residual) */
+  AF_VERDICT_POISSON = 1u << 10,        /* Lamb's root or the shear ratio (judge_status) */
+  AF_VERDICT_NO_AUDIO = 1u << 11,       /* no audio window (audio_cause) */
+  AF_VERDICT_NO_RESONANCE = 1u << 12,   /* no 0S2 above the SNR threshold */
+  AF_VERDICT_RANGE_NYQUIST = 1u << 13,  /* the 0S2 range lies beyond Nyquist */
+  AF_VERDICT_AUDIO_FAILED = 1u << 14,   /* the audio analysis (audio_status) */
+  AF_VERDICT_MODE_AMBIGUOUS = 1u << 15, /* two candidates for the 0S2 (mode_text) */
+  AF_VERDICT_NO_LOBE = 1u << 16,        /* the configured lobe does not exist */
+  AF_VERDICT_OUTSIDE_BAND = 1u << 17,   /* the 0S2 outside the lobe's half-power band */
+  AF_VERDICT_DAMAGE = 1u << 18          /* the shear reaches the yield: bruise */
+} af_verdict_flag;
+
+/* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
+typedef enum {
+  AF_AUDIO_NOT_GIVEN = 0,  /* no window passed (offline: none recorded) */
+  AF_AUDIO_TOO_SHORT,      /* n_audio samples, fewer than the analysis needs */
+  AF_AUDIO_NONE_RECEIVED,  /* no audio chunk within wait_s of the strike */
+  AF_AUDIO_STREAM_STALE,   /* silent for more than wait_s */
+  AF_AUDIO_BEFORE_STREAM,  /* the window starts seconds_before before the first sample */
+  AF_AUDIO_NOT_RECEIVED,   /* samples first..last not there within wait_s (stream at end) */
+  AF_AUDIO_LEFT_RING,      /* sample first no longer in the ring of ring_s */
+  AF_AUDIO_UNREADABLE,     /* first..last could not be read */
+  AF_AUDIO_LOST_IN_WINDOW, /* the window holds lost (non-finite) samples */
+  AF_AUDIO_QUEUE_FULL,     /* measured early: queue_size strikes were waiting */
+  AF_AUDIO_STREAM_ENDED    /* offline: the recording ends before the window does */
+} af_audio_cause;
+
+#define AF_VERDICT_TEXT_MAX 96
+
+typedef struct {
+  uint32_t flags; /* af_verdict_flag bits; 0 = reliable */
+  /* The values the reasons name (meaningful when their flag is set). */
+  uint32_t apple_id;
+  double apple_stale_s;                   /* NO_APPLE: the match window [s] */
+  char apple_why[AF_VERDICT_TEXT_MAX];    /* NO_PREDICTION: why the apple was refused */
+  char doubtful_why[AF_VERDICT_TEXT_MAX]; /* APPLE_DOUBTFUL */
+  af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;
+  double fit_residual; /* RMS / peak; NaN when the fit did not run */
+  uint64_t lost_samples;
+  af_audio_cause audio_cause;
+  uint64_t audio_first, audio_last, audio_end; /* sample indices of the window, stream end */
+  double audio_seconds;                        /* wait_s, seconds_before or ring_s */
+  size_t n_audio, queue_size;
+  double snr_db, snr_threshold_db;     /* NO_RESONANCE: best candidate (NaN/-inf: none) */
+  double f_lo_hz, f_hi_hz;             /* the 0S2 search range [Hz] */
+  char mode_text[AF_VERDICT_TEXT_MAX]; /* MODE_AMBIGUOUS: the candidates */
+  unsigned lobe;
+  double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
+  double max_shear_pa, yield_shear_pa;            /* DAMAGE */
+} af_verdict;
+
+/* Clears v: no flag, every value NaN or 0. */
+void af_verdict_clear(af_verdict *v);
+
+/* The reason in words, "; "-separated in flag order, into buf ("" when no
+ * flag is set); never overflows (a cut reason ends within buf). */
+void af_verdict_format(const af_verdict *v, char *buf, size_t len);
+
+/* The short name of one flag ("no_audio", ...), for counters and JSON;
+ * "unknown" for anything else. */
+const char *af_verdict_flag_name(af_verdict_flag f);
+
+/* The words of one audio cause, without values ("audio stream stale"). */
+const char *af_audio_cause_name(af_audio_cause c);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
