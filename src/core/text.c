@@ -1,4 +1,4 @@
-/* text.c — truncating formatter for message texts. */
+/* text.c — truncating formatter for message and report texts. */
 #include "text.h"
 
 #include <stdarg.h>

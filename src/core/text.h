@@ -1,6 +1,6 @@
 /* text.h — formatting into the fixed-size text fields of the messages. */
-#ifndef AF_NODE_TEXT_H
-#define AF_NODE_TEXT_H
+#ifndef AF_TEXT_H
+#define AF_TEXT_H
 
 #include <stddef.h>
 

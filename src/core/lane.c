@@ -1,0 +1,500 @@
+/* lane.c — one station lane without ROS (see lane.h). */
+#include "lane.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "text.h"
+
+/* AppleEstimates remembered for the match: a few seconds of a line. */
+#define AF_LANE_APPLES 16
+
+typedef struct {
+  af_strike_event ev; /* ev.pulse_n points at pulse */
+  double *pulse;      /* pulse_capacity_samples, preallocated */
+  int64_t start_ns;   /* contact start */
+  int64_t queued_ns;  /* lane clock when queued, for the time-outs */
+  char frame_id[AF_STREAM_FRAME_MAX];
+} af_pending;
+
+typedef struct {
+  bool used;
+  af_apple apple;
+  af_prediction prediction; /* prediction.valid false: refused (prediction.why) */
+  uint64_t strikes;         /* strikes matched to it so far */
+  int64_t last_strike_ns;
+} af_apple_slot;
+
+/* The audio of a pending strike: ready, to be waited for, or not coming. */
+typedef enum { AF_WAIT = 0, AF_READY, AF_NONE } af_decision;
+
+struct af_lane {
+  const af_lane_config *cfg;
+  const af_measured_config *mc;
+  af_lane_strike_fn *fn;
+  void *user;
+  af_stream force, audio;
+  af_strike *detector;
+  af_measure *measure;
+  af_model *model;
+  af_pending *pending;
+  double *pulses;
+  size_t head, count;
+  float *audio_buf, *noise_buf;
+  af_apple_slot apples[AF_LANE_APPLES];
+  size_t apple_next;
+  int64_t newest_apple_ns; /* stamp of the newest estimate received */
+  bool any_apple;
+  int64_t now_ns;
+  bool finished;
+  af_lane_strike out; /* callback scratch */
+  af_lane_stats stats;
+};
+
+/* --- the apple match -------------------------------------------------------- */
+
+/* The newest apple stamped at or before t_ns and at most apple_stale_after_s
+ * before it; NULL when none. */
+static af_apple_slot *match_apple(af_lane *l, int64_t t_ns)
+{
+  const int64_t stale_ns = (int64_t)llround(l->mc->apple_stale_after_s * 1e9);
+  af_apple_slot *best = NULL;
+  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
+    af_apple_slot *a = &l->apples[k];
+    if (!a->used || a->apple.stamp_ns > t_ns || t_ns - a->apple.stamp_ns > stale_ns)
+      continue;
+    if (best == NULL || a->apple.stamp_ns >= best->apple.stamp_ns)
+      best = a;
+  }
+  return best;
+}
+
+/* Whether the apple of a strike starting at start_ns can still change. */
+static bool apple_decided(const af_lane *l, int64_t start_ns)
+{
+  if (l->finished || (l->any_apple && l->newest_apple_ns > start_ns))
+    return true;
+  return (double)(l->now_ns - start_ns) * 1e-9 >= l->mc->apple_wait_s;
+}
+
+/* An estimate stamped before strikes already reported against another apple
+ * (or none) came too late: say so; a report cannot be taken back. */
+static void check_late(af_lane *l, const af_apple *a)
+{
+  af_apple_slot *matched = NULL;
+  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
+    af_apple_slot *s = &l->apples[k];
+    if (s->used && s->strikes > 0 && s->apple.stamp_ns < a->stamp_ns &&
+        s->last_strike_ns >= a->stamp_ns)
+      matched = s;
+  }
+  if (matched == NULL)
+    return;
+  l->stats.late_apples++;
+  af_text(l->stats.last_late_apple, sizeof l->stats.last_late_apple,
+          "apple %u's estimate arrived after a strike it should have taken was reported "
+          "against apple %u",
+          a->apple_id, matched->apple.apple_id);
+}
+
+af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_prediction **out)
+{
+  l->now_ns = now_ns;
+  check_late(l, a);
+  af_apple_slot *s = &l->apples[l->apple_next];
+  l->apple_next = (l->apple_next + 1) % AF_LANE_APPLES;
+  memset(s, 0, sizeof *s);
+  s->used = true;
+  s->apple = *a;
+  af_status st = af_prediction_run(l->model, l->cfg, a, &s->prediction);
+  l->stats.apples++;
+  l->stats.apples_refused += st != AF_OK;
+  if (!l->any_apple || a->stamp_ns > l->newest_apple_ns)
+    l->newest_apple_ns = a->stamp_ns;
+  l->any_apple = true;
+  if (out)
+    *out = &s->prediction;
+  return st;
+}
+
+/* --- the audio window ----------------------------------------------------------- */
+
+static size_t count_bad(const float *x, size_t n)
+{
+  size_t b = 0;
+  for (size_t k = 0; k < n; k++)
+    b += !isfinite(x[k]);
+  return b;
+}
+
+/* The noise reference: the audio ending a guard before the contact, when held. */
+static size_t read_noise(af_lane *l, const af_pending *p)
+{
+  const af_stream *s = &l->audio;
+  const size_t nn = l->mc->noise_window_samples;
+  const double at = af_stream_index_at(s, p->start_ns) -
+                    l->mc->measure.noise_guard_s * l->mc->measure.response.sample_rate_hz;
+  if (nn == 0 || at < (double)nn)
+    return 0;
+  const uint64_t j1 = (uint64_t)floor(at), j0 = j1 - nn;
+  if (j0 < af_ring_begin(s->ring) || j1 > af_ring_end(s->ring) ||
+      af_ring_read(s->ring, j0, nn, l->noise_buf) != AF_OK || count_bad(l->noise_buf, nn) > 0)
+    return 0;
+  return nn;
+}
+
+/* Whether p's audio window can be read now (into audio_buf), must be waited
+ * for, or will not come (v says why). */
+static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
+{
+  const af_stream *s = &l->audio;
+  const af_measure_config *mc = &l->mc->measure;
+  const double wait_s = l->cfg->stream_stale_after_s + mc->audio_delay_s + mc->audio_window_s;
+  /* The window is due delay + window after the strike; after that it gets
+   * the stale time-out (a stream far behind, or stamps that disagree). */
+  const bool timed_out = l->finished || (double)(l->now_ns - p->queued_ns) * 1e-9 > wait_s;
+  const size_t n = l->mc->audio_window_samples;
+  v->audio_seconds = wait_s;
+  if (!s->seen) {
+    v->audio_cause = l->finished ? AF_AUDIO_NOT_GIVEN : AF_AUDIO_NONE_RECEIVED;
+    return timed_out ? AF_NONE : AF_WAIT;
+  }
+  if (!l->finished && af_stream_stale(s, l->now_ns, l->cfg->stream_stale_after_s)) {
+    v->audio_cause = AF_AUDIO_STREAM_STALE;
+    v->audio_seconds = l->cfg->stream_stale_after_s;
+    return AF_NONE;
+  }
+  const int64_t delay_ns = (int64_t)llround(mc->audio_delay_s * 1e9);
+  const double first = af_stream_index_at(s, p->start_ns + delay_ns);
+  if (first < -0.5) {
+    v->audio_cause = AF_AUDIO_BEFORE_STREAM;
+    v->audio_seconds = -first / s->cfg->sample_rate_hz;
+    return AF_NONE;
+  }
+  /* The first sample at or after the window's start. */
+  const uint64_t i0 = first <= 0.0 ? 0 : (uint64_t)ceil(first - 1e-6);
+  const uint64_t begin = af_ring_begin(s->ring), end = af_ring_end(s->ring);
+  v->audio_first = i0;
+  v->audio_last = i0 + n;
+  v->audio_end = end;
+  if (i0 + n > end) {
+    v->audio_cause = l->finished ? AF_AUDIO_STREAM_ENDED : AF_AUDIO_NOT_RECEIVED;
+    v->audio_seconds = (double)(l->now_ns - p->queued_ns) * 1e-9;
+    return timed_out ? AF_NONE : AF_WAIT;
+  }
+  v->audio_seconds = s->cfg->buffer_s;
+  v->audio_cause = AF_AUDIO_LEFT_RING;
+  if (i0 < begin)
+    return AF_NONE;
+  v->audio_cause = AF_AUDIO_UNREADABLE;
+  if (af_ring_read(s->ring, i0, n, l->audio_buf) != AF_OK)
+    return AF_NONE;
+  v->n_audio = count_bad(l->audio_buf, n);
+  v->audio_cause = AF_AUDIO_LOST_IN_WINDOW;
+  return v->n_audio > 0 ? AF_NONE : AF_READY;
+}
+
+/* --- one strike ------------------------------------------------------------------- */
+
+/* The measurement of p against its apple slot a (NULL: none). */
+static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a, size_t n_audio,
+                               size_t n_noise, af_verdict *lane_v)
+{
+  af_measure_report *r = &l->out.report;
+  const af_prediction *pr = a ? &a->prediction : NULL;
+  af_status st = AF_EINVAL;
+  if (pr && pr->valid) {
+    af_measure_apple apple = {pr->params, l->cfg->modulus_min_pa, l->cfg->modulus_max_pa};
+    st = af_measure_strike(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL, n_audio,
+                           n_noise ? l->noise_buf : NULL, n_noise, r);
+    if (st != AF_OK) {
+      l->stats.measure_errors++;
+      lane_v->flags |= AF_VERDICT_MEASURE_FAILED;
+      lane_v->measure_status = st;
+    }
+  }
+  if (st != AF_OK && af_measure_pulse(l->measure, &p->ev, l->cfg->model.band_level,
+                                      l->cfg->model.lobe, r) != AF_OK)
+    l->stats.measure_errors++;
+}
+
+/* Adds the lane's flags to the measurement's verdict and words it again. */
+static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
+{
+  af_verdict *v = &r->verdict;
+  const uint32_t lane_flags = AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION |
+                              AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED;
+  v->flags |= lane_v->flags & lane_flags;
+  v->apple_id = lane_v->apple_id;
+  v->apple_stale_s = lane_v->apple_stale_s;
+  v->measure_status = lane_v->measure_status;
+  memcpy(v->apple_why, lane_v->apple_why, sizeof v->apple_why);
+  memcpy(v->doubtful_why, lane_v->doubtful_why, sizeof v->doubtful_why);
+  if (lane_v->flags & AF_VERDICT_NO_AUDIO) { /* the lane knows why there is none */
+    v->flags |= AF_VERDICT_NO_AUDIO;
+    v->audio_cause = lane_v->audio_cause;
+    v->audio_first = lane_v->audio_first;
+    v->audio_last = lane_v->audio_last;
+    v->audio_end = lane_v->audio_end;
+    v->audio_seconds = lane_v->audio_seconds;
+    v->n_audio = lane_v->n_audio;
+    v->queue_size = lane_v->queue_size;
+  }
+  r->reliable = r->reliable && v->flags == 0;
+  af_verdict_format(v, r->reason, sizeof r->reason);
+}
+
+/* The apple flags of p: none, refused, or doubtful. */
+static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v)
+{
+  af_apple_slot *a = match_apple(l, p->start_ns);
+  if (a == NULL) {
+    v->flags |= AF_VERDICT_NO_APPLE;
+    v->apple_stale_s = l->mc->apple_stale_after_s;
+    return NULL;
+  }
+  v->apple_id = a->apple.apple_id;
+  if (!a->prediction.valid) {
+    v->flags |= AF_VERDICT_NO_PREDICTION;
+    af_text(v->apple_why, sizeof v->apple_why, "%s", a->prediction.why);
+  } else if (a->strikes > 0) {
+    v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+    af_text(v->doubtful_why, sizeof v->doubtful_why,
+            "already struck %.3f s before; this strike's own estimate may be missing",
+            (double)(p->start_ns - a->last_strike_ns) * 1e-9);
+  }
+  return a;
+}
+
+static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
+{
+  af_lane_stats *s = &l->stats;
+  const uint32_t f = o->report.verdict.flags;
+  s->strikes++;
+  s->double_hits += p->ev.double_hit;
+  s->clipped += p->ev.clipped;
+  s->truncated += p->ev.truncated;
+  s->lost_force_samples += p->ev.lost_samples;
+  s->no_resonance += isnan(o->report.resonance_hz);
+  s->no_apple += (f & (AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION)) != 0;
+  s->doubtful += (f & AF_VERDICT_APPLE_DOUBTFUL) != 0;
+  s->unreliable += !o->report.reliable;
+  if (!o->report.reliable)
+    af_text(s->last_unreliable, sizeof s->last_unreliable, "apple %u: %s", o->apple_id,
+            o->report.reason);
+  if (!o->with_audio) {
+    s->no_audio++;
+    af_text(s->last_no_audio, sizeof s->last_no_audio, "strike at %.9f s: %s",
+            (double)p->start_ns * 1e-9, o->report.reason);
+  }
+}
+
+/* Measures p with its audio (n_audio 0: none, lane_v says why) and calls back. */
+static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verdict *lane_v)
+{
+  af_lane_strike *o = &l->out;
+  af_apple_slot *a = apple_flags(l, p, lane_v);
+  size_t n_noise = n_audio ? read_noise(l, p) : 0;
+  measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
+  merge_verdict(&o->report, lane_v);
+  o->start_ns = p->start_ns;
+  memcpy(o->frame_id, p->frame_id, sizeof o->frame_id);
+  o->apple_id = a ? a->apple.apple_id : 0;
+  o->apple = a ? &a->apple : NULL;
+  o->prediction = a ? &a->prediction : NULL;
+  o->with_audio = n_audio > 0;
+  o->event = &p->ev;
+  if (a && a->prediction.valid) {
+    a->strikes++;
+    a->last_strike_ns = p->start_ns;
+  }
+  count(l, p, o);
+  if (l->fn)
+    l->fn(o, l->user);
+}
+
+/* Measures the oldest pending strikes that are decided, in order. */
+static void process(af_lane *l)
+{
+  while (l->count > 0) {
+    af_pending *p = &l->pending[l->head];
+    af_verdict v;
+    af_verdict_clear(&v);
+    if (!apple_decided(l, p->start_ns))
+      return;
+    af_decision d = audio_for(l, p, &v);
+    if (d == AF_WAIT)
+      return;
+    if (d == AF_NONE)
+      v.flags |= AF_VERDICT_NO_AUDIO;
+    measure_one(l, p, d == AF_READY ? l->mc->audio_window_samples : 0, &v);
+    l->head = (l->head + 1) % l->mc->pending_size;
+    l->count--;
+  }
+}
+
+/* --- the detector's strikes ------------------------------------------------------ */
+
+/* The detector's callback: a strike, copied into the next pending slot. */
+static void on_strike(const af_strike_event *ev, void *user)
+{
+  af_lane *l = user;
+  const size_t size = l->mc->pending_size;
+  if (l->count == size) {
+    /* Full: the oldest goes now, with whatever there is. */
+    af_verdict v;
+    af_verdict_clear(&v);
+    l->stats.overflows++;
+    v.flags |= AF_VERDICT_NO_AUDIO;
+    v.audio_cause = AF_AUDIO_QUEUE_FULL;
+    v.queue_size = size;
+    measure_one(l, &l->pending[l->head], 0, &v);
+    l->head = (l->head + 1) % size;
+    l->count--;
+  }
+  af_pending *p = &l->pending[(l->head + l->count) % size];
+  double *pulse = p->pulse;
+  p->ev = *ev;
+  size_t n = ev->n_samples;
+  if (n > l->mc->pulse_capacity_samples) {
+    n = l->mc->pulse_capacity_samples; /* cannot happen with the detector's span; counted */
+    l->stats.pulse_cut++;
+  }
+  if (n > 0)
+    memcpy(pulse, ev->pulse_n, n * sizeof *pulse);
+  p->ev.pulse_n = pulse;
+  p->ev.n_samples = n;
+  p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
+  p->queued_ns = l->now_ns;
+  memcpy(p->frame_id, l->force.frame_id, sizeof p->frame_id);
+  l->count++;
+}
+
+af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
+                               af_ring_write_info *info)
+{
+  l->now_ns = now_ns;
+  af_chunk_verdict v = af_stream_push(&l->force, c, now_ns, info);
+  if (v == AF_CHUNK_OK)
+    (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
+  /* The audio may lead the force: what is complete goes now. */
+  process(l);
+  return v;
+}
+
+af_chunk_verdict af_lane_audio(af_lane *l, const af_chunk *c, int64_t now_ns,
+                               af_ring_write_info *info)
+{
+  l->now_ns = now_ns;
+  af_chunk_verdict v = af_stream_push(&l->audio, c, now_ns, info);
+  process(l);
+  return v;
+}
+
+void af_lane_poll(af_lane *l, int64_t now_ns)
+{
+  l->now_ns = now_ns;
+  process(l);
+}
+
+void af_lane_finish(af_lane *l)
+{
+  l->finished = true;
+  process(l);
+}
+
+/* --- life cycle and queries ------------------------------------------------------- */
+
+af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void *user,
+                         af_lane **out, const char **what)
+{
+  *out = NULL;
+  *what = "the lane";
+  af_lane *l = calloc(1, sizeof *l);
+  if (!l)
+    return AF_ENOMEM;
+  l->cfg = cfg;
+  l->mc = &cfg->measured;
+  l->fn = fn;
+  l->user = user;
+  af_status s;
+  *what = "the force stream";
+  if ((s = af_stream_init(&l->force, "force", &cfg->force)) != AF_OK)
+    goto fail;
+  *what = "the audio stream";
+  if ((s = af_stream_init(&l->audio, "audio", &cfg->audio)) != AF_OK)
+    goto fail;
+  *what = "the strike detector";
+  if ((s = af_strike_create(&l->mc->strike, &l->detector)) != AF_OK)
+    goto fail;
+  *what = "the strike measurement";
+  if ((s = af_measure_create(&l->mc->measure, &l->measure)) != AF_OK ||
+      (s = af_measure_prepare(l->measure, &cfg->model)) != AF_OK)
+    goto fail;
+  *what = "the model";
+  if ((s = af_model_create(&l->model)) != AF_OK)
+    goto fail;
+  *what = "the strike queue";
+  s = AF_ENOMEM;
+  const size_t n = l->mc->pending_size, cap = l->mc->pulse_capacity_samples;
+  if (n == 0 || cap == 0) {
+    s = AF_EINVAL;
+    goto fail;
+  }
+  l->pending = calloc(n, sizeof *l->pending);
+  l->pulses = calloc(n * cap, sizeof *l->pulses);
+  l->audio_buf = calloc(l->mc->audio_window_samples + 1, sizeof *l->audio_buf);
+  l->noise_buf = calloc(l->mc->noise_window_samples + 1, sizeof *l->noise_buf);
+  if (!l->pending || !l->pulses || !l->audio_buf || !l->noise_buf)
+    goto fail;
+  for (size_t k = 0; k < n; k++)
+    l->pending[k].pulse = l->pulses + k * cap;
+  *out = l;
+  return AF_OK;
+fail:
+  af_lane_destroy(l);
+  return s;
+}
+
+void af_lane_destroy(af_lane *l)
+{
+  if (!l)
+    return;
+  af_stream_fini(&l->force);
+  af_stream_fini(&l->audio);
+  af_strike_destroy(l->detector);
+  af_measure_destroy(l->measure);
+  af_model_destroy(l->model);
+  free(l->pending);
+  free(l->pulses);
+  free(l->audio_buf);
+  free(l->noise_buf);
+  free(l);
+}
+
+const af_stream *af_lane_force_stream(const af_lane *l)
+{
+  return &l->force;
+}
+
+const af_stream *af_lane_audio_stream(const af_lane *l)
+{
+  return &l->audio;
+}
+
+const af_strike *af_lane_detector(const af_lane *l)
+{
+  return l->detector;
+}
+
+size_t af_lane_pending(const af_lane *l)
+{
+  return l->count;
+}
+
+const af_lane_stats *af_lane_get_stats(const af_lane *l)
+{
+  return &l->stats;
+}

@@ -1,0 +1,125 @@
+/* lane.h — one station lane, everything but ROS: the force and audio
+ * streams, the strike detector, the queue of strikes waiting for their audio
+ * and their apple, the match of a strike to its apple, the audio window, the
+ * per-apple prediction and the measured verdict.
+ *
+ * The node (src/node) converts messages into af_chunk / af_apple and
+ * publishes what the lane calls back with; the desk tools (firmness_model
+ * analyze) feed recordings through the same calls, so that a recording is
+ * judged exactly as the node judges it live.
+ *
+ *   force chunk ──> af_stream_push ──> af_strike_write ──> strike: contact
+ *       start time = chunk stamp + (start_sample - first_sample) / rate (the
+ *       latest force chunk's mapping, stream.h); the event and its pulse are
+ *       copied into a preallocated pending slot
+ *   audio chunk, force chunk, poll ──> every pending strike, oldest first, is
+ *       measured once BOTH are decided:
+ *        - its audio: the window [start + delay, start + delay + window]
+ *          (sample indices by the audio stream's mapping; the first sample
+ *          at or after the window's start) is in the ring; or it will not
+ *          come (af_audio_cause: the stream is stale, the window left the
+ *          ring, holds lost samples, lies before the stream began, or has
+ *          not come stream_stale_after_s + delay + window after the strike);
+ *        - its apple: an AppleEstimate stamped after the contact start has
+ *          arrived (estimates arrive in stamp order, so none stamped before
+ *          the strike can still come), or apple_wait_s has passed since the
+ *          contact start on the lane's clock. The strike then belongs to the
+ *          newest estimate stamped at or before its contact start and at most
+ *          apple_stale_after_s before it.
+ *       A full queue measures its oldest strike at once, with what there is.
+ *   apple ──> af_prediction_run (prediction.h) and a short history of
+ *       predictions, so that a late strike still finds its own apple.
+ *
+ * A doubtful match is never silent: an apple that already has a strike gets
+ * AF_VERDICT_APPLE_DOUBTFUL on the next one (its own estimate may be the one
+ * missing), and an estimate arriving after a strike it should have taken was
+ * reported is counted (af_lane_stats.late_apples) with a line saying which.
+ *
+ * Clock: every call takes now_ns, the lane's clock (the node: ROS time, which
+ * is the bag's under replay; the desk tools: the recording's time, i.e. the
+ * end of the latest chunk). Everything is allocated in af_lane_create;
+ * nothing per chunk, apple or strike. Not thread-safe. */
+#ifndef AF_LANE_H
+#define AF_LANE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lane_config.h"
+#include "measure.h"
+#include "prediction.h"
+#include "stream.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AF_LANE_TEXT_MAX 256
+
+/* One measured strike, as passed to the callback (borrowed for the call). */
+typedef struct {
+  int64_t start_ns;                   /* contact start [ns] */
+  char frame_id[AF_STREAM_FRAME_MAX]; /* the force chunk's */
+  uint32_t apple_id;                  /* the matched apple; 0 when none */
+  const af_apple *apple;              /* the matched estimate; NULL when none */
+  const af_prediction *prediction;    /* its prediction; NULL when none */
+  bool with_audio;                    /* an audio window was analysed */
+  af_measure_report report;           /* figures; report.verdict holds every flag (the
+                                         lane's too), report.reason its words */
+  const af_strike_event *event;       /* the detector's event (pulse included) */
+} af_lane_strike;
+
+typedef void af_lane_strike_fn(const af_lane_strike *s, void *user);
+
+/* Counters for diagnostics and reports. */
+typedef struct {
+  uint64_t strikes, double_hits, clipped, truncated, lost_force_samples;
+  uint64_t no_resonance, no_apple, no_audio, doubtful, unreliable;
+  uint64_t overflows, measure_errors, pulse_cut, late_apples;
+  uint64_t apples, apples_refused;
+  char last_no_audio[AF_LANE_TEXT_MAX];   /* the latest strike without audio, and why */
+  char last_late_apple[AF_LANE_TEXT_MAX]; /* the latest estimate that came too late */
+  char last_unreliable[AF_LANE_TEXT_MAX]; /* "apple N: reason" */
+} af_lane_stats;
+
+typedef struct af_lane af_lane;
+
+/* Makes every part (streams, detector, measurement, model, queue) from cfg
+ * (which must outlive the lane). fn is called once per measured strike.
+ * AF_EINVAL / AF_ENOMEM with *what naming the part that failed; *out NULL. */
+af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void *user,
+                         af_lane **out, const char **what);
+void af_lane_destroy(af_lane *l); /* NULL-safe */
+
+/* A force or an audio chunk. Returns the stream's verdict (a refused chunk
+ * is counted in the stream and not used); *info (may be NULL) tells of gaps
+ * and restarts. A force chunk runs the detector; both then measure what is
+ * decided. */
+af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
+                               af_ring_write_info *info);
+af_chunk_verdict af_lane_audio(af_lane *l, const af_chunk *c, int64_t now_ns,
+                               af_ring_write_info *info);
+
+/* An apple estimate: its prediction (always filled; see prediction.h for the
+ * statuses), remembered for the strikes that follow. */
+af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_prediction **out);
+
+/* Measures what has become due on the clock (time-outs, stale audio). */
+void af_lane_poll(af_lane *l, int64_t now_ns);
+
+/* The recording has ended (desk tools): the trailing part of a strike still
+ * in the detector is emitted, and every pending strike is measured now with
+ * what there is (a window past the end of the audio: AF_AUDIO_STREAM_ENDED). */
+void af_lane_finish(af_lane *l);
+
+const af_stream *af_lane_force_stream(const af_lane *l);
+const af_stream *af_lane_audio_stream(const af_lane *l);
+const af_strike *af_lane_detector(const af_lane *l);
+size_t af_lane_pending(const af_lane *l);
+const af_lane_stats *af_lane_get_stats(const af_lane *l);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

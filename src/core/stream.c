@@ -1,0 +1,120 @@
+/* stream.c — checks and buffers the chunks of one input (see stream.h). */
+#include "stream.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Rates are configured and sent as the same nominal number; this only
+ * absorbs a rate that went through a float. */
+#define AF_RATE_RTOL 1e-6
+
+af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg)
+{
+  memset(s, 0, sizeof *s);
+  s->name = name;
+  s->cfg = cfg;
+  return af_ring_create(cfg->capacity_samples, &s->ring);
+}
+
+void af_stream_fini(af_stream *s)
+{
+  af_ring_destroy(s->ring);
+  s->ring = NULL;
+}
+
+static bool unit_accepted(const af_stream_config *cfg, const char *unit)
+{
+  for (int k = 0; k < 2; k++)
+    if (cfg->units[k][0] && strcmp(cfg->units[k], unit) == 0)
+      return true;
+  return false;
+}
+
+static af_chunk_verdict check(af_stream *s, const af_chunk *c)
+{
+  double expected = s->cfg->sample_rate_hz;
+  if (!(fabs(c->sample_rate_hz - expected) <= AF_RATE_RTOL * expected)) {
+    s->bad_rate++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: sample_rate %g Hz, expected %g Hz", s->name,
+             (unsigned long long)c->first_sample, c->sample_rate_hz, expected);
+    return AF_CHUNK_BAD_RATE;
+  }
+  if (!unit_accepted(s->cfg, c->unit ? c->unit : "")) {
+    s->bad_unit++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: unit '%s', expected '%s'", s->name,
+             (unsigned long long)c->first_sample, c->unit ? c->unit : "", s->cfg->units[0]);
+    return AF_CHUNK_BAD_UNIT;
+  }
+  for (size_t k = 0; k < c->n; k++) {
+    if (!isfinite(c->x[k])) {
+      s->bad_data++;
+      snprintf(s->last_problem, sizeof s->last_problem, "%s chunk at sample %llu: sample %zu is %g",
+               s->name, (unsigned long long)c->first_sample, k, (double)c->x[k]);
+      return AF_CHUNK_BAD_DATA;
+    }
+  }
+  return AF_CHUNK_OK;
+}
+
+af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
+                                af_ring_write_info *info)
+{
+  af_ring_write_info w;
+  memset(&w, 0, sizeof w);
+  af_chunk_verdict v = check(s, c);
+  if (v == AF_CHUNK_OK && af_ring_write(s->ring, c->x, c->n, c->first_sample, &w) != AF_OK) {
+    /* Only an index overflow gets here: first_sample + n past 2^64. */
+    s->bad_data++;
+    snprintf(s->last_problem, sizeof s->last_problem, "%s chunk: first_sample %llu + %zu overflows",
+             s->name, (unsigned long long)c->first_sample, c->n);
+    v = AF_CHUNK_BAD_DATA;
+  }
+  if (v == AF_CHUNK_OK) {
+    s->chunks++;
+    s->seen = true;
+    s->last_rx_ns = now_ns;
+    s->map_stamp_ns = c->stamp_ns;
+    s->map_first_sample = c->first_sample;
+    snprintf(s->frame_id, sizeof s->frame_id, "%s", c->frame_id ? c->frame_id : "");
+    if (w.gap_samples > 0) {
+      s->gaps++;
+      s->lost_samples += w.gap_samples;
+      snprintf(s->last_problem, sizeof s->last_problem, "%s: %llu samples lost before sample %llu",
+               s->name, (unsigned long long)w.gap_samples, (unsigned long long)c->first_sample);
+    }
+    if (w.restarted) {
+      s->restarts++;
+      snprintf(s->last_problem, sizeof s->last_problem,
+               "%s: stream restarted at sample %llu (went backwards)", s->name,
+               (unsigned long long)c->first_sample);
+    }
+  }
+  if (info)
+    *info = w;
+  return v;
+}
+
+uint64_t af_stream_bad_chunks(const af_stream *s)
+{
+  return s->bad_rate + s->bad_unit + s->bad_data;
+}
+
+bool af_stream_stale(const af_stream *s, int64_t now_ns, double stale_after_s)
+{
+  return s->seen && (double)(now_ns - s->last_rx_ns) * 1e-9 > stale_after_s;
+}
+
+int64_t af_stream_time_ns(const af_stream *s, double index)
+{
+  double offset_s = (index - (double)s->map_first_sample) / s->cfg->sample_rate_hz;
+  return s->map_stamp_ns + (int64_t)llround(offset_s * 1e9);
+}
+
+double af_stream_index_at(const af_stream *s, int64_t t_ns)
+{
+  return (double)s->map_first_sample +
+         (double)(t_ns - s->map_stamp_ns) * 1e-9 * s->cfg->sample_rate_hz;
+}

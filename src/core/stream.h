@@ -1,0 +1,93 @@
+/* stream.h — one sampled input of a lane (force or audio): each chunk checked
+ * (rate, unit, finite data), buffered in its ring (ring.h) and counted.
+ *
+ * Time <-> sample index: the stream keeps the stamp and first_sample of its
+ * latest accepted chunk (the stamp is the time of the chunk's first sample),
+ * so sample i is at stamp + (i - first_sample) / rate and time t at index
+ * first_sample + (t - stamp) rate. The latest chunk, not the first: a restart
+ * or a gap re-anchors the mapping, and a clock that drifts against the sample
+ * counter is followed chunk by chunk. Times are integer nanoseconds (a double
+ * of seconds since 1970 keeps only ~0.2 us).
+ *
+ * No ROS: the node converts SignalChunk messages, the desk tools recordings,
+ * into af_chunk. No allocation after af_stream_init. */
+#ifndef AF_STREAM_H
+#define AF_STREAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lane_config.h"
+#include "ring.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define AF_STREAM_TEXT_MAX 256
+#define AF_STREAM_FRAME_MAX 64
+
+/* One chunk of samples, borrowed for the call. */
+typedef struct {
+  int64_t stamp_ns;      /* time of x[0] [ns] */
+  uint64_t first_sample; /* running index of x[0] */
+  double sample_rate_hz; /* as sent [Hz] */
+  const char *unit;      /* as sent */
+  const char *frame_id;  /* may be NULL */
+  const float *x;        /* n samples */
+  size_t n;
+} af_chunk;
+
+typedef enum {
+  AF_CHUNK_OK = 0,
+  AF_CHUNK_BAD_RATE, /* sample_rate differs from the configured one */
+  AF_CHUNK_BAD_UNIT, /* unit not accepted for this stream */
+  AF_CHUNK_BAD_DATA  /* a NaN or infinite sample, or an index overflow */
+} af_chunk_verdict;
+
+typedef struct {
+  const char *name; /* "force" or "audio" */
+  const af_stream_config *cfg;
+  af_ring *ring;
+  uint64_t chunks;                       /* accepted */
+  uint64_t gaps;                         /* accepted chunks that followed lost samples */
+  uint64_t lost_samples;                 /* samples missing in those gaps */
+  uint64_t restarts;                     /* first_sample went backwards */
+  uint64_t bad_rate, bad_unit, bad_data; /* refused chunks */
+  bool seen;                             /* a chunk was accepted */
+  int64_t last_rx_ns;                    /* lane time of the last accepted chunk [ns] */
+  char last_problem[AF_STREAM_TEXT_MAX];
+  /* The latest accepted chunk: the time <-> index mapping and its frame. */
+  int64_t map_stamp_ns;
+  uint64_t map_first_sample;
+  char frame_id[AF_STREAM_FRAME_MAX];
+} af_stream;
+
+/* Makes the ring (capacity from cfg, which must outlive s). AF_ENOMEM. */
+af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg);
+void af_stream_fini(af_stream *s); /* safe on a zeroed or finished stream */
+
+/* Checks one chunk and buffers it when good; a refused chunk is counted and
+ * described in s->last_problem. *info (may be NULL) tells of gaps and
+ * restarts. now_ns: the lane's clock at arrival. No allocation. */
+af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
+                                af_ring_write_info *info);
+
+/* Time [ns] of the (fractional) sample index, by the latest chunk's mapping
+ * (meaningful once s->seen). */
+int64_t af_stream_time_ns(const af_stream *s, double index);
+/* The (fractional) sample index at time t_ns, by the same mapping. */
+double af_stream_index_at(const af_stream *s, int64_t t_ns);
+
+/* Refused chunks so far, all kinds. */
+uint64_t af_stream_bad_chunks(const af_stream *s);
+
+/* A stream that delivered before and has been silent longer than
+ * stale_after_s. A stream never seen is not stale: it may not be wired. */
+bool af_stream_stale(const af_stream *s, int64_t now_ns, double stale_after_s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
