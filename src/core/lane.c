@@ -71,12 +71,15 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns)
   return best;
 }
 
-/* Whether the apple of a strike starting at start_ns can still change. */
-static bool apple_decided(const af_lane *l, int64_t start_ns)
+/* Whether the apple of p can still change: not once an estimate stamped
+ * after its contact start has come, nor apple_wait_s after p was queued (on
+ * the lane's clock, not the stamps: a clock that disagrees with the stamps
+ * must not hold a strike forever). */
+static bool apple_decided(const af_lane *l, const af_pending *p)
 {
-  if (l->finished || (l->any_apple && l->newest_apple_ns > start_ns))
+  if (l->finished || (l->any_apple && l->newest_apple_ns > p->start_ns))
     return true;
-  return (double)(l->now_ns - start_ns) * 1e-9 >= l->mc->apple_wait_s;
+  return (double)(l->now_ns - p->queued_ns) * 1e-9 >= l->mc->apple_wait_s;
 }
 
 /* An estimate stamped before strikes already reported against another apple
@@ -322,7 +325,7 @@ static void process(af_lane *l)
     af_pending *p = &l->pending[l->head];
     af_verdict v;
     af_verdict_clear(&v);
-    if (!apple_decided(l, p->start_ns))
+    if (!apple_decided(l, p))
       return;
     af_decision d = audio_for(l, p, &v);
     if (d == AF_WAIT)

@@ -22,8 +22,8 @@
  *          not come stream_stale_after_s + delay + window after the strike);
  *        - its apple: an AppleEstimate stamped after the contact start has
  *          arrived (estimates arrive in stamp order, so none stamped before
- *          the strike can still come), or apple_wait_s has passed since the
- *          contact start on the lane's clock. The strike then belongs to the
+ *          the strike can still come), or apple_wait_s has passed on the
+ *          lane's clock since the strike was detected. The strike then belongs to the
  *          newest estimate stamped at or before its contact start and at most
  *          apple_stale_after_s before it.
  *       A full queue measures its oldest strike at once, with what there is.

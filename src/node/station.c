@@ -10,7 +10,6 @@
 #include "measured.h"
 #include "model.h"
 #include "resonance.h"
-#include "streams.h"
 #include "text.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
@@ -30,11 +29,9 @@
 struct af_station {
   af_ros *ros;
   const af_node_config *cfg;
-  af_model *model;
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
-  af_stream force, audio;
-  af_measured *measured; /* the strikes measured on the streams */
+  af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
   /* Output scratch, kept here so that no callback allocates. */
   af_excitation_band band;
   af_strike_advice advice;
@@ -49,18 +46,11 @@ struct af_station {
   bool have_band;
 };
 
-/* What one apple's evaluation found. */
+/* What the node adds to one apple's prediction: the rig's geometry. */
 typedef struct {
-  double polar_semi_axis_m;
-  char geometry_note[AF_TEXT_MAX]; /* why the strike direction is unknown ("" when known) */
-  bool frame_known;                /* the apple's frame is in the URDF */
-  double rotation_to_root[9];      /* of the apple's frame, row-major */
-  af_advice_geometry geo;
-  af_model_params params;
-  af_model_result result;
-  double min_strike_radius_m; /* 0 = none in the search bracket */
-  af_advice_rotation rotation;
-  double centre_m[3]; /* apple centre in its frame, for the markers */
+  bool frame_known;           /* the apple's frame is in the URDF */
+  double rotation_to_root[9]; /* of the apple's frame, row-major */
+  double centre_m[3];         /* apple centre in its frame, for the markers */
 } af_apple_work;
 
 static double deg(double rad)
@@ -71,70 +61,6 @@ static double deg(double rad)
 static void vec_of(const af_vec3 *v, double out[3])
 {
   out[0] = v->x, out[1] = v->y, out[2] = v->z;
-}
-
-/* --- validation ------------------------------------------------------------ */
-
-/* One field of an AppleEstimate and its accepted range. */
-typedef struct {
-  const char *field;
-  double value;
-  double lo, hi;
-  bool zero_ok; /* 0 = unknown is accepted too */
-  const char *unit;
-} af_field_check;
-
-static bool field_ok(const af_field_check *f, char *why, size_t len)
-{
-  if (isfinite(f->value) &&
-      ((f->zero_ok && f->value == 0.0) || (f->value >= f->lo && f->value <= f->hi)))
-    return true;
-  const char *sp = f->unit[0] ? " " : "";
-  if (isinf(f->lo) && isinf(f->hi))
-    af_text(why, len,
-            "invalid AppleEstimate: %s = %g is outside the accepted range (any finite "
-            "value)",
-            f->field, f->value);
-  else
-    af_text(why, len,
-            "invalid AppleEstimate: %s = %g%s%s is outside the accepted range %s[%g, %g]%s%s",
-            f->field, f->value, sp, f->unit, f->zero_ok ? "0 (unknown) or " : "", f->lo, f->hi, sp,
-            f->unit);
-  return false;
-}
-
-/* Every field finite and in range, and mass and radius a plausible shape. */
-static bool apple_valid(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w,
-                        char *why, size_t len)
-{
-  const af_field_check checks[] = {
-      {"mass", a->mass_kg, c->lane.mass_min_kg, c->lane.mass_max_kg, false, "kg"},
-      {"equatorial_radius", a->equatorial_radius_m, c->lane.equatorial_radius_min_m,
-       c->lane.equatorial_radius_max_m, false, "m"},
-      {"strike_radius", a->strike_radius_m, c->lane.strike_radius_min_m,
-       c->lane.strike_radius_max_m, true, "m"},
-      {"stem_axis.x", a->stem_axis.x, -INFINITY, INFINITY, false, ""},
-      {"stem_axis.y", a->stem_axis.y, -INFINITY, INFINITY, false, ""},
-      {"stem_axis.z", a->stem_axis.z, -INFINITY, INFINITY, false, ""},
-      {"confidence", a->confidence, 0.0, 1.0, false, ""},
-  };
-  for (size_t k = 0; k < sizeof checks / sizeof checks[0]; k++)
-    if (!field_ok(&checks[k], why, len))
-      return false;
-  /* The shape follows from mass, density and equatorial radius; an absurd
-   * aspect means the estimates disagree with each other. */
-  w->polar_semi_axis_m = af_advice_polar_semi_axis_m(a->mass_kg, c->lane.model.fruit_density_kg_m3,
-                                                     a->equatorial_radius_m);
-  double aspect = w->polar_semi_axis_m / a->equatorial_radius_m;
-  if (aspect >= c->lane.aspect_ratio_min && aspect <= c->lane.aspect_ratio_max)
-    return true;
-  af_text(why, len,
-          "invalid AppleEstimate: mass = %g kg and equatorial_radius = %g m give a polar "
-          "semi-axis of %.4f m (density %g kg/m3), aspect %.2f outside the accepted range [%g, %g]",
-          a->mass_kg, a->equatorial_radius_m, w->polar_semi_axis_m,
-          c->lane.model.fruit_density_kg_m3, aspect, c->lane.aspect_ratio_min,
-          c->lane.aspect_ratio_max);
-  return false;
 }
 
 /* --- geometry -------------------------------------------------------------- */
@@ -149,17 +75,18 @@ static void root_to_frame(const double r[9], const double v[3], double out[3])
 /* The strike direction in the apple's frame: the URDF's hammer axis (in the
  * root frame) turned into that frame; zero, with a note, when unknown. */
 static void strike_direction(const af_node_config *c, const char *frame, af_apple_work *w,
-                             double d[3])
+                             af_apple *a)
 {
+  double *d = a->strike_direction;
   d[0] = d[1] = d[2] = 0.0;
   if (!c->hammer_axis_known) {
-    af_text(w->geometry_note, sizeof w->geometry_note, "hammer axis unknown (no URDF)");
+    af_text(a->direction_note, sizeof a->direction_note, "hammer axis unknown (no URDF)");
     return;
   }
   w->frame_known =
       frame[0] != '\0' && af_urdf_rotation_to_root(c->urdf, frame, w->rotation_to_root) == AF_OK;
   if (!w->frame_known) {
-    af_text(w->geometry_note, sizeof w->geometry_note, "frame '%s' unknown to the URDF", frame);
+    af_text(a->direction_note, sizeof a->direction_note, "frame '%s' unknown to the URDF", frame);
     return;
   }
   const double axis[3] = {c->hammer.strike_axis.x, c->hammer.strike_axis.y,
@@ -170,7 +97,8 @@ static void strike_direction(const af_node_config *c, const char *frame, af_appl
 /* Where the apple's centre is drawn: the strike point lies
  * marker_strike_distance_m along the hammer axis from the hammer link's
  * origin, and the centre behind it. Display only; the origin when unknown. */
-static void marker_centre(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w)
+static void marker_centre(const af_node_config *c, const af_apple_estimate *a,
+                          const af_prediction *pr, af_apple_work *w)
 {
   double stem[3], p[3], q[3];
   af_vec3 origin;
@@ -183,87 +111,53 @@ static void marker_centre(const af_node_config *c, const af_apple_estimate *a, a
                             h->z + D * s->z - origin.z}; /* from the frame origin, root axes */
   root_to_frame(w->rotation_to_root, strike, q);
   vec_of(&a->stem_axis, stem);
-  af_advice_surface_point_m(a->equatorial_radius_m, w->polar_semi_axis_m, stem, w->geo.normal, p);
+  af_advice_surface_point_m(a->equatorial_radius_m, pr->polar_semi_axis_m, stem, pr->geo.normal, p);
   for (int i = 0; i < 3; i++)
     w->centre_m[i] = q[i] - p[i];
 }
 
-/* Geometry of the strike on this apple: direction, latitude and R2. */
-static void locate_strike(const af_node_config *c, const af_apple_estimate *a, af_apple_work *w)
+/* The lane's view of the estimate, with the strike direction in its frame. */
+static void apple_of(const af_node_config *c, const af_apple_estimate *m, af_apple_work *w,
+                     af_apple *a)
 {
-  af_advice_input in;
-  memset(&in, 0, sizeof in);
-  in.equatorial_radius_m = a->equatorial_radius_m;
-  in.polar_semi_axis_m = w->polar_semi_axis_m;
-  vec_of(&a->stem_axis, in.stem_axis);
-  in.strike_radius_m = a->strike_radius_m;
-  strike_direction(c, a->header.frame_id, w, in.strike_direction);
-  /* Cannot fail: apple_valid checked a, c and the strike radius. */
-  af_advice_geometry_eval(&in, &w->geo);
-}
-
-/* The model at the cultivar's nominal modulus, R2_min and the advice. */
-static af_status evaluate(af_station *st, const af_apple_estimate *a, af_apple_work *w)
-{
-  const af_node_config *c = st->cfg;
-  w->params = c->lane.model;
-  w->params.fruit_mass_kg = a->mass_kg;
-  w->params.impact.strike_radius_m = w->geo.strike_radius_m;
-  af_status s = af_model_evaluate(st->model, &w->params, &w->result);
-  if (s != AF_OK)
-    return s;
-  s = af_model_min_strike_radius(st->model, &w->params, c->lane.r2_search_low_m,
-                                 c->lane.r2_search_high_m, &w->min_strike_radius_m);
-  if (s != AF_OK) {
-    /* AF_ENOROOT: not reliable even at the top of the bracket; 0 = none. */
-    if (s != AF_ENOROOT)
-      af_ros_log(st->ros, AF_LOG_WARN, "apple %u: R2_min search failed: %s", a->apple_id,
-                 af_strerror(s));
-    w->min_strike_radius_m = 0.0;
-  }
-  double stem[3];
-  vec_of(&a->stem_axis, stem);
-  af_advice_decide(&w->geo, stem, c->lane.latitude_tolerance_rad, w->min_strike_radius_m,
-                   &w->rotation);
-  if (c->markers_enabled)
-    marker_centre(c, a, w);
-  return AF_OK;
+  memset(a, 0, sizeof *a);
+  a->apple_id = m->apple_id;
+  a->stamp_ns = af_time_to_ns(m->header.stamp);
+  a->mass_kg = m->mass_kg;
+  a->equatorial_radius_m = m->equatorial_radius_m;
+  a->strike_radius_m = m->strike_radius_m;
+  vec_of(&m->stem_axis, a->stem_axis);
+  a->confidence = m->confidence;
+  strike_direction(c, m->header.frame_id, w, a);
 }
 
 /* --- outputs --------------------------------------------------------------- */
 
-static void fill_band(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
-                      af_excitation_band *b)
+static void fill_band(const af_apple_estimate *a, const af_prediction *pr, af_excitation_band *b)
 {
-  const af_model_result *r = &w->result;
-  const af_model_params *p = &w->params;
+  const af_model_result *r = &pr->result;
   memset(b, 0, sizeof *b);
   b->header = a->header;
   b->apple_id = a->apple_id;
   b->contact_time_s = r->impact.contact_time_s;
   b->peak_force_n = r->impact.peak_force_n;
-  b->lobe = (uint8_t)p->lobe;
+  b->lobe = (uint8_t)pr->params.lobe;
   b->band_low_hz = r->band.band_low_hz; /* zeros when the lobe does not exist */
   b->band_high_hz = r->band.band_high_hz;
   b->resonance_hz = r->resonance_hz;
-  /* 0S2 grows with the modulus: the firmness range maps onto its ends. */
-  b->resonance_low_hz =
-      af_resonance_frequency_hz(c->lane.resonance_xi, p->modulus_factor * c->lane.modulus_min_pa,
-                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
-  b->resonance_high_hz =
-      af_resonance_frequency_hz(c->lane.resonance_xi, p->modulus_factor * c->lane.modulus_max_pa,
-                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
+  b->resonance_low_hz = pr->resonance_low_hz;
+  b->resonance_high_hz = pr->resonance_high_hz;
   b->excitation_at_resonance_db = r->excitation_at_resonance_db;
 }
 
 /* "the strike point is 35 deg towards the stem", or why it is not known. */
-static void where_text(const af_apple_work *w, char *buf, size_t len)
+static void where_text(const af_apple *a, const af_prediction *pr, char *buf, size_t len)
 {
-  double lat_deg = deg(w->geo.latitude_rad);
-  if (!w->geo.direction_known)
-    af_text(buf, len, "strike point unknown (%s)%s", w->geometry_note,
-            w->geo.r2_source == AF_R2_EQUATORIAL ? ", R2 = the equatorial radius" : "");
-  else if (!w->geo.latitude_known)
+  double lat_deg = deg(pr->geo.latitude_rad);
+  if (!pr->geo.direction_known)
+    af_text(buf, len, "strike point unknown (%s)%s", a->direction_note,
+            pr->geo.r2_source == AF_R2_EQUATORIAL ? ", R2 = the equatorial radius" : "");
+  else if (!pr->geo.latitude_known)
     af_text(buf, len, "stem axis unknown, latitude taken as the equator");
   else if (fabs(lat_deg) < 0.5)
     af_text(buf, len, "strike point on the equator");
@@ -272,19 +166,19 @@ static void where_text(const af_apple_work *w, char *buf, size_t len)
             lat_deg > 0.0 ? "stem" : "calyx");
 }
 
-static void advice_text(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
-                        char *buf, size_t len)
+static void advice_text(const af_node_config *c, const af_apple_estimate *m, const af_apple *a,
+                        const af_prediction *pr, char *buf, size_t len)
 {
   char where[160], radius[96], todo[160];
-  const af_advice_rotation *rot = &w->rotation;
-  where_text(w, where, sizeof where);
-  if (w->min_strike_radius_m > 0.0)
+  const af_advice_rotation *rot = &pr->rotation;
+  where_text(a, pr, where, sizeof where);
+  if (pr->min_strike_radius_m > 0.0)
     af_text(radius, sizeof radius, "R2 %.1f mm %s the %.1f mm minimum",
-            w->geo.strike_radius_m * 1e3, rot->radius_small ? "is below" : "meets",
-            w->min_strike_radius_m * 1e3);
+            pr->geo.strike_radius_m * 1e3, rot->radius_small ? "is below" : "meets",
+            pr->min_strike_radius_m * 1e3);
   else
     af_text(radius, sizeof radius, "R2 %.1f mm; no R2 in [%g, %g] mm is reliable",
-            w->geo.strike_radius_m * 1e3, c->lane.r2_search_low_m * 1e3,
+            pr->geo.strike_radius_m * 1e3, c->lane.r2_search_low_m * 1e3,
             c->lane.r2_search_high_m * 1e3);
   if (!rot->rotate)
     af_text(todo, sizeof todo, "strike as placed");
@@ -295,34 +189,34 @@ static void advice_text(const af_node_config *c, const af_apple_estimate *a, con
             "turn the apple %.0f deg right-handed about (%.2f, %.2f, %.2f) in %s to bring the "
             "equator under the hammer",
             deg(fabs(rot->angle_rad)), sign * rot->axis[0], sign * rot->axis[1],
-            sign * rot->axis[2], a->header.frame_id);
+            sign * rot->axis[2], m->header.frame_id);
   } else
     af_text(todo, sizeof todo, "turn the apple to strike a flatter spot (R2 >= %.1f mm)",
-            w->min_strike_radius_m * 1e3);
-  af_text(buf, len, "apple %u: %s; %s: %s.", a->apple_id, where, radius, todo);
+            pr->min_strike_radius_m * 1e3);
+  af_text(buf, len, "apple %u: %s; %s: %s.", m->apple_id, where, radius, todo);
 }
 
-static void fill_advice(const af_node_config *c, const af_apple_estimate *a, const af_apple_work *w,
-                        af_strike_advice *adv)
+static void fill_advice(const af_node_config *c, const af_apple_estimate *m, const af_apple *a,
+                        const af_prediction *pr, af_strike_advice *adv)
 {
   memset(adv, 0, sizeof *adv);
-  adv->header = a->header;
-  adv->apple_id = a->apple_id;
-  adv->strike_radius_m = w->geo.strike_radius_m;
-  adv->min_strike_radius_m = w->min_strike_radius_m;
-  adv->strike_latitude_rad = w->geo.latitude_rad;
-  adv->rotate = w->rotation.rotate;
-  adv->rotation_axis.x = w->rotation.axis[0];
-  adv->rotation_axis.y = w->rotation.axis[1];
-  adv->rotation_axis.z = w->rotation.axis[2];
-  adv->rotation_angle_rad = w->rotation.angle_rad;
-  advice_text(c, a, w, adv->text, sizeof adv->text);
+  adv->header = m->header;
+  adv->apple_id = m->apple_id;
+  adv->strike_radius_m = pr->geo.strike_radius_m;
+  adv->min_strike_radius_m = pr->min_strike_radius_m;
+  adv->strike_latitude_rad = pr->geo.latitude_rad;
+  adv->rotate = pr->rotation.rotate;
+  adv->rotation_axis.x = pr->rotation.axis[0];
+  adv->rotation_axis.y = pr->rotation.axis[1];
+  adv->rotation_axis.z = pr->rotation.axis[2];
+  adv->rotation_angle_rad = pr->rotation.angle_rad;
+  advice_text(c, m, a, pr, adv->text, sizeof adv->text);
 }
 
-static void fill_reliability(const af_apple_estimate *a, const af_apple_work *w,
+static void fill_reliability(const af_apple_estimate *a, const af_prediction *pr,
                              af_reliability *rel)
 {
-  const af_model_result *r = &w->result;
+  const af_model_result *r = &pr->result;
   memset(rel, 0, sizeof *rel);
   rel->header = a->header;
   rel->apple_id = a->apple_id;
@@ -331,22 +225,12 @@ static void fill_reliability(const af_apple_estimate *a, const af_apple_work *w,
   rel->no_damage = r->no_damage;
   rel->max_shear_stress_pa = r->max_shear_stress_pa;
   rel->yield_shear_stress_pa = r->yield_shear_stress_pa;
-  char model_reason[AF_TEXT_MAX];
-  af_model_reason(r, w->params.lobe, model_reason, sizeof model_reason);
-  /* R2 is the input the verdict hangs on most (the paper's 31 mm): when it
-   * is only the equatorial radius because the strike point is unknown, the
-   * prediction cannot be trusted whatever the model says. */
-  bool r2_guessed = w->geo.r2_source == AF_R2_EQUATORIAL;
-  rel->reliable = r->reliable && !r2_guessed;
-  if (r2_guessed)
-    af_text(rel->reason, sizeof rel->reason,
-            "%s: R2 unknown, equatorial radius %.1f mm assumed%s%s", w->geometry_note,
-            w->geo.strike_radius_m * 1e3, model_reason[0] ? "; " : "", model_reason);
-  else
-    af_text(rel->reason, sizeof rel->reason, "%s", model_reason);
+  rel->reliable = pr->reliable;
+  af_text(rel->reason, sizeof rel->reason, "%s", pr->reason);
 }
 
-static void publish_markers(af_station *st, const af_apple_estimate *a, const af_apple_work *w)
+static void publish_markers(af_station *st, const af_apple_estimate *a, const af_prediction *pr,
+                            const af_apple_work *w)
 {
   const af_node_config *c = st->cfg;
   char label[AF_TEXT_MAX];
@@ -358,12 +242,12 @@ static void publish_markers(af_station *st, const af_apple_estimate *a, const af
   scene.header = a->header;
   memcpy(scene.centre_m, w->centre_m, sizeof scene.centre_m);
   scene.equatorial_radius_m = a->equatorial_radius_m;
-  scene.polar_semi_axis_m = w->polar_semi_axis_m;
+  scene.polar_semi_axis_m = pr->polar_semi_axis_m;
   vec_of(&a->stem_axis, scene.stem_axis);
-  scene.direction_known = w->geo.direction_known;
-  memcpy(scene.normal, w->geo.normal, sizeof scene.normal);
-  scene.rotate = w->rotation.rotate;
-  memcpy(scene.rotation_axis, w->rotation.axis, sizeof scene.rotation_axis);
+  scene.direction_known = pr->geo.direction_known;
+  memcpy(scene.normal, pr->geo.normal, sizeof scene.normal);
+  scene.rotate = pr->rotation.rotate;
+  memcpy(scene.rotation_axis, pr->rotation.axis, sizeof scene.rotation_axis);
   scene.reliable = st->reliability.reliable;
   scene.text = label;
   scene.lifetime_s = c->marker_lifetime_s;
@@ -393,8 +277,6 @@ static void reject_apple(af_station *st, const af_apple_estimate *a, const char 
   st->last_apple_invalid = true;
   af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", a->apple_id, why);
   af_ros_log(st->ros, AF_LOG_WARN, "apple %u: no prediction: %s", a->apple_id, why);
-  const double origin[3] = {0.0, 0.0, 0.0};
-  af_measured_apple(st->measured, a, NULL, why, origin, 0.0);
   publish(st, st->reliability_pub, rel, "reliability");
   af_ros_diag_force_update(st->diag);
 }
@@ -402,41 +284,39 @@ static void reject_apple(af_station *st, const af_apple_estimate *a, const char 
 static void on_apple(const void *msg, void *user)
 {
   af_station *st = user;
-  const af_apple_estimate *a = msg;
+  const af_apple_estimate *m = msg;
   af_apple_work w;
-  char why[AF_TEXT_MAX];
+  af_apple a;
+  const af_prediction *pr = NULL;
   memset(&w, 0, sizeof w);
   st->apples++;
-  if (!apple_valid(st->cfg, a, &w, why, sizeof why)) {
-    reject_apple(st, a, why);
-    return;
-  }
-  locate_strike(st->cfg, a, &w);
-  af_status s = evaluate(st, a, &w);
+  apple_of(st->cfg, m, &w, &a);
+  af_status s = af_measured_apple(st->measured, &a, &pr);
   if (s != AF_OK) {
-    st->model_failures++;
-    af_text(why, sizeof why, "model evaluation failed: %s", af_strerror(s));
-    reject_apple(st, a, why);
+    st->model_failures += s != AF_EINVAL;
+    reject_apple(st, m, pr->why);
     return;
   }
   st->last_apple_invalid = false;
-  /* The prediction a strike on this apple will be judged with. */
-  af_measured_apple(st->measured, a, &w.params, NULL, w.centre_m,
-                    fmax(a->equatorial_radius_m, w.polar_semi_axis_m));
-  fill_band(st->cfg, a, &w, &st->band);
-  fill_advice(st->cfg, a, &w, &st->advice);
-  fill_reliability(a, &w, &st->reliability);
+  if (st->cfg->markers_enabled) {
+    marker_centre(st->cfg, m, pr, &w);
+    af_measured_label_place(st->measured, m->apple_id, &m->header, w.centre_m,
+                            fmax(m->equatorial_radius_m, pr->polar_semi_axis_m));
+  }
+  fill_band(m, pr, &st->band);
+  fill_advice(st->cfg, m, &a, pr, &st->advice);
+  fill_reliability(m, pr, &st->reliability);
   publish(st, st->band_pub, &st->band, "excitation_band");
   publish(st, st->advice_pub, &st->advice, "strike_advice");
   publish(st, st->reliability_pub, &st->reliability, "reliability");
   if (st->cfg->markers_enabled)
-    publish_markers(st, a, &w);
+    publish_markers(st, m, pr, &w);
   st->have_band = true;
   st->apples_rotate += st->advice.rotate;
-  af_text(st->last_geometry_note, sizeof st->last_geometry_note, "%s", w.geometry_note);
+  af_text(st->last_geometry_note, sizeof st->last_geometry_note, "%s", a.direction_note);
   if (!st->reliability.reliable) {
     st->apples_unreliable++;
-    af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", a->apple_id,
+    af_text(st->last_reason, sizeof st->last_reason, "apple %u: %s", m->apple_id,
             st->reliability.reason);
   }
   af_ros_log(st->ros, AF_LOG_DEBUG, "%s", st->advice.text);
@@ -449,37 +329,33 @@ static bool power_of_two(unsigned long long n)
   return n != 0 && (n & (n - 1)) == 0;
 }
 
-/* Checks and buffers a chunk; problems are warned about at the 1st, 2nd,
- * 4th, 8th ... occurrence so that a broken stream cannot flood the log. */
-static af_chunk_verdict on_chunk(af_station *st, af_stream *s, const af_signal_chunk *c)
+/* A chunk into the lane; problems are warned about at the 1st, 2nd, 4th,
+ * 8th ... occurrence so that a broken stream cannot flood the log. */
+static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
+                     const af_ring_write_info *info)
 {
-  af_ring_write_info info;
-  af_chunk_verdict v = af_stream_push(s, c, af_time_to_s(af_ros_now(st->ros)), &info);
-  unsigned long long count = v != AF_CHUNK_OK       ? af_stream_bad_chunks(s)
-                             : info.gap_samples > 0 ? s->gaps
-                             : info.restarted       ? s->restarts
-                                                    : 0;
+  unsigned long long count = v != AF_CHUNK_OK        ? af_stream_bad_chunks(s)
+                             : info->gap_samples > 0 ? s->gaps
+                             : info->restarted       ? s->restarts
+                                                     : 0;
   if (power_of_two(count))
     af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
-  return v;
 }
 
-/* An accepted force chunk also feeds the strike detector; an accepted audio
- * chunk may complete the window a pending strike waits for. */
 static void on_force(const void *msg, void *user)
 {
   af_station *st = user;
-  double entry_wall_s = af_measured_wall_s();
-  if (on_chunk(st, &st->force, msg) == AF_CHUNK_OK)
-    af_measured_force(st->measured, msg, entry_wall_s);
+  af_ring_write_info info;
+  af_chunk_verdict v = af_measured_force(st->measured, msg, &info);
+  on_chunk(st, af_lane_force_stream(af_measured_lane(st->measured)), v, &info);
 }
 
 static void on_audio(const void *msg, void *user)
 {
   af_station *st = user;
-  double entry_wall_s = af_measured_wall_s();
-  if (on_chunk(st, &st->audio, msg) == AF_CHUNK_OK)
-    af_measured_audio(st->measured, entry_wall_s);
+  af_ring_write_info info;
+  af_chunk_verdict v = af_measured_audio(st->measured, msg, &info);
+  on_chunk(st, af_lane_audio_stream(af_measured_lane(st->measured)), v, &info);
 }
 
 /* --- diagnostics ------------------------------------------------------------ */
@@ -511,12 +387,13 @@ static void diag_task(af_diag_status *d, void *user)
 {
   af_station *st = user;
   const af_node_config *c = st->cfg;
-  double now_s = af_time_to_s(af_ros_now(st->ros));
-  bool force_stale = af_stream_stale(&st->force, now_s, c->lane.stream_stale_after_s);
-  bool audio_stale = af_stream_stale(&st->audio, now_s, c->lane.stream_stale_after_s);
-  unsigned long long problems = st->force.gaps + st->audio.gaps + af_stream_bad_chunks(&st->force) +
-                                af_stream_bad_chunks(&st->audio) + st->force.restarts +
-                                st->audio.restarts;
+  const af_lane *lane = af_measured_lane(st->measured);
+  const af_stream *force = af_lane_force_stream(lane), *audio = af_lane_audio_stream(lane);
+  int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
+  bool force_stale = af_stream_stale(force, now_ns, c->lane.stream_stale_after_s);
+  bool audio_stale = af_stream_stale(audio, now_ns, c->lane.stream_stale_after_s);
+  unsigned long long problems = force->gaps + audio->gaps + af_stream_bad_chunks(force) +
+                                af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
   const char *strike_warning = af_measured_warning(st->measured);
@@ -550,8 +427,8 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_add(d, "last resonance [Hz]", "%.1f (firmness range %.1f .. %.1f)",
                 st->band.resonance_hz, st->band.resonance_low_hz, st->band.resonance_high_hz);
   }
-  diag_stream(d, &st->force, force_stale);
-  diag_stream(d, &st->audio, audio_stale);
+  diag_stream(d, force, force_stale);
+  diag_stream(d, audio, audio_stale);
   af_measured_diag(st->measured, d);
 }
 
@@ -590,15 +467,6 @@ static af_status subscribe(af_station *st)
 static af_status build(af_station *st, const char **what)
 {
   af_status s;
-  *what = "the model";
-  if ((s = af_model_create(&st->model)) != AF_OK)
-    return s;
-  *what = "the force ring";
-  if ((s = af_stream_init(&st->force, "force", &st->cfg->lane.force)) != AF_OK)
-    return s;
-  *what = "the audio ring";
-  if ((s = af_stream_init(&st->audio, "audio", &st->cfg->lane.audio)) != AF_OK)
-    return s;
   *what = "the diagnostics";
   if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
       (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
@@ -606,8 +474,8 @@ static af_status build(af_station *st, const char **what)
   *what = "the publishers";
   if ((s = advertise(st)) != AF_OK)
     return s;
-  if ((s = af_measured_create(st->ros, st->cfg, &st->force, &st->audio, st->reliability_pub,
-                              st->markers_pub, &st->measured, what)) != AF_OK)
+  if ((s = af_measured_create(st->ros, st->cfg, st->reliability_pub, st->markers_pub, &st->measured,
+                              what)) != AF_OK)
     return s;
   *what = "the subscribers";
   return subscribe(st);
@@ -638,9 +506,6 @@ void af_station_destroy(af_station *st)
   if (!st)
     return;
   af_measured_destroy(st->measured);
-  af_model_destroy(st->model);
-  af_stream_fini(&st->force);
-  af_stream_fini(&st->audio);
   free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
 }
 
