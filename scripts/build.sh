@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Configures and builds the package (standalone catkin build in ./build, or
-# $AF_BUILD_DIR), tests included. Needs scripts/setup.sh to have run once.
+# Configures and builds the package, tests included: a standalone catkin build
+# in ./build with its devel space in ./devel, side by side as in a catkin
+# workspace (AF_BUILD_DIR=DIR: DIR and DIR_devel; see scripts/env.sh). The
+# devel space is kept out of build/ because rosrun skips every path under
+# <package>/build/. Needs scripts/setup.sh to have run once.
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
-cmake -S "$AF_ROOT" -B "$AF_BUILD" \
+cmake -S "$AF_ROOT" -B "$AF_BUILD" -DCATKIN_DEVEL_PREFIX="$AF_DEVEL" \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
   -DCATKIN_ENABLE_TESTING=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >"$AF_BUILD.cmake.log" 2>&1 ||
   { cat "$AF_BUILD.cmake.log"; exit 1; }
 make -C "$AF_BUILD" -j"$(nproc)"
 make -C "$AF_BUILD" -j"$(nproc)" tests
+echo "build: done; for rosrun and roslaunch: source $AF_DEVEL/setup.bash"

@@ -1,22 +1,53 @@
-# Sourced by the other scripts: where the package and its build live, and the
-# ROS environment of the build's devel space.
+# shellcheck shell=bash
+# Sourced by the other scripts: where the package, its build and its devel
+# space live, and the ROS environment of that devel space.
+#
+# Layout (that of a catkin workspace, where build/ and devel/ are siblings):
+#   default              build in $AF_ROOT/build, devel space in $AF_ROOT/devel
+#   AF_BUILD_DIR=DIR     build in DIR, devel space in DIR_devel beside it
+#   AF_DEVEL_DIR=DIR     the devel space in DIR (overrides both)
+# The devel space must not lie below $AF_ROOT/build/: rosrun skips every path
+# under <package>/build/, so it would find none of the package's executables.
 AF_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 AF_BUILD=${AF_BUILD_DIR:-$AF_ROOT/build}
+case "$AF_BUILD" in /*) ;; *) AF_BUILD=$PWD/$AF_BUILD ;; esac
+AF_BUILD=${AF_BUILD%/}
+if [ -n "${AF_DEVEL_DIR:-}" ]; then
+  AF_DEVEL=${AF_DEVEL_DIR%/}
+  case "$AF_DEVEL" in /*) ;; *) AF_DEVEL=$PWD/$AF_DEVEL ;; esac
+elif [ "$AF_BUILD" = "$AF_ROOT/build" ]; then
+  AF_DEVEL=$AF_ROOT/devel
+else
+  AF_DEVEL=${AF_BUILD}_devel
+fi
+case "$AF_DEVEL/" in
+  "$AF_ROOT/build/"*)
+    echo "env.sh: devel space $AF_DEVEL is below $AF_ROOT/build/, where rosrun finds nothing;" \
+      "set AF_BUILD_DIR or AF_DEVEL_DIR elsewhere" >&2
+    return 2
+    ;;
+esac
 # A pyenv python3 first in PATH breaks catkin and rostest: Debian's ROS is
 # built for /usr/bin/python3.
 export PATH=/usr/bin:$PATH
 af_source_devel() {
-  # shellcheck disable=SC1091
   set +u
-  source "$AF_BUILD/devel/setup.bash"
+  # shellcheck disable=SC1091
+  source "$AF_DEVEL/setup.bash"
   set -u
 }
 
 # Builds (after installing what is missing) unless the node and strike_bag
-# are already in the build's devel space, then sources it.
+# are already in the devel space, then sources it. With AF_NO_BUILD=1 (the
+# script tests, which run against a finished build) a missing executable is
+# an error instead.
 af_ensure_station_built() {
-  local lib="$AF_BUILD/devel/lib/acoustic_firmness"
+  local lib="$AF_DEVEL/lib/acoustic_firmness"
   if [ ! -x "$lib/firmness_node" ] || [ ! -x "$lib/strike_bag" ]; then
+    if [ "${AF_NO_BUILD:-0}" = 1 ]; then
+      echo "firmness_node or strike_bag missing from $lib (AF_NO_BUILD=1: not building)" >&2
+      return 1
+    fi
     bash "$AF_ROOT/scripts/setup.sh"
     bash "$AF_ROOT/scripts/build.sh"
   fi

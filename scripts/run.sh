@@ -4,6 +4,7 @@
 # before each), replays it through the station node with replay.launch, and
 # prints one line per measured strike against the truth it was made from.
 # Arguments go to demo.sh (--strikes N --seed S --rate R --keep DIR).
-# The model alone: source build/devel/setup.bash; rosrun acoustic_firmness firmness_model
+# The model alone: source devel/setup.bash (the file scripts/build.sh prints);
+# rosrun acoustic_firmness firmness_model
 set -euo pipefail
 exec bash "$(dirname "$0")/demo.sh" "$@"

@@ -6,7 +6,7 @@
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
 bash "$AF_ROOT/scripts/setup.sh" --rviz
-[ -x "$AF_BUILD/devel/lib/acoustic_firmness/firmness_node" ] || bash "$AF_ROOT/scripts/build.sh"
+[ -x "$AF_DEVEL/lib/acoustic_firmness/firmness_node" ] || bash "$AF_ROOT/scripts/build.sh"
 af_source_devel
 out=${1:-$AF_BUILD/station.png}
 port=$((20000 + RANDOM % 20000))

@@ -1,0 +1,68 @@
+# shellcheck shell=bash
+# Sourced by the script tests (test/scripts/test_*.sh): the package's scripts
+# environment against the build under test, a scratch folder, a free master
+# port, and the check that no process of ours outlives the test.
+#
+# ctest passes the build under test as AF_BUILD_DIR and AF_DEVEL_DIR (see
+# CMakeLists.txt); AF_NO_BUILD=1 makes the scripts fail, rather than build,
+# when an executable is missing, so that a test never runs a build.
+# shellcheck disable=SC1091
+source "$(dirname "${BASH_SOURCE[0]}")/../../scripts/env.sh"
+export AF_NO_BUILD=1
+af_source_devel
+unset ROS_NAMESPACE
+tmp=$(mktemp -d /tmp/af_script_test.XXXXXX)
+# Logs of every roscore/roslaunch of the test stay in the scratch folder.
+export ROS_HOME=$tmp/ros_home ROS_LOG_DIR=$tmp/ros_home/log
+trap 'rm -rf "$tmp"' EXIT
+
+# Prints a TCP port that is free now, in 20000-29999: away from the default
+# master (11311), the demo's and bench's (11345, 11346) and the kernel's
+# ephemeral ports, so another engineer's master or a rostest cannot hold it.
+af_free_port() {
+  /usr/bin/python3 - <<'PY'
+import random, socket
+for _ in range(200):
+    port = random.randint(20000, 29999)
+    with socket.socket() as s:
+        try:
+            s.bind(('', port))
+        except OSError:
+            continue
+    print(port)
+    break
+else:
+    raise SystemExit('no free port in 20000-29999')
+PY
+}
+
+# Prints the PIDs of the processes started with ROS_MASTER_URI on port $1 in
+# their environment: the master, the launch, the nodes, rosbag, any client
+# (every one of them was started by the test under test on that port).
+af_processes_on_port() {
+  local want="ROS_MASTER_URI=http://localhost:$1" dir pid
+  for dir in /proc/[0-9]*; do
+    pid=${dir#/proc/}
+    [ "$pid" = "$$" ] && continue
+    tr '\0' '\n' 2>/dev/null <"/proc/$pid/environ" | grep -qxF "$want" && echo "$pid"
+  done
+  return 0
+}
+
+# Fails (status 1, naming them) when processes of port $1 are still running
+# 10 s after the command under test ended, and then stops them by PID.
+af_check_stopped() {
+  local port=$1 left=""
+  for _ in $(seq 50); do
+    left=$(af_processes_on_port "$port")
+    [ -z "$left" ] && return 0
+    sleep 0.2
+  done
+  echo "FAIL: processes left running on master port $port:" >&2
+  for pid in $left; do
+    echo "  $pid: $(tr '\0' ' ' 2>/dev/null <"/proc/$pid/cmdline")" >&2
+  done
+  # shellcheck disable=SC2086
+  kill $left 2>/dev/null || true
+  return 1
+}
