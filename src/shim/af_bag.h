@@ -1,4 +1,4 @@
-/* af_bag.h — writing rosbags from C (the shim's rosbag::Bag, write mode).
+/* af_bag.h — writing and reading rosbags from C (the shim's rosbag::Bag).
  *
  * For tools that make recordings (src/demo/strike_bag.c): the messages are
  * the C structs of af_msgs.h, converted as the publishers convert them
@@ -47,6 +47,48 @@ af_status af_bag_close(af_bag *bag);
 /* The last error of bag, or of the last handle-less call when bag is NULL
  * ("" when none). Never NULL. */
 const char *af_bag_last_error(const af_bag *bag);
+
+/* --- reading ------------------------------------------------------------------ */
+
+/* A bag opened for reading, its messages in bag-time order (the order
+ * `rosbag play` publishes them in). For the desk tools: no master needed. */
+typedef struct af_bag_reader af_bag_reader;
+
+/* One message: its topic, bag time and type, and the C struct in the member
+ * of its type. Arrays (SignalChunk.data) are borrowed until the next call. */
+typedef struct {
+  const char *topic; /* borrowed until the next call */
+  af_time bag_time;
+  af_msg_type type; /* one of the types below */
+  union {
+    af_signal_chunk chunk;      /* AF_MSG_SIGNAL_CHUNK */
+    af_apple_estimate apple;    /* AF_MSG_APPLE_ESTIMATE */
+    af_strike_report report;    /* AF_MSG_STRIKE_REPORT */
+    af_reliability reliability; /* AF_MSG_RELIABILITY */
+  } msg;
+} af_bag_message;
+
+/* Opens path for reading the messages on the given topics (absolute names;
+ * n_topics 0 = every topic whose type is one of the above). AF_EIO when
+ * the file is not a readable bag (not a bag, truncated, unindexed),
+ * AF_EINVAL for bad arguments or a listed topic whose type in the bag is not
+ * one of the above (the message names the topic and both types). */
+af_status af_bag_open_read(const char *path, const char *const *topics, size_t n_topics,
+                           af_bag_reader **out);
+
+/* The next message into *m: AF_OK, AF_ENODATA at the end of the bag, AF_EIO
+ * when the bag cannot be read further (truncated chunk) or a message does
+ * not deserialize. */
+af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m);
+
+/* Messages on topic in the bag (0 when absent or NULL). */
+size_t af_bag_topic_count(const af_bag_reader *r, const char *topic);
+
+/* Closes and frees r; NULL-safe. */
+void af_bag_close_read(af_bag_reader *r);
+
+/* The last error of r, or of the last reader-less call when r is NULL. */
+const char *af_bag_reader_error(const af_bag_reader *r);
 
 #ifdef __cplusplus
 }

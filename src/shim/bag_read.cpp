@@ -1,0 +1,203 @@
+// bag_read.cpp — rosbag reading behind the C API of af_bag.h.
+#include <map>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <rosbag/bag.h>
+#include <rosbag/exceptions.h>
+#include <rosbag/view.h>
+
+#include "af_bag.h"
+#include "convert.hpp"
+
+using namespace acoustic_firmness;
+
+extern "C" {
+struct af_bag_reader {
+  rosbag::Bag bag;
+  std::unique_ptr<rosbag::View> view;
+  rosbag::View::iterator it;
+  std::string topic, last_error;
+  // The message being read: kept until the next call (its arrays are borrowed).
+  SignalChunk::ConstPtr chunk;
+  std::map<std::string, size_t> counts;
+};
+} // extern "C"
+
+namespace
+{
+
+std::string g_reader_error;
+
+void set_error(af_bag_reader *r, const std::string &msg)
+{
+  try {
+    (r != nullptr ? r->last_error : g_reader_error) = msg;
+  } catch (...) {
+    // Out of memory while saving the message: the status still tells.
+  }
+}
+
+af_status reader_status(af_bag_reader *r) noexcept
+{
+  try {
+    throw;
+  } catch (const rosbag::BagException &e) {
+    set_error(r, e.what());
+    return AF_EIO;
+  } catch (const ros::serialization::StreamOverrunException &e) {
+    set_error(r, std::string("message does not deserialize: ") + e.what());
+    return AF_EIO;
+  } catch (const std::invalid_argument &e) {
+    set_error(r, e.what());
+    return AF_EINVAL;
+  } catch (const std::bad_alloc &) {
+    set_error(r, "out of memory");
+    return AF_ENOMEM;
+  } catch (const std::exception &e) {
+    set_error(r, e.what());
+    return AF_EIO;
+  } catch (...) {
+    set_error(r, "unknown C++ exception");
+    return AF_EROS;
+  }
+}
+
+// The C type of a ROS data type this reader converts; false for any other.
+bool type_of(const std::string &datatype, af_msg_type &t)
+{
+  static const std::map<std::string, af_msg_type> known = {
+      {ros::message_traits::datatype<SignalChunk>(), AF_MSG_SIGNAL_CHUNK},
+      {ros::message_traits::datatype<AppleEstimate>(), AF_MSG_APPLE_ESTIMATE},
+      {ros::message_traits::datatype<StrikeReport>(), AF_MSG_STRIKE_REPORT},
+      {ros::message_traits::datatype<Reliability>(), AF_MSG_RELIABILITY},
+  };
+  auto k = known.find(datatype);
+  if (k == known.end())
+    return false;
+  t = k->second;
+  return true;
+}
+
+// Every listed topic must be in the bag with a type we read.
+void check_topics(af_bag_reader *r, const char *const *topics, size_t n)
+{
+  rosbag::View all(r->bag);
+  std::map<std::string, std::string> types;
+  for (const rosbag::ConnectionInfo *c : all.getConnections())
+    types[c->topic] = c->datatype;
+  for (const rosbag::MessageInstance &m : all)
+    r->counts[m.getTopic()]++;
+  for (size_t k = 0; k < n; k++) {
+    auto t = types.find(topics[k]);
+    af_msg_type ignored;
+    if (t != types.end() && !type_of(t->second, ignored))
+      throw std::invalid_argument(std::string("topic ") + topics[k] + " has type " + t->second +
+                                  ", not one this tool reads");
+  }
+}
+
+} // namespace
+
+extern "C" {
+
+af_status af_bag_open_read(const char *path, const char *const *topics, size_t n_topics,
+                           af_bag_reader **out)
+{
+  if (out == nullptr || path == nullptr || path[0] == '\0' || (topics == nullptr && n_topics)) {
+    set_error(nullptr, "af_bag_open_read: NULL or empty argument");
+    return AF_EINVAL;
+  }
+  *out = nullptr;
+  af_bag_reader *r = nullptr;
+  try {
+    r = new af_bag_reader;
+    r->bag.open(path, rosbag::bagmode::Read);
+    check_topics(r, topics, n_topics);
+    if (n_topics > 0) {
+      std::vector<std::string> list(topics, topics + n_topics);
+      r->view.reset(new rosbag::View(r->bag, rosbag::TopicQuery(list)));
+    } else {
+      r->view.reset(new rosbag::View(r->bag));
+    }
+    r->it = r->view->begin();
+    *out = r;
+    return AF_OK;
+  } catch (...) {
+    af_status s = reader_status(nullptr);
+    set_error(nullptr, std::string(path) + ": " + g_reader_error);
+    delete r;
+    return s;
+  }
+}
+
+af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
+{
+  if (r == nullptr || m == nullptr) {
+    set_error(r, "af_bag_read_next: NULL argument");
+    return AF_EINVAL;
+  }
+  try {
+    while (r->it != r->view->end()) {
+      const rosbag::MessageInstance &mi = *r->it;
+      af_msg_type t;
+      if (!type_of(mi.getDataType(), t)) {
+        ++r->it;
+        continue;
+      }
+      r->topic = mi.getTopic();
+      m->topic = r->topic.c_str();
+      af_shim::from_ros(mi.getTime(), m->bag_time);
+      m->type = t;
+      switch (t) {
+      case AF_MSG_SIGNAL_CHUNK:
+        r->chunk = mi.instantiate<SignalChunk>();
+        af_shim::from_ros(*r->chunk, m->msg.chunk);
+        break;
+      case AF_MSG_APPLE_ESTIMATE:
+        af_shim::from_ros(*mi.instantiate<AppleEstimate>(), m->msg.apple);
+        break;
+      case AF_MSG_STRIKE_REPORT:
+        af_shim::from_ros(*mi.instantiate<StrikeReport>(), m->msg.report);
+        break;
+      default: af_shim::from_ros(*mi.instantiate<Reliability>(), m->msg.reliability); break;
+      }
+      ++r->it;
+      return AF_OK;
+    }
+    return AF_ENODATA;
+  } catch (...) {
+    return reader_status(r);
+  }
+}
+
+size_t af_bag_topic_count(const af_bag_reader *r, const char *topic)
+{
+  if (r == nullptr || topic == nullptr)
+    return 0;
+  auto k = r->counts.find(topic);
+  return k == r->counts.end() ? 0 : k->second;
+}
+
+void af_bag_close_read(af_bag_reader *r)
+{
+  if (r == nullptr)
+    return;
+  try {
+    r->view.reset();
+    r->bag.close();
+  } catch (...) {
+    (void)reader_status(r);
+  }
+  delete r;
+}
+
+const char *af_bag_reader_error(const af_bag_reader *r)
+{
+  return r != nullptr ? r->last_error.c_str() : g_reader_error.c_str();
+}
+
+} // extern "C"
