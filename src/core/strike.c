@@ -7,6 +7,7 @@
 #include "strike.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,6 +53,36 @@
 #define AF_STRIKE_EDGE_TERMS 2
 /* Largest least-squares system solved (the peak quartic). */
 #define AF_STRIKE_MAX_TERMS 5
+/* Short pulses (strike.h): fewer than this many samples above the level
+ * max(AF_STRIKE_LEVEL_NOISE x noise RMS, AF_STRIKE_LEVEL_FRACTION x peak)
+ * take their edges from that level's interpolated crossings. */
+#define AF_STRIKE_SHORT_SAMPLES 16
+#define AF_STRIKE_LEVEL_NOISE 3.0
+#define AF_STRIKE_LEVEL_FRACTION 0.02
+/* A fitted zero is implausible (the fit failed: too few samples on a steep
+ * edge, a foot that is no power law) when it lies more than
+ * AF_STRIKE_FIT_SLACK [samples] inside its level crossing, or further out
+ * than AF_STRIKE_FIT_GAP of the width between the crossings plus 1 sample
+ * (the default strike's damped fall: 4.5 samples or 6 % beyond its 2 %
+ * crossing). */
+#define AF_STRIKE_FIT_SLACK 0.5
+#define AF_STRIKE_FIT_GAP 0.15
+/* Peak of a pulse too short for the quartic: the maximum of the band-limited
+ * reconstruction, a Hann-windowed sinc of this many taps each side, scanned
+ * over +-1 sample of the largest sample at this step [samples], then golden
+ * section to AF_STRIKE_EDGE_TOL. */
+#define AF_STRIKE_SINC_HALF 16
+#define AF_STRIKE_SINC_STEP 0.05
+/* A baseline window with fewer samples than this is not used. */
+#define AF_STRIKE_MIN_WINDOW 4
+/* af_strike_prime: at most this many samples of the recording (evenly
+ * strided) enter the median; the workspace is allocated at create. */
+#define AF_STRIKE_PRIME_SAMPLES ((size_t)8192)
+/* ... and at least this many quiet ones, else all finite ones are used. */
+#define AF_STRIKE_PRIME_MIN 16
+/* Normal consistency of the median absolute deviation. */
+#define AF_STRIKE_MAD_TO_SIGMA 1.482602218505602
+#define AF_STRIKE_PI 3.14159265358979323846
 
 typedef enum {
   AF_PHASE_WARMUP, /* learning the trackers, not armed */
@@ -77,6 +108,21 @@ typedef struct {
   double baseline_n, noise_rms_n, threshold_n, release_n; /* frozen at the trigger */
 } af_pending;
 
+/* What the detector saw, for af_strike_get_diagnosis: counts since the
+ * stream started, largest excursions since then or the last strike. */
+typedef struct {
+  uint64_t strikes, samples;
+  bool armed_ever;
+  uint64_t armed_at;    /* first sample armed after the last warm-up */
+  double arm_threshold; /* threshold when it armed [N] */
+  double warm_max;      /* largest excursion in the warm-up [N] (-inf: none) */
+  uint64_t warm_at;
+  double idle_max, idle_ms; /* largest armed excursion, mean square then */
+  uint64_t idle_at;
+  double settle_max, settle_threshold; /* largest while waiting for quiet */
+  uint64_t settle_at;
+} af_record;
+
 struct af_strike {
   af_strike_config cfg;
   /* derived sample counts */
@@ -96,6 +142,10 @@ struct af_strike {
   size_t learned;     /* samples learned since the trackers restarted */
   size_t quiet;       /* SETTLE: consecutive quiet samples */
   uint64_t settle_since;
+  uint64_t stream_first; /* first sample of the stream: no span reaches before it */
+  bool primed;           /* trackers set by af_strike_prime for this stream */
+  double *prime_ws;      /* af_strike_prime's sample of the recording */
+  af_record rec;
   af_pending ev;
   af_strike_event out;
 };
@@ -195,7 +245,8 @@ af_status af_strike_create(const af_strike_config *cfg, af_strike **out)
   d->span_f = malloc(d->span_cap * sizeof *d->span_f);
   d->x = malloc(d->span_cap * sizeof *d->x);
   d->r = malloc(d->span_cap * sizeof *d->r);
-  if (st != AF_OK || d->span_f == NULL || d->x == NULL || d->r == NULL) {
+  d->prime_ws = malloc(AF_STRIKE_PRIME_SAMPLES * sizeof *d->prime_ws);
+  if (st != AF_OK || d->span_f == NULL || d->x == NULL || d->r == NULL || d->prime_ws == NULL) {
     af_strike_destroy(d);
     return AF_ENOMEM;
   }
@@ -212,7 +263,16 @@ void af_strike_destroy(af_strike *d)
   free(d->span_f);
   free(d->x);
   free(d->r);
+  free(d->prime_ws);
   free(d);
+}
+
+/* Forgets the largest excursions (at a strike, or when the stream starts). */
+static void clear_maxima(af_record *rec)
+{
+  rec->warm_max = rec->idle_max = rec->settle_max = -INFINITY;
+  rec->warm_at = rec->idle_at = rec->settle_at = 0;
+  rec->idle_ms = rec->settle_threshold = 0.0;
 }
 
 /* Trackers forget everything and learn again (running means first). */
@@ -222,6 +282,8 @@ static void restart_trackers(af_strike *d)
   d->learned = 0;
   d->baseline_n = 0.0;
   d->mean_square = 0.0;
+  d->primed = false;
+  d->rec.armed_ever = false;
 }
 
 void af_strike_reset(af_strike *d)
@@ -231,6 +293,9 @@ void af_strike_reset(af_strike *d)
   af_ring_reset(d->ring);
   d->started = false;
   d->next = 0;
+  d->stream_first = 0;
+  memset(&d->rec, 0, sizeof d->rec);
+  clear_maxima(&d->rec);
   restart_trackers(d);
   memset(&d->ev, 0, sizeof d->ev);
 }
@@ -256,8 +321,9 @@ void af_strike_get_tracker(const af_strike *d, af_strike_tracker *out)
 /* measurement: spans indexed from 0, long for windows that run off the ends */
 
 /* Mean and centre of the finite samples of x in [lo, hi) (clipped to
- * [0, n)); false when there are none. */
-static bool window_mean(const double *x, long n, long lo, long hi, double *mean, double *centre)
+ * [0, n)); returns their count (fewer than AF_STRIKE_MIN_WINDOW: 0, the
+ * window is not used). */
+static long window_mean(const double *x, long n, long lo, long hi, double *mean, double *centre)
 {
   double sum = 0.0, at = 0.0;
   long count = 0;
@@ -268,11 +334,11 @@ static bool window_mean(const double *x, long n, long lo, long hi, double *mean,
       count++;
     }
   }
-  if (count == 0)
-    return false;
+  if (count < AF_STRIKE_MIN_WINDOW)
+    return 0;
   *mean = sum / (double)count;
   *centre = at / (double)count;
-  return true;
+  return count;
 }
 
 /* Replaces the non-finite samples of r by the straight line between their
@@ -298,13 +364,14 @@ static void fill_holes(double *r, long n)
 
 /* The measurement's view of one event span. */
 typedef struct {
-  const double *x;  /* raw */
-  double *r;        /* baseline removed */
-  long n;           /* span length */
-  long lim;         /* clean signal after the first contact ends before this */
-  long window;      /* baseline window [samples] */
-  double fallback;  /* baseline when no window is usable (the tracker's) */
-  double b0, slope; /* baseline line b0 + slope k */
+  const double *x;    /* raw */
+  double *r;          /* baseline removed */
+  long n;             /* span length */
+  long lim;           /* clean signal after the first contact ends before this */
+  long window;        /* baseline window [samples] */
+  double fallback;    /* baseline when no window is usable (the tracker's) */
+  double b0, slope;   /* baseline line b0 + slope k */
+  long before, after; /* samples averaged in the windows before and after */
 } af_span;
 
 /* Baseline line through the windows just before `a` and just after `e`
@@ -316,8 +383,10 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
   long post_hi = e + guard + s->window;
   if (post_hi > s->lim - guard)
     post_hi = s->lim - guard;
-  bool pre = window_mean(s->x, s->n, a - guard - s->window, a - guard, &m1, &c1);
-  bool post = window_mean(s->x, s->n, e + guard, post_hi, &m2, &c2);
+  long pre = window_mean(s->x, s->n, a - guard - s->window, a - guard, &m1, &c1);
+  long post = window_mean(s->x, s->n, e + guard, post_hi, &m2, &c2);
+  s->before = pre;
+  s->after = post;
   if (pre && post && c2 > c1) {
     s->slope = (m2 - m1) / (c2 - c1);
     s->b0 = m1 - s->slope * c1;
@@ -497,9 +566,73 @@ static void poly_eval(const double *c, double u, double *v, double *d1, double *
   }
 }
 
+/* Band-limited reconstruction of r at t [samples]: Hann-windowed sinc over
+ * AF_STRIKE_SINC_HALF samples each side, r taken as 0 outside [0, n) (it is
+ * baseline-removed). Equals r[k] at an integer t = k. */
+static double sinc_at(const double *r, long n, double t)
+{
+  long k0 = (long)floor(t);
+  double sum = 0.0;
+  for (long j = k0 - AF_STRIKE_SINC_HALF + 1; j <= k0 + AF_STRIKE_SINC_HALF; j++) {
+    if (j < 0 || j >= n)
+      continue;
+    double u = t - (double)j;
+    if (fabs(u) < 1e-12) {
+      sum += r[j];
+      continue;
+    }
+    double x = AF_STRIKE_PI * u;
+    sum += r[j] * sin(x) / x * (0.5 + 0.5 * cos(x / AF_STRIKE_SINC_HALF));
+  }
+  return sum;
+}
+
+/* Maximum of sinc_at within +-1 sample of ipk (the largest sample); at
+ * least r[ipk], the reconstruction passing through it. */
+static double sinc_peak(const double *r, long n, long ipk, double *at)
+{
+  double best = r[ipk], tb = (double)ipk;
+  long steps = (long)lround(2.0 / AF_STRIKE_SINC_STEP);
+  for (long i = 0; i <= steps; i++) {
+    double t = (double)ipk - 1.0 + (double)i * AF_STRIKE_SINC_STEP, v = sinc_at(r, n, t);
+    if (v > best) {
+      best = v;
+      tb = t;
+    }
+  }
+  /* golden section for the maximum around the best scanned point */
+  const double g = 0.6180339887498949;
+  double a = tb - AF_STRIKE_SINC_STEP, b = tb + AF_STRIKE_SINC_STEP;
+  double u = b - g * (b - a), v = a + g * (b - a);
+  double fu = sinc_at(r, n, u), fv = sinc_at(r, n, v);
+  while (b - a > AF_STRIKE_EDGE_TOL) {
+    if (fu > fv) {
+      b = v;
+      v = u;
+      fv = fu;
+      u = b - g * (b - a);
+      fu = sinc_at(r, n, u);
+    } else {
+      a = u;
+      u = v;
+      fu = fv;
+      v = a + g * (b - a);
+      fv = sinc_at(r, n, v);
+    }
+  }
+  double tm = 0.5 * (a + b), vm = sinc_at(r, n, tm);
+  if (vm > best) {
+    best = vm;
+    tb = tm;
+  }
+  *at = tb;
+  return best;
+}
+
 /* Maximum of the least-squares quartic through the samples around ipk above
- * AF_STRIKE_PEAK_LEVEL of r[ipk] (the largest sample when there are too few
- * or no interior maximum); *at receives its position [samples]. */
+ * AF_STRIKE_PEAK_LEVEL of r[ipk]; of the band-limited reconstruction when
+ * there are too few for the quartic (a short pulse); the largest sample when
+ * the quartic has no interior maximum. *at receives its position [samples]. */
 static double refine_peak(const double *r, long n, long ipk, double *at)
 {
   double top = r[ipk], level = AF_STRIKE_PEAK_LEVEL * top;
@@ -510,7 +643,7 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
     hi++;
   *at = (double)ipk;
   if (hi - lo + 1 < AF_STRIKE_PEAK_TERMS + 2)
-    return top;
+    return sinc_peak(r, n, ipk, at);
   /* Abscissa u = (k - ipk) / width keeps the normal equations conditioned. */
   double w = (double)(hi - lo + 1);
   double m[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
@@ -584,10 +717,47 @@ static long clamp_index(long k, long n)
   return k < 0 ? 0 : k > n - 1 ? n - 1 : k;
 }
 
+/* The crossing of `level` by the band-limited reconstruction of r between
+ * samples k and k + 1, which straddle it (bisection to AF_STRIKE_EDGE_TOL:
+ * the reconstruction passes through both samples, so a crossing exists). */
+static double level_crossing(const double *r, long n, long k, double level)
+{
+  double a = (double)k, b = (double)(k + 1);
+  bool a_below = r[k] <= level;
+  while (b - a > AF_STRIKE_EDGE_TOL) {
+    double m = 0.5 * (a + b);
+    if ((sinc_at(r, n, m) <= level) == a_below)
+      a = m;
+    else
+      b = m;
+  }
+  return 0.5 * (a + b);
+}
+
+/* Crossings of `level` around the largest sample ipk: *t0 between the last
+ * sample at or below it before ipk and the next, *t1 likewise after ipk
+ * (the outermost sample when the span ends above it). Returns the number
+ * of samples above it (0 when r[ipk] is not). */
+static long level_edges(const double *r, long n, long ipk, double level, double *t0, double *t1)
+{
+  if (!(r[ipk] > level))
+    return 0;
+  long lo = ipk, hi = ipk;
+  while (lo > 0 && r[lo - 1] > level)
+    lo--;
+  while (hi < n - 1 && r[hi + 1] > level)
+    hi++;
+  *t0 = lo > 0 ? level_crossing(r, n, lo - 1, level) : (double)lo;
+  *t1 = hi < n - 1 ? level_crossing(r, n, hi, level) : (double)hi;
+  return hi - lo + 1;
+}
+
 /* Result of the two baseline/fit passes, span-relative. */
 typedef struct {
   double t0, t1, peak_n, peak_at;
   long cs, ce; /* coarse contact: first sample, first sample after */
+  af_strike_edges start_edge, end_edge;
+  double level_n; /* the level of the crossings */
 } af_fit_out;
 
 /* Coarse contact, then two passes of baseline removal and edge fits. */
@@ -604,21 +774,56 @@ static void measure_span(const af_strike *d, af_span *s, long trigger, long ce, 
    * shorter reach after a first fit that came early would keep it early. */
   long reach = AF_STRIKE_GUARD_COARSE + (long)(AF_STRIKE_GUARD_FRACTION * (double)(e - a));
   long guard = reach;
-  double t0 = (double)a, t1 = (double)e - 1.0, peak_n = 0.0, peak_at = 0.0;
+  double t0 = (double)a, t1 = (double)e - 1.0, peak_n = 0.0, peak_at = 0.0, level = 0.0;
+  af_strike_edges start_edge = AF_STRIKE_EDGES_FIT, end_edge = AF_STRIKE_EDGES_FIT;
   for (int pass = 0; pass < 2; pass++) {
     remove_baseline(s, a, e, guard);
     long ipk = argmax(s->r, clamp_index(a, s->n), clamp_index(e - 1, s->n));
     peak_n = refine_peak(s->r, s->n, ipk, &peak_at);
-    double tol = pass == 0 ? AF_STRIKE_EDGE_TOL_COARSE : AF_STRIKE_EDGE_TOL;
-    t0 = fit_start(s, a - reach, ipk, d->cfg.rise_fit_level * peak_n, (double)a, tol);
-    t1 = fit_end(s, e - 1 + reach, ipk, d->cfg.fall_fit_level * peak_n, (double)e - 1.0, tol);
-    if (!(t1 > t0))
-      t1 = (double)e - 1.0;
+    level = fmax(AF_STRIKE_LEVEL_NOISE * ev->noise_rms_n, AF_STRIKE_LEVEL_FRACTION * peak_n);
+    double l0 = 0.0, l1 = 0.0;
+    long above = level_edges(s->r, s->n, ipk, level, &l0, &l1);
+    bool crossed = above > 0 && l1 > l0;
+    start_edge = end_edge = AF_STRIKE_EDGES_LEVEL;
+    if (crossed && above < AF_STRIKE_SHORT_SAMPLES) {
+      t0 = l0;
+      t1 = l1;
+    } else {
+      double tol = pass == 0 ? AF_STRIKE_EDGE_TOL_COARSE : AF_STRIKE_EDGE_TOL;
+      t0 = fit_start(s, a - reach, ipk, d->cfg.rise_fit_level * peak_n, NAN, tol);
+      t1 = fit_end(s, e - 1 + reach, ipk, d->cfg.fall_fit_level * peak_n, NAN, tol);
+      /* No fit (too few samples), a fitted zero on the wrong side of its
+       * level crossing or further out than any plausible foot: the fit
+       * failed, the crossing stands (the coarse contact without one). */
+      double out = AF_STRIKE_FIT_GAP * (l1 - l0) + 1.0;
+      if (crossed && !(t0 <= l0 + AF_STRIKE_FIT_SLACK && t0 >= l0 - out)) {
+        t0 = l0;
+      } else {
+        start_edge = AF_STRIKE_EDGES_FIT;
+        t0 = isnan(t0) ? (double)a : t0;
+      }
+      if (crossed && !(t1 >= l1 - AF_STRIKE_FIT_SLACK && t1 <= l1 + out)) {
+        t1 = l1;
+      } else {
+        end_edge = AF_STRIKE_EDGES_FIT;
+        t1 = isnan(t1) ? (double)e - 1.0 : t1;
+      }
+      if (!(t1 > t0))
+        t1 = (double)e - 1.0;
+    }
     a = (long)floor(t0);
     e = (long)ceil(t1) + 1;
     guard = AF_STRIKE_GUARD_FITTED;
   }
-  *o = (af_fit_out){.t0 = t0, .t1 = t1, .peak_n = peak_n, .peak_at = peak_at, .cs = cs, .ce = ce};
+  *o = (af_fit_out){.t0 = t0,
+                    .t1 = t1,
+                    .peak_n = peak_n,
+                    .peak_at = peak_at,
+                    .cs = cs,
+                    .ce = ce,
+                    .start_edge = start_edge,
+                    .end_edge = end_edge,
+                    .level_n = level};
 }
 
 /* Fills d->out from the span [d->ev.begin, end) of the ring; false when the
@@ -667,7 +872,13 @@ static bool measure(af_strike *d, uint64_t end)
                              .n_samples = k1 >= k0 ? (size_t)(k1 - k0 + 1) : 0,
                              .dt_s = dt,
                              .pulse_first_sample = begin + (uint64_t)k0,
-                             .pulse_t0_s = (o.t0 - (double)k0) * dt};
+                             .pulse_t0_s = (o.t0 - (double)k0) * dt,
+                             .start_edge = o.start_edge,
+                             .end_edge = o.end_edge,
+                             .edge_level_n = o.level_n,
+                             .baseline_before_samples = (size_t)s.before,
+                             .baseline_after_samples = (size_t)s.after,
+                             .primed = d->primed};
   return true;
 }
 
@@ -677,8 +888,21 @@ static bool measure(af_strike *d, uint64_t end)
 /* Measures the pending event over [begin, end) and hands it to fn. */
 static void emit(af_strike *d, uint64_t end, af_strike_fn *fn, void *user)
 {
-  if (measure(d, end) && fn != NULL)
+  if (!measure(d, end))
+    return;
+  d->rec.strikes++;
+  clear_maxima(&d->rec);
+  if (fn != NULL)
     fn(&d->out, user);
+}
+
+/* The warm-up is over at sample `at`: armed from the next one. */
+static void arm(af_strike *d, uint64_t at)
+{
+  d->phase = AF_PHASE_IDLE;
+  d->rec.armed_ever = true;
+  d->rec.armed_at = at + 1;
+  d->rec.arm_threshold = threshold_now(d);
 }
 
 /* One sample into the trackers: running means until the warm-up is done
@@ -700,7 +924,8 @@ static void trigger(af_strike *d, uint64_t at)
 {
   af_pending *ev = &d->ev;
   double thr = threshold_now(d);
-  *ev = (af_pending){.begin = at > d->pre ? at - d->pre : 0,
+  uint64_t first = d->stream_first; /* the span never reaches before the stream */
+  *ev = (af_pending){.begin = at > first + d->pre ? at - d->pre : first,
                      .trigger = at,
                      .contact_trigger = at,
                      .baseline_n = d->baseline_n,
@@ -726,9 +951,15 @@ static size_t idle_run(af_strike *d, uint64_t at, const float *x, size_t n)
   const double a = d->alpha, keep = 1.0 - d->alpha, min_n = d->cfg.threshold_min_n;
   const double factor2 = d->factor2;
   double b = d->baseline_n, ms = d->mean_square;
-  size_t k = 0;
+  double top = d->rec.idle_max, top_ms = d->rec.idle_ms; /* diagnosis */
+  size_t k = 0, top_k = n;
   for (; k < n; k++) {
     double v = x[k], r = v - b;
+    if (r > top) {
+      top = r;
+      top_ms = ms;
+      top_k = k;
+    }
     if (r > min_n && r * r > factor2 * ms)
       break;
     if (!isfinite(v))
@@ -739,6 +970,11 @@ static size_t idle_run(af_strike *d, uint64_t at, const float *x, size_t n)
   }
   d->baseline_n = b;
   d->mean_square = ms;
+  if (top_k < n) {
+    d->rec.idle_max = top;
+    d->rec.idle_ms = top_ms;
+    d->rec.idle_at = at + top_k;
+  }
   if (k == n)
     return n;
   trigger(d, at + k);
@@ -804,8 +1040,13 @@ static void step_after(af_strike *d, uint64_t at, double x, af_strike_fn *fn, vo
 
 static void step_settle(af_strike *d, uint64_t at, double x)
 {
-  double r = x - d->baseline_n;
-  if (r < AF_STRIKE_RELEASE * threshold_now(d)) {
+  double r = x - d->baseline_n, thr = threshold_now(d);
+  if (r > d->rec.settle_max) {
+    d->rec.settle_max = r;
+    d->rec.settle_at = at;
+    d->rec.settle_threshold = thr;
+  }
+  if (r < AF_STRIKE_RELEASE * thr) {
     if (++d->quiet >= d->quiet_needed)
       d->phase = AF_PHASE_IDLE;
   } else {
@@ -821,9 +1062,14 @@ static void step(af_strike *d, uint64_t at, double x, af_strike_fn *fn, void *us
   switch (d->phase) {
   case AF_PHASE_WARMUP:
     if (isfinite(x)) {
+      double r = d->learned > 0 ? x - d->baseline_n : 0.0; /* against what came before */
       learn(d, x);
+      if (r > d->rec.warm_max) {
+        d->rec.warm_max = r;
+        d->rec.warm_at = at;
+      }
       if (d->learned >= d->warmup)
-        d->phase = AF_PHASE_IDLE;
+        arm(d, at);
     }
     break;
   case AF_PHASE_IDLE: break; /* idle_run's */
@@ -891,7 +1137,11 @@ af_status af_strike_write(af_strike *d, uint64_t first_sample, const float *x, s
   if (!d->started) {
     d->started = true;
     d->next = first_sample;
+    d->stream_first = first_sample;
+    if (d->primed)
+      d->rec.armed_at = first_sample; /* armed from the first sample written */
   }
+  d->rec.samples += n;
   for (size_t done = 0; done < n;) {
     size_t block = n - done < AF_STRIKE_BLOCK ? n - done : AF_STRIKE_BLOCK;
     uint64_t at = first_sample + done;
@@ -901,6 +1151,243 @@ af_status af_strike_write(af_strike *d, uint64_t first_sample, const float *x, s
   }
   d->next = first_sample + n;
   return AF_OK;
+}
+
+af_status af_strike_flush(af_strike *d, af_strike_fn *fn, void *user)
+{
+  if (d == NULL)
+    return AF_EINVAL;
+  if (d->phase == AF_PHASE_CONTACT) {
+    cut(d, d->next, fn, user);
+    settle(d, d->next);
+  } else if (d->phase == AF_PHASE_AFTER) {
+    emit(d, d->next, fn, user);
+    d->phase = AF_PHASE_IDLE;
+  }
+  return AF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* priming from a whole recording */
+
+static void swap(double *a, double *b)
+{
+  double t = *a;
+  *a = *b;
+  *b = t;
+}
+
+/* The k-th smallest of v[0..n) (k < n), v reordered in place (Wirth's
+ * selection). No allocation (qsort may allocate). */
+static double select_kth(double *v, size_t n, size_t k)
+{
+  long lo = 0, hi = (long)n - 1, kk = (long)k;
+  while (lo < hi) {
+    double pivot = v[kk];
+    long i = lo, j = hi;
+    do {
+      while (v[i] < pivot)
+        i++;
+      while (pivot < v[j])
+        j--;
+      if (i <= j) {
+        swap(&v[i], &v[j]);
+        i++;
+        j--;
+      }
+    } while (i <= j);
+    if (j < kk)
+      lo = i;
+    if (kk < i)
+      hi = j;
+  }
+  return v[kk];
+}
+
+/* Median of v[0..n), n > 0 (the lower one for an even n); v reordered. */
+static double median(double *v, size_t n)
+{
+  return select_kth(v, n, (n - 1) / 2);
+}
+
+/* Every stride-th finite sample of x[0..n) into ws, leaving out those within
+ * `guard` samples of a loud one (|x - centre| > loud; none when loud is
+ * +inf). Returns the count. */
+static size_t prime_gather(const float *x, size_t n, size_t stride, double centre, double loud,
+                           size_t guard, double *ws)
+{
+  size_t m = 0, scanned = 0;
+  bool any_loud = false;
+  size_t last_loud = 0; /* the latest loud sample before `scanned` */
+  for (size_t k = 0; k < n && m < AF_STRIKE_PRIME_SAMPLES; k += stride) {
+    size_t ahead = n - k > guard ? k + guard + 1 : n;
+    for (; scanned < ahead; scanned++) {
+      if (fabs((double)x[scanned] - centre) > loud) {
+        any_loud = true;
+        last_loud = scanned;
+      }
+    }
+    if (any_loud && last_loud + guard >= k)
+      continue; /* a loud sample within guard of k, before or after */
+    if (isfinite(x[k]))
+      ws[m++] = x[k];
+  }
+  return m;
+}
+
+af_status af_strike_prime(af_strike *d, const float *x, size_t n)
+{
+  if (d == NULL || (x == NULL && n > 0))
+    return AF_EINVAL;
+  size_t stride = n / AF_STRIKE_PRIME_SAMPLES + (n % AF_STRIKE_PRIME_SAMPLES != 0);
+  size_t m = n > 0 ? prime_gather(x, n, stride, 0.0, INFINITY, 0, d->prime_ws) : 0;
+  if (m < AF_STRIKE_PRIME_MIN)
+    return AF_ENODATA; /* the detector is left as it was */
+  /* First pass, all finite samples: median and MAD. */
+  double centre = median(d->prime_ws, m);
+  for (size_t i = 0; i < m; i++)
+    d->prime_ws[i] = fabs(d->prime_ws[i] - centre);
+  double sigma = AF_STRIKE_MAD_TO_SIGMA * median(d->prime_ws, m);
+  /* Second pass, the quiet parts: away from every sample beyond the release
+   * level the first pass gives (strikes, bounces, their ringing). */
+  double thr = fmax(d->cfg.threshold_noise_factor * sigma, d->cfg.threshold_min_n);
+  size_t guard = d->window + d->quiet_needed;
+  size_t q = prime_gather(x, n, stride, centre, AF_STRIKE_RELEASE * thr, guard, d->prime_ws);
+  double baseline = centre, mean_square = sigma * sigma;
+  if (q >= AF_STRIKE_PRIME_MIN && 4 * q >= m) { /* else too little quiet signal: the MAD's */
+    baseline = median(d->prime_ws, q);
+    double sum2 = 0.0;
+    for (size_t i = 0; i < q; i++)
+      sum2 += (d->prime_ws[i] - baseline) * (d->prime_ws[i] - baseline);
+    mean_square = sum2 / (double)q;
+  }
+  af_strike_reset(d);
+  d->baseline_n = baseline;
+  d->mean_square = mean_square;
+  d->learned = d->warmup;
+  d->primed = true;
+  arm(d, 0);
+  d->rec.armed_at = 0; /* until the first write says where the stream starts */
+  return AF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* diagnosis */
+
+static bool in_event(const af_strike *d);
+
+void af_strike_get_diagnosis(const af_strike *d, af_strike_diagnosis *out)
+{
+  if (d == NULL || out == NULL)
+    return;
+  const af_record *rec = &d->rec;
+  double factor = d->cfg.threshold_noise_factor, min_n = d->cfg.threshold_min_n;
+  double idle_thr = fmax(factor * sqrt(rec->idle_ms), min_n);
+  *out = (af_strike_diagnosis){
+      .strikes = rec->strikes,
+      .samples = rec->samples,
+      .primed = d->primed,
+      .armed = d->phase != AF_PHASE_WARMUP && d->phase != AF_PHASE_SETTLE,
+      .armed_sample = rec->armed_ever ? rec->armed_at : UINT64_MAX,
+      .warmup_samples = (uint64_t)d->warmup,
+      .warmup_learned = (uint64_t)(d->learned < d->warmup ? d->learned : d->warmup),
+      .arm_threshold_n = rec->armed_ever ? rec->arm_threshold : NAN,
+      .warmup_max_n = isfinite(rec->warm_max) ? rec->warm_max : NAN,
+      .warmup_max_sample = rec->warm_at,
+      .armed_max_n = isfinite(rec->idle_max) ? rec->idle_max : NAN,
+      .armed_max_sample = rec->idle_at,
+      .armed_max_threshold_n = isfinite(rec->idle_max) ? idle_thr : NAN,
+      .settle_max_n = isfinite(rec->settle_max) ? rec->settle_max : NAN,
+      .settle_max_sample = rec->settle_at,
+      .settle_max_threshold_n = isfinite(rec->settle_max) ? rec->settle_threshold : NAN,
+      .pending_trigger_sample = in_event(d) ? d->ev.trigger : 0,
+      .threshold_n = threshold_now(d),
+      .noise_rms_n = sqrt(d->mean_square)};
+  /* The verdict: the state in which the largest excursion came. */
+  double w = rec->warm_max, a = rec->idle_max, st = rec->settle_max;
+  if (in_event(d))
+    out->why = AF_STRIKE_PENDING;
+  else if (rec->strikes > 0)
+    out->why = AF_STRIKE_FOUND;
+  else if (rec->samples == 0)
+    out->why = AF_STRIKE_NO_SIGNAL;
+  else if (!rec->armed_ever ||
+           (w > rec->arm_threshold && w >= a && w >= st)) /* -inf when never seen */
+    out->why = AF_STRIKE_IN_WARMUP;
+  else if (!isfinite(a) || (st > rec->settle_threshold && st >= a))
+    out->why = AF_STRIKE_WAITING_QUIET;
+  else
+    out->why = AF_STRIKE_BELOW_THRESHOLD;
+}
+
+const char *af_strike_why_text(af_strike_why why)
+{
+  switch (why) {
+  case AF_STRIKE_FOUND: return "strike found";
+  case AF_STRIKE_NO_SIGNAL: return "no signal";
+  case AF_STRIKE_IN_WARMUP: return "still in warm-up";
+  case AF_STRIKE_BELOW_THRESHOLD: return "never above threshold";
+  case AF_STRIKE_WAITING_QUIET: return "waiting for quiet";
+  case AF_STRIKE_PENDING: return "strike still in progress";
+  }
+  return "unknown";
+}
+
+af_status af_strike_explain(const af_strike *d, char *buf, size_t size)
+{
+  if (d == NULL || buf == NULL || size == 0)
+    return AF_EINVAL;
+  af_strike_diagnosis g;
+  af_strike_get_diagnosis(d, &g);
+  const char *why = af_strike_why_text(g.why);
+  double fs = d->cfg.sample_rate_hz;
+  unsigned long long warm_at = g.warmup_max_sample, armed_at = g.armed_sample;
+  int len = 0;
+  switch (g.why) {
+  case AF_STRIKE_FOUND:
+    len = snprintf(buf, size, "%llu strike%s found", (unsigned long long)g.strikes,
+                   g.strikes == 1 ? "" : "s");
+    break;
+  case AF_STRIKE_NO_SIGNAL: len = snprintf(buf, size, "%s: nothing written", why); break;
+  case AF_STRIKE_PENDING:
+    len = snprintf(buf, size,
+                   "%s: triggered at sample %llu, emitted %g s after its contact ends "
+                   "(af_strike_flush emits it now)",
+                   why, (unsigned long long)g.pending_trigger_sample, d->cfg.post_s);
+    break;
+  case AF_STRIKE_IN_WARMUP:
+    if (g.armed_sample == UINT64_MAX)
+      len = snprintf(buf, size,
+                     "%s: %llu of the %llu samples (%g s) learned before arming, largest "
+                     "excursion %.4g N at sample %llu; prime the detector or start earlier",
+                     why, (unsigned long long)g.warmup_learned,
+                     (unsigned long long)g.warmup_samples, (double)g.warmup_samples / fs,
+                     isfinite(g.warmup_max_n) ? g.warmup_max_n : 0.0, warm_at);
+    else
+      len = snprintf(buf, size,
+                     "%s when the largest excursion came (%.4g N at sample %llu; armed from "
+                     "sample %llu, threshold %.4g N then); prime the detector or start "
+                     "earlier",
+                     why, g.warmup_max_n, warm_at, armed_at, g.arm_threshold_n);
+    break;
+  case AF_STRIKE_WAITING_QUIET:
+    len = snprintf(buf, size,
+                   "%s after a cut event when the largest excursion came (%.4g N at sample "
+                   "%llu, threshold %.4g N)",
+                   why, isfinite(g.settle_max_n) ? g.settle_max_n : 0.0,
+                   (unsigned long long)g.settle_max_sample,
+                   isfinite(g.settle_max_threshold_n) ? g.settle_max_threshold_n : g.threshold_n);
+    break;
+  case AF_STRIKE_BELOW_THRESHOLD:
+    len = snprintf(buf, size,
+                   "%s: largest excursion %.4g N at sample %llu, threshold %.4g N there "
+                   "(max(%g x noise RMS, %g N); noise RMS now %.4g N)",
+                   why, g.armed_max_n, (unsigned long long)g.armed_max_sample,
+                   g.armed_max_threshold_n, d->cfg.threshold_noise_factor, d->cfg.threshold_min_n,
+                   g.noise_rms_n);
+    break;
+  }
+  return len >= 0 && (size_t)len < size ? AF_OK : AF_ESIZE;
 }
 
 af_status af_strike_measure_band(af_spectrum *s, const af_strike_event *ev, af_band_level level,

@@ -601,6 +601,108 @@ static void test_restart(void)
   free(x);
 }
 
+/* ---- offline: primed, short pre-trigger ------------------------------------------ */
+
+/* The default strike 0.5 ms (25 samples) after the start of a 50 kHz
+ * capture (40 dB, hum, 2 N offset, drift), primed with the capture itself:
+ * measured as in a stream (the edge-law fits, the baseline from the 0.5 ms
+ * before and the window after). 20 captures, each its own noise. */
+static void test_primed_short_pre_trigger(void)
+{
+  static collector c;
+  af_strike_config cfg = af_strike_config_default();
+  imperfections im = {.snr_db = 40.0,
+                      .hum_n = 0.01 * model.res.peak_force_n,
+                      .offset_n = 2.0,
+                      .slope_n_s = 0.5,
+                      .exp_n = 0.0,
+                      .exp_tau_s = 0.0};
+  size_t n = 2000; /* 40 ms */
+  double *x = malloc(n * sizeof *x);
+  float *f = malloc(n * sizeof *f);
+  af_strike *d = make_detector(&cfg);
+  af_synth_rng g;
+  af_synth_rng_seed(&g, 4242);
+  stat start = {0}, contact = {0}, peak = {0};
+  size_t one_each = 0, clean = 0;
+  for (int i = 0; i < 20; i++) {
+    double t0 = 0.5e-3 + af_synth_uniform(&g) * DT_S;
+    memset(x, 0, n * sizeof *x);
+    af_synth_add_pulse(x, n, DT_S, 0.0, &model, t0, 1.0);
+    add_imperfections(x, n, &im, &g);
+    af_synth_to_float(x, n, f);
+    AF_CHECK_STATUS(af_strike_prime(d, f, n), AF_OK);
+    c.n = 0;
+    stream(d, x, n, 0, NO_SKIP, &c);
+    one_each += c.n == 1;
+    if (c.n != 1)
+      continue;
+    const af_strike_event *ev = &c.e[0].ev;
+    clean += !ev->double_hit && !ev->clipped && !ev->truncated && ev->lost_samples == 0 &&
+             ev->primed && ev->start_edge == AF_STRIKE_EDGES_FIT &&
+             ev->end_edge == AF_STRIKE_EDGES_FIT && ev->baseline_before_samples >= 10;
+    stat_add(&start, ev->start_sample - t0 / DT_S);
+    stat_add(&contact,
+             100 * (ev->contact_time_s - model.res.contact_time_s) / model.res.contact_time_s);
+    stat_add(&peak, 100 * (ev->peak_force_n - model.res.peak_force_n) / model.res.peak_force_n);
+  }
+  printf("primed, 0.5 ms pre-trigger, 40 dB + hum + drift:\n");
+  stat_print("start [samples]", &start, "");
+  stat_print("contact time [%]", &contact, "");
+  stat_print("peak [%]", &peak, "");
+  AF_CHECK(one_each == 20 && clean == 20);
+  /* as in a stream at 40 dB (test_strikes_40db) */
+  AF_CHECK_ABS(start.max_abs, 0.0, 0.75);      /* [samples] */
+  AF_CHECK_ABS(stat_mean(&contact), 0.0, 1.0); /* [%] */
+  AF_CHECK_ABS(stat_rms(&contact), 0.0, 1.5);  /* [%] */
+  AF_CHECK_ABS(contact.max_abs, 0.0, 4.0);     /* [%] */
+  AF_CHECK_ABS(stat_rms(&peak), 0.0, 0.5);     /* [%] */
+  free(x);
+  free(f);
+  af_strike_destroy(d);
+}
+
+/* The new verbs' error paths and edge cases. */
+static void test_prime_errors(void)
+{
+  af_strike_config cfg = af_strike_config_default();
+  af_strike *d = make_detector(&cfg);
+  float x[64];
+  for (size_t k = 0; k < 64; k++)
+    x[k] = (float)(1.0 + 0.01 * (double)(k % 7));
+  AF_CHECK_STATUS(af_strike_prime(NULL, x, 64), AF_EINVAL);
+  AF_CHECK_STATUS(af_strike_prime(d, NULL, 64), AF_EINVAL);
+  AF_CHECK_STATUS(af_strike_prime(d, x, 0), AF_ENODATA);
+  AF_CHECK_STATUS(af_strike_prime(d, x, 15), AF_ENODATA); /* fewer than 16 samples */
+  af_strike_tracker t;
+  af_strike_get_tracker(d, &t);
+  AF_CHECK(!t.armed); /* left as it was */
+  float nan_x[32];
+  for (size_t k = 0; k < 32; k++)
+    nan_x[k] = k < 20 ? NAN : 1.0f;
+  AF_CHECK_STATUS(af_strike_prime(d, nan_x, 32), AF_ENODATA); /* 12 finite */
+  /* 64 samples: median 1.03 (the 0..6 pattern), armed at once */
+  AF_CHECK_STATUS(af_strike_prime(d, x, 64), AF_OK);
+  af_strike_get_tracker(d, &t);
+  AF_CHECK(t.armed);
+  AF_CHECK_ABS(t.baseline_n, 1.03, 1e-6);  /* [N] */
+  AF_CHECK_ABS(t.noise_rms_n, 0.02, 2e-3); /* [N]: RMS of 0..6 x 0.01 about 0.03 */
+  af_strike_diagnosis g;
+  af_strike_get_diagnosis(d, &g);
+  AF_CHECK(g.primed && g.armed && g.armed_sample == 0 && g.strikes == 0 && g.samples == 0);
+  AF_CHECK(g.why == AF_STRIKE_NO_SIGNAL);
+  af_strike_get_diagnosis(NULL, &g); /* no effect */
+  af_strike_get_diagnosis(d, NULL);
+  /* a reset forgets the prime */
+  af_strike_reset(d);
+  af_strike_get_tracker(d, &t);
+  AF_CHECK(!t.armed);
+  af_strike_get_diagnosis(d, &g);
+  AF_CHECK(!g.primed && g.armed_sample == UINT64_MAX);
+  AF_CHECK(strcmp(af_strike_why_text((af_strike_why)99), "unknown") == 0);
+  af_strike_destroy(d);
+}
+
 /* ---- the measured band through af_spectrum ------------------------------------- */
 
 static void test_band(void)
@@ -675,6 +777,8 @@ int main(void)
   test_no_false_trigger();
   test_offset_step();
   test_restart();
+  test_primed_short_pre_trigger();
+  test_prime_errors();
   test_band();
   af_impact_destroy(impact);
   return af_test_summary("test_strike");
