@@ -8,6 +8,7 @@
 
 #include "criteria.h"
 #include "resonance.h"
+#include "settings.h"
 
 /* Pulse sampling: the closed-form elastic contact time divided into this many
  * steps. Damping and gravity lengthen the pulse by tens of percent at most,
@@ -54,64 +55,78 @@ af_model_params af_model_params_paper(void)
   return p;
 }
 
-/* One accepted range: lo/hi with open or closed ends. */
+/* One checked field: its value and the row of the parameter table
+ * (settings.h) that holds its accepted range, so that the model, the node,
+ * the YAML files and the CLI accept exactly the same values. */
 typedef struct {
   const char *field;
   double value;
-  double lo, hi;
-  int lo_open, hi_open;
-  const char *range;
-} af_range;
+  af_setting_id row;
+} af_field_check;
 
-static int in_range(const af_range *r)
+/* The exact damping law is tabulated from e = 0.05 (impact.c's
+ * AF_EXACT_E_MIN): below that chi grows without bound. The table's
+ * restitution range, (0, 1], is that of the closed-form laws. */
+#define AF_MODEL_EXACT_E_MIN 0.05
+
+static void af_model_refuse(af_param_error *err, const char *field, double value, const char *range)
 {
-  double v = r->value;
-  if (!isfinite(v))
-    return 0;
-  if (r->lo_open ? !(v > r->lo) : !(v >= r->lo))
-    return 0;
-  return r->hi_open ? v < r->hi : v <= r->hi;
+  if (err) {
+    err->field = field;
+    err->value = value;
+    err->range = range;
+  }
 }
 
 af_status af_model_params_check(const af_model_params *p, af_param_error *err)
 {
   const af_impact_params *i = &p->impact;
-  /* The exact law is tabulated from e = 0.05: below that chi grows without bound. */
-  double e_lo = i->damping == AF_DAMPING_EXACT ? 0.05 : 0.0;
-  const af_range ranges[] = {
-      {"impact.hammer_mass_kg", i->hammer_mass_kg, 0, INFINITY, 1, 1, "(0, inf) kg"},
-      {"impact.velocity_m_s", i->velocity_m_s, 0, INFINITY, 1, 1, "(0, inf) m/s"},
-      {"impact.hammer_modulus_pa", i->hammer_modulus_pa, 0, INFINITY, 0, 1,
-       "[0, inf) Pa, 0 = rigid"},
-      {"impact.hammer_poisson", i->hammer_poisson, 0, 0.5, 0, 1, "[0, 0.5)"},
-      {"impact.hammer_radius_m", i->hammer_radius_m, 0, INFINITY, 0, 1, "[0, inf) m, 0 = flat"},
-      {"impact.fruit_modulus_pa", i->fruit_modulus_pa, 0, INFINITY, 1, 1, "(0, inf) Pa"},
-      {"impact.fruit_poisson", i->fruit_poisson, 0, 0.5, 0, 1, "[0, 0.5)"},
-      {"impact.strike_radius_m", i->strike_radius_m, 0, INFINITY, 1, 1, "(0, inf) m"},
-      {"impact.restitution", i->restitution, e_lo, 1, e_lo == 0.0, 0,
-       e_lo == 0.0 ? "(0, 1]" : "[0.05, 1] with the exact damping law"},
-      {"impact.gravity_m_s2", i->gravity_m_s2, 0, INFINITY, 0, 1, "[0, inf) m/s2"},
-      {"impact.damping", (double)i->damping, AF_DAMPING_PAPER, AF_DAMPING_HU_GUO, 0, 0,
-       "paper, exact or hu-guo"},
-      {"fruit_mass_kg", p->fruit_mass_kg, 0, INFINITY, 1, 1, "(0, inf) kg"},
-      {"fruit_density_kg_m3", p->fruit_density_kg_m3, 0, INFINITY, 1, 1, "(0, inf) kg/m3"},
-      {"modulus_factor", p->modulus_factor, 0, INFINITY, 1, 1, "(0, inf)"},
-      {"lobe", (double)p->lobe, 1, AF_MODEL_MAX_LOBES, 0, 0, "1 .. 8"},
-      {"band_level", (double)p->band_level, AF_BAND_POWER_HALF, AF_BAND_AMPLITUDE_HALF, 0, 0,
-       "power-half or amplitude-half"},
-      {"shear_ratio", (double)p->shear_ratio, AF_SHEAR_PAPER, AF_SHEAR_EXACT, 0, 0,
-       "paper or exact"},
-      {"yield_ratio", p->yield_ratio, 0, INFINITY, 1, 1, "(0, inf)"},
+  const af_field_check fields[] = {
+      {"impact.hammer_mass_kg", i->hammer_mass_kg, AF_SETTING_HAMMER_MASS_KG},
+      {"impact.velocity_m_s", i->velocity_m_s, AF_SETTING_STRIKE_VELOCITY_M_S},
+      {"impact.hammer_modulus_pa", i->hammer_modulus_pa, AF_SETTING_HAMMER_MODULUS_PA},
+      {"impact.hammer_poisson", i->hammer_poisson, AF_SETTING_HAMMER_POISSON},
+      {"impact.hammer_radius_m", i->hammer_radius_m, AF_SETTING_HAMMER_TIP_RADIUS_M},
+      {"impact.fruit_modulus_pa", i->fruit_modulus_pa, AF_SETTING_MODULUS_NOMINAL_PA},
+      {"impact.fruit_poisson", i->fruit_poisson, AF_SETTING_FRUIT_POISSON},
+      {"impact.strike_radius_m", i->strike_radius_m, AF_SETTING_STRIKE_RADIUS_MIN_M},
+      {"impact.restitution", i->restitution, AF_SETTING_RESTITUTION},
+      {"impact.gravity_m_s2", i->gravity_m_s2, AF_SETTING_GRAVITY_M_S2},
+      {"fruit_mass_kg", p->fruit_mass_kg, AF_SETTING_MASS_MIN_KG},
+      {"fruit_density_kg_m3", p->fruit_density_kg_m3, AF_SETTING_DENSITY_KG_M3},
+      {"modulus_factor", p->modulus_factor, AF_SETTING_MODULUS_FACTOR},
+      {"lobe", (double)p->lobe, AF_SETTING_LOBE},
+      {"yield_ratio", p->yield_ratio, AF_SETTING_YIELD_RATIO},
   };
-  for (size_t k = 0; k < sizeof ranges / sizeof ranges[0]; k++) {
-    if (!in_range(&ranges[k])) {
-      if (err) {
-        err->field = ranges[k].field;
-        err->value = ranges[k].value;
-        err->range = ranges[k].range;
-      }
+  for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+    const af_field_check *f = &fields[k];
+    af_setting_range r;
+    if (af_setting_range_of(f->row, &r) != AF_OK || !af_setting_range_contains(&r, f->value)) {
+      af_model_refuse(err, f->field, f->value, af_setting_def_of(f->row)->range);
       return AF_EINVAL;
     }
+    if (f->row == AF_SETTING_RESTITUTION && i->damping == AF_DAMPING_EXACT &&
+        !(f->value >= AF_MODEL_EXACT_E_MIN)) {
+      af_model_refuse(err, f->field, f->value, "[0.05, 1] with the exact damping law");
+      return AF_EINVAL;
+    }
+  }
+  /* The choices: the enums' own ranges, named with the table's words. */
+  if (!((double)i->damping >= AF_DAMPING_PAPER && (double)i->damping <= AF_DAMPING_HU_GUO)) {
+    af_model_refuse(err, "impact.damping", (double)i->damping,
+                    af_setting_def_of(AF_SETTING_DAMPING_LAW)->choices);
+    return AF_EINVAL;
+  }
+  if (!((double)p->band_level >= AF_BAND_POWER_HALF &&
+        (double)p->band_level <= AF_BAND_AMPLITUDE_HALF)) {
+    af_model_refuse(err, "band_level", (double)p->band_level,
+                    af_setting_def_of(AF_SETTING_BAND_LEVEL)->choices);
+    return AF_EINVAL;
+  }
+  if (!((double)p->shear_ratio >= AF_SHEAR_PAPER && (double)p->shear_ratio <= AF_SHEAR_EXACT)) {
+    af_model_refuse(err, "shear_ratio", (double)p->shear_ratio,
+                    af_setting_def_of(AF_SETTING_SHEAR_RATIO)->choices);
+    return AF_EINVAL;
   }
   return AF_OK;
 }

@@ -1,12 +1,15 @@
 /* params.h — every parameter of firmness_node, loaded from the private
  * namespace and validated at start-up.
  *
- * Defaults live in one place only: config/station.yaml and the cultivar's
- * YAML (config/jonagold.yaml), which the launch files load into ~. The code
- * requires each parameter present; only the hammer overrides
- * (~hammer_mass_kg, ~hammer_tip_radius_m) are optional, since the URDF is
- * their normal source. Any bad value stops the node with a message naming
- * the parameter, its value and the accepted range.
+ * Each private parameter is a row of the one parameter table
+ * (src/core/settings.h: name, kind, default, range, unit, file); its values
+ * ship in config/station.yaml and the cultivar's YAML (config/jonagold.yaml),
+ * which the launch files load into ~. The node requires every row present;
+ * only the hammer overrides (~hammer_mass_kg, ~hammer_tip_radius_m) are
+ * optional, since the URDF is their normal source. The lane's configuration
+ * is then made in the core by af_lane_config_derive, as `firmness_model
+ * analyze` makes it from the same files. Any bad value stops the node with
+ * one line naming the parameter, its value and the accepted range.
  */
 #ifndef AF_NODE_PARAMS_H
 #define AF_NODE_PARAMS_H
@@ -23,8 +26,8 @@
 extern "C" {
 #endif
 
-#define AF_PATH_MAX 512
-#define AF_NAME_MAX 64
+#define AF_PATH_MAX AF_SETTINGS_TEXT_MAX /* ~urdf_file, with its NUL */
+#define AF_NAME_MAX AF_LANE_NAME_MAX     /* ~hammer_link, with its NUL */
 #define AF_SOURCE_TEXT_MAX 160
 
 typedef struct {
@@ -46,7 +49,9 @@ typedef struct {
   double marker_arrow_length_m;
 } af_node_config;
 
-/* Loads and validates everything, loads the URDF. On failure returns
+/* Loads every table row from ~ (checked by the table), the URDF (hammer
+ * mass and tip radius unless overridden, then checked by the table too),
+ * and derives cfg->lane with af_lane_config_derive. On failure returns
  * AF_EINVAL (bad or missing parameter), AF_ENODATA / AF_EIO (URDF) or
  * AF_ENOMEM, with a one-line reason in err; cfg then holds nothing to free. */
 af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err_len);
