@@ -72,14 +72,20 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns)
 }
 
 /* Whether the apple of p can still change: not once an estimate stamped
- * after its contact start has come, nor apple_wait_s after p was queued (on
- * the lane's clock, not the stamps: a clock that disagrees with the stamps
- * must not hold a strike forever). */
+ * after its contact start has come, nor once apple_wait_s has passed after
+ * p, on the lane's clock since it was queued or in the force stream's own
+ * data since its contact start, whichever comes first: a clock that
+ * disagrees with the stamps, or stops (a replay's simulated time after the
+ * bag), must not hold a strike forever. */
 static bool apple_decided(const af_lane *l, const af_pending *p)
 {
   if (l->finished || (l->any_apple && l->newest_apple_ns > p->start_ns))
     return true;
-  return (double)(l->now_ns - p->queued_ns) * 1e-9 >= l->mc->apple_wait_s;
+  const double wait_s = l->mc->apple_wait_s;
+  const double data_after_s =
+      (double)(af_stream_time_ns(&l->force, (double)af_ring_end(l->force.ring)) - p->start_ns) *
+      1e-9;
+  return (double)(l->now_ns - p->queued_ns) * 1e-9 >= wait_s || data_after_s >= wait_s;
 }
 
 /* An estimate stamped before strikes already reported against another apple
@@ -262,7 +268,7 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   if (!a->prediction.valid) {
     v->flags |= AF_VERDICT_NO_PREDICTION;
     af_text(v->apple_why, sizeof v->apple_why, "%s", a->prediction.why);
-  } else if (a->strikes > 0) {
+  } else if (a->strikes > 0 && !l->mc->single_apple) {
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,
             "already struck %.3f s before; this strike's own estimate may be missing",
@@ -404,8 +410,14 @@ void af_lane_poll(af_lane *l, int64_t now_ns)
 
 void af_lane_finish(af_lane *l)
 {
+  (void)af_strike_flush(l->detector, on_strike, l);
   l->finished = true;
   process(l);
+}
+
+af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
+{
+  return af_strike_prime(l->detector, x, n);
 }
 
 /* --- life cycle and queries ------------------------------------------------------- */

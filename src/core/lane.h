@@ -22,8 +22,9 @@
  *          not come stream_stale_after_s + delay + window after the strike);
  *        - its apple: an AppleEstimate stamped after the contact start has
  *          arrived (estimates arrive in stamp order, so none stamped before
- *          the strike can still come), or apple_wait_s has passed on the
- *          lane's clock since the strike was detected. The strike then belongs to the
+ *          the strike can still come), or apple_wait_s has passed since the
+ *          strike, on the lane's clock or in the force stream's own data
+ *          (a replay's simulated clock stops with the bag). The strike then belongs to the
  *          newest estimate stamped at or before its contact start and at most
  *          apple_stale_after_s before it.
  *       A full queue measures its oldest strike at once, with what there is.
@@ -108,10 +109,16 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
 /* Measures what has become due on the clock (time-outs, stale audio). */
 void af_lane_poll(af_lane *l, int64_t now_ns);
 
-/* The recording has ended (desk tools): the trailing part of a strike still
- * in the detector is emitted, and every pending strike is measured now with
+/* The recording has ended (desk tools): a strike still in the detector is
+ * emitted (af_strike_flush), and every pending strike is measured now with
  * what there is (a window past the end of the audio: AF_AUDIO_STREAM_ENDED). */
 void af_lane_finish(af_lane *l);
+
+/* Offline only: the detector's baseline and noise from the whole force
+ * recording x[0..n) [N] (af_strike_prime), before it is written from its
+ * first sample, so that a strike a fraction of a millisecond after the start
+ * of a triggered capture is measured. Statuses of af_strike_prime. */
+af_status af_lane_prime_force(af_lane *l, const float *x, size_t n);
 
 const af_stream *af_lane_force_stream(const af_lane *l);
 const af_stream *af_lane_audio_stream(const af_lane *l);

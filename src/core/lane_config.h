@@ -42,6 +42,8 @@ typedef struct {
   size_t noise_window_samples;   /* round(measure_noise_window_s * audio rate); 0 = none */
   double apple_stale_after_s;    /* a strike matches an apple stamped at most this long before */
   double apple_wait_s;           /* a strike waits this long for its own apple's estimate [s] */
+  bool single_apple; /* desk tools: one apple stands for a whole recording, so a second strike
+                        on it is expected, not a doubtful match; false (0) in the node */
 } af_measured_config;
 
 typedef struct {

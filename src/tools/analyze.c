@@ -1,10 +1,15 @@
-/* analyze.c — `firmness_model analyze`: the station's measurement offline.
+/* analyze.c — `firmness_model analyze`: a recording judged as the node judges
+ * it live.
  *
  * Reads the force [N] and the audio (any unit) as raw little-endian float32
- * files, writes the force to the strike detector in 1024-sample chunks with
- * their running index (as the node receives SignalChunks), and for every
- * strike cuts the audio by sample index and calls af_measure_strike, as the
- * node does. Prints the StrikeReport figures as a JSON array on stdout. */
+ * files, configures the lane from the same YAML files the node loads
+ * (--config, --cultivar, defaulting to the shipped config/station.yaml and
+ * config/jonagold.yaml; --set name=value for any row of the parameter table),
+ * gives it one apple (--mass, --R2) stamped at the recording's start, and
+ * feeds both recordings to the core lane (src/core/lane.h) in 1024-sample
+ * chunks in time order, as the node receives SignalChunks. Prints one JSON
+ * object: the strikes with their StrikeReport figures and verdict flags, and
+ * why there are none when there are none. */
 #define _POSIX_C_SOURCE 200809L
 #include "analyze.h"
 
@@ -17,43 +22,38 @@
 #include <time.h>
 
 #include "cli_flags.h"
-#include "measure.h"
-#include "strike.h"
+#include "lane.h"
+#include "recording.h"
+#include "resonance.h"
+#include "settings.h"
 
-#define AF_ANALYZE_CHUNK 1024 /* samples per write, as the node's SignalChunks */
-/* The fit takes pulses up to this long at any force rate (its default 256
- * samples at 50 kHz) [s]. */
-#define AF_ANALYZE_FIT_SPAN_S 5.12e-3
+#define AF_ANALYZE_CHUNK 1024 /* samples per chunk, as the node's SignalChunks */
+#define AF_ERR_MAX 512
+
+#ifndef AF_CONFIG_DIR /* set by CMakeLists.txt: the package's config/ */
+#define AF_CONFIG_DIR "config"
+#endif
 
 typedef struct {
   const char *force_path, *audio_path;
+  const char *config_path, *cultivar_path;
   double rate_force_hz, rate_audio_hz;
-  double audio_offset_s; /* audio start time minus force start time */
-  double modulus_min_pa, modulus_max_pa;
+  double audio_offset_s; /* audio start time minus force start time [s] */
+  double mass_kg, r2_m, equatorial_radius_m;
   bool bench;
 } af_analyze_args;
 
 typedef struct {
-  float *x;
-  size_t n;
-} af_samples;
-
-typedef struct {
   double contact_start_s;
+  uint32_t apple_id;
   af_measure_report r;
 } af_analyze_row;
 
-/* The callback's context: the measurement, the apple, the audio and the rows. */
+/* The callback's context: the rows, stored in a buffer sized at start-up. */
 typedef struct {
-  af_measure *m;
-  af_measure_apple apple;
-  const af_analyze_args *args;
-  af_samples audio;
   af_analyze_row *rows;
-  size_t n_rows, cap_rows;
-  bool failed;          /* a row could not be stored or measured */
-  double measure_cpu_s; /* CPU spent in af_measure_strike (--bench) */
-  double worst_measure_s;
+  size_t n_rows, cap_rows, dropped;
+  double measure_cpu_s; /* CPU spent in the lane's callbacks (--bench) */
 } af_analyze_ctx;
 
 static double af_cpu_s(void)
@@ -61,6 +61,14 @@ static double af_cpu_s(void)
   struct timespec ts;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int af_usage(const char *fmt, const char *a, const char *b)
+{
+  fprintf(stderr, "firmness_model analyze: ");
+  fprintf(stderr, fmt, a, b);
+  fputc('\n', stderr);
+  return AF_CLI_EXIT_USAGE;
 }
 
 /* ---- arguments ------------------------------------------------------------- */
@@ -79,227 +87,215 @@ static bool af_parse_value(const char *flag, const char *text, bool positive, do
   return true;
 }
 
-/* One of analyze's own flags with its value; false after a message. */
+/* A flag that is a row of the parameter table under another name. */
+typedef struct {
+  const char *flag, *row;
+} af_alias;
+
+static const af_alias aliases[] = {
+    {"--hammer-mass", "hammer_mass_kg"}, {"--hammer-radius", "hammer_tip_radius_m"},
+    {"--modulus-min", "modulus_min_pa"}, {"--modulus-max", "modulus_max_pa"},
+    {"--E2", "modulus_nominal_pa"},      {"--e", "restitution"},
+    {"--v0", "strike_velocity_m_s"},     {"--snr-threshold", "measure_snr_threshold_db"},
+    {"--nu2", "fruit_poisson"},          {"--density", "density_kg_m3"},
+    {"--yield-ratio", "yield_ratio"},    {"--modulus-factor", "modulus_factor"},
+};
+
+/* "--flag value" as "row=value" into s; false after a message naming both. */
+static bool af_set_row(af_settings *s, const char *flag, const char *row, const char *value)
+{
+  char arg[AF_SETTINGS_TEXT_MAX + 64], err[AF_ERR_MAX];
+  snprintf(arg, sizeof arg, "%s=%s", row, value);
+  if (af_settings_set_arg(s, arg, err, sizeof err) == AF_OK)
+    return true;
+  fprintf(stderr, "firmness_model analyze: %s: %s\n", flag, err);
+  return false;
+}
+
+/* --profile paper: the paper-literal criterion settings (model.h). */
+static bool af_set_profile(af_settings *s, const char *name)
+{
+  static const char *const paper[][2] = {{"damping_law", "paper"},
+                                         {"lobe", "2"},
+                                         {"band_level", "power-half"},
+                                         {"shear_ratio", "paper"}};
+  if (strcmp(name, "default") == 0)
+    return true;
+  if (strcmp(name, "paper") != 0) {
+    fprintf(stderr, "firmness_model analyze: --profile '%s' is not one of: default, paper\n", name);
+    return false;
+  }
+  for (size_t k = 0; k < sizeof paper / sizeof paper[0]; k++)
+    if (!af_set_row(s, "--profile", paper[k][0], paper[k][1]))
+      return false;
+  return true;
+}
+
+static bool af_is_own_flag(const char *flag)
+{
+  static const char *const own[] = {
+      "--force",      "--audio",        "--config", "--cultivar", "--rate-force",
+      "--rate-audio", "--audio-offset", "--mass",   "--R2",       "--equatorial-radius"};
+  for (size_t k = 0; k < sizeof own / sizeof own[0]; k++)
+    if (strcmp(flag, own[k]) == 0)
+      return true;
+  return false;
+}
+
+/* One of analyze's own flags with its value; false after a message. (The
+ * settings flags are applied later, after the files: later = stronger.) */
 static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args *a)
 {
   if (strcmp(flag, "--force") == 0)
     a->force_path = value;
   else if (strcmp(flag, "--audio") == 0)
     a->audio_path = value;
+  else if (strcmp(flag, "--config") == 0)
+    a->config_path = value;
+  else if (strcmp(flag, "--cultivar") == 0)
+    a->cultivar_path = value;
   else if (strcmp(flag, "--rate-force") == 0)
     return af_parse_value(flag, value, true, &a->rate_force_hz);
   else if (strcmp(flag, "--rate-audio") == 0)
     return af_parse_value(flag, value, true, &a->rate_audio_hz);
   else if (strcmp(flag, "--audio-offset") == 0)
     return af_parse_value(flag, value, false, &a->audio_offset_s);
-  else if (strcmp(flag, "--modulus-min") == 0)
-    return af_parse_value(flag, value, true, &a->modulus_min_pa);
-  else if (strcmp(flag, "--modulus-max") == 0)
-    return af_parse_value(flag, value, true, &a->modulus_max_pa);
-  else {
-    fprintf(stderr, "firmness_model analyze: unknown argument '%s' (see --help)\n", flag);
+  else if (strcmp(flag, "--mass") == 0)
+    return af_parse_value(flag, value, true, &a->mass_kg);
+  else if (strcmp(flag, "--R2") == 0)
+    return af_parse_value(flag, value, true, &a->r2_m);
+  else if (strcmp(flag, "--equatorial-radius") == 0)
+    return af_parse_value(flag, value, true, &a->equatorial_radius_m);
+  else
     return false;
-  }
   return true;
 }
 
-/* Reads analyze's own flags from the arguments the model parser left. */
-static bool af_parse_analyze_args(char **argv, const int *rest, int n_rest, af_analyze_args *a)
+static bool af_is_settings_flag(const char *flag)
+{
+  if (strcmp(flag, "--set") == 0 || strcmp(flag, "--profile") == 0)
+    return true;
+  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
+    if (strcmp(flag, aliases[k].flag) == 0)
+      return true;
+  return false;
+}
+
+static bool af_apply_settings_flag(af_settings *s, const char *flag, const char *value)
+{
+  char err[AF_ERR_MAX];
+  if (strcmp(flag, "--set") == 0) {
+    if (af_settings_set_arg(s, value, err, sizeof err) == AF_OK)
+      return true;
+    fprintf(stderr, "firmness_model analyze: --set %s: %s\n", value, err);
+    return false;
+  }
+  if (strcmp(flag, "--profile") == 0)
+    return af_set_profile(s, value);
+  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
+    if (strcmp(flag, aliases[k].flag) == 0)
+      return af_set_row(s, flag, aliases[k].row, value);
+  return false;
+}
+
+/* First pass: files, rates, the apple; every flag must be known and have a
+ * value. */
+static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
   memset(a, 0, sizeof *a);
-  a->modulus_min_pa = 2e6; /* the shipped cultivar's (config/jonagold.yaml) */
-  a->modulus_max_pa = 12e6;
-  for (int k = 0; k < n_rest; k++) {
-    const char *flag = argv[rest[k]];
+  a->config_path = AF_CONFIG_DIR "/station.yaml";
+  a->cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
+  for (int k = first; k < argc; k++) {
+    const char *flag = argv[k];
     if (strcmp(flag, "--bench") == 0) {
       a->bench = true;
       continue;
     }
-    bool has_value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1;
-    if (!has_value && strncmp(flag, "--", 2) == 0) {
+    if (strncmp(flag, "--", 2) != 0) {
+      fprintf(stderr, "firmness_model analyze: unexpected argument '%s' (see --help)\n", flag);
+      return false;
+    }
+    if (k + 1 >= argc) {
       fprintf(stderr, "firmness_model analyze: %s needs a value\n", flag);
       return false;
     }
-    if (!af_analyze_flag(flag, has_value ? argv[rest[++k]] : "", a))
+    const char *value = argv[++k];
+    if (af_is_settings_flag(flag))
+      continue;
+    if (!af_is_own_flag(flag)) {
+      fprintf(stderr, "firmness_model analyze: unknown argument '%s' (see --help)\n", flag);
+      return false;
+    }
+    if (!af_analyze_flag(flag, value, a))
       return false;
   }
   const char *missing = !a->force_path      ? "--force FILE"
                         : !a->audio_path    ? "--audio FILE"
                         : !a->rate_force_hz ? "--rate-force HZ"
                         : !a->rate_audio_hz ? "--rate-audio HZ"
+                        : !a->mass_kg       ? "--mass KG (the apple's)"
+                        : !a->r2_m          ? "--R2 M (the apple's)"
                                             : NULL;
   if (missing != NULL) {
     fprintf(stderr, "firmness_model analyze: %s is required\n", missing);
     return false;
   }
-  if (!(a->modulus_max_pa > a->modulus_min_pa)) {
-    fprintf(stderr, "firmness_model analyze: --modulus-max %g must be above --modulus-min %g\n",
-            a->modulus_max_pa, a->modulus_min_pa);
-    return false;
-  }
-  return true;
-}
-
-/* --mass and --R2 are model flags, but the apple's own: no default applies. */
-static bool af_require_model_flags(int argc, char **argv, int first)
-{
-  static const char *const required[] = {"--mass", "--R2"};
-  for (size_t i = 0; i < sizeof required / sizeof required[0]; i++) {
-    bool found = false;
-    for (int k = first; k < argc && !found; k++)
-      found = strcmp(argv[k], required[i]) == 0;
-    if (!found) {
-      fprintf(stderr, "firmness_model analyze: %s is required (the apple's)\n", required[i]);
-      return false;
-    }
-  }
-  return true;
-}
-
-/* ---- files ----------------------------------------------------------------- */
-
-static bool af_host_is_little_endian(void)
-{
-  const uint32_t one = 1;
-  unsigned char b;
-  memcpy(&b, &one, 1);
-  return b == 1;
-}
-
-static void af_swap_bytes(float *x, size_t n)
-{
-  for (size_t k = 0; k < n; k++) {
-    unsigned char b[4], t;
-    memcpy(b, &x[k], 4);
-    t = b[0], b[0] = b[3], b[3] = t;
-    t = b[1], b[1] = b[2], b[2] = t;
-    memcpy(&x[k], b, 4);
-  }
-}
-
-/* The whole file as float32 samples; false after a message naming the flag
- * and the file. */
-static bool af_read_samples(const char *flag, const char *path, af_samples *out)
-{
-  FILE *f = fopen(path, "rb");
-  long size = -1;
-  if (f != NULL && fseek(f, 0, SEEK_END) == 0)
-    size = ftell(f);
-  if (f == NULL || size < 0 || fseek(f, 0, SEEK_SET) != 0) {
-    fprintf(stderr, "firmness_model analyze: cannot read %s %s: %s\n", flag, path, strerror(errno));
-    if (f != NULL)
-      fclose(f);
-    return false;
-  }
-  if (size % 4 != 0) {
-    fprintf(stderr,
-            "firmness_model analyze: %s %s: %ld bytes is not a whole number of float32 "
-            "samples\n",
-            flag, path, size);
-    fclose(f);
-    return false;
-  }
-  out->n = (size_t)size / 4;
-  out->x = malloc(out->n > 0 ? out->n * sizeof *out->x : 1);
-  bool ok = out->x != NULL && fread(out->x, 4, out->n, f) == out->n;
-  fclose(f);
-  if (!ok) {
-    fprintf(stderr, "firmness_model analyze: cannot read %s %s: short read\n", flag, path);
-    free(out->x);
-    out->x = NULL;
-    return false;
-  }
-  if (!af_host_is_little_endian())
-    af_swap_bytes(out->x, out->n);
   return true;
 }
 
 /* ---- configuration --------------------------------------------------------- */
 
-static size_t af_pow2_at_least(size_t n)
+/* The settings the node would run with: table defaults, the two files, the
+ * recording's rates, the hammer when no file gives it, then the flags. */
+static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
+                                af_settings *s)
 {
-  size_t p = 1;
-  while (p < n)
-    p *= 2;
-  return p;
-}
-
-/* The defaults, scaled to the files' rates: the audio window (and its FFT)
- * and the fit's longest pulse hold the same durations at any rate; the
- * response's noise band is moved below a low rate's Nyquist frequency. */
-static af_measure_config af_analyze_measure_config(const af_analyze_args *a)
-{
-  af_measure_config c = af_measure_config_default();
-  af_response_config *r = &c.response;
-  double nyquist_hz = 0.5 * a->rate_audio_hz;
-  size_t window = (size_t)ceil(fmax(c.audio_window_s, c.noise_window_s) * a->rate_audio_hz);
-  r->sample_rate_hz = a->rate_audio_hz;
-  if (window > r->window_samples) {
-    r->window_samples = window;
-    r->fft_size = af_pow2_at_least(2 * window);
+  char err[AF_ERR_MAX], rate[64];
+  af_settings_init(s);
+  if (af_settings_load_yaml(s, a->config_path, err, sizeof err) != AF_OK ||
+      af_settings_load_yaml(s, a->cultivar_path, err, sizeof err) != AF_OK) {
+    fprintf(stderr, "firmness_model analyze: %s\n", err);
+    return false;
   }
-  if (r->noise_band_lo_hz >= 0.9 * nyquist_hz) {
-    r->noise_band_lo_hz = 0.5 * nyquist_hz;
-    r->noise_band_hi_hz = 0.9 * nyquist_hz;
-  }
-  size_t fit_samples = (size_t)ceil(AF_ANALYZE_FIT_SPAN_S * a->rate_force_hz);
-  if (fit_samples > c.fit.max_samples)
-    c.fit.max_samples = fit_samples;
-  return c;
-}
-
-/* ---- per strike -------------------------------------------------------------- */
-
-/* Audio index of force time t_s: audio sample j is at audio_offset_s + j / rate. */
-static long af_audio_index(const af_analyze_ctx *c, double t_s)
-{
-  return lround((t_s - c->args->audio_offset_s) * c->args->rate_audio_hz);
-}
-
-/* The window [first, first + n) of the audio, clipped to the recording. */
-static const float *af_audio_cut(const af_analyze_ctx *c, long first, long n, size_t *n_out)
-{
-  long total = (long)c->audio.n;
-  long lo = first < 0 ? 0 : first, hi = first + n > total ? total : first + n;
-  *n_out = hi > lo ? (size_t)(hi - lo) : 0;
-  return *n_out > 0 ? c->audio.x + lo : NULL;
-}
-
-static bool af_store_row(af_analyze_ctx *c, double start_s, const af_measure_report *r)
-{
-  if (c->n_rows == c->cap_rows) {
-    size_t cap = c->cap_rows ? 2 * c->cap_rows : 16;
-    af_analyze_row *rows = realloc(c->rows, cap * sizeof *rows);
-    if (rows == NULL)
+  snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
+  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+    return false;
+  snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
+  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
+    return false;
+  /* The node reads the hammer from the rig's URDF; this tool cannot, and
+   * takes the shipped rig's hammer (config/rig.urdf: 10 g, flat face)
+   * unless a file or a flag gives it. */
+  if (!af_settings_present(s, AF_SETTING_HAMMER_MASS_KG) &&
+      !af_set_row(s, "--hammer-mass", "hammer_mass_kg", "0.010"))
+    return false;
+  if (!af_settings_present(s, AF_SETTING_HAMMER_TIP_RADIUS_M) &&
+      !af_set_row(s, "--hammer-radius", "hammer_tip_radius_m", "0.0"))
+    return false;
+  /* Every flag but --bench has a value (af_parse_args checked it). */
+  for (int k = first; k + 1 < argc; k++) {
+    if (strcmp(argv[k], "--bench") == 0)
+      continue;
+    const char *flag = argv[k], *value = argv[++k];
+    if (af_is_settings_flag(flag) && !af_apply_settings_flag(s, flag, value))
       return false;
-    c->rows = rows;
-    c->cap_rows = cap;
   }
-  c->rows[c->n_rows].contact_start_s = start_s;
-  c->rows[c->n_rows].r = *r;
-  c->n_rows++;
   return true;
 }
 
-static void af_on_strike(const af_strike_event *ev, void *user)
+/* ---- the lane's strikes --------------------------------------------------------- */
+
+static void af_on_strike(const af_lane_strike *s, void *user)
 {
   af_analyze_ctx *c = user;
-  const af_measure_config *mc = af_measure_get_config(c->m);
-  double start_s = ev->start_sample / c->args->rate_force_hz, rate = c->args->rate_audio_hz;
-  size_t n_audio, n_noise;
-  const float *audio = af_audio_cut(c, af_audio_index(c, start_s + mc->audio_delay_s),
-                                    lround(mc->audio_window_s * rate), &n_audio);
-  long noise_end = af_audio_index(c, start_s - mc->noise_guard_s);
-  long noise_n = lround(mc->noise_window_s * rate);
-  const float *noise = af_audio_cut(c, noise_end - noise_n, noise_n, &n_noise);
-  af_measure_report r;
-  double t0 = af_cpu_s();
-  af_status st = af_measure_strike(c->m, ev, &c->apple, audio, n_audio, noise, n_noise, &r);
-  double spent = af_cpu_s() - t0;
-  c->measure_cpu_s += spent;
-  c->worst_measure_s = fmax(c->worst_measure_s, spent);
-  if (st != AF_OK || !af_store_row(c, start_s, &r))
-    c->failed = true;
+  if (c->n_rows == c->cap_rows) {
+    c->dropped++;
+    return;
+  }
+  af_analyze_row *row = &c->rows[c->n_rows++];
+  row->contact_start_s = (double)s->start_ns * 1e-9;
+  row->apple_id = s->apple_id;
+  row->r = s->report;
 }
 
 /* ---- output ------------------------------------------------------------------ */
@@ -307,19 +303,19 @@ static void af_on_strike(const af_strike_event *ev, void *user)
 static void af_json_number(FILE *out, const char *key, double v)
 {
   if (isfinite(v))
-    fprintf(out, "    \"%s\": %.10g,\n", key, v);
+    fprintf(out, "      \"%s\": %.10g,\n", key, v);
   else
-    fprintf(out, "    \"%s\": null,\n", key);
+    fprintf(out, "      \"%s\": null,\n", key);
 }
 
 static void af_json_bool(FILE *out, const char *key, bool v)
 {
-  fprintf(out, "    \"%s\": %s,\n", key, v ? "true" : "false");
+  fprintf(out, "      \"%s\": %s,\n", key, v ? "true" : "false");
 }
 
-static void af_json_string(FILE *out, const char *key, const char *s)
+static void af_json_text(FILE *out, const char *s)
 {
-  fprintf(out, "    \"%s\": \"", key);
+  fputc('"', out);
   for (; *s; s++) {
     unsigned char ch = (unsigned char)*s;
     if (ch == '"' || ch == '\\')
@@ -329,13 +325,26 @@ static void af_json_string(FILE *out, const char *key, const char *s)
     else
       fputc(ch, out);
   }
-  fputs("\"\n", out);
+  fputc('"', out);
+}
+
+static void af_json_flags(FILE *out, uint32_t flags)
+{
+  fputs("      \"flags\": [", out);
+  bool first = true;
+  for (uint32_t bit = 1; bit != 0; bit <<= 1)
+    if (flags & bit) {
+      fprintf(out, "%s\"%s\"", first ? "" : ", ", af_verdict_flag_name((af_verdict_flag)bit));
+      first = false;
+    }
+  fputs("],\n", out);
 }
 
 static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
 {
   const af_measure_report *r = &row->r;
-  fputs("  {\n", out);
+  fputs("    {\n", out);
+  fprintf(out, "      \"apple_id\": %u,\n", row->apple_id);
   af_json_number(out, "contact_start_s", row->contact_start_s);
   af_json_number(out, "contact_time_s", r->contact_time_s);
   af_json_number(out, "peak_force_N", r->peak_force_n);
@@ -352,111 +361,166 @@ static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
   af_json_number(out, "fit_residual", r->fit_residual);
   af_json_bool(out, "double_hit", r->double_hit);
   af_json_bool(out, "clipped", r->clipped);
-  fprintf(out, "    \"lost_samples\": %lu,\n", (unsigned long)r->lost_samples);
+  fprintf(out, "      \"lost_samples\": %lu,\n", (unsigned long)r->lost_samples);
   af_json_bool(out, "excites_mode", r->excites_mode);
   af_json_bool(out, "no_damage", r->no_damage);
   af_json_bool(out, "reliable", r->reliable);
-  af_json_string(out, "reason", r->reason);
-  fprintf(out, "  }%s\n", last ? "" : ",");
+  af_json_flags(out, r->verdict.flags);
+  fputs("      \"reason\": ", out);
+  af_json_text(out, r->reason);
+  fprintf(out, "\n    }%s\n", last ? "" : ",");
 }
 
-static void af_json_rows(FILE *out, const af_analyze_ctx *c)
+static void af_json_print(FILE *out, const af_analyze_ctx *c, const char *no_strike)
 {
-  fputs(c->n_rows ? "[\n" : "[", out);
+  fputs("{\n  \"strikes\": [", out);
+  if (c->n_rows > 0)
+    fputc('\n', out);
   for (size_t k = 0; k < c->n_rows; k++)
     af_json_row(out, &c->rows[k], k + 1 == c->n_rows);
-  fputs("]\n", out);
-}
-
-static void af_print_bench(const af_analyze_ctx *c, double write_cpu_s, size_t n_force)
-{
-  double seconds = (double)n_force / c->args->rate_force_hz;
-  double detector_s = write_cpu_s - c->measure_cpu_s; /* the callbacks run inside the writes */
-  fprintf(stderr, "bench: %zu strikes, af_measure_strike %.1f us mean, %.1f us worst (CPU)\n",
-          c->n_rows, c->n_rows ? 1e6 * c->measure_cpu_s / (double)c->n_rows : NAN,
-          1e6 * c->worst_measure_s);
-  fprintf(stderr,
-          "bench: af_strike_write %.1f us CPU per second of force at %g Hz (%.3f %% of a "
-          "core)\n",
-          seconds > 0 ? 1e6 * detector_s / seconds : NAN, c->args->rate_force_hz,
-          seconds > 0 ? 100.0 * detector_s / seconds : NAN);
+  fputs(c->n_rows > 0 ? "  ],\n" : "],\n", out);
+  fputs("  \"no_strike_reason\": ", out);
+  if (no_strike)
+    af_json_text(out, no_strike);
+  else
+    fputs("null", out);
+  fputs("\n}\n", out);
 }
 
 /* ---- the run ----------------------------------------------------------------- */
 
-/* Streams the force through the detector; the strikes land in c->rows. */
-static int af_analyze_run(af_analyze_ctx *c, const af_samples *force)
+/* The apple of the whole recording, stamped at its start. */
+static af_apple af_analyze_apple(const af_analyze_args *a, const af_lane_config *cfg)
 {
-  af_strike_config sc = af_strike_config_default();
-  af_strike *d = NULL;
-  sc.sample_rate_hz = c->args->rate_force_hz;
-  af_status st = af_strike_create(&sc, &d);
-  if (st != AF_OK) {
-    fprintf(stderr, "firmness_model analyze: --rate-force %g: the strike detector refuses it: %s\n",
-            c->args->rate_force_hz, af_strerror(st));
-    return st == AF_EINVAL ? AF_CLI_EXIT_USAGE : 1;
-  }
-  double t0 = af_cpu_s();
-  for (size_t k = 0; k < force->n && st == AF_OK; k += AF_ANALYZE_CHUNK) {
-    size_t n = force->n - k < AF_ANALYZE_CHUNK ? force->n - k : AF_ANALYZE_CHUNK;
-    st = af_strike_write(d, k, force->x + k, n, af_on_strike, c);
-  }
-  double write_cpu_s = af_cpu_s() - t0;
-  af_strike_destroy(d);
-  if (st != AF_OK || c->failed) {
-    fprintf(stderr, "firmness_model analyze: measurement failed: %s\n",
-            st != AF_OK ? af_strerror(st) : "a strike could not be measured or stored");
-    return 1;
-  }
-  af_json_rows(stdout, c);
-  if (c->args->bench)
-    af_print_bench(c, write_cpu_s, force->n);
-  return 0;
+  af_apple ap;
+  memset(&ap, 0, sizeof ap);
+  ap.apple_id = 1;
+  ap.stamp_ns = (int64_t)llround(fmin(0.0, a->audio_offset_s) * 1e9);
+  ap.mass_kg = a->mass_kg;
+  /* Unknown: the sphere of this mass at the cultivar's density (aspect 1). */
+  ap.equatorial_radius_m =
+      a->equatorial_radius_m > 0.0
+          ? a->equatorial_radius_m
+          : af_resonance_sphere_radius_m(a->mass_kg, cfg->model.fruit_density_kg_m3);
+  ap.strike_radius_m = a->r2_m;
+  ap.confidence = 1.0;
+  snprintf(ap.direction_note, sizeof ap.direction_note, "strike direction not recorded");
+  return ap;
 }
 
-static int af_analyze_files(const af_analyze_args *a, const af_model_params *p)
+/* Both recordings into the lane in time order, chunk by chunk; the lane's
+ * clock is the end of the latest chunk. */
+static void af_feed(af_lane *lane, const af_analyze_args *a, const af_lane_config *cfg,
+                    const af_recording *force, const af_recording *audio)
 {
-  af_samples force = {0}, audio = {0};
-  af_analyze_ctx c = {.args = a};
-  c.apple.model = *p;
-  c.apple.modulus_min_pa = a->modulus_min_pa;
-  c.apple.modulus_max_pa = a->modulus_max_pa;
-  if (!af_read_samples("--force", a->force_path, &force) ||
-      !af_read_samples("--audio", a->audio_path, &audio)) {
-    free(force.x);
-    return AF_CLI_EXIT_USAGE;
+  size_t kf = 0, ka = 0;
+  const int64_t offset_ns = (int64_t)llround(a->audio_offset_s * 1e9);
+  while (kf < force->n || ka < audio->n) {
+    int64_t tf = (int64_t)llround((double)kf / a->rate_force_hz * 1e9);
+    int64_t ta = offset_ns + (int64_t)llround((double)ka / a->rate_audio_hz * 1e9);
+    bool take_force = ka >= audio->n || (kf < force->n && tf <= ta);
+    const af_recording *r = take_force ? force : audio;
+    size_t *k = take_force ? &kf : &ka;
+    double rate = take_force ? a->rate_force_hz : a->rate_audio_hz;
+    size_t n = r->n - *k < AF_ANALYZE_CHUNK ? r->n - *k : AF_ANALYZE_CHUNK;
+    const char *unit = take_force ? cfg->force.units[0] : cfg->audio.units[0];
+    af_chunk c = {take_force ? tf : ta, *k, rate, unit, NULL, r->x + *k, n};
+    int64_t now = c.stamp_ns + (int64_t)llround((double)n / rate * 1e9);
+    if (take_force)
+      af_lane_force(lane, &c, now, NULL);
+    else
+      af_lane_audio(lane, &c, now, NULL);
+    *k += n;
   }
-  c.audio = audio;
-  af_measure_config mc = af_analyze_measure_config(a);
-  af_status st = af_measure_create(&mc, &c.m);
-  if (st == AF_OK)
-    st = af_measure_prepare(c.m, &c.apple.model);
-  int code;
+  af_lane_finish(lane);
+}
+
+static void af_print_bench(const af_analyze_args *a, const af_analyze_ctx *c, double cpu_s,
+                           size_t n_force)
+{
+  double seconds = (double)n_force / a->rate_force_hz;
+  fprintf(stderr,
+          "bench: %zu strikes in %.3f s of recording: %.1f ms CPU, %.0f x real time on one "
+          "core\n",
+          c->n_rows, seconds, 1e3 * cpu_s, cpu_s > 0.0 ? seconds / cpu_s : INFINITY);
+}
+
+/* Runs the lane over the recordings; prints the JSON (and why no strike). */
+static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
+                          const af_recording *force, const af_recording *audio)
+{
+  af_analyze_ctx c = {0};
+  af_lane *lane = NULL;
+  const char *what = "";
+  /* At most one strike per post_s of force (the detector waits that long
+   * after each): the rows are sized once. */
+  c.cap_rows = force->n / (size_t)ceil(cfg->measured.strike.post_s * a->rate_force_hz) + 1;
+  c.rows = calloc(c.cap_rows, sizeof *c.rows);
+  af_status st = c.rows ? af_lane_create(cfg, af_on_strike, &c, &lane, &what) : AF_ENOMEM;
   if (st != AF_OK) {
-    fprintf(stderr, "firmness_model analyze: --rate-audio %g: the measurement refuses it: %s\n",
-            a->rate_audio_hz, af_strerror(st));
-    code = st == AF_EINVAL ? AF_CLI_EXIT_USAGE : 1;
-  } else {
-    code = af_analyze_run(&c, &force);
+    fprintf(stderr, "firmness_model analyze: could not create %s: %s\n", what, af_strerror(st));
+    free(c.rows);
+    return 1;
   }
-  af_measure_destroy(c.m);
+  af_apple apple = af_analyze_apple(a, cfg);
+  const af_prediction *pr = NULL;
+  int code = 0;
+  if (af_lane_apple(lane, &apple, apple.stamp_ns, &pr) != AF_OK) {
+    fprintf(stderr, "firmness_model analyze: --mass/--R2: %s\n", pr->why);
+    code = AF_CLI_EXIT_USAGE;
+  } else {
+    /* A triggered capture has its strike within a millisecond of its start:
+     * the baseline and noise come from the whole capture's quiet parts. */
+    (void)af_lane_prime_force(lane, force->x, force->n);
+    double t0 = af_cpu_s();
+    af_feed(lane, a, cfg, force, audio);
+    double cpu_s = af_cpu_s() - t0;
+    char why[AF_ERR_MAX] = "";
+    if (c.n_rows == 0) {
+      if (force->n == 0)
+        snprintf(why, sizeof why, "the force recording %s is empty", a->force_path);
+      else
+        (void)af_strike_explain(af_lane_detector(lane), why, sizeof why);
+      fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
+    }
+    af_json_print(stdout, &c, c.n_rows == 0 ? why : NULL);
+    if (c.dropped > 0) {
+      fprintf(stderr, "firmness_model analyze: %zu strikes beyond the %zu expected at most\n",
+              c.dropped, c.cap_rows);
+      code = 1;
+    }
+    if (a->bench)
+      af_print_bench(a, &c, cpu_s, force->n);
+  }
+  af_lane_destroy(lane);
   free(c.rows);
-  free(force.x);
-  free(audio.x);
   return code;
 }
 
 int af_analyze_main(int argc, char **argv, int first)
 {
-  af_model_params p;
   af_analyze_args a;
-  int *rest = malloc((size_t)argc * sizeof *rest);
-  int n_rest = 0;
-  bool ok = rest != NULL && af_cli_parse_model(argc, argv, first, &p, rest, &n_rest) &&
-            af_parse_analyze_args(argv, rest, n_rest, &a) &&
-            af_require_model_flags(argc, argv, first);
-  free(rest);
-  if (!ok)
+  af_settings s;
+  af_lane_config cfg;
+  char err[AF_ERR_MAX];
+  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_settings(argc, argv, first, &a, &s))
     return AF_CLI_EXIT_USAGE;
-  return af_analyze_files(&a, &p);
+  if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
+    return af_usage("%s%s", err, "");
+  af_recording force = {0}, audio = {0};
+  char rerr[AF_ERR_MAX];
+  if (af_recording_read(a.force_path, &force, rerr, sizeof rerr) != AF_OK)
+    return af_usage("--force %s", rerr, "");
+  if (af_recording_read(a.audio_path, &audio, rerr, sizeof rerr) != AF_OK) {
+    af_recording_free(&force);
+    return af_usage("--audio %s", rerr, "");
+  }
+  /* One apple for the whole recording: it must match every strike in it. */
+  double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);
+  cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
+  cfg.measured.single_apple = true;
+  int code = af_analyze_run(&a, &cfg, &force, &audio);
+  af_recording_free(&force);
+  af_recording_free(&audio);
+  return code;
 }

@@ -5,6 +5,9 @@
 # at 48 kHz: the 0S2 as a decaying sinusoid with a louder mode above the
 # searched range and white noise), written as raw little-endian float32; the
 # JSON checked against that truth; bad input exits 2 naming the flag or file.
+# Also: the two real impact-hammer captures of ../shared/data (a triggered
+# acquisition, 0.8 ms of pre-trigger), short pre-triggers on captures made
+# here at 25.6/44.1/48/50 kHz, and "no strike found" said, never silent.
 # Usage: test_analyze.sh /path/to/firmness_model
 source "$(dirname "$0")/harness.sh" "$@"
 
@@ -98,7 +101,8 @@ json_check() {
   if "$FM" analyze "$@" >"$tmp/json" 2>"$tmp/err" &&
     "$PY" -c "
 import json, sys
-d = json.load(open('$tmp/json'))
+J = json.load(open('$tmp/json'))
+d = J['strikes']
 t = json.load(open('$tmp/truth.json'))
 sys.exit(0 if ($expr) else 1)"; then
     ok
@@ -108,7 +112,7 @@ sys.exit(0 if ($expr) else 1)"; then
 }
 
 run=(--force "$tmp/force.f32" --audio "$tmp/audio.f32" "${base[@]}")
-keys="contact_start_s contact_time_s peak_force_N impulse_Ns band_low_Hz band_high_Hz resonance_Hz resonance_q snr_dB stiffness_factor modulus_from_resonance_Pa fitted_modulus_Pa fitted_restitution fit_residual double_hit clipped lost_samples excites_mode no_damage reliable reason"
+keys="apple_id contact_start_s contact_time_s peak_force_N impulse_Ns band_low_Hz band_high_Hz resonance_Hz resonance_q snr_dB stiffness_factor modulus_from_resonance_Pa fitted_modulus_Pa fitted_restitution fit_residual double_hit clipped lost_samples excites_mode no_damage reliable flags reason"
 pykeys=$(printf "'%s'," $keys)
 # one report per strike, each with exactly the keys, at the strike's time
 json_check "len(d) == 3 and all(set(r) == {$pykeys} for r in d)" "${run[@]}"
@@ -123,15 +127,17 @@ json_check "all(abs(r['peak_force_N'] - t['peak']) < 0.02 * t['peak'] for r in d
 json_check "all(abs(r['fitted_modulus_Pa'] - 8e6) < 0.03 * 8e6 and abs(r['fitted_restitution'] - 0.6) < 0.05 for r in d)" "${run[@]}"
 # clean strikes: no flags; 650 Hz inside the default strike's main lobe band; reliable
 json_check "all(r['double_hit'] is False and r['clipped'] is False and r['lost_samples'] == 0 for r in d)" "${run[@]}"
-json_check "all(r['reliable'] is True and r['reason'] == '' and r['snr_dB'] > 15 for r in d)" "${run[@]}"
+json_check "all(r['reliable'] is True and r['reason'] == '' and r['flags'] == [] and r['snr_dB'] > 15 for r in d)" "${run[@]}"
+json_check "all(r['apple_id'] == 1 for r in d) and J['no_strike_reason'] is None" "${run[@]}"
 # the audio recording started 50 ms late, said so: the same resonances
 json_check "len(d) == 3 and all(abs(r['resonance_Hz'] - t['f0']) < 0.005 * t['f0'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/audio_late.f32" --audio-offset 0.05 "${base[@]}"
 # the force alone (audio of nothing): measured, unreliable, resonance null, reason "no audio"
-json_check "len(d) == 3 and all(r['resonance_Hz'] is None and r['reliable'] is False and r['reason'] == 'no audio' for r in d)" \
+json_check "len(d) == 3 and all(r['resonance_Hz'] is None and r['reliable'] is False and r['reason'] == 'no audio' and r['flags'] == ['no_audio'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/empty.f32" "${base[@]}"
-# no force: no strikes
-json_check "d == []" --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
+# no force: no strikes, and the JSON and stderr say why
+json_check "d == [] and 'empty' in J['no_strike_reason']" --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
+if "$FM" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}" 2>&1 >/dev/null | grep -q "no strike found: .*empty"; then ok; else bad "no strike: nothing said on stderr"; fi
 # model flags land: the paper profile reads lobe 2 at power-half, which never holds the 0S2
 json_check "len(d) == 3 and all(r['excites_mode'] is False and 'lobe 2' in r['reason'] for r in d)" \
   "${run[@]}" --profile paper
@@ -162,6 +168,80 @@ expect_analyze_usage "$tmp/missing.f32" --force "$tmp/missing.f32" "${A[@]}" "${
 expect_analyze_usage "$tmp/missing.f32" "${F[@]}" --audio "$tmp/missing.f32" "${base[@]}"
 expect_analyze_usage "$tmp/odd.f32" --force "$tmp/odd.f32" "${A[@]}" "${base[@]}"
 expect_analyze_usage "$tmp/odd.f32" "${F[@]}" --audio "$tmp/odd.f32" "${base[@]}"
-expect_analyze_usage "--modulus-max" "${F[@]}" "${A[@]}" "${base[@]}" --modulus-min 12e6 --modulus-max 2e6
+expect_analyze_usage "modulus_max_pa" "${F[@]}" "${A[@]}" "${base[@]}" --modulus-min 12e6 --modulus-max 2e6
+# the one parameter table: --set, the YAML files, out-of-range values
+expect_analyze_usage "measure_snr_threshold_db = 500" "${F[@]}" "${A[@]}" "${base[@]}" --set measure_snr_threshold_db=500
+expect_analyze_usage "unknown parameter 'no_such_row'" "${F[@]}" "${A[@]}" "${base[@]}" --set no_such_row=1
+expect_analyze_usage "$tmp/missing.yaml" "${F[@]}" "${A[@]}" "${base[@]}" --config "$tmp/missing.yaml"
+printf 'lobe: 9\n' >"$tmp/bad.yaml"
+expect_analyze_usage "$tmp/bad.yaml:1: " "${F[@]}" "${A[@]}" "${base[@]}" --cultivar "$tmp/bad.yaml"
+expect_analyze_usage "strike_radius" "${F[@]}" "${A[@]}" "${base[@]}" --R2 0.9
+# --set lands: a 100 dB SNR threshold leaves no resonance
+json_check "len(d) == 3 and all('no_resonance' in r['flags'] for r in d)" "${run[@]}" --set measure_snr_threshold_db=100
+
+# --- real captures (../shared/data/README.md): one strike each, peak within 1 %
+# of the sample maximum minus the baseline (the capture's median), contact
+# time within one sample of the width at 2 % of the peak (linear crossings)
+data="$(cd "$(dirname "$0")/../.." && pwd)/../shared/data"
+for n in 4 5; do
+  cap=(--force "$data/hammer_capture_$n.force.f32" --audio "$data/hammer_capture_$n.response.f32"
+    --rate-force 25600 --rate-audio 25600 --mass 0.175 --R2 0.04)
+  [ -s "$data/hammer_capture_$n.force.f32" ] || { bad "missing $data/hammer_capture_$n.force.f32"; continue; }
+  "$PY" - "$data/hammer_capture_$n.force.f32" "$tmp/truth.json" <<'EOF2'
+import json, struct, sys
+raw = open(sys.argv[1], 'rb').read()
+x = list(struct.unpack('<%df' % (len(raw) // 4), raw))
+base = sorted(x)[len(x) // 2]
+y = [v - base for v in x]
+k = max(range(len(y)), key=lambda i: y[i])
+lev = 0.02 * y[k]
+i = k
+while y[i - 1] > lev:
+    i -= 1
+j = k
+while y[j + 1] > lev:
+    j += 1
+t0 = i - 1 + (lev - y[i - 1]) / (y[i] - y[i - 1])
+t1 = j + (y[j] - lev) / (y[j] - y[j + 1])
+json.dump({'peak': y[k], 'width': (t1 - t0) / 25600.0, 'start': t0 / 25600.0}, open(sys.argv[2], 'w'))
+EOF2
+  json_check "len(d) == 1" "${cap[@]}"
+  json_check "abs(d[0]['peak_force_N'] - t['peak']) < 0.01 * t['peak']" "${cap[@]}"
+  json_check "abs(d[0]['contact_time_s'] - t['width']) <= 1 / 25600.0" "${cap[@]}"
+  json_check "abs(d[0]['contact_start_s'] - t['start']) <= 1 / 25600.0" "${cap[@]}"
+done
+
+# --- short pre-triggers (0.5 to 5 ms) at four DAQ rates: a Hertz-like
+# sin^1.5 pulse (0.35 ms: 9 to 17.5 samples; 50 N) made here, 0.05 N of
+# noise (60 dB), offset 0.3 N, audio silent. Start, contact time within one
+# sample, peak within 1 %.
+for rate in 25600 44100 48000 50000; do
+  for pre in 0.0005 0.001 0.002 0.005; do
+    "$PY" - "$tmp" "$rate" "$pre" <<'EOF2'
+import json, math, random, struct, sys
+out, fs, pre = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+rnd = random.Random(int(fs + 1e6 * pre))
+tc, peak = 0.35e-3, 50.0
+x = []
+for k in range(int(0.1 * fs)):
+    u = k / fs - pre
+    x.append(0.3 + rnd.gauss(0, 0.05) + (peak * math.sin(math.pi * u / tc) ** 1.5 if 0 < u < tc else 0.0))
+open(out + '/pre.f32', 'wb').write(struct.pack('<%df' % len(x), *x))
+open(out + '/silence.f32', 'wb').write(struct.pack('<%df' % len(x), *([0.0] * len(x))))
+json.dump({'tc': tc, 'peak': peak, 'start': pre}, open(out + '/truth.json', 'w'))
+EOF2
+    pre_run=(--force "$tmp/pre.f32" --audio "$tmp/silence.f32" --rate-force "$rate" --rate-audio "$rate" --mass 0.175 --R2 0.04)
+    json_check "len(d) == 1 and abs(d[0]['contact_start_s'] - t['start']) <= 1 / $rate and abs(d[0]['contact_time_s'] - t['tc']) <= 1 / $rate and abs(d[0]['peak_force_N'] - t['peak']) < 0.01 * t['peak']" "${pre_run[@]}"
+  done
+done
+
+# --- noise only: no strike, and why (never above the threshold)
+"$PY" - "$tmp" <<'EOF2'
+import random, struct, sys
+rnd = random.Random(7)
+x = [0.3 + rnd.gauss(0, 0.05) for _ in range(25600)]
+open(sys.argv[1] + '/noise.f32', 'wb').write(struct.pack('<%df' % len(x), *x))
+EOF2
+json_check "d == [] and 'threshold' in J['no_strike_reason']" --force "$tmp/noise.f32" --audio "$tmp/noise.f32" --rate-force 25600 --rate-audio 25600 --mass 0.175 --R2 0.04
 
 summary test_analyze

@@ -10,6 +10,7 @@ with no apple in sight: apple_id 0, NaN for the model-dependent figures and
 the reason. And two refusals of bad strike parameters at start-up."""
 
 import csv
+import json
 import math
 import os
 import shutil
@@ -179,6 +180,44 @@ class StrikesTest(unittest.TestCase):
                     'strike force samples lost'):
             self.assertEqual(diag.get(key), '0', key)
 
+    def test_03b_offline_lane_judges_alike(self):
+        """The same bag through the core lane offline (test/node/lane_replay.c,
+        the code path of the desk tools, no ROS): for every strike the same
+        StrikeReport fields within 1e-9 relative, the same verdicts and the
+        same reason as the node published."""
+        cfg = os.path.join(rospkg.RosPack().get_path(sc.PKG), 'config')
+        out = subprocess.run([find('lane_replay'), self.bag, rospy.get_namespace().strip('/'),
+                              os.path.join(cfg, 'station.yaml'), os.path.join(cfg, 'jonagold.yaml')],
+                             check=True, capture_output=True, text=True).stdout
+        offline = {o['stamp_ns']: o for o in (json.loads(line) for line in out.splitlines())}
+        self.assertEqual(len(offline), STRIKES)
+        with self.lock:
+            reports = {r.header.stamp.to_nsec(): r for r in self.reports}
+            measured = {m.header.stamp.to_nsec(): m for m in self.measured}
+        fields = ('contact_time', 'peak_force', 'impulse', 'band_low', 'band_high', 'resonance',
+                  'resonance_q', 'snr_db', 'stiffness_factor', 'modulus_from_resonance',
+                  'fitted_modulus', 'fitted_restitution', 'fit_residual')
+        for stamp, o in sorted(offline.items()):
+            r, m = reports.get(stamp), measured.get(stamp)
+            self.assertIsNotNone(r, 'no node report at %d' % stamp)
+            self.assertIsNotNone(m, 'no node Reliability at %d' % stamp)
+            self.assertEqual(r.apple_id, o['apple_id'])
+            for f in fields:
+                a, b = getattr(r, f), o[f]
+                if b is None:
+                    self.assertTrue(math.isnan(a), '%s at %d: node %r, offline NaN' % (f, stamp, a))
+                else:
+                    self.assertLessEqual(abs(a - b), 1e-9 * max(abs(b), 1e-300),
+                                         '%s at %d: node %r, offline %r' % (f, stamp, a, b))
+            for f in ('double_hit', 'clipped', 'lost_samples'):
+                self.assertEqual(getattr(r, f), o[f], f)
+            for f in ('reliable', 'excites_mode', 'no_damage'):
+                self.assertEqual(getattr(m, f), o[f], '%s at %d' % (f, stamp))
+            self.assertEqual(m.reason, o['reason'])
+            for f in ('max_shear_stress', 'yield_shear_stress'):
+                a, b = getattr(m, f), o[f]
+                self.assertTrue((b is None and math.isnan(a)) or abs(a - b) <= 1e-9 * abs(b), f)
+
     def test_04_strike_without_apple(self):
         """A strike on a restarted stream, stamped far from any apple."""
         force = rospy.Publisher('force', SignalChunk, queue_size=100)
@@ -211,7 +250,10 @@ class StrikesTest(unittest.TestCase):
         # The audio first: the strike finds its window already in the ring.
         for c in chunks(fa, sc.param('audio_unit'), int(0.3 * fa), lambda t: 0.001 * math.sin(7000.0 * t)):
             audio.publish(c)
-        for c in chunks(fs, 'N', int(0.3 * fs), pulse):
+        # The force goes on past apple_wait_s after the strike: the strike
+        # waits that long (in the stream's own time: the simulated clock
+        # stopped with the bag) for an estimate of its own.
+        for c in chunks(fs, 'N', int((strike_s + float(sc.param('apple_wait_s')) + 0.1) * fs), pulse):
             force.publish(c)
         end = time.time() + 5.0
         while time.time() < end:
