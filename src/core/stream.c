@@ -76,8 +76,11 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
     s->chunks++;
     s->seen = true;
     s->last_rx_ns = now_ns;
-    s->map_stamp_ns = c->stamp_ns;
-    s->map_first_sample = c->first_sample;
+    if (w.restarted)
+      s->anchor_count = 0; /* the old indices mean nothing now */
+    s->anchors[s->anchor_next] = (af_stream_anchor){c->stamp_ns, c->first_sample};
+    s->anchor_next = (s->anchor_next + 1) % AF_STREAM_ANCHORS;
+    s->anchor_count += s->anchor_count < AF_STREAM_ANCHORS;
     snprintf(s->frame_id, sizeof s->frame_id, "%s", c->frame_id ? c->frame_id : "");
     if (w.gap_samples > 0) {
       s->gaps++;
@@ -107,14 +110,36 @@ bool af_stream_stale(const af_stream *s, int64_t now_ns, double stale_after_s)
   return s->seen && (double)(now_ns - s->last_rx_ns) * 1e-9 > stale_after_s;
 }
 
+/* Anchor k, 0 = the newest. */
+static const af_stream_anchor *anchor(const af_stream *s, size_t k)
+{
+  return &s->anchors[(s->anchor_next + AF_STREAM_ANCHORS - 1 - k) % AF_STREAM_ANCHORS];
+}
+
+/* The newest anchor at or before index (by_time false) or t_ns (true);
+ * the oldest kept when all are later. Linear from the newest: a strike asks
+ * for times a few chunks back. */
+static const af_stream_anchor *holding(const af_stream *s, double index, int64_t t_ns, bool by_time)
+{
+  size_t k = 0;
+  while (k + 1 < s->anchor_count) {
+    const af_stream_anchor *a = anchor(s, k);
+    if (by_time ? a->stamp_ns <= t_ns : (double)a->first_sample <= index)
+      break;
+    k++;
+  }
+  return anchor(s, k);
+}
+
 int64_t af_stream_time_ns(const af_stream *s, double index)
 {
-  double offset_s = (index - (double)s->map_first_sample) / s->cfg->sample_rate_hz;
-  return s->map_stamp_ns + (int64_t)llround(offset_s * 1e9);
+  const af_stream_anchor *a = holding(s, index, 0, false);
+  double offset_s = (index - (double)a->first_sample) / s->cfg->sample_rate_hz;
+  return a->stamp_ns + (int64_t)llround(offset_s * 1e9);
 }
 
 double af_stream_index_at(const af_stream *s, int64_t t_ns)
 {
-  return (double)s->map_first_sample +
-         (double)(t_ns - s->map_stamp_ns) * 1e-9 * s->cfg->sample_rate_hz;
+  const af_stream_anchor *a = holding(s, 0.0, t_ns, true);
+  return (double)a->first_sample + (double)(t_ns - a->stamp_ns) * 1e-9 * s->cfg->sample_rate_hz;
 }

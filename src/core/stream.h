@@ -2,12 +2,16 @@
  * (rate, unit, finite data), buffered in its ring (ring.h) and counted.
  *
  * Time <-> sample index: the stream keeps the stamp and first_sample of its
- * latest accepted chunk (the stamp is the time of the chunk's first sample),
- * so sample i is at stamp + (i - first_sample) / rate and time t at index
- * first_sample + (t - stamp) rate. The latest chunk, not the first: a restart
- * or a gap re-anchors the mapping, and a clock that drifts against the sample
- * counter is followed chunk by chunk. Times are integer nanoseconds (a double
- * of seconds since 1970 keeps only ~0.2 us).
+ * recent accepted chunks (the stamp is the time of the chunk's first
+ * sample), and maps through the chunk that holds the sample or the time:
+ * sample i is at stamp + (i - first_sample) / rate and time t at index
+ * first_sample + (t - stamp) rate. The holding chunk, not the first: a gap
+ * re-anchors the mapping and a clock that drifts against the sample counter
+ * is followed chunk by chunk; not the latest either: the answer must not
+ * depend on how far the stream has got when it is asked (the node and a desk
+ * tool ask at different moments, and the stamps of consecutive chunks carry
+ * their own rounding). A restart forgets the anchors. Times are integer
+ * nanoseconds (a double of seconds since 1970 keeps only ~0.2 us).
  *
  * No ROS: the node converts SignalChunk messages, the desk tools recordings,
  * into af_chunk. No allocation after af_stream_init. */
@@ -27,6 +31,15 @@ extern "C" {
 
 #define AF_STREAM_TEXT_MAX 256
 #define AF_STREAM_FRAME_MAX 64
+/* Chunk anchors kept for the mapping: 512 chunks of 1024 samples are 10 s
+ * at 50 kHz, longer than a strike ever waits; older times map through the
+ * oldest anchor kept. */
+#define AF_STREAM_ANCHORS 512
+
+typedef struct {
+  int64_t stamp_ns;      /* time of the chunk's first sample [ns] */
+  uint64_t first_sample; /* its running index */
+} af_stream_anchor;
 
 /* One chunk of samples, borrowed for the call. */
 typedef struct {
@@ -58,9 +71,10 @@ typedef struct {
   bool seen;                             /* a chunk was accepted */
   int64_t last_rx_ns;                    /* lane time of the last accepted chunk [ns] */
   char last_problem[AF_STREAM_TEXT_MAX];
-  /* The latest accepted chunk: the time <-> index mapping and its frame. */
-  int64_t map_stamp_ns;
-  uint64_t map_first_sample;
+  /* The recent accepted chunks (a ring, newest at anchor_next - 1) and the
+   * latest one's frame. */
+  af_stream_anchor anchors[AF_STREAM_ANCHORS];
+  size_t anchor_next, anchor_count;
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_stream;
 
@@ -74,10 +88,12 @@ void af_stream_fini(af_stream *s); /* safe on a zeroed or finished stream */
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                                 af_ring_write_info *info);
 
-/* Time [ns] of the (fractional) sample index, by the latest chunk's mapping
- * (meaningful once s->seen). */
+/* Time [ns] of the (fractional) sample index, through the newest chunk
+ * starting at or before it (the oldest kept for earlier indices); meaningful
+ * once s->seen. */
 int64_t af_stream_time_ns(const af_stream *s, double index);
-/* The (fractional) sample index at time t_ns, by the same mapping. */
+/* The (fractional) sample index at time t_ns, through the newest chunk
+ * stamped at or before it (the oldest kept for earlier times). */
 double af_stream_index_at(const af_stream *s, int64_t t_ns);
 
 /* Refused chunks so far, all kinds. */

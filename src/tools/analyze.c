@@ -53,7 +53,6 @@ typedef struct {
 typedef struct {
   af_analyze_row *rows;
   size_t n_rows, cap_rows, dropped;
-  double measure_cpu_s; /* CPU spent in the lane's callbacks (--bench) */
 } af_analyze_ctx;
 
 static double af_cpu_s(void)
@@ -183,8 +182,8 @@ static bool af_is_settings_flag(const char *flag)
 
 static bool af_apply_settings_flag(af_settings *s, const char *flag, const char *value)
 {
-  char err[AF_ERR_MAX];
   if (strcmp(flag, "--set") == 0) {
+    char err[AF_ERR_MAX];
     if (af_settings_set_arg(s, value, err, sizeof err) == AF_OK)
       return true;
     fprintf(stderr, "firmness_model analyze: --set %s: %s\n", value, err);
@@ -418,7 +417,8 @@ static void af_feed(af_lane *lane, const af_analyze_args *a, const af_lane_confi
   while (kf < force->n || ka < audio->n) {
     int64_t tf = (int64_t)llround((double)kf / a->rate_force_hz * 1e9);
     int64_t ta = offset_ns + (int64_t)llround((double)ka / a->rate_audio_hz * 1e9);
-    bool take_force = ka >= audio->n || (kf < force->n && tf <= ta);
+    const bool force_left = kf < force->n, audio_left = ka < audio->n;
+    const bool take_force = force_left && (!audio_left || tf <= ta);
     const af_recording *r = take_force ? force : audio;
     size_t *k = take_force ? &kf : &ka;
     double rate = take_force ? a->rate_force_hz : a->rate_audio_hz;

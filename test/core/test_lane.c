@@ -148,7 +148,8 @@ static void feed(af_lane *l, const session *s, size_t n_force, size_t n_audio, b
   const size_t end_f = (size_t)(until_s * FS_FORCE), end_a = (size_t)(until_s * FS_AUDIO);
   while (kf < end_f || ka < end_a) {
     double tf = (double)kf / FS_FORCE, ta = (double)ka / FS_AUDIO;
-    bool take_force = ka >= end_a || (kf < end_f && (audio_first ? tf < ta : tf <= ta));
+    const bool force_left = kf < end_f, audio_left = ka < end_a;
+    const bool take_force = force_left && (!audio_left || (audio_first ? tf < ta : tf <= ta));
     double t = take_force ? tf : ta;
     for (size_t j = 0; j < n_apples; j++)
       if (!apples[j].done && apples[j].at_s <= t) {
