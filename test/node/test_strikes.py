@@ -180,43 +180,58 @@ class StrikesTest(unittest.TestCase):
                     'strike force samples lost'):
             self.assertEqual(diag.get(key), '0', key)
 
-    def test_03b_offline_lane_judges_alike(self):
-        """The same bag through the core lane offline (test/node/lane_replay.c,
-        the code path of the desk tools, no ROS): for every strike the same
-        StrikeReport fields within 1e-9 relative, the same verdicts and the
-        same reason as the node published."""
+    def test_03b_offline_report_judges_alike(self):
+        """The same bag through firmness_report --json (the core lane
+        offline, no ROS master: the lab's desk tool): for every strike the
+        same StrikeReport fields within 1e-9 relative, the same verdicts and
+        the same reason as the node published, and the same apple."""
         cfg = os.path.join(rospkg.RosPack().get_path(sc.PKG), 'config')
-        out = subprocess.run([find('lane_replay'), self.bag, rospy.get_namespace().strip('/'),
-                              os.path.join(cfg, 'station.yaml'), os.path.join(cfg, 'jonagold.yaml')],
+        out = subprocess.run([find('firmness_report'), self.bag, '--json',
+                              '--ns', rospy.get_namespace().strip('/'),
+                              '--config', os.path.join(cfg, 'station.yaml'),
+                              '--cultivar', os.path.join(cfg, 'jonagold.yaml')],
                              check=True, capture_output=True, text=True).stdout
-        offline = {o['stamp_ns']: o for o in (json.loads(line) for line in out.splitlines())}
+        report = json.loads(out)
+        offline = {o['stamp_ns']: o for o in report['strikes']}
         self.assertEqual(len(offline), STRIKES)
+        self.assertEqual(report['summary']['strikes'], STRIKES)
         with self.lock:
             reports = {r.header.stamp.to_nsec(): r for r in self.reports}
             measured = {m.header.stamp.to_nsec(): m for m in self.measured}
-        fields = ('contact_time', 'peak_force', 'impulse', 'band_low', 'band_high', 'resonance',
-                  'resonance_q', 'snr_db', 'stiffness_factor', 'modulus_from_resonance',
-                  'fitted_modulus', 'fitted_restitution', 'fit_residual')
+        # StrikeReport field -> the report's key (with its unit).
+        fields = (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_N'),
+                  ('impulse', 'impulse_Ns'), ('band_low', 'band_low_Hz'),
+                  ('band_high', 'band_high_Hz'), ('resonance', 'resonance_Hz'),
+                  ('resonance_q', 'resonance_q'), ('snr_db', 'snr_dB'),
+                  ('stiffness_factor', 'stiffness_factor'),
+                  ('modulus_from_resonance', 'modulus_from_resonance_Pa'),
+                  ('fitted_modulus', 'fitted_modulus_Pa'),
+                  ('fitted_restitution', 'fitted_restitution'), ('fit_residual', 'fit_residual'))
+        worst = 0.0
         for stamp, o in sorted(offline.items()):
             r, m = reports.get(stamp), measured.get(stamp)
             self.assertIsNotNone(r, 'no node report at %d' % stamp)
             self.assertIsNotNone(m, 'no node Reliability at %d' % stamp)
             self.assertEqual(r.apple_id, o['apple_id'])
-            for f in fields:
-                a, b = getattr(r, f), o[f]
+            for f, key in fields:
+                a, b = getattr(r, f), o[key]
                 if b is None:
                     self.assertTrue(math.isnan(a), '%s at %d: node %r, offline NaN' % (f, stamp, a))
                 else:
                     self.assertLessEqual(abs(a - b), 1e-9 * max(abs(b), 1e-300),
                                          '%s at %d: node %r, offline %r' % (f, stamp, a, b))
+                    worst = max(worst, abs(a - b) / max(abs(b), 1e-300))
             for f in ('double_hit', 'clipped', 'lost_samples'):
                 self.assertEqual(getattr(r, f), o[f], f)
             for f in ('reliable', 'excites_mode', 'no_damage'):
                 self.assertEqual(getattr(m, f), o[f], '%s at %d' % (f, stamp))
             self.assertEqual(m.reason, o['reason'])
-            for f in ('max_shear_stress', 'yield_shear_stress'):
-                a, b = getattr(m, f), o[f]
+            for f, key in (('max_shear_stress', 'max_shear_stress_Pa'),
+                           ('yield_shear_stress', 'yield_shear_stress_Pa')):
+                a, b = getattr(m, f), o[key]
                 self.assertTrue((b is None and math.isnan(a)) or abs(a - b) <= 1e-9 * abs(b), f)
+        print('firmness_report vs node: %d strikes, same verdicts and reasons, worst relative '
+              'difference %.3g' % (len(offline), worst))
 
     def test_04_strike_without_apple(self):
         """A strike on a restarted stream, stamped far from any apple."""

@@ -1,0 +1,249 @@
+/* firmness_report — the lab's report of a recorded session.
+ *
+ *   firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME] [--set NAME=VALUE]
+ *                   [--csv FILE] [--plots DIR] [--json] [--bench]
+ *
+ * Reads BAG through the shim's rosbag reader (no ROS master), runs the
+ * recorded force, audio and apple topics of lane NS through the core lane
+ * exactly as the node does under replay (session.h), and prints one line per
+ * strike with its apple's prediction and the measurement, then the summary
+ * (summary.h); --json prints the same as one JSON document, --csv writes one
+ * row per strike, --plots draws the figures (report_plots.h), --bench tells
+ * the recorded time processed per wall-clock second. Configured from the
+ * node's YAML files (default: the package's config/station.yaml and
+ * config/jonagold.yaml) through the one parameter table; the hammer is the
+ * shipped rig's (10 g, flat face) unless a file or --set gives it.
+ *
+ * Exit 0; 2 with one line on stderr for bad input (a flag, a file, the bag
+ * or its topics); 1 when the report cannot be made. */
+#define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "output.h"
+#include "report_plots.h"
+#include "session.h"
+#include "settings.h"
+#include "summary.h"
+
+#ifndef AF_CONFIG_DIR /* set by CMakeLists.txt: the package's config/ */
+#define AF_CONFIG_DIR "config"
+#endif
+
+#define AF_EXIT_USAGE 2
+#define AF_ERR_MAX 512
+#define AF_SETS_MAX 64
+
+typedef struct {
+  const char *bag, *config, *cultivar, *ns, *csv, *plots;
+  const char *sets[AF_SETS_MAX];
+  int n_sets;
+  bool json, bench;
+} af_report_args;
+
+static void af_usage(FILE *out)
+{
+  fprintf(out,
+          "usage: firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME]\n"
+          "                       [--set NAME=VALUE]... [--csv FILE] [--plots DIR] [--json] "
+          "[--bench]\n\n"
+          "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
+          "through the station's lane, as the node judges it live, and reports every strike\n"
+          "and a summary. No ROS master needed.\n\n"
+          "  --config FILE    station parameters (default %s/station.yaml)\n"
+          "  --cultivar FILE  cultivar parameters (default %s/jonagold.yaml)\n"
+          "  --ns NAME        lane namespace of the topics (default lane1)\n"
+          "  --set NAME=VALUE any parameter of the two files, after them\n"
+          "  --csv FILE       one row per strike\n"
+          "  --plots DIR      per-strike and session figures (PNG), made if missing\n"
+          "  --json           the report as JSON on stdout instead of text\n"
+          "  --bench          recorded time processed per wall-clock second, on stderr\n\n"
+          "exit status: 0 done, 1 failure, 2 bad input\n",
+          AF_CONFIG_DIR, AF_CONFIG_DIR);
+}
+
+static int af_bad(const char *fmt, const char *a, const char *b)
+{
+  fprintf(stderr, "firmness_report: ");
+  fprintf(stderr, fmt, a, b);
+  fputc('\n', stderr);
+  return AF_EXIT_USAGE;
+}
+
+/* A lane namespace: a ROS graph name of letters, digits and _ (segments
+ * separated by /), starting with a letter; surrounding slashes are dropped. */
+static bool af_ns_valid(const char *ns, char *out, size_t len)
+{
+  while (*ns == '/')
+    ns++;
+  size_t n = strlen(ns);
+  while (n > 0 && ns[n - 1] == '/')
+    n--;
+  if (n == 0 || n >= len || !isalpha((unsigned char)ns[0]))
+    return false;
+  for (size_t k = 0; k < n; k++) {
+    unsigned char c = (unsigned char)ns[k];
+    if (!(isalnum(c) || c == '_' || (c == '/' && ns[k + 1] != '/')))
+      return false;
+    out[k] = (char)c;
+  }
+  out[n] = '\0';
+  return true;
+}
+
+static int af_parse(int argc, char **argv, af_report_args *a)
+{
+  memset(a, 0, sizeof *a);
+  a->config = AF_CONFIG_DIR "/station.yaml";
+  a->cultivar = AF_CONFIG_DIR "/jonagold.yaml";
+  a->ns = "lane1";
+  for (int k = 1; k < argc; k++) {
+    const char *f = argv[k];
+    if (strcmp(f, "--json") == 0) {
+      a->json = true;
+      continue;
+    }
+    if (strcmp(f, "--bench") == 0) {
+      a->bench = true;
+      continue;
+    }
+    if (strncmp(f, "--", 2) != 0) {
+      if (a->bag)
+        return af_bad("one bag only: '%s' after '%s'", f, a->bag);
+      a->bag = f;
+      continue;
+    }
+    const char **slot = strcmp(f, "--config") == 0     ? &a->config
+                        : strcmp(f, "--cultivar") == 0 ? &a->cultivar
+                        : strcmp(f, "--ns") == 0       ? &a->ns
+                        : strcmp(f, "--csv") == 0      ? &a->csv
+                        : strcmp(f, "--plots") == 0    ? &a->plots
+                        : strcmp(f, "--set") == 0      ? &a->sets[0]
+                                                       : NULL;
+    if (!slot)
+      return af_bad("unknown argument '%s' (see --help)%s", f, "");
+    if (k + 1 >= argc || argv[k + 1][0] == '\0')
+      return af_bad("%s needs a value%s", f, "");
+    const char *v = argv[++k];
+    if (slot == &a->sets[0]) {
+      if (a->n_sets == AF_SETS_MAX)
+        return af_bad("--set %s: more than 64 --set flags%s", v, "");
+      a->sets[a->n_sets++] = v;
+    } else
+      *slot = v;
+  }
+  if (!a->bag)
+    return af_bad("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
+  return 0;
+}
+
+/* The node's settings: the table's defaults, the two files, the shipped
+ * rig's hammer unless given, then --set. */
+static int af_configure(const af_report_args *a, af_lane_config *cfg)
+{
+  char err[AF_ERR_MAX];
+  af_settings s;
+  af_settings_init(&s);
+  if (af_settings_load_yaml(&s, a->config, err, sizeof err) != AF_OK)
+    return af_bad("--config %s%s", err, "");
+  if (af_settings_load_yaml(&s, a->cultivar, err, sizeof err) != AF_OK)
+    return af_bad("--cultivar %s%s", err, "");
+  /* The node reads the hammer from the rig's URDF (config/rig.urdf: 10 g,
+   * flat face); a bag does not hold it. */
+  if (!af_settings_present(&s, AF_SETTING_HAMMER_MASS_KG))
+    (void)af_settings_set_arg(&s, "hammer_mass_kg=0.010", err, sizeof err);
+  if (!af_settings_present(&s, AF_SETTING_HAMMER_TIP_RADIUS_M))
+    (void)af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err);
+  for (int k = 0; k < a->n_sets; k++)
+    if (af_settings_set_arg(&s, a->sets[k], err, sizeof err) != AF_OK)
+      return af_bad("--set %s: %s", a->sets[k], err);
+  if (af_lane_config_derive(&s, cfg, err, sizeof err) != AF_OK)
+    return af_bad("%s%s", err, "");
+  return 0;
+}
+
+static void af_print_bench(const af_session *s)
+{
+  fprintf(stderr,
+          "bench: %.1f s of recording (%zu strikes, %llu messages) in %.3f s wall, %.3f s CPU: "
+          "%.0f x real time (CPU: %.0f x)\n",
+          s->recorded_s, s->n_strikes, (unsigned long long)s->messages, s->wall_s, s->cpu_s,
+          s->wall_s > 0.0 ? s->recorded_s / s->wall_s : 0.0,
+          s->cpu_s > 0.0 ? s->recorded_s / s->cpu_s : 0.0);
+}
+
+static int af_report(const af_report_args *a, const char *ns, const af_lane_config *cfg, FILE *csv)
+{
+  char err[AF_ERR_MAX];
+  af_report_plots *plots = NULL;
+  if (a->plots && af_report_plots_create(a->plots, cfg, &plots, err, sizeof err) != AF_OK)
+    return af_bad("--plots %s: %s", a->plots, err);
+  af_session_options o = {
+      a->bag, ns, cfg, plots ? af_report_plots_strike : NULL, plots, isatty(STDERR_FILENO) != 0};
+  af_session s;
+  int code = af_session_run(&o, &s, err, sizeof err);
+  if (code != AF_SESSION_OK) {
+    fprintf(stderr, "firmness_report: %s\n", err);
+    af_session_free(&s);
+    af_report_plots_destroy(plots);
+    return code;
+  }
+  af_summary m;
+  if (af_summary_compute(&s, &m) != AF_OK) {
+    fprintf(stderr, "firmness_report: out of memory for the summary\n");
+    code = 1;
+  } else {
+    if (a->json)
+      af_output_json(stdout, a->bag, ns, &s, &m);
+    else
+      af_output_text(stdout, &s, &m);
+    if (csv)
+      af_output_csv(csv, &s);
+    if (plots && af_report_plots_session(plots, &s, &m, err, sizeof err) != AF_OK) {
+      fprintf(stderr, "firmness_report: --plots %s: %s\n", a->plots, err);
+      code = 1;
+    }
+    if (a->bench)
+      af_print_bench(&s);
+  }
+  af_session_free(&s);
+  af_report_plots_destroy(plots);
+  return code;
+}
+
+int main(int argc, char **argv)
+{
+  if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+    af_usage(stdout);
+    return 0;
+  }
+  af_report_args a;
+  int code = af_parse(argc, argv, &a);
+  if (code)
+    return code;
+  char ns[AF_SESSION_NS_MAX];
+  if (!af_ns_valid(a.ns, ns, sizeof ns))
+    return af_bad("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
+                  "starting with a letter)%s",
+                  a.ns, "");
+  FILE *probe = fopen(a.bag, "rb");
+  if (!probe)
+    return af_bad("%s cannot be opened: %s", a.bag, strerror(errno));
+  fclose(probe);
+  static af_lane_config cfg; /* large: not on the stack */
+  if ((code = af_configure(&a, &cfg)) != 0)
+    return code;
+  FILE *csv = NULL;
+  if (a.csv && !(csv = fopen(a.csv, "w")))
+    return af_bad("--csv %s: cannot write: %s", a.csv, strerror(errno));
+  code = af_report(&a, ns, &cfg, csv);
+  if (csv && fclose(csv) != 0 && code == 0) {
+    fprintf(stderr, "firmness_report: --csv %s: write failed\n", a.csv);
+    code = 1;
+  }
+  return code;
+}

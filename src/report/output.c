@@ -1,0 +1,348 @@
+/* output.c — text, JSON and CSV of a session (see output.h). */
+#include "output.h"
+
+#include <inttypes.h>
+#include <math.h>
+#include <string.h>
+
+/* ---- text ----------------------------------------------------------------------- */
+
+/* A number in a fixed width, "-" when not finite. */
+static void af_cell(FILE *out, const char *fmt, int width, double v)
+{
+  if (isfinite(v))
+    fprintf(out, fmt, width, v);
+  else
+    fprintf(out, "%*s", width, "-");
+}
+
+static void af_text_strike(FILE *out, const af_session_strike *r)
+{
+  const af_measure_report *q = &r->report;
+  fprintf(out, "%5" PRIu32 " %17.6f ", r->apple_id, (double)r->start_ns * 1e-9);
+  af_cell(out, "%*.1f", 6, r->mass_kg * 1e3);
+  if (r->predicted)
+    fprintf(out, " %5.0f-%-5.0f %-8s", r->predicted_band_low_hz, r->predicted_band_high_hz,
+            r->predicted_reliable ? "reliable" : "NOT");
+  else
+    fprintf(out, " %11s %-8s", "-", r->has_apple ? "refused" : "no apple");
+  fputs(" |", out);
+  af_cell(out, "%*.1f", 7, q->resonance_hz);
+  af_cell(out, "%*.1f", 6, q->resonance_q);
+  af_cell(out, "%*.1f", 6, q->snr_db);
+  af_cell(out, "%*.4g", 10, q->stiffness_factor);
+  af_cell(out, "%*.2f", 7, q->modulus_from_resonance_pa * 1e-6);
+  af_cell(out, "%*.2f", 7, q->fitted_modulus_pa * 1e-6);
+  af_cell(out, "%*.3f", 6, q->fitted_restitution);
+  af_cell(out, "%*.3f", 7, q->contact_time_s * 1e3);
+  af_cell(out, "%*.2f", 7, q->peak_force_n);
+  fprintf(out, " | %s%s%s\n", q->reliable ? "reliable" : "NOT reliable", q->reliable ? "" : ": ",
+          q->reason);
+}
+
+static void af_text_quantiles(FILE *out, const char *name, const af_quantiles *q, double scale,
+                              const char *fmt)
+{
+  fprintf(out, "  %-34s %5zu ", name, q->n);
+  for (int k = 0; k < AF_SUMMARY_QUANTILES; k++)
+    af_cell(out, fmt, 9, q->q[k] * scale);
+  fputc('\n', out);
+}
+
+static void af_text_stream(FILE *out, const char *name, const af_session_stream *s)
+{
+  fprintf(out,
+          "  %-5s %8" PRIu64 " chunks, %" PRIu64 " gaps (%" PRIu64 " samples lost), %" PRIu64
+          " restarts, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64 ", NaN/inf %" PRIu64
+          ")\n",
+          name, s->chunks, s->gaps, s->lost_samples, s->restarts,
+          s->bad_rate + s->bad_unit + s->bad_data, s->bad_rate, s->bad_unit, s->bad_data);
+}
+
+static double af_share(size_t part, size_t whole)
+{
+  return whole ? 100.0 * (double)part / (double)whole : 0.0;
+}
+
+void af_output_text(FILE *out, const af_session *s, const af_summary *m)
+{
+  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %s\n", "apple",
+          "contact start [s]", "m [g]", "pred. band", "pred.", "0S2", "Q", "SNR", "S", "E(0S2)",
+          "E2 fit", "e", "t_c", "F_max", "measured verdict");
+  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s |\n", "", "", "",
+          "[Hz]", "verdict", "[Hz]", "", "[dB]", "[Hz2kg^2/3]", "[MPa]", "[MPa]", "", "[ms]",
+          "[N]");
+  for (size_t k = 0; k < s->n_strikes; k++)
+    af_text_strike(out, &s->strikes[k]);
+  if (m->apples_without_strike > 0) {
+    fprintf(out, "apples without a strike (%zu):", m->apples_without_strike);
+    for (size_t k = 0; k < s->n_apples; k++)
+      if (s->apples[k].strikes == 0)
+        fprintf(out, " %" PRIu32, s->apples[k].apple_id);
+    fputc('\n', out);
+  }
+  fprintf(out, "\nsummary\n");
+  fprintf(out,
+          "  strikes %zu: %zu on an apple, %zu without apple, %zu without audio, %zu doubtful "
+          "matches\n",
+          m->strikes, m->with_apple, m->without_apple, m->without_audio, m->doubtful);
+  fprintf(out, "  apples %zu: %zu refused, %zu without a strike, %zu predicted reliable\n",
+          m->apples, m->apples_refused, m->apples_without_strike, m->apples_predicted_reliable);
+  fprintf(out, "  reliable (measured): %zu of %zu strikes (%.1f %%)\n", m->reliable, m->strikes,
+          af_share(m->reliable, m->strikes));
+  if (m->reliable < m->strikes)
+    fprintf(out, "  not reliable, by reason (a strike may have several):\n");
+  for (unsigned b = 0; b < AF_SUMMARY_FLAGS; b++)
+    if (m->by_flag[b])
+      fprintf(out, "    %-18s %6zu (%.1f %% of strikes)\n",
+              af_verdict_flag_name((af_verdict_flag)(1u << b)), m->by_flag[b],
+              af_share(m->by_flag[b], m->strikes));
+  for (unsigned c = 0; c < AF_SUMMARY_AUDIO_CAUSES; c++)
+    if (m->by_audio_cause[c])
+      fprintf(out, "    no audio: %-30s %zu\n", af_audio_cause_name((af_audio_cause)c),
+              m->by_audio_cause[c]);
+  fprintf(out, "  firmness, quantiles over the strikes %5s ", "n");
+  for (int k = 0; k < AF_SUMMARY_QUANTILES; k++)
+    fprintf(out, "%8.0f%%", af_summary_levels[k] * 100.0);
+  fputc('\n', out);
+  af_text_quantiles(out, "0S2 [Hz]", &m->resonance_hz, 1.0, "%*.1f");
+  af_text_quantiles(out, "modulus from the 0S2 [MPa]", &m->modulus_from_resonance_pa, 1e-6,
+                    "%*.3f");
+  af_text_quantiles(out, "fitted E2 [MPa]", &m->fitted_modulus_pa, 1e-6, "%*.3f");
+  af_text_quantiles(out, "stiffness factor [Hz^2 kg^(2/3)]", &m->stiffness_factor, 1.0, "%*.0f");
+  af_text_quantiles(out, "E(0S2) / fitted E2 [-]", &m->modulus_ratio, 1.0, "%*.4f");
+  if (m->modulus_ratio.n > 0)
+    fprintf(out,
+            "  modulus agreement: E(0S2) / fitted E2 median %.4f, spread %.2f %% (1.4826 MAD), "
+            "p10-p90 %.4f-%.4f over %zu strikes;\n"
+            "    modulus_factor should be %.4f (run with %.4f)\n",
+            m->modulus_ratio.q[3], 100.0 * m->modulus_ratio_spread, m->modulus_ratio.q[1],
+            m->modulus_ratio.q[5], m->modulus_ratio.n, m->modulus_factor_suggested,
+            m->modulus_factor_now);
+  else
+    fprintf(out, "  modulus agreement: no strike has both moduli\n");
+  fprintf(out, "  streams (recorded %.1f s of force):\n", s->recorded_s);
+  af_text_stream(out, "force", &s->force);
+  af_text_stream(out, "audio", &s->audio);
+  fprintf(out,
+          "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
+          " estimates after their strike, %" PRIu64 " strike pulses cut\n",
+          s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+}
+
+/* ---- JSON ----------------------------------------------------------------------- */
+
+static void af_json_str(FILE *out, const char *s)
+{
+  fputc('"', out);
+  for (; *s; s++) {
+    unsigned char ch = (unsigned char)*s;
+    if (ch == '"' || ch == '\\')
+      fprintf(out, "\\%c", ch);
+    else if (ch < 0x20)
+      fprintf(out, "\\u%04x", ch);
+    else
+      fputc(ch, out);
+  }
+  fputc('"', out);
+}
+
+static void af_json_num(FILE *out, const char *key, double v)
+{
+  if (isfinite(v))
+    fprintf(out, "\"%s\": %.17g, ", key, v);
+  else
+    fprintf(out, "\"%s\": null, ", key);
+}
+
+static void af_json_bool(FILE *out, const char *key, bool v)
+{
+  fprintf(out, "\"%s\": %s, ", key, v ? "true" : "false");
+}
+
+static void af_json_flags(FILE *out, uint32_t flags)
+{
+  fputs("\"flags\": [", out);
+  bool first = true;
+  for (uint32_t bit = 1; bit != 0; bit <<= 1)
+    if (flags & bit) {
+      fprintf(out, "%s\"%s\"", first ? "" : ", ", af_verdict_flag_name((af_verdict_flag)bit));
+      first = false;
+    }
+  fputs("], ", out);
+}
+
+static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
+{
+  const af_measure_report *q = &r->report;
+  fprintf(out, "    {\"stamp_ns\": %" PRId64 ", \"apple_id\": %" PRIu32 ", ", r->start_ns,
+          r->apple_id);
+  if (r->has_apple)
+    fprintf(out, "\"apple_stamp_ns\": %" PRId64 ", ", r->apple_stamp_ns);
+  else
+    fputs("\"apple_stamp_ns\": null, ", out);
+  af_json_num(out, "mass_kg", r->mass_kg);
+  fputs("\"predicted\": ", out);
+  if (r->predicted) {
+    fputc('{', out);
+    af_json_num(out, "band_low_Hz", r->predicted_band_low_hz);
+    af_json_num(out, "band_high_Hz", r->predicted_band_high_hz);
+    af_json_num(out, "resonance_Hz", r->predicted_resonance_hz);
+    fprintf(out, "\"reliable\": %s, \"reason\": ", r->predicted_reliable ? "true" : "false");
+    af_json_str(out, r->predicted_reason);
+    fputs("}, ", out);
+  } else
+    fputs("null, ", out);
+  af_json_num(out, "contact_time_s", q->contact_time_s);
+  af_json_num(out, "peak_force_N", q->peak_force_n);
+  af_json_num(out, "impulse_Ns", q->impulse_n_s);
+  af_json_num(out, "band_low_Hz", q->band_low_hz);
+  af_json_num(out, "band_high_Hz", q->band_high_hz);
+  af_json_num(out, "resonance_Hz", q->resonance_hz);
+  af_json_num(out, "resonance_q", q->resonance_q);
+  af_json_num(out, "snr_dB", q->snr_db);
+  af_json_num(out, "stiffness_factor", q->stiffness_factor);
+  af_json_num(out, "modulus_from_resonance_Pa", q->modulus_from_resonance_pa);
+  af_json_num(out, "fitted_modulus_Pa", q->fitted_modulus_pa);
+  af_json_num(out, "fitted_restitution", q->fitted_restitution);
+  af_json_num(out, "fit_residual", q->fit_residual);
+  af_json_num(out, "max_shear_stress_Pa", q->max_shear_stress_pa);
+  af_json_num(out, "yield_shear_stress_Pa", q->yield_shear_stress_pa);
+  af_json_bool(out, "double_hit", q->double_hit);
+  af_json_bool(out, "clipped", q->clipped);
+  fprintf(out, "\"lost_samples\": %" PRIu32 ", ", q->lost_samples);
+  af_json_bool(out, "with_audio", r->with_audio);
+  af_json_bool(out, "excites_mode", q->excites_mode);
+  af_json_bool(out, "no_damage", q->no_damage);
+  af_json_bool(out, "reliable", q->reliable);
+  af_json_flags(out, q->verdict.flags);
+  fputs("\"reason\": ", out);
+  af_json_str(out, q->reason);
+  fprintf(out, "}%s\n", last ? "" : ",");
+}
+
+static void af_json_quantiles(FILE *out, const char *key, const af_quantiles *q, bool last)
+{
+  fprintf(out, "    \"%s\": {\"n\": %zu, \"q\": [", key, q->n);
+  for (int k = 0; k < AF_SUMMARY_QUANTILES; k++) {
+    if (isfinite(q->q[k]))
+      fprintf(out, "%.10g", q->q[k]);
+    else
+      fputs("null", out);
+    fputs(k + 1 < AF_SUMMARY_QUANTILES ? ", " : "", out);
+  }
+  fprintf(out, "]}%s\n", last ? "" : ",");
+}
+
+static void af_json_stream(FILE *out, const char *key, const af_session_stream *s)
+{
+  fprintf(out,
+          "    \"%s\": {\"chunks\": %" PRIu64 ", \"gaps\": %" PRIu64 ", \"lost_samples\": %" PRIu64
+          ", \"restarts\": %" PRIu64 ", \"bad_rate\": %" PRIu64 ", \"bad_unit\": %" PRIu64
+          ", \"bad_data\": %" PRIu64 "},\n",
+          key, s->chunks, s->gaps, s->lost_samples, s->restarts, s->bad_rate, s->bad_unit,
+          s->bad_data);
+}
+
+void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,
+                    const af_summary *m)
+{
+  fputs("{\n  \"bag\": ", out);
+  af_json_str(out, bag);
+  fputs(",\n  \"ns\": ", out);
+  af_json_str(out, ns);
+  fputs(",\n  \"strikes\": [\n", out);
+  for (size_t k = 0; k < s->n_strikes; k++)
+    af_json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);
+  fputs("  ],\n  \"apples_without_strike\": [", out);
+  bool first = true;
+  for (size_t k = 0; k < s->n_apples; k++)
+    if (s->apples[k].strikes == 0) {
+      fprintf(out, "%s%" PRIu32, first ? "" : ", ", s->apples[k].apple_id);
+      first = false;
+    }
+  fputs("],\n  \"summary\": {\n", out);
+  fprintf(out,
+          "    \"strikes\": %zu, \"reliable\": %zu, \"with_apple\": %zu, \"without_apple\": %zu, "
+          "\"without_audio\": %zu, \"doubtful\": %zu,\n",
+          m->strikes, m->reliable, m->with_apple, m->without_apple, m->without_audio, m->doubtful);
+  fprintf(out,
+          "    \"apples\": %zu, \"apples_refused\": %zu, \"apples_without_strike\": %zu, "
+          "\"apples_predicted_reliable\": %zu,\n",
+          m->apples, m->apples_refused, m->apples_without_strike, m->apples_predicted_reliable);
+  fputs("    \"unreliable_by_reason\": {", out);
+  first = true;
+  for (unsigned b = 0; b < AF_SUMMARY_FLAGS; b++)
+    if (m->by_flag[b]) {
+      fprintf(out, "%s\"%s\": %zu", first ? "" : ", ",
+              af_verdict_flag_name((af_verdict_flag)(1u << b)), m->by_flag[b]);
+      first = false;
+    }
+  fputs("},\n    \"quantile_levels\": [0, 0.1, 0.25, 0.5, 0.75, 0.9, 1],\n", out);
+  af_json_quantiles(out, "resonance_Hz", &m->resonance_hz, false);
+  af_json_quantiles(out, "modulus_from_resonance_Pa", &m->modulus_from_resonance_pa, false);
+  af_json_quantiles(out, "fitted_modulus_Pa", &m->fitted_modulus_pa, false);
+  af_json_quantiles(out, "stiffness_factor", &m->stiffness_factor, false);
+  af_json_quantiles(out, "modulus_ratio", &m->modulus_ratio, false);
+  fputs("    ", out);
+  af_json_num(out, "modulus_ratio_spread", m->modulus_ratio_spread);
+  af_json_num(out, "modulus_factor_now", m->modulus_factor_now);
+  af_json_num(out, "modulus_factor_suggested", m->modulus_factor_suggested);
+  fputc('\n', out);
+  af_json_stream(out, "force", &s->force);
+  af_json_stream(out, "audio", &s->audio);
+  fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }\n}\n", s->recorded_s,
+          s->messages);
+}
+
+/* ---- CSV ------------------------------------------------------------------------ */
+
+static void af_csv_num(FILE *out, double v, bool last)
+{
+  if (isfinite(v))
+    fprintf(out, "%.17g", v);
+  fputc(last ? '\n' : ',', out);
+}
+
+void af_output_csv(FILE *out, const af_session *s)
+{
+  fputs("apple_id,contact_start_s,apple_stamp_s,mass_kg,predicted_band_low_hz,"
+        "predicted_band_high_hz,predicted_resonance_hz,predicted_reliable,contact_time_s,"
+        "peak_force_n,impulse_n_s,band_low_hz,band_high_hz,resonance_hz,resonance_q,snr_db,"
+        "stiffness_factor,modulus_from_resonance_pa,fitted_modulus_pa,fitted_restitution,"
+        "fit_residual,max_shear_stress_pa,yield_shear_stress_pa,double_hit,clipped,"
+        "lost_samples,with_audio,excites_mode,no_damage,reliable,flags,reason\n",
+        out);
+  for (size_t k = 0; k < s->n_strikes; k++) {
+    const af_session_strike *r = &s->strikes[k];
+    const af_measure_report *q = &r->report;
+    fprintf(out, "%" PRIu32 ",%.9f,", r->apple_id, (double)r->start_ns * 1e-9);
+    if (r->has_apple)
+      fprintf(out, "%.9f", (double)r->apple_stamp_ns * 1e-9);
+    fputc(',', out);
+    af_csv_num(out, r->mass_kg, false);
+    af_csv_num(out, r->predicted_band_low_hz, false);
+    af_csv_num(out, r->predicted_band_high_hz, false);
+    af_csv_num(out, r->predicted_resonance_hz, false);
+    fprintf(out, "%s,", r->predicted ? (r->predicted_reliable ? "1" : "0") : "");
+    const double v[] = {q->contact_time_s,       q->peak_force_n,
+                        q->impulse_n_s,          q->band_low_hz,
+                        q->band_high_hz,         q->resonance_hz,
+                        q->resonance_q,          q->snr_db,
+                        q->stiffness_factor,     q->modulus_from_resonance_pa,
+                        q->fitted_modulus_pa,    q->fitted_restitution,
+                        q->fit_residual,         q->max_shear_stress_pa,
+                        q->yield_shear_stress_pa};
+    for (size_t j = 0; j < sizeof v / sizeof v[0]; j++)
+      af_csv_num(out, v[j], false);
+    fprintf(out, "%d,%d,%" PRIu32 ",%d,%d,%d,%d,%" PRIu32 ",\"", q->double_hit, q->clipped,
+            q->lost_samples, r->with_audio, q->excites_mode, q->no_damage, q->reliable,
+            q->verdict.flags);
+    for (const char *c = q->reason; *c; c++) {
+      if (*c == '"')
+        fputc('"', out);
+      fputc(*c, out);
+    }
+    fputs("\"\n", out);
+  }
+}

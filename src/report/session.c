@@ -1,0 +1,319 @@
+/* session.c — a bag through the core lane (see session.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "session.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "af_bag.h"
+#include "text.h"
+
+#define AF_NS_PER_S 1000000000LL
+
+enum { AF_TOPIC_FORCE = 0, AF_TOPIC_AUDIO, AF_TOPIC_APPLE, AF_TOPICS };
+
+typedef struct {
+  const af_session_options *o;
+  af_session *s;
+  af_lane *lane;
+  bool out_of_memory;
+} af_session_ctx;
+
+static double af_clock_s(clockid_t id)
+{
+  struct timespec ts;
+  clock_gettime(id, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int64_t af_ns_of(af_time t)
+{
+  return (int64_t)t.sec * AF_NS_PER_S + (int64_t)t.nsec;
+}
+
+/* Room for one more of n elements of size bytes at *p (capacity *cap). */
+static bool af_grow(void **p, size_t *cap, size_t n, size_t size)
+{
+  if (n < *cap)
+    return true;
+  size_t want = *cap ? 2 * *cap : 64;
+  void *q = realloc(*p, want * size);
+  if (!q)
+    return false;
+  *p = q;
+  *cap = want;
+  return true;
+}
+
+static af_session_apple *af_find_apple(af_session *s, uint32_t id)
+{
+  for (size_t k = s->n_apples; k-- > 0;) /* the newest estimate of that id */
+    if (s->apples[k].apple_id == id)
+      return &s->apples[k];
+  return NULL;
+}
+
+/* The lane's callback: one row per measured strike. */
+static void af_on_strike(const af_lane_strike *ls, void *user)
+{
+  af_session_ctx *c = user;
+  af_session *s = c->s;
+  if (!af_grow((void **)&s->strikes, &s->cap_strikes, s->n_strikes, sizeof *s->strikes)) {
+    c->out_of_memory = true;
+    return;
+  }
+  af_session_strike *r = &s->strikes[s->n_strikes++];
+  memset(r, 0, sizeof *r);
+  r->start_ns = ls->start_ns;
+  r->apple_id = ls->apple_id;
+  r->has_apple = ls->apple != NULL;
+  r->mass_kg = NAN;
+  r->predicted_band_low_hz = r->predicted_band_high_hz = r->predicted_resonance_hz = NAN;
+  r->modulus_factor = c->o->cfg->model.modulus_factor;
+  if (ls->apple) {
+    r->apple_stamp_ns = ls->apple->stamp_ns;
+    r->mass_kg = ls->apple->mass_kg;
+  }
+  const af_prediction *pr = ls->prediction;
+  if (pr && pr->valid) {
+    r->predicted = true;
+    r->predicted_band_low_hz = pr->result.band.band_low_hz;
+    r->predicted_band_high_hz = pr->result.band.band_high_hz;
+    r->predicted_resonance_hz = pr->result.resonance_hz;
+    r->predicted_reliable = pr->reliable;
+    r->modulus_factor = pr->params.modulus_factor;
+    af_text(r->predicted_reason, sizeof r->predicted_reason, "%s", pr->reason);
+  }
+  r->with_audio = ls->with_audio;
+  r->report = ls->report;
+  af_session_apple *a = ls->apple_id ? af_find_apple(s, ls->apple_id) : NULL;
+  if (a)
+    a->strikes++;
+  if (c->o->on_strike)
+    c->o->on_strike(ls, c->lane, c->o->user);
+}
+
+static bool af_add_apple(af_session_ctx *c, const af_apple *a, const af_prediction *pr)
+{
+  af_session *s = c->s;
+  if (!af_grow((void **)&s->apples, &s->cap_apples, s->n_apples, sizeof *s->apples))
+    return false;
+  af_session_apple *r = &s->apples[s->n_apples++];
+  memset(r, 0, sizeof *r);
+  r->apple_id = a->apple_id;
+  r->stamp_ns = a->stamp_ns;
+  r->mass_kg = a->mass_kg;
+  r->valid = pr && pr->valid;
+  r->band_low_hz = r->valid ? pr->result.band.band_low_hz : NAN;
+  r->band_high_hz = r->valid ? pr->result.band.band_high_hz : NAN;
+  r->resonance_hz = r->valid ? pr->result.resonance_hz : NAN;
+  r->reliable = r->valid && pr->reliable;
+  if (pr)
+    af_text(r->reason, sizeof r->reason, "%s", r->valid ? pr->reason : pr->why);
+  return true;
+}
+
+/* The lane's view of an estimate: the node's conversion (station.c), the
+ * strike direction unknown. */
+static af_apple af_apple_of(const af_apple_estimate *e)
+{
+  af_apple a;
+  memset(&a, 0, sizeof a);
+  a.apple_id = e->apple_id;
+  a.stamp_ns = af_ns_of(e->header.stamp);
+  a.mass_kg = e->mass_kg;
+  a.equatorial_radius_m = e->equatorial_radius_m;
+  a.strike_radius_m = e->strike_radius_m;
+  a.stem_axis[0] = e->stem_axis.x;
+  a.stem_axis[1] = e->stem_axis.y;
+  a.stem_axis[2] = e->stem_axis.z;
+  a.confidence = e->confidence;
+  af_text(a.direction_note, sizeof a.direction_note, "offline: strike direction unknown");
+  return a;
+}
+
+static void af_note_stream(af_session_stream *st, const af_signal_chunk *c)
+{
+  int64_t t0 = af_ns_of(c->header.stamp);
+  int64_t t1 = t0 + (int64_t)((double)c->n / c->sample_rate_hz * 1e9 + 0.5);
+  if (st->first_ns == 0 || t0 < st->first_ns)
+    st->first_ns = t0;
+  if (t1 > st->end_ns)
+    st->end_ns = t1;
+}
+
+static void af_copy_stream(af_session_stream *out, const af_stream *s)
+{
+  out->chunks = s->chunks;
+  out->gaps = s->gaps;
+  out->lost_samples = s->lost_samples;
+  out->restarts = s->restarts;
+  out->bad_rate = s->bad_rate;
+  out->bad_unit = s->bad_unit;
+  out->bad_data = s->bad_data;
+}
+
+static void af_progress(uint64_t done, uint64_t total, bool final)
+{
+  const int width = 40;
+  int filled = total ? (int)((double)done / (double)total * width) : width;
+  char bar[64];
+  for (int k = 0; k < width; k++)
+    bar[k] = k < filled ? '#' : '.';
+  bar[width] = '\0';
+  fprintf(stderr, "\r[%s] %3.0f %% (%llu of %llu messages)%s", bar,
+          total ? 100.0 * (double)done / (double)total : 100.0, (unsigned long long)done,
+          (unsigned long long)total, final ? "\n" : "");
+  fflush(stderr);
+}
+
+static const char *af_type_name(af_msg_type t)
+{
+  switch (t) {
+  case AF_MSG_SIGNAL_CHUNK: return "acoustic_firmness/SignalChunk";
+  case AF_MSG_APPLE_ESTIMATE: return "acoustic_firmness/AppleEstimate";
+  case AF_MSG_STRIKE_REPORT: return "acoustic_firmness/StrikeReport";
+  case AF_MSG_RELIABILITY: return "acoustic_firmness/Reliability";
+  default: return "another type";
+  }
+}
+
+/* Every message of the three topics into the lane. */
+static int af_feed(af_session_ctx *c, af_bag_reader *bag,
+                   char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX], uint64_t total, char *err,
+                   size_t len)
+{
+  af_session *s = c->s;
+  af_bag_message m;
+  af_status st;
+  uint64_t step = total / 200 + 1;
+  while ((st = af_bag_read_next(bag, &m)) == AF_OK) {
+    int64_t now = af_ns_of(m.bag_time);
+    int which = strcmp(m.topic, topics[AF_TOPIC_FORCE]) == 0   ? AF_TOPIC_FORCE
+                : strcmp(m.topic, topics[AF_TOPIC_AUDIO]) == 0 ? AF_TOPIC_AUDIO
+                                                               : AF_TOPIC_APPLE;
+    af_msg_type want = which == AF_TOPIC_APPLE ? AF_MSG_APPLE_ESTIMATE : AF_MSG_SIGNAL_CHUNK;
+    if (m.type != want) {
+      af_text(err, len, "topic %s carries %s, not %s", m.topic, af_type_name(m.type),
+              af_type_name(want));
+      return AF_SESSION_BAD_INPUT;
+    }
+    s->messages++;
+    if (which == AF_TOPIC_APPLE) {
+      af_apple a = af_apple_of(&m.msg.apple);
+      const af_prediction *pr = NULL;
+      (void)af_lane_apple(c->lane, &a, now, &pr);
+      if (!af_add_apple(c, &a, pr))
+        c->out_of_memory = true;
+    } else {
+      const af_signal_chunk *k = &m.msg.chunk;
+      af_chunk ch = {af_ns_of(k->header.stamp),
+                     k->first_sample,
+                     k->sample_rate_hz,
+                     k->unit,
+                     k->header.frame_id,
+                     k->data,
+                     k->n};
+      if (which == AF_TOPIC_FORCE) {
+        if (af_lane_force(c->lane, &ch, now, NULL) == AF_CHUNK_OK)
+          af_note_stream(&s->force, k);
+      } else if (af_lane_audio(c->lane, &ch, now, NULL) == AF_CHUNK_OK)
+        af_note_stream(&s->audio, k);
+    }
+    if (c->out_of_memory) {
+      af_text(err, len, "out of memory after %llu messages", (unsigned long long)s->messages);
+      return AF_SESSION_FAILED;
+    }
+    if (c->o->progress && s->messages % step == 0)
+      af_progress(s->messages, total, false);
+  }
+  af_lane_finish(c->lane);
+  if (c->o->progress)
+    af_progress(s->messages, total, true);
+  if (c->out_of_memory) {
+    af_text(err, len, "out of memory at the end of the bag");
+    return AF_SESSION_FAILED;
+  }
+  if (st != AF_ENODATA) {
+    af_text(err, len, "%s: the bag breaks after %llu messages (truncated?): %s", c->o->bag_path,
+            (unsigned long long)s->messages, af_bag_reader_error(bag));
+    return AF_SESSION_BAD_INPUT;
+  }
+  return AF_SESSION_OK;
+}
+
+/* Opens the bag and checks its topics; NULL with err on bad input. */
+static af_bag_reader *af_open(const af_session_options *o,
+                              char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX], uint64_t *total,
+                              char *err, size_t len)
+{
+  static const char *const names[AF_TOPICS] = {"force", "audio", "apple"};
+  const char *list[AF_TOPICS];
+  for (int k = 0; k < AF_TOPICS; k++) {
+    af_text(topics[k], AF_SESSION_TOPIC_MAX, "/%s/%s", o->ns, names[k]);
+    list[k] = topics[k];
+  }
+  af_bag_reader *bag = NULL;
+  af_status st = af_bag_open_read(o->bag_path, list, AF_TOPICS, &bag);
+  if (st != AF_OK) {
+    if (st == AF_EINVAL)
+      af_text(err, len, "%s", af_bag_reader_error(NULL));
+    else
+      af_text(err, len, "%s is not a readable bag (not a bag, or truncated): %s", o->bag_path,
+              af_bag_reader_error(NULL));
+    return NULL;
+  }
+  *total = 0;
+  for (int k = 0; k < AF_TOPICS; k++) {
+    size_t n = af_bag_topic_count(bag, topics[k]);
+    if (n == 0) {
+      af_text(err, len, "%s: no message on %s (is the lane namespace --ns %s right?)", o->bag_path,
+              topics[k], o->ns);
+      af_bag_close_read(bag);
+      return NULL;
+    }
+    *total += n;
+  }
+  return bag;
+}
+
+int af_session_run(const af_session_options *o, af_session *out, char *err, size_t len)
+{
+  memset(out, 0, sizeof *out);
+  double wall0 = af_clock_s(CLOCK_MONOTONIC), cpu0 = af_clock_s(CLOCK_PROCESS_CPUTIME_ID);
+  char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX];
+  uint64_t total = 0;
+  af_bag_reader *bag = af_open(o, topics, &total, err, len);
+  if (!bag)
+    return AF_SESSION_BAD_INPUT;
+  af_session_ctx c = {o, out, NULL, false};
+  const char *what = "the lane";
+  af_status st = af_lane_create(o->cfg, af_on_strike, &c, &c.lane, &what);
+  if (st != AF_OK) {
+    af_text(err, len, "could not create %s: %s", what, af_strerror(st));
+    af_bag_close_read(bag);
+    return AF_SESSION_FAILED;
+  }
+  int code = af_feed(&c, bag, topics, total, err, len);
+  out->stats = *af_lane_get_stats(c.lane);
+  af_copy_stream(&out->force, af_lane_force_stream(c.lane));
+  af_copy_stream(&out->audio, af_lane_audio_stream(c.lane));
+  af_lane_destroy(c.lane);
+  af_bag_close_read(bag);
+  out->recorded_s = (double)(out->force.end_ns - out->force.first_ns) * 1e-9;
+  out->wall_s = af_clock_s(CLOCK_MONOTONIC) - wall0;
+  out->cpu_s = af_clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+  return code;
+}
+
+void af_session_free(af_session *s)
+{
+  if (!s)
+    return;
+  free(s->strikes);
+  free(s->apples);
+  memset(s, 0, sizeof *s);
+}

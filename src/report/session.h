@@ -1,0 +1,106 @@
+/* session.h — a recorded session (a rosbag) through the core lane, offline:
+ * what firmness_report prints and plots.
+ *
+ * Reads /NS/force, /NS/audio (acoustic_firmness/SignalChunk) and /NS/apple
+ * (acoustic_firmness/AppleEstimate) in bag-time order through the shim's
+ * reader (af_bag.h, no ROS master), and drives one af_lane (src/core/lane.h)
+ * exactly as the node does under `rosbag play --clock`: every message at the
+ * lane clock of its bag time (what /clock says when it is published), force
+ * and audio chunks converted field by field, each apple's strike direction
+ * unknown (the node takes it from the rig's URDF; the measurement does not
+ * depend on it when the estimate gives its strike radius, and the
+ * prediction's R2 is then that radius too). At the end of the bag the lane
+ * is finished (af_lane_finish): a strike still waiting is measured with what
+ * there is. Each measured strike is kept as a row; each estimate as an
+ * apple with its prediction.
+ *
+ * Bad input is refused before the lane sees a message, with one line in err
+ * and AF_SESSION_BAD_INPUT: not a bag or a truncated one (rosbag cannot open
+ * or index it), a topic missing (no message on it), a topic of another type
+ * (the reader's check, or the first message of a type this tool reads but
+ * not the one the topic must carry); a bag that breaks while being read is
+ * bad input too. Allocates (rows grow by doubling): a desk tool, not the
+ * node's path. */
+#ifndef AF_REPORT_SESSION_H
+#define AF_REPORT_SESSION_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lane.h"
+
+#define AF_SESSION_OK 0
+#define AF_SESSION_FAILED 1    /* the lane could not be made, out of memory */
+#define AF_SESSION_BAD_INPUT 2 /* the bag or its topics (err says which) */
+
+#define AF_SESSION_NS_MAX 96
+#define AF_SESSION_TOPIC_MAX 128
+
+/* One measured strike and what the station knew of its apple. */
+typedef struct {
+  int64_t start_ns;  /* contact start [ns] (the StrikeReport's stamp) */
+  uint32_t apple_id; /* 0 = no apple matched */
+  bool has_apple;    /* an estimate matched (apple_* are its) */
+  int64_t apple_stamp_ns;
+  double mass_kg;
+  bool predicted; /* the apple's prediction ran (predicted_* are its) */
+  double predicted_band_low_hz, predicted_band_high_hz, predicted_resonance_hz;
+  bool predicted_reliable;
+  char predicted_reason[AF_PREDICTION_TEXT_MAX];
+  bool with_audio;          /* an audio window was analysed */
+  double modulus_factor;    /* the apple's (dynamic / quasi-static), to suggest a new one */
+  af_measure_report report; /* the StrikeReport figures and the measured verdict */
+} af_session_strike;
+
+/* One AppleEstimate and its prediction. */
+typedef struct {
+  uint32_t apple_id;
+  int64_t stamp_ns;
+  double mass_kg;
+  bool valid; /* the estimate was accepted and the model ran */
+  double band_low_hz, band_high_hz, resonance_hz;
+  bool reliable;
+  char reason[AF_PREDICTION_TEXT_MAX]; /* why not reliable, or why refused */
+  size_t strikes;                      /* strikes matched to it */
+} af_session_apple;
+
+/* A stream's counters at the end of the bag. */
+typedef struct {
+  uint64_t chunks, gaps, lost_samples, restarts, bad_rate, bad_unit, bad_data;
+  int64_t first_ns, end_ns; /* time of the first sample, end of the last chunk [ns] */
+} af_session_stream;
+
+typedef struct {
+  af_session_strike *strikes;
+  size_t n_strikes, cap_strikes;
+  af_session_apple *apples;
+  size_t n_apples, cap_apples;
+  af_lane_stats stats;
+  af_session_stream force, audio;
+  uint64_t messages;    /* read from the bag */
+  double recorded_s;    /* recorded time: the force stream's span [s] */
+  double wall_s, cpu_s; /* spent reading and processing [s] */
+} af_session;
+
+/* Extra work per strike (plots); lane: for its streams. Called after the
+ * row is stored. */
+typedef void af_session_strike_fn(const af_lane_strike *s, const af_lane *lane, void *user);
+
+typedef struct {
+  const char *bag_path;
+  const char *ns; /* lane namespace without slashes, e.g. "lane1" */
+  const af_lane_config *cfg;
+  af_session_strike_fn *on_strike; /* may be NULL */
+  void *user;
+  bool progress; /* a progress bar on stderr */
+} af_session_options;
+
+/* Runs the bag through a lane made from o->cfg into *out (zeroed first).
+ * AF_SESSION_OK, AF_SESSION_BAD_INPUT or AF_SESSION_FAILED with one line in
+ * err. *out holds what was read even on error; free it with
+ * af_session_free. */
+int af_session_run(const af_session_options *o, af_session *out, char *err, size_t len);
+void af_session_free(af_session *s); /* safe on a zeroed or freed session */
+
+#endif
