@@ -18,7 +18,8 @@ fi
 # C with the C11 standard, C++ (the shim) on its own; ROS headers are not
 # analysed (system includes), only our code.
 if ! cppcheck --quiet --error-exitcode=1 --enable=warning,style,performance --std=c11 \
-  --inline-suppr -Isrc/core -Isrc/shim -Isrc/tools src/core src/tools src/node test/core; then
+  --inline-suppr -Isrc/core -Isrc/shim -Isrc/tools -Isrc/plot -Isrc/report src/core src/tools src/node \
+  src/plot src/report test/core; then
   echo "lint: cppcheck (C) found the problems above" >&2
   status=1
 fi

@@ -8,6 +8,8 @@ PACKAGES=(
   build-essential cmake pkg-config clang-format clang-tidy cppcheck catkin-lint
   # numerics
   libgsl-dev libfftw3-dev
+  # plots (src/plot: PLplot with its cairo PNG/SVG/memory drivers)
+  libplplot-dev plplot-driver-cairo
   # ROS 1 from Debian
   catkin python3-catkin-pkg ros-core-dev ros-message-generation ros-message-runtime
   libroscpp-dev librosbag-dev python3-rostest python3-rosbag python3-roslaunch python3-rostopic python3-rosnode python3-rosbag librostest-dev rosbash

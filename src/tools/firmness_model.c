@@ -3,6 +3,7 @@
  *   firmness_model [model flags] [--json]          one strike
  *   firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE]
  *   firmness_model bench [--seconds S]
+ *   firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] [--modulus-max PA]
  *   firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ
  *                          --mass KG --R2 M [--audio-offset S]
  *
@@ -14,6 +15,7 @@
 #include "analyze.h"
 #include "bench.h"
 #include "cli_flags.h"
+#include "plot_cmd.h"
 #include "report.h"
 #include "sweep.h"
 
@@ -23,6 +25,8 @@ static void usage(void)
          "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] "
          "[model flags]\n"
          "       firmness_model bench [--seconds S] [model flags]\n"
+         "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
+         "[--modulus-max PA]\n"
          "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
          "--mass KG --R2 M\n"
          "                      [--audio-offset S] [--modulus-min PA] [--modulus-max PA] [--bench] "
@@ -81,6 +85,8 @@ int main(int argc, char **argv)
     return af_sweep_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "bench") == 0)
     return af_bench_main(argc, argv, 2);
+  if (argc > 1 && strcmp(argv[1], "plot") == 0)
+    return af_plot_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "analyze") == 0)
     return af_analyze_main(argc, argv, 2);
   return single(argc, argv);

@@ -41,6 +41,10 @@ if [ "$(grep -c 'reliable' "$tmp/s.txt")" -ge $N ] && grep -q "strikes $N: $N on
 "$FM" "$tmp/s.bag" --bench >/dev/null 2>"$tmp/err"
 if grep -Eq '[0-9]+ x real time' "$tmp/err"; then ok; else bad "--bench: $(cat "$tmp/err")"; fi
 
+"$FM" "$tmp/s.bag" --plots "$tmp/plots" >/dev/null 2>"$tmp/err" || bad "--plots exited $?: $(cat "$tmp/err")"
+n_png=$(ls "$tmp/plots"/*.png 2>/dev/null | wc -l)
+if [ "$n_png" -eq $((N + 3)) ] && [ "$(head -c 4 "$tmp/plots/firmness_histogram.png" | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then ok; else bad "--plots made $n_png PNGs, expected $((N + 3))"; fi
+
 # --- bad bags ------------------------------------------------------------------------
 echo "not a bag" >"$tmp/text.bag"
 expect_usage "not a readable bag" "$tmp/text.bag"
@@ -80,5 +84,9 @@ expect_usage "--cultivar" "$tmp/s.bag" --cultivar "$tmp/none.yaml"
 expect_usage "--set lobe=0" "$tmp/s.bag" --set lobe=0
 expect_usage "modulus_factor = -1 is outside the accepted range" "$tmp/s.bag" --set modulus_factor=-1
 expect_usage "--csv $tmp/no/dir/x.csv: cannot write" "$tmp/s.bag" --csv "$tmp/no/dir/x.csv"
+
+touch "$tmp/afile"
+expect_usage "--plots $tmp/afile: not a folder" "$tmp/s.bag" --plots "$tmp/afile"
+expect_usage "--plots $tmp/no/dir: cannot make the folder" "$tmp/s.bag" --plots "$tmp/no/dir"
 
 summary test_report
