@@ -531,7 +531,7 @@ static af_status af_fit_iterate(af_fit *w)
                          w->cfg.gradient_tol))
       return AF_OK;
   }
-  return AF_ENOCONV;
+  return AF_EBUDGET_FIT_ITER;
 }
 
 /* The covariance of the scaled parameters, s^2 (J^T J)^-1 with

@@ -60,7 +60,7 @@ typedef struct {
                                    model's impulse and peak match the pulse's (one model run) */
   bool accelerate;              /* geodesic acceleration (one more model run per trial step) */
   af_damping_law damping;       /* maps e to chi; overrides start->damping */
-  size_t max_iterations;        /* accepted trust-region steps before AF_ENOCONV (>= 1) */
+  size_t max_iterations;        /* accepted trust-region steps before AF_EBUDGET_FIT_ITER (>= 1) */
   double step_tol;              /* converged when every step of the scaled parameters (ln E2,
                                    logit e, ln v0, t0 / dt) is below this (> 0) */
   double gradient_tol;          /* or when the residual is orthogonal to every Jacobian
@@ -134,10 +134,11 @@ typedef struct {
  *               a contact reaching outside the window by more than
  *               window_margin (noise in a short window; a truncated
  *               contact); takes precedence over the two below;
- *   AF_ENOCONV  not converged within max_iterations, or a Jacobian run failed;
+ *   AF_EBUDGET_FIT_ITER  not converged within max_iterations (the budget);
+ *   AF_ENOCONV  a Jacobian run failed;
  *   AF_ENUMERIC the model failed at the start point or the covariance is
  *               singular (a parameter has no influence on the pulse).
- * Once the search has run (AF_OK, AF_ENOCONV, AF_ENUMERIC, AF_ENODATA from
+ * Once the search has run (AF_OK, AF_EBUDGET_FIT_ITER, AF_ENOCONV, AF_ENUMERIC, AF_ENODATA from
  * the model checks), out holds the last estimate; otherwise its values are
  * NaN.
  * No allocation. */

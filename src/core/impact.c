@@ -41,8 +41,6 @@
  * second-order correction after it, so their error is ~ this cubed. */
 #define AF_EVENT_TOL 1e-5
 #define AF_EVENT_ITER 60
-/* Steps allowed to reach one event trial before giving up. */
-#define AF_STEPS_PER_INTERVAL 100000
 /* Largest step [D/v0] (the elastic pulse lasts 2.94): keeps the quintic
  * interpolant that writes the samples to ~1e-9. */
 #define AF_H_MAX 0.15
@@ -78,6 +76,7 @@ struct af_impact {
   gsl_odeiv2_evolve *evolve;
   gsl_odeiv2_system sys;
   af_rhs_params rhs;          /* sys.params points here */
+  size_t steps_left;          /* of AF_IMPACT_STEP_BUDGET, for the pulse being run */
   gsl_interp *exact;          /* y(e) of the exact law */
   double exact_e[AF_EXACT_N]; /* nodes [-] */
   double exact_y[AF_EXACT_N]; /* chi e/(1-e) at the nodes [-] */
@@ -263,6 +262,9 @@ static af_status af_step(af_impact *w, af_state *s, double *h)
 {
   double y[2] = {s->x, s->u};
   double t = s->t;
+  if (w->steps_left == 0)
+    return AF_EBUDGET_ODE_STEPS;
+  w->steps_left--;
   *h = fmin(*h, AF_H_MAX);
   int rc = gsl_odeiv2_evolve_apply(w->evolve, w->control, w->step, &w->sys, &t, AF_TAU_LIMIT, h, y);
   if (rc != GSL_SUCCESS)
@@ -285,9 +287,10 @@ static af_status af_state_at(af_impact *w, const af_state *from, double t, af_st
   double h = t - from->t;
   gsl_odeiv2_evolve_reset(w->evolve);
   int rc = GSL_SUCCESS;
-  for (int i = 0; out->t < t && rc == GSL_SUCCESS; i++) {
-    if (i == AF_STEPS_PER_INTERVAL)
-      return AF_ENOCONV;
+  while (out->t < t && rc == GSL_SUCCESS) {
+    if (w->steps_left == 0)
+      return AF_EBUDGET_ODE_STEPS;
+    w->steps_left--;
     double y[2] = {out->x, out->u};
     rc = gsl_odeiv2_evolve_apply(w->evolve, w->control, w->step, &w->sys, &out->t, t, &h, y);
     out->x = y[0];
@@ -368,7 +371,7 @@ static af_status af_locate(af_impact *w, af_event ev, const af_state *a, const a
     double next = t + step;
     t = next > lo && next < hi ? next : 0.5 * (lo + hi);
   }
-  return AF_ENOCONV;
+  return AF_EBUDGET_ROOT_ITER;
 }
 
 /* ---- one pulse ---------------------------------------------------------- */
@@ -481,6 +484,7 @@ static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_s
   if (sink->cap == 0)
     return AF_ESIZE;
   af_reset(w, chi, gamma);
+  w->steps_left = AF_IMPACT_STEP_BUDGET;
   memset(out, 0, sizeof *out);
   af_state prev = {0.0, 0.0, 1.0}, cur;
   double h = AF_H_START;
@@ -496,7 +500,7 @@ static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_s
     if (st != AF_OK)
       return st;
     if (cur.t >= AF_TAU_LIMIT)
-      return AF_ENOCONV;
+      return AF_EBUDGET_ODE_STEPS; /* the budget of simulated time */
     bool ended = cur.x <= 0.0;
     if (ended) {
       af_state past = cur; /* free flight, just beyond the contact end */
@@ -576,7 +580,7 @@ static af_status af_exact_chi_solve(af_impact *w, double e, double *chi)
       side = -1;
     }
   }
-  return AF_ENOCONV;
+  return AF_EBUDGET_ROOT_ITER;
 }
 
 static af_status af_exact_table(af_impact *w)

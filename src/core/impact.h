@@ -84,11 +84,20 @@ typedef struct {
   size_t n_samples;             /* samples written: t_k = k dt_s, t_k <= t_c */
 } af_impact_result;
 
+/* Work budget of one pulse: integration steps, the event searches' included.
+ * The default strike takes about 150; a contact that does not end (a hammer
+ * resting on the fruit, or parameters far outside the physical ranges of
+ * settings.c) stops here within a few milliseconds. */
+#define AF_IMPACT_STEP_BUDGET 20000
+
 /* Runs one impact. When force_n (and/or deformation_m) is not NULL, F(t_k)
  * [N] (and d(t_k) [m]) are written for t_k = k dt_s, k = 0 .. n-1, t_{n-1} <= t_c;
  * F = 0 after t_c. AF_ESIZE when the pulse needs more than cap samples,
  * AF_EINVAL for invalid params or dt_s <= 0, AF_ENUMERIC / AF_ENOCONV when the
- * integration fails. No allocation. */
+ * integration fails, AF_EBUDGET_ODE_STEPS after AF_IMPACT_STEP_BUDGET steps
+ * or 1000 elastic time scales D/v0 of contact,
+ * AF_EBUDGET_ROOT_ITER when an event search runs out of iterations. No
+ * allocation. */
 af_status af_impact_run(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
                         double *deformation_m, size_t cap, af_impact_result *res);
 

@@ -73,19 +73,36 @@ typedef struct {
  * runs every check across parameters: the min < max pairs, the nominal
  * modulus within its range, ring sizes (at most 1e8 samples), the
  * detector's windows and event span (at most 2^24 samples), the audio
- * windows (at least 8 samples, within the audio ring), trial creates of the
- * strike detector and the measurement, Lamb's 0S2 root, and the model's own
- * check over the corners the lane evaluates (extreme masses, moduli, both
- * ends of the R2 search). Derived: ring capacities ceil(s x rate), the
- * latitude tolerance in rad, the detector's longest event span, the audio
- * and noise windows round(s x rate), the response window (the longer) and
- * FFT size (power of two >= 4 x window), the fit's max samples (>= longest
- * contact + 2); the measurement's unexposed fields keep
- * af_measure_config_default's. Allocates only inside the trial creates
- * (start-up). AF_OK; AF_EINVAL with one line naming the parameters (with
- * s's name prefix), their values and what is accepted; AF_ENOMEM. *out is
- * zeroed first, and holds nothing to free. */
+ * windows (at least 8 samples, within the audio ring), the memory the lane
+ * would take (at most AF_LANE_MEMORY_MAX_BYTES, checked before anything is
+ * allocated), trial creates of the strike detector and the measurement, Lamb's 0S2 root, and the
+ * model's own check over the corners the lane evaluates (extreme masses, moduli, both ends of the
+ * R2 search). Derived: ring capacities ceil(s x rate), the latitude tolerance in rad, the
+ * detector's longest event span, the audio and noise windows round(s x rate), the response window
+ * (the longer) and FFT size (power of two >= 4 x window), the fit's max samples (>= longest contact
+ * + 2); the measurement's unexposed fields keep af_measure_config_default's. Allocates only inside
+ * the trial creates (start-up). AF_OK; AF_EINVAL with one line naming the parameters (with s's name
+ * prefix), their values and what is accepted; AF_ENOMEM. *out is zeroed first, and holds nothing to
+ * free. */
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len);
+
+/* The most one lane may allocate (af_lane_create): af_lane_config_derive
+ * refuses a configuration whose estimate is above, before anything is
+ * allocated. The defaults take about 2 MiB; 256 MiB holds, e.g., two rings
+ * of 30 s at 1 MHz. */
+#define AF_LANE_MEMORY_MAX_BYTES ((size_t)256 << 20)
+
+/* What af_lane_create allocates for a derived configuration, estimated from
+ * above [bytes] (test_settings checks it against the heap a lane takes). */
+typedef struct {
+  double rings;          /* force and audio rings */
+  double detector_queue; /* the strike detector, the pending queue, the audio windows */
+  double microphone;     /* the microphone analysis (FFT of the audio window) */
+  double fit_spectrum;   /* the pulse fit and the pulse's spectrum */
+  double fixed;          /* the model workspace and the objects */
+  double total;
+} af_lane_memory;
+void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m);
 
 #ifdef __cplusplus
 }

@@ -16,10 +16,19 @@
 #define AF_MODEL_SAMPLES_PER_PULSE 128
 #define AF_MODEL_MAX_SAMPLES 1024
 #define AF_MODEL_FFT_SIZE 4096
+/* A pulse longer than the buffer is sampled again at twice the step, up to
+ * 2^7 = 128 times the first: a contact of up to 1024 elastic contact times
+ * (a heavy, slow hammer on a soft fruit under gravity: more a push than a
+ * tap) is still sampled at 1024 points, and the work stays bounded. */
+#define AF_MODEL_SAMPLING_ATTEMPTS 8
 /* R2_min search: scan points over the bracket, then bisection to this
  * relative width. */
 #define AF_MODEL_RADIUS_SCAN 24
 #define AF_MODEL_RADIUS_RTOL 1e-4
+/* Evaluations the whole search may take: the scan's 24 and the bisection
+ * between two scan points (about 12 halvings for 0.002 .. 1 m, under 20 for
+ * any bracket of doubles), with room to spare: it guards the loop. */
+#define AF_MODEL_SEARCH_BUDGET 80
 
 struct af_model {
   af_impact *impact;
@@ -172,13 +181,15 @@ void af_model_destroy(af_model *m)
   free(m);
 }
 
-/* Samples the pulse; a pulse longer than the buffer (very lossy fruit) is
- * retried with a coarser step rather than refused. */
+/* Samples the pulse; a pulse longer than the buffer (very lossy fruit, a
+ * hammer pushed by gravity) is retried with a coarser step rather than
+ * refused. */
 static af_status run_impact(af_model *m, const af_impact_params *ip, af_impact_result *res)
 {
   double dt_s = af_impact_hertz_contact_time_s(ip) / AF_MODEL_SAMPLES_PER_PULSE;
   af_status st = AF_ESIZE;
-  for (int attempt = 0; attempt < 3 && st == AF_ESIZE; attempt++, dt_s *= 2.0)
+  for (int attempt = 0; attempt < AF_MODEL_SAMPLING_ATTEMPTS && st == AF_ESIZE;
+       attempt++, dt_s *= 2.0)
     st =
         af_impact_run(m->impact, ip, dt_s, m->force_n, m->deformation_m, AF_MODEL_MAX_SAMPLES, res);
   return st;
@@ -265,6 +276,7 @@ af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, doub
                                      double r_hi_m, double *r_min_m)
 {
   bool ok;
+  int budget = AF_MODEL_SEARCH_BUDGET - 1;
   if (!(r_lo_m > 0.0 && r_hi_m > r_lo_m && isfinite(r_hi_m)))
     return AF_EINVAL;
   af_status st = reliable_at(m, p, r_hi_m, &ok);
@@ -279,6 +291,7 @@ af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, doub
   double good = r_hi_m, bad = 0.0;
   for (int k = 1; k < AF_MODEL_RADIUS_SCAN; k++) {
     double r = k == AF_MODEL_RADIUS_SCAN - 1 ? r_lo_m : r_hi_m * pow(step, k);
+    budget--;
     st = reliable_at(m, p, r, &ok);
     if (st != AF_OK)
       return st;
@@ -293,6 +306,8 @@ af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, doub
     return AF_OK;
   }
   while (good - bad > AF_MODEL_RADIUS_RTOL * good) {
+    if (budget-- <= 0)
+      return AF_EBUDGET_SEARCH;
     double mid = sqrt(good * bad);
     st = reliable_at(m, p, mid, &ok);
     if (st != AF_OK)

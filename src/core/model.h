@@ -77,7 +77,8 @@ af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_resu
 /* Smallest strike radius R2 [m] in [r_lo_m, r_hi_m] above which the strike is
  * reliable (root-found on the criteria over R2, all else as in p): the paper's
  * "31 mm". AF_ENOROOT when not reliable even at r_hi_m; *r_min_m = r_lo_m when
- * reliable down to r_lo_m. */
+ * reliable down to r_lo_m; AF_EBUDGET_SEARCH after 80 evaluations
+ * (a guard: about 36 suffice for any bracket); any status of af_model_evaluate. */
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,
                                      double r_hi_m, double *r_min_m);
 

@@ -55,16 +55,16 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
     [AF_SETTING_URDF_FILE] = STRING("urdf_file", "\"\"", AF_SETTINGS_TEXT_MAX - 1, S,
                                     "path of the rig's URDF; empty = the robot_description "
                                     "parameter of the node's namespace"),
-    [AF_SETTING_HAMMER_MASS_KG] = OPTIONAL_NUM("hammer_mass_kg", "(0, 1] kg", true, "from the URDF",
-                                               "overrides the URDF's hammer mass"),
+    [AF_SETTING_HAMMER_MASS_KG] = OPTIONAL_NUM("hammer_mass_kg", "[0.0005, 1] kg", true,
+                                               "from the URDF", "overrides the URDF's hammer mass"),
     [AF_SETTING_HAMMER_TIP_RADIUS_M] =
-        OPTIONAL_NUM("hammer_tip_radius_m", "[0, 0.1] m", false, "from the URDF",
+        OPTIONAL_NUM("hammer_tip_radius_m", "0 or [0.0005, 0.1] m", false, "from the URDF",
                      "overrides the URDF's tip radius; 0 = flat face"),
     [AF_SETTING_HAMMER_MODULUS_PA] =
-        NUM("hammer_modulus_pa", "0.0", "[0, inf) Pa", S, "hammer tip modulus; 0 = rigid"),
+        NUM("hammer_modulus_pa", "0.0", "0 or [1e5, 1e12] Pa", S, "hammer tip modulus; 0 = rigid"),
     [AF_SETTING_HAMMER_POISSON] = NUM("hammer_poisson", "0.3", "[0, 0.5)", S,
                                       "hammer tip Poisson ratio (unused while rigid)"),
-    [AF_SETTING_STRIKE_VELOCITY_M_S] = NUM("strike_velocity_m_s", "1.4", "(0, 10] m/s", S,
+    [AF_SETTING_STRIKE_VELOCITY_M_S] = NUM("strike_velocity_m_s", "1.4", "[0.05, 10] m/s", S,
                                            "contact velocity (the paper's optimum)"),
     [AF_SETTING_GRAVITY_M_S2] =
         NUM("gravity_m_s2", "9.80665", "[0, 20] m/s2", S, "gravity along the strike; 0 = off"),
@@ -80,34 +80,34 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
     [AF_SETTING_LATITUDE_TOLERANCE_DEG] = NUM("latitude_tolerance_deg", "15.0", "[0, 90] deg", S,
                                               "strike latitudes beyond this are advised to "
                                               "rotate"),
-    [AF_SETTING_R2_SEARCH_LOW_M] = NUM("r2_search_low_m", "0.002", "(0, 1] m", S,
+    [AF_SETTING_R2_SEARCH_LOW_M] = NUM("r2_search_low_m", "0.002", "[0.0005, 1] m", S,
                                        "low end of the minimum reliable strike radius search"),
-    [AF_SETTING_R2_SEARCH_HIGH_M] = NUM("r2_search_high_m", "0.5", "(0, 1] m", S,
+    [AF_SETTING_R2_SEARCH_HIGH_M] = NUM("r2_search_high_m", "0.5", "[0.0005, 1] m", S,
                                         "high end of that search, above r2_search_low_m"),
-    [AF_SETTING_STRIKE_RADIUS_MIN_M] = NUM("strike_radius_min_m", "0.002", "(0, 1] m", S,
+    [AF_SETTING_STRIKE_RADIUS_MIN_M] = NUM("strike_radius_min_m", "0.002", "[0.0005, 1] m", S,
                                            "smallest accepted AppleEstimate.strike_radius "
                                            "(when not 0)"),
-    [AF_SETTING_STRIKE_RADIUS_MAX_M] = NUM("strike_radius_max_m", "0.5", "(0, 1] m", S,
+    [AF_SETTING_STRIKE_RADIUS_MAX_M] = NUM("strike_radius_max_m", "0.5", "[0.0005, 1] m", S,
                                            "largest accepted AppleEstimate.strike_radius, "
                                            "above strike_radius_min_m"),
-    [AF_SETTING_FORCE_SAMPLE_RATE_HZ] = NUM("force_sample_rate_hz", "50000.0", "(0, 1e7] Hz", S,
+    [AF_SETTING_FORCE_SAMPLE_RATE_HZ] = NUM("force_sample_rate_hz", "50000.0", "[1000, 1e6] Hz", S,
                                             "force rate; chunks at another rate are refused "
                                             "and counted"),
     [AF_SETTING_FORCE_BUFFER_S] = NUM("force_buffer_s", "2.0", "(0, 3600] s", S,
                                       "force kept in the ring (at most 1e8 samples)"),
-    [AF_SETTING_AUDIO_SAMPLE_RATE_HZ] = NUM("audio_sample_rate_hz", "48000.0", "(0, 1e7] Hz", S,
+    [AF_SETTING_AUDIO_SAMPLE_RATE_HZ] = NUM("audio_sample_rate_hz", "48000.0", "[1000, 1e6] Hz", S,
                                             "audio rate; chunks at another rate are refused "
                                             "and counted"),
     [AF_SETTING_AUDIO_BUFFER_S] = NUM("audio_buffer_s", "2.0", "(0, 3600] s", S,
                                       "audio kept in the ring (at most 1e8 samples)"),
     [AF_SETTING_AUDIO_UNIT] = CHOICE("audio_unit", "Pa", "Pa, V", S,
                                      "the microphone's unit (the force transducer's is N)"),
-    [AF_SETTING_STREAM_STALE_AFTER_S] = NUM("stream_stale_after_s", "1.0", "(0, inf) s", S,
+    [AF_SETTING_STREAM_STALE_AFTER_S] = NUM("stream_stale_after_s", "1.0", "(0, 3600] s", S,
                                             "a stream silent this long is reported stale"),
     [AF_SETTING_MARKERS_ENABLED] =
         BOOLEAN("markers_enabled", "true", S, "publish the rviz markers"),
     [AF_SETTING_MARKER_LIFETIME_S] =
-        NUM("marker_lifetime_s", "0.0", "[0, inf) s", S, "marker lifetime; 0 = until replaced"),
+        NUM("marker_lifetime_s", "0.0", "[0, 3600] s", S, "marker lifetime; 0 = until replaced"),
     [AF_SETTING_MARKER_STRIKE_DISTANCE_M] =
         NUM("marker_strike_distance_m", "0.06", "[0, 10] m", S,
             "hammer link origin to the strike point along the axis (display only)"),
@@ -174,38 +174,40 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
             "windows through, 15 dB none of 2e4)"),
     [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_LANE_NAME_MAX - 1, C,
                                    "cultivar name, for the diagnostics"),
-    [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "(0, inf) Pa", C,
+    [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "[1e5, 1e9] Pa", C,
                                           "E2 of the prediction, within [modulus_min_pa, "
                                           "modulus_max_pa]"),
     [AF_SETTING_MODULUS_MIN_PA] =
-        NUM("modulus_min_pa", "2.0e+6", "(0, inf) Pa", C, "softest fruit expected"),
+        NUM("modulus_min_pa", "2.0e+6", "[1e5, 1e9] Pa", C, "softest fruit expected"),
     [AF_SETTING_MODULUS_MAX_PA] =
-        NUM("modulus_max_pa", "12.0e+6", "(0, inf) Pa", C, "firmest fruit expected"),
+        NUM("modulus_max_pa", "12.0e+6", "[1e5, 1e9] Pa", C, "firmest fruit expected"),
     [AF_SETTING_MASS_MIN_KG] =
-        NUM("mass_min_kg", "0.100", "(0, 10] kg", C, "lighter AppleEstimates are refused"),
+        NUM("mass_min_kg", "0.100", "[0.001, 10] kg", C, "lighter AppleEstimates are refused"),
     [AF_SETTING_MASS_MAX_KG] =
-        NUM("mass_max_kg", "0.250", "(0, 10] kg", C, "heavier AppleEstimates are refused"),
-    [AF_SETTING_EQUATORIAL_RADIUS_MIN_M] = NUM("equatorial_radius_min_m", "0.025", "(0, 1] m", C,
-                                               "smallest accepted "
-                                               "AppleEstimate.equatorial_radius"),
-    [AF_SETTING_EQUATORIAL_RADIUS_MAX_M] = NUM("equatorial_radius_max_m", "0.060", "(0, 1] m", C,
-                                               "largest accepted "
-                                               "AppleEstimate.equatorial_radius"),
-    [AF_SETTING_ASPECT_RATIO_MIN] = NUM("aspect_ratio_min", "0.5", "(0, inf)", C,
+        NUM("mass_max_kg", "0.250", "[0.001, 10] kg", C, "heavier AppleEstimates are refused"),
+    [AF_SETTING_EQUATORIAL_RADIUS_MIN_M] =
+        NUM("equatorial_radius_min_m", "0.025", "[0.002, 1] m", C,
+            "smallest accepted "
+            "AppleEstimate.equatorial_radius"),
+    [AF_SETTING_EQUATORIAL_RADIUS_MAX_M] =
+        NUM("equatorial_radius_max_m", "0.060", "[0.002, 1] m", C,
+            "largest accepted "
+            "AppleEstimate.equatorial_radius"),
+    [AF_SETTING_ASPECT_RATIO_MIN] = NUM("aspect_ratio_min", "0.5", "[0.1, 10]", C,
                                         "smallest polar / equatorial semi-axis implied by mass, "
                                         "density and radius"),
     [AF_SETTING_ASPECT_RATIO_MAX] =
-        NUM("aspect_ratio_max", "1.5", "(0, inf)", C, "largest polar / equatorial semi-axis"),
-    [AF_SETTING_RESTITUTION] = NUM("restitution", "0.6", "(0, 1]", C,
+        NUM("aspect_ratio_max", "1.5", "[0.1, 10]", C, "largest polar / equatorial semi-axis"),
+    [AF_SETTING_RESTITUTION] = NUM("restitution", "0.6", "[0.01, 1]", C,
                                    "coefficient of restitution e (the exact damping law needs "
                                    "e >= 0.05)"),
     [AF_SETTING_FRUIT_POISSON] =
         NUM("fruit_poisson", "0.35", "[0, 0.5)", C, "Poisson ratio of the flesh"),
     [AF_SETTING_DENSITY_KG_M3] =
-        NUM("density_kg_m3", "840.0", "(0, inf) kg/m3", C, "density of the fruit"),
-    [AF_SETTING_YIELD_RATIO] = NUM("yield_ratio", "0.04", "(0, 1]", C,
+        NUM("density_kg_m3", "840.0", "[100, 3000] kg/m3", C, "density of the fruit"),
+    [AF_SETTING_YIELD_RATIO] = NUM("yield_ratio", "0.04", "[0.001, 1]", C,
                                    "yield shear stress / E2, a calibration (PHYSICS.md 6)"),
-    [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "(0, inf)", C,
+    [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "[0.1, 10]", C,
                                       "dynamic / quasi-static modulus for the 0S2 resonance "
                                       "(a calibration)"),
 };
@@ -289,9 +291,14 @@ af_status af_setting_find(const char *name, af_setting_id *id)
   return AF_EINVAL;
 }
 
-/* "(lo, hi] unit": the interval and where the unit starts. */
+/* "(lo, hi] unit" or "0 or [lo, hi] unit": the interval and where the unit
+ * starts. */
 static bool parse_range(const char *text, af_setting_range *r, const char **unit)
 {
+  static const char zero_or[] = "0 or ";
+  r->zero = text != NULL && strncmp(text, zero_or, sizeof zero_or - 1) == 0;
+  if (r->zero)
+    text += sizeof zero_or - 1;
   if (text == NULL || (text[0] != '(' && text[0] != '['))
     return false;
   r->lo_open = text[0] == '(';
@@ -327,6 +334,8 @@ bool af_setting_range_contains(const af_setting_range *r, double v)
 {
   if (r == NULL || !isfinite(v))
     return false;
+  if (r->zero && v == 0.0)
+    return true;
   if (r->lo_open ? !(v > r->lo) : !(v >= r->lo))
     return false;
   return r->hi_open ? v < r->hi : v <= r->hi;
@@ -1334,13 +1343,14 @@ static af_status derive_streams(const af_settings *s, af_lane_config *c, char *e
   return AF_OK;
 }
 
-/* Smallest power of two >= n (n >= 1). */
+/* Smallest power of two >= n (n >= 1); SIZE_MAX / 2 + 1 at most, never a
+ * wrap to 0 (a caller's size check then refuses it). */
 static size_t power_of_two_at_least(size_t n)
 {
   size_t p = 1;
-  while (p < n)
+  while (p < n && p <= SIZE_MAX / 4)
     p <<= 1;
-  return p;
+  return p < n ? SIZE_MAX / 2 + 1 : p;
 }
 
 /* The strike detector on the force stream (strike_*). */
@@ -1390,15 +1400,22 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
     return AF_EINVAL;
   }
   c->measured.pulse_capacity_samples = (size_t)span;
-  /* The core's own check (it also allocates: start-up only). */
+  return AF_OK;
+}
+
+/* The core's own check of the detector (it allocates: start-up only, after
+ * check_memory). */
+static af_status trial_detector(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
   af_strike *trial = NULL;
-  st = af_strike_create(d, &trial);
+  af_status st = af_strike_create(&c->measured.strike, &trial);
   af_strike_destroy(trial);
   if (st != AF_OK)
     say(err, len,
         "%s = %g Hz: the strike detector refuses the %sstrike_* parameters: %s (a window "
         "shorter than 2 samples?)",
-        name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text, fs, s->name_prefix, af_strerror(st));
+        name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text, c->measured.strike.sample_rate_hz,
+        s->name_prefix, af_strerror(st));
   return st;
 }
 
@@ -1456,14 +1473,82 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   size_t longest = (size_t)ceil(mc->strike.max_contact_s * c->force.sample_rate_hz) + 2;
   if (longest > m->fit.max_samples)
     m->fit.max_samples = longest;
-  /* The core's own check (it also allocates: start-up only). */
+  return AF_OK;
+}
+
+/* The core's own check of the measurement (it allocates: start-up only,
+ * after check_memory). */
+static af_status trial_measure(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
   af_measure *trial = NULL;
-  af_status st = af_measure_create(m, &trial);
+  af_status st = af_measure_create(&c->measured.measure, &trial);
   af_measure_destroy(trial);
   if (st != AF_OK)
     say(err, len, "%s = %g Hz: the strike measurement refuses the %smeasure_* parameters: %s",
-        name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text, fs, s->name_prefix, af_strerror(st));
+        name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text, c->audio.sample_rate_hz, s->name_prefix,
+        af_strerror(st));
   return st;
+}
+
+/* ---- the lane's memory, bounded before anything is allocated ---------------- */
+
+/* Smallest power of two >= n, as a double (no wrap for any n). */
+static double pow2_at_least(double n)
+{
+  double p = 1.0;
+  while (p < n && p < 0x1p62)
+    p *= 2.0;
+  return p;
+}
+
+void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
+{
+  memset(m, 0, sizeof *m);
+  const af_measured_config *mc = &c->measured;
+  /* float rings */
+  m->rings = 4.0 * ((double)c->force.capacity_samples + (double)c->audio.capacity_samples);
+  /* detector: its float ring (span + a block), the span as float and twice
+   * as double, the priming sample; the queue's pulses (double) and the
+   * audio and noise windows (float) */
+  const double span = (double)mc->pulse_capacity_samples;
+  m->detector_queue = 4.0 * (span + 1024.0) + 20.0 * span + 8.0 * 8192.0 +
+                      (double)mc->pending_size * (8.0 * span + 256.0) +
+                      4.0 * ((double)mc->audio_window_samples + (double)mc->noise_window_samples);
+  /* microphone analysis: the FFT input, two complex and four real spectra,
+   * the window, FFTW's plan (its twiddles about one complex per point) */
+  const double fft = (double)mc->measure.response.fft_size;
+  m->microphone = 8.0 * fft + (fft / 2.0 + 1.0) * (2.0 * 16.0 + 4.0 * 8.0) +
+                  8.0 * (double)mc->measure.response.window_samples + 16.0 * fft;
+  /* pulse fit (GSL's n x p workspace and the oversampled model buffers)
+   * and the pulse's spectrum (4 x zero-padded) */
+  const double n = (double)mc->measure.fit.max_samples;
+  const double over = (double)mc->measure.fit.oversample;
+  const double ms = n > 1024.0 ? n : 1024.0, sfft = pow2_at_least(4.0 * ms);
+  m->fit_spectrum = 16.0 * (4.0 * n * over + 1.0) + 16.0 * n + 8.0 * n * 20.0 + 8.0 * sfft +
+                    (sfft / 2.0 + 1.0) * 24.0 + 16.0 * sfft + 64.0 * (ms / 2.0 + 1.0);
+  /* the model workspace (fixed: 4096-point FFT, 1024 samples) and the
+   * objects themselves */
+  m->fixed = 1048576.0;
+  m->total = m->rings + m->detector_queue + m->microphone + m->fit_spectrum + m->fixed;
+}
+
+static af_status check_memory(const af_settings *s, const af_lane_config *c, char *err, size_t len)
+{
+  af_lane_memory m;
+  af_lane_config_memory(c, &m);
+  if (m.total <= (double)AF_LANE_MEMORY_MAX_BYTES)
+    return AF_OK;
+  const double mib = 1048576.0;
+  say(err, len,
+      "the lane would allocate about %.0f MiB (rings %.0f: %sforce_buffer_s x "
+      "%sforce_sample_rate_hz + %saudio_buffer_s x %saudio_sample_rate_hz; detector and queue "
+      "%.0f: %sstrike_* x %sstrike_pending_size; microphone analysis %.0f: "
+      "%smeasure_audio_window_s; pulse fit %.0f: %sstrike_max_contact_s), above the %.0f MiB "
+      "accepted",
+      m.total / mib, m.rings / mib, s->name_prefix, s->name_prefix, s->name_prefix, s->name_prefix,
+      m.detector_queue / mib, s->name_prefix, s->name_prefix, m.microphone / mib, s->name_prefix,
+      m.fit_spectrum / mib, s->name_prefix, AF_LANE_MEMORY_MAX_BYTES / mib);
+  return AF_EINVAL;
 }
 
 /* The parameters behind a field of af_model_params, for the messages. */
@@ -1559,6 +1644,12 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
     st = derive_detector(s, out, err, len);
   if (st == AF_OK)
     st = derive_measure(s, out, err, len);
+  if (st == AF_OK)
+    st = check_memory(s, out, err, len);
+  if (st == AF_OK)
+    st = trial_detector(s, out, err, len);
+  if (st == AF_OK)
+    st = trial_measure(s, out, err, len);
   if (st != AF_OK)
     return st;
   out->model.impact.hammer_mass_kg = num(s, AF_SETTING_HAMMER_MASS_KG);

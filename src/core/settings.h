@@ -12,9 +12,13 @@
  * test/core/test_settings.c checks the shipped YAML files against it.
  *
  * Conventions:
- *  - a range is text, e.g. "(0, 10] m/s": "(" / ")" open, "[" / "]" closed,
- *    "inf" unbounded, then the unit (none when dimensionless). The numbers
- *    are parsed from that text, so the range shown is the range applied;
+ *  - a range is text, e.g. "[0.05, 10] m/s": "(" / ")" open, "[" / "]" closed,
+ *    "inf" unbounded, then the unit (none when dimensionless); "0 or [a, b]"
+ *    accepts 0 too (a rigid hammer, a flat face). The numbers are parsed
+ *    from that text, so the range shown is the range applied. Every range is
+ *    physical, not only mathematical: what a fruit, a hammer or a transducer
+ *    can be, so that no accepted value makes the model or the lane work
+ *    without bound (issue 11);
  *  - every error is ONE line, written into err[len] (cut, never overflowing),
  *    naming the parameter, the value and what is accepted:
  *      <name> = <value> is outside the accepted range <range>
@@ -156,6 +160,7 @@ typedef struct {
 typedef struct {
   double lo, hi;
   bool lo_open, hi_open;
+  bool zero; /* 0 is accepted too ("0 or [lo, hi]") */
 } af_setting_range;
 
 /* The row of id; NULL when id is not a row. */

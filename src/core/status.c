@@ -17,6 +17,12 @@ const char *af_strerror(af_status s)
   case AF_EIO: return "input/output error";
   case AF_ENODATA: return "not enough signal";
   case AF_EROS: return "ROS layer error";
+  case AF_EBUDGET_ODE_STEPS:
+    return "impact ODE budget exhausted (20000 steps or 1000 elastic contact times: the contact "
+           "does not end, a hammer resting on the fruit?)";
+  case AF_EBUDGET_ROOT_ITER: return "root-finding iteration budget exhausted";
+  case AF_EBUDGET_FIT_ITER: return "fit iteration budget exhausted";
+  case AF_EBUDGET_SEARCH: return "R2_min search evaluation budget exhausted";
   }
   return "unknown status";
 }

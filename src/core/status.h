@@ -28,7 +28,13 @@ typedef enum {
   AF_ESIZE,    /* a buffer is too small for the data */
   AF_EIO,      /* a file could not be read or written */
   AF_ENODATA,  /* not enough signal to answer (no strike, no peak) */
-  AF_EROS      /* the ROS layer failed (shim only) */
+  AF_EROS,     /* the ROS layer failed (shim only) */
+  /* A work budget ran out: every loop whose length depends on its input has
+   * one, and says which when it stops (never a hang on any input). */
+  AF_EBUDGET_ODE_STEPS, /* impact ODE: AF_IMPACT_STEP_BUDGET steps or 1000 D/v0 per pulse */
+  AF_EBUDGET_ROOT_ITER, /* a root finder's (or extremum search's) iteration budget */
+  AF_EBUDGET_FIT_ITER,  /* the pulse fit's max_iterations */
+  AF_EBUDGET_SEARCH     /* the R2_min search's evaluation budget */
 } af_status;
 
 /* A short, static, human-readable description of s. Never NULL. */

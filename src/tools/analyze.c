@@ -28,6 +28,12 @@
 #include "settings.h"
 
 #define AF_ANALYZE_CHUNK 1024 /* samples per chunk, as the node's SignalChunks */
+/* --audio-offset: the audio's start within an hour of the force's (the
+ * stamps are integer nanoseconds: beyond ~9e9 s they would overflow). */
+#define AF_ANALYZE_OFFSET_MAX_S 3600.0
+/* Strike rows held at most: a 45-minute recording (AF_RECORDING_MAX_SAMPLES
+ * at 50 kHz) struck twice a second has 5400. */
+#define AF_ANALYZE_MAX_STRIKES ((size_t)100000)
 #define AF_ERR_MAX 512
 
 #ifndef AF_CONFIG_DIR /* set by CMakeLists.txt: the package's config/ */
@@ -72,15 +78,21 @@ static int af_usage(const char *fmt, const char *a, const char *b)
 
 /* ---- arguments ------------------------------------------------------------- */
 
+/* A number of flag: > 0 when positive, else within +-AF_ANALYZE_OFFSET_MAX_S
+ * (the only signed flag is --audio-offset). The physical ranges of the rates
+ * and of the apple are the parameter table's (checked later). */
 static bool af_parse_value(const char *flag, const char *text, bool positive, double *out)
 {
   char *end;
   errno = 0;
   *out = strtod(text, &end);
   if (end == text || *end != '\0' || errno == ERANGE || !isfinite(*out) ||
-      (positive && !(*out > 0.0))) {
-    fprintf(stderr, "firmness_model analyze: %s '%s' must be a finite number%s\n", flag, text,
-            positive ? " > 0" : "");
+      (positive && !(*out > 0.0)) || (!positive && !(fabs(*out) <= AF_ANALYZE_OFFSET_MAX_S))) {
+    if (positive)
+      fprintf(stderr, "firmness_model analyze: %s '%s' must be a finite number > 0\n", flag, text);
+    else
+      fprintf(stderr, "firmness_model analyze: %s '%s' must be a number in [-%g, %g] s\n", flag,
+              text, AF_ANALYZE_OFFSET_MAX_S, AF_ANALYZE_OFFSET_MAX_S);
     return false;
   }
   return true;
@@ -455,6 +467,8 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   /* At most one strike per post_s of force (the detector waits that long
    * after each): the rows are sized once. */
   c.cap_rows = force->n / (size_t)ceil(cfg->measured.strike.post_s * a->rate_force_hz) + 1;
+  if (c.cap_rows > AF_ANALYZE_MAX_STRIKES)
+    c.cap_rows = AF_ANALYZE_MAX_STRIKES;
   c.rows = calloc(c.cap_rows, sizeof *c.rows);
   af_status st = c.rows ? af_lane_create(cfg, af_on_strike, &c, &lane, &what) : AF_ENOMEM;
   if (st != AF_OK) {
@@ -465,9 +479,13 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   af_apple apple = af_analyze_apple(a, cfg);
   const af_prediction *pr = NULL;
   int code = 0;
-  if (af_lane_apple(lane, &apple, apple.stamp_ns, &pr) != AF_OK) {
+  af_status ast = af_lane_apple(lane, &apple, apple.stamp_ns, &pr);
+  if (ast == AF_EINVAL) {
     fprintf(stderr, "firmness_model analyze: --mass/--R2: %s\n", pr->why);
     code = AF_CLI_EXIT_USAGE;
+  } else if (ast != AF_OK) { /* the model itself: a budget, a numerical failure */
+    fprintf(stderr, "firmness_model analyze: the model failed on this apple: %s\n", pr->why);
+    code = 1;
   } else {
     /* A triggered capture has its strike within a millisecond of its start:
      * the baseline and noise come from the whole capture's quiet parts. */
@@ -514,6 +532,14 @@ int af_analyze_main(int argc, char **argv, int first)
   if (af_recording_read(a.audio_path, &audio, rerr, sizeof rerr) != AF_OK) {
     af_recording_free(&force);
     return af_usage("--audio %s", rerr, "");
+  }
+  /* Nothing to analyze is bad input, not an empty answer. (An empty audio
+   * file is allowed: the strikes are then measured without audio, each
+   * saying so.) */
+  if (force.n == 0) {
+    af_recording_free(&force);
+    af_recording_free(&audio);
+    return af_usage("--force %s is empty: no samples to analyze", a.force_path, "");
   }
   /* One apple for the whole recording: it must match every strike in it. */
   double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);

@@ -28,6 +28,30 @@ expect_usage() {
   fi
 }
 
+# expect_bounded code pattern args...: firmness_model args exits with code
+# (2 bad input, 1 an exhausted budget or a model failure) within a second,
+# with exactly one line on stderr naming pattern (issue 11: never a hang,
+# never a wall of text).
+expect_bounded() {
+  local code=$1 pattern=$2
+  shift 2
+  local t0 t1
+  t0=$(date +%s%N)
+  timeout 10 "$FM" "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  t1=$(date +%s%N)
+  local ms=$(((t1 - t0) / 1000000))
+  if [ "$got" -ne "$code" ]; then
+    bad "'$*' exited $got after $ms ms, expected $code: $(head -c 300 "$tmp/err")"
+  elif [ "$ms" -gt 1000 ]; then
+    bad "'$*' took $ms ms (more than a second)"
+  elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
+    bad "'$*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
+  else
+    ok
+  fi
+}
+
 # Prints the plain closing line and gives the script's exit status.
 summary() {
   echo "$1: $pass passed, $fail failed"

@@ -135,9 +135,8 @@ json_check "len(d) == 3 and all(abs(r['resonance_Hz'] - t['f0']) < 0.005 * t['f0
 # the force alone (audio of nothing): measured, unreliable, resonance null, reason "no audio"
 json_check "len(d) == 3 and all(r['resonance_Hz'] is None and r['reliable'] is False and r['reason'] == 'no audio' and r['flags'] == ['no_audio'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/empty.f32" "${base[@]}"
-# no force: no strikes, and the JSON and stderr say why
-json_check "d == [] and 'empty' in J['no_strike_reason']" --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
-if "$FM" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}" 2>&1 >/dev/null | grep -q "no strike found: .*empty"; then ok; else bad "no strike: nothing said on stderr"; fi
+# no force: nothing to analyze, bad input (issue 11: it exited 0 saying nothing)
+expect_usage "--force $tmp/empty.f32 is empty" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
 # model flags land: the paper profile reads lobe 2 at power-half, which never holds the 0S2
 json_check "len(d) == 3 and all(r['excites_mode'] is False and 'lobe 2' in r['reason'] for r in d)" \
   "${run[@]}" --profile paper
@@ -176,6 +175,38 @@ expect_analyze_usage "$tmp/missing.yaml" "${F[@]}" "${A[@]}" "${base[@]}" --conf
 printf 'lobe: 9\n' >"$tmp/bad.yaml"
 expect_analyze_usage "$tmp/bad.yaml:1: " "${F[@]}" "${A[@]}" "${base[@]}" --cultivar "$tmp/bad.yaml"
 expect_analyze_usage "strike_radius" "${F[@]}" "${A[@]}" "${base[@]}" --R2 0.9
+# Issue 11: extreme but well-formed input, each exit 2 with one line naming
+# the flag, within a second; no allocation sized from it beforehand.
+expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+20 is outside the accepted range \[1000, 1e6\] Hz" \
+  analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 1e20 --mass 0.175 --R2 0.04
+expect_bounded 2 "--rate-force: force_sample_rate_hz = 1e+12 is outside" \
+  analyze "${F[@]}" "${A[@]}" --rate-force 1e12 --rate-audio 48000 --mass 0.175 --R2 0.04
+expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+12 is outside" \
+  analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 1e12 --mass 0.175 --R2 0.04
+expect_bounded 2 "--audio-offset '1e15' must be a number in \[-3600, 3600\] s" \
+  analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset 1e15
+expect_bounded 2 "--audio-offset '-1e15'" analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset -1e15
+expect_bounded 2 "--mass" analyze "${F[@]}" "${A[@]}" "${base[@]}" --mass 1e300
+expect_bounded 2 "--R2" analyze "${F[@]}" "${A[@]}" "${base[@]}" --R2 1e-300
+expect_bounded 2 "--v0: strike_velocity_m_s = 1e-09 is outside" analyze "${F[@]}" "${A[@]}" "${base[@]}" --v0 1e-9
+expect_bounded 2 "--E2: modulus_nominal_pa = 1e-30 is outside" analyze "${F[@]}" "${A[@]}" "${base[@]}" --E2 1e-30
+expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" "${base[@]}" \
+  --rate-force 1e6 --set force_buffer_s=100
+expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" "${base[@]}" \
+  --rate-force 1e6 --set strike_max_contact_s=1
+# inside every range, a hammer that rests on the fruit: the budget, exit 1
+expect_bounded 1 "the model failed on this apple: model evaluation failed: impact ODE budget exhausted" \
+  analyze "${F[@]}" "${A[@]}" "${base[@]}" --v0 0.05 --set hammer_mass_kg=1 --set gravity_m_s2=20 \
+  --E2 1e5 --set modulus_min_pa=1e5
+# a 2 GiB file (sparse: no disk used) is refused before it is read
+truncate -s 2G "$tmp/huge.f32"
+expect_bounded 2 "huge.f32: 536870912 samples, above the 134217728 accepted" \
+  analyze --force "$tmp/huge.f32" "${A[@]}" "${base[@]}"
+expect_bounded 2 "huge.f32: 536870912 samples" analyze "${F[@]}" --audio "$tmp/huge.f32" "${base[@]}"
+rm -f "$tmp/huge.f32"
+expect_bounded 2 "not a regular file" analyze --force /dev/zero "${A[@]}" "${base[@]}"
+expect_bounded 2 "$tmp: not a regular file" analyze --force "$tmp" "${A[@]}" "${base[@]}"
+
 # --set lands: a 100 dB SNR threshold leaves no resonance
 json_check "len(d) == 3 and all('no_resonance' in r['flags'] for r in d)" "${run[@]}" --set measure_snr_threshold_db=100
 

@@ -51,6 +51,47 @@ expect_usage "--steps" sweep --param E2 --from 2e6 --to 12e6 --steps 0
 expect_usage "--param" sweep --param colour --from 1 --to 2 --steps 2
 expect_usage "--E2" sweep --param E2 --from -1 --to 12e6 --steps 3
 
+# Issue 11: the four commands that hung, and extremes of every flag: exit 2
+# with one line naming the flag within a second (the table's physical
+# ranges), or exit 1 with one line naming the exhausted budget.
+expect_bounded 2 "--E2 1e-30 is outside the accepted range \[1e5, 1e9\] Pa" --E2 1e-30 --json
+expect_bounded 2 "--R2 1e-300 is outside the accepted range \[0.0005, 1\] m" --R2 1e-300 --json
+expect_bounded 2 "--R2 2.22507e-308 is outside" --R2 2.2250738585072014e-308 --json
+expect_bounded 2 "--hammer-mass 1e+30 is outside the accepted range \[0.0005, 1\] kg" --hammer-mass 1e30 --json
+expect_bounded 2 "--v0 1e-09 is outside the accepted range \[0.05, 10\] m/s" --v0 1e-9
+expect_bounded 2 "--hammer-E 1e-300 is outside the accepted range 0 or \[1e5, 1e12\] Pa" --hammer-E 1e-300
+expect_bounded 2 "--hammer-radius 1e-300 is outside" --hammer-radius 1e-300
+expect_bounded 2 "--e 1e-300" --damping hu-guo --e 1e-300
+expect_bounded 2 "--density 1e+300" --density 1e300
+expect_bounded 2 "--modulus-factor 0.001" --modulus-factor 1e-3
+expect_bounded 2 "--gravity 1e+06" --gravity 1e6
+expect_bounded 2 "--mass 1e-300" --mass 1e-300
+expect_bounded 2 "--E2" --E2 1e400
+expect_bounded 2 "--lobe" --lobe 1e300
+expect_bounded 2 "--seconds" bench --seconds 1e300
+expect_bounded 2 "--steps" sweep --param E2 --from 2e6 --to 12e6 --steps 1e300
+expect_bounded 2 "--E2" sweep --param E2 --from 1e-30 --to 2e6 --steps 2
+# Inside every range, the worst corner found (a 1 kg hammer at 5 cm/s on a
+# 0.1 MPa fruit under 20 m/s2: it rests on the fruit): the ODE budget.
+expect_bounded 1 "impact ODE budget exhausted" --E2 1e5 --R2 0.0005 --v0 0.05 --hammer-mass 1 --gravity 20
+# Each value alone at both ends of its range answers within a second.
+for flag in "E2 1e5 1e9" "R2 0.0005 1" "v0 0.05 10" "hammer-mass 0.0005 1" "gravity 0 20" "e 0.05 1" \
+  "hammer-E 1e5 1e12" "hammer-radius 0.0005 0.1" "mass 0.001 10" "density 100 3000" \
+  "modulus-factor 0.1 10" "yield-ratio 0.001 1" "nu2 0 0.49" "hammer-nu 0 0.49"; do
+  set -- $flag
+  for v in "$2" "$3"; do
+    t0=$(date +%s%N)
+    timeout 10 "$FM" "--$1" "$v" --json >/dev/null 2>"$tmp/err"
+    code=$?
+    ms=$((($(date +%s%N) - t0) / 1000000))
+    if [ "$ms" -le 1000 ] && { [ "$code" -eq 0 ] || { [ "$code" -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ]; }; }; then
+      ok
+    else
+      bad "--$1 $v: exit $code after $ms ms: $(cat "$tmp/err")"
+    fi
+  done
+done
+
 if "$FM" sweep --param E2 --from 2e6 --to 12e6 --steps 6 >"$tmp/sweep.csv" 2>"$tmp/err" &&
   [ "$(wc -l <"$tmp/sweep.csv")" -eq 7 ] && head -1 "$tmp/sweep.csv" | grep -q '^E2,contact_time_s,'; then
   ok

@@ -7,6 +7,7 @@
 #include <float.h>
 #include <stdint.h>
 #include <string.h>
+#include <time.h>
 
 #include "af_test.h"
 
@@ -424,6 +425,12 @@ static void test_invalid_params(af_impact *w)
   AF_CHECK_STATUS(af_impact_run(w, &p, 1e-5, force_n, deformation_m, CAP, &r), AF_OK);
 }
 
+/* CPU time [s]. */
+static double clock_s(void)
+{
+  return (double)clock() / CLOCKS_PER_SEC;
+}
+
 static void test_failures(af_impact *w)
 {
   af_impact_params p = af_impact_params_default();
@@ -432,9 +439,29 @@ static void test_failures(af_impact *w)
   AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, force_n, deformation_m, 10, &r), AF_ESIZE);
   AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, 0, &r), AF_ESIZE);
   /* A weight far above the impact force: the hammer sinks and stays, the
-   * contact never ends. */
+   * contact never ends; the step budget stops it and says so (issue 11). */
   p.gravity_m_s2 = 1e6;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, SIZE_MAX, &r), AF_ENOCONV);
+  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, SIZE_MAX, &r), AF_EBUDGET_ODE_STEPS);
+  /* The hanging inputs of issue 11 (outside the table's physical ranges,
+   * which the model checks; the impact alone still stops): a modulus of
+   * 1e-30 Pa, a radius of 1e-300 m or the smallest normal double, a contact
+   * velocity of 1 nm/s. Each within the budget, in milliseconds. */
+  const double t_start = clock_s();
+  for (int k = 0; k < 4; k++) {
+    p = af_impact_params_default();
+    if (k == 0)
+      p.fruit_modulus_pa = 1e-30;
+    else if (k == 1)
+      p.strike_radius_m = 1e-300;
+    else if (k == 2)
+      p.strike_radius_m = 2.2250738585072014e-308;
+    else
+      p.velocity_m_s = 1e-9;
+    af_status st = af_impact_run(w, &p, af_impact_hertz_contact_time_s(&p) / 128, force_n,
+                                 deformation_m, CAP, &r);
+    AF_CHECK(st == AF_EBUDGET_ODE_STEPS || st == AF_ENOCONV || st == AF_ESIZE);
+  }
+  AF_CHECK(clock_s() - t_start < 1.0);
   /* Moduli beyond double range: the scales overflow. */
   p = af_impact_params_default();
   p.fruit_modulus_pa = DBL_MAX;

@@ -7,6 +7,7 @@
  * check against the table, and the printed table. Run from the repository
  * root (the shipped files are read as config/station.yaml and
  * config/jonagold.yaml). */
+#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +15,7 @@
 #include <unistd.h>
 
 #include "af_test.h"
+#include "lane.h"
 #include "lane_config.h"
 #include "resonance.h"
 #include "settings.h"
@@ -200,16 +202,24 @@ static void test_table(void)
       AF_CHECK(strcmp(af_setting_def_of(same[k][0])->range, af_setting_def_of(same[k][j])->range) ==
                0);
 
-  /* Range texts: both bracket kinds, inf, a unit. */
+  /* Range texts: both bracket kinds, "0 or", a unit. */
   af_setting_range r;
-  AF_CHECK(af_setting_range_of(AF_SETTING_HAMMER_MODULUS_PA, &r) == AF_OK && r.lo == 0.0 &&
-           !r.lo_open && isinf(r.hi) && r.hi_open);
-  AF_CHECK(af_setting_range_contains(&r, 0.0) && af_setting_range_contains(&r, 1e300) &&
-           !af_setting_range_contains(&r, INFINITY) && !af_setting_range_contains(&r, NAN) &&
-           !af_setting_range_contains(&r, -1e-300));
-  AF_CHECK(af_setting_range_of(AF_SETTING_STRIKE_VELOCITY_M_S, &r) == AF_OK && r.lo_open &&
-           !r.hi_open && r.hi == 10.0);
-  AF_CHECK(!af_setting_range_contains(&r, 0.0) && af_setting_range_contains(&r, 10.0));
+  AF_CHECK(af_setting_range_of(AF_SETTING_HAMMER_MODULUS_PA, &r) == AF_OK && r.zero &&
+           r.lo == 1e5 && !r.lo_open && r.hi == 1e12 && !r.hi_open);
+  AF_CHECK(af_setting_range_contains(&r, 0.0) && af_setting_range_contains(&r, 1e5) &&
+           af_setting_range_contains(&r, 1e12) && !af_setting_range_contains(&r, 1e-300) &&
+           !af_setting_range_contains(&r, 1.1e12) && !af_setting_range_contains(&r, INFINITY) &&
+           !af_setting_range_contains(&r, NAN) && !af_setting_range_contains(&r, -1e-300));
+  AF_CHECK(af_setting_range_of(AF_SETTING_STRIKE_VELOCITY_M_S, &r) == AF_OK && !r.zero &&
+           !r.lo_open && r.lo == 0.05 && !r.hi_open && r.hi == 10.0);
+  AF_CHECK(!af_setting_range_contains(&r, 0.0) && !af_setting_range_contains(&r, 1e-9) &&
+           af_setting_range_contains(&r, 10.0));
+  AF_CHECK(af_setting_range_of(AF_SETTING_STREAM_STALE_AFTER_S, &r) == AF_OK && r.lo_open &&
+           r.lo == 0.0 && !r.hi_open && r.hi == 3600.0);
+  /* Every number row is physical: bounded on both sides (issue 11). */
+  for (int k = 0; k < AF_SETTING_COUNT; k++)
+    if (af_setting_range_of((af_setting_id)k, &r) == AF_OK)
+      AF_CHECK(isfinite(r.lo) && isfinite(r.hi));
   AF_CHECK(af_setting_range_of(AF_SETTING_MEASURE_SNR_THRESHOLD_DB, &r) == AF_OK &&
            r.lo == -100.0 && r.hi == 100.0);
 }
@@ -368,10 +378,11 @@ static void test_value_errors(void)
   af_settings s;
   af_settings_init(&s);
   CHECK_ERROR(af_settings_set_text(&s, "strike_velocity_m_s", "-1", err, sizeof err), AF_EINVAL,
-              err, "strike_velocity_m_s = -1 is outside the accepted range (0, 10] m/s");
+              err, "strike_velocity_m_s = -1 is outside the accepted range [0.05, 10] m/s");
   AF_CHECK(af_settings_number(&s, AF_SETTING_STRIKE_VELOCITY_M_S) == 1.4); /* unchanged */
   CHECK_ERROR(af_settings_set_number(&s, AF_SETTING_MODULUS_MIN_PA, -2e6, err, sizeof err),
-              AF_EINVAL, err, "modulus_min_pa = -2e+06 is outside the accepted range (0, inf) Pa");
+              AF_EINVAL, err,
+              "modulus_min_pa = -2e+06 is outside the accepted range [1e5, 1e9] Pa");
   CHECK_ERROR(af_settings_set_number(&s, AF_SETTING_HAMMER_POISSON, 0.5, err, sizeof err),
               AF_EINVAL, err, "hammer_poisson = 0.5 is outside the accepted range [0, 0.5)");
   CHECK_ERROR(af_settings_set_number(&s, AF_SETTING_GRAVITY_M_S2, NAN, err, sizeof err), AF_EINVAL,
@@ -386,7 +397,7 @@ static void test_value_errors(void)
   CHECK_WORDS(af_settings_set_text(&s, "modulus_min_pa", "2.0e6", err, sizeof err), AF_EINVAL, err,
               "modulus_min_pa = '2.0e6' is not a number", "8.0e+6");
   CHECK_ERROR(af_settings_set_text(&s, "modulus_min_pa", "soft", err, sizeof err), AF_EINVAL, err,
-              "modulus_min_pa = 'soft' is not a number (expected (0, inf) Pa)");
+              "modulus_min_pa = 'soft' is not a number (expected [1e5, 1e9] Pa)");
   CHECK_ERROR(af_settings_set_text(&s, "lobe", "\"1\"", err, sizeof err), AF_EINVAL, err,
               "lobe = '1' is not a number (expected [1, 8])");
   CHECK_ERROR(af_settings_set_bool(&s, AF_SETTING_LOBE, true, err, sizeof err), AF_EINVAL, err,
@@ -420,12 +431,13 @@ static void test_value_errors(void)
   AF_CHECK(isnan(af_settings_number(&s, AF_SETTING_HAMMER_MASS_KG)));
   CHECK_ERROR(af_settings_set_number(&s, AF_SETTING_HAMMER_MASS_KG, 2, err, sizeof err), AF_EINVAL,
               err,
-              "hammer_mass_kg = 2 is outside the accepted range (0, 1] kg (0 or absent = from "
+              "hammer_mass_kg = 2 is outside the accepted range [0.0005, 1] kg (0 or absent = from "
               "the URDF)");
-  CHECK_ERROR(af_settings_set_number(&s, AF_SETTING_HAMMER_TIP_RADIUS_M, -1, err, sizeof err),
-              AF_EINVAL, err,
-              "hammer_tip_radius_m = -1 is outside the accepted range [0, 0.1] m (absent = from "
-              "the URDF)");
+  CHECK_ERROR(
+      af_settings_set_number(&s, AF_SETTING_HAMMER_TIP_RADIUS_M, -1, err, sizeof err), AF_EINVAL,
+      err,
+      "hammer_tip_radius_m = -1 is outside the accepted range 0 or [0.0005, 0.1] m (absent = from "
+      "the URDF)");
   AF_CHECK_STATUS(af_settings_set_number(&s, AF_SETTING_HAMMER_MASS_KG, 0.02, err, sizeof err),
                   AF_OK);
   AF_CHECK(af_settings_present(&s, AF_SETTING_HAMMER_MASS_KG));
@@ -454,9 +466,10 @@ static void test_value_errors(void)
   write_file(path, "cultivar: Gala\nmodulus_nominal_pa: 7.0e+6\n");
   AF_CHECK_STATUS(af_settings_load_yaml(&s, path, err, sizeof err), AF_OK);
   remove(path);
-  CHECK_ERROR(af_settings_check_required(&s, AF_SETTINGS_ALL, err, sizeof err), AF_EINVAL, err,
-              "modulus_min_pa is missing (expected a number in (0, inf) Pa; a cultivar value: see "
-              "the cultivar's YAML, e.g. config/jonagold.yaml)");
+  CHECK_ERROR(
+      af_settings_check_required(&s, AF_SETTINGS_ALL, err, sizeof err), AF_EINVAL, err,
+      "modulus_min_pa is missing (expected a number in [1e5, 1e9] Pa; a cultivar value: see "
+      "the cultivar's YAML, e.g. config/jonagold.yaml)");
 }
 
 /* ---- command-line name=value -------------------------------------------------- */
@@ -482,9 +495,9 @@ static void test_args(void)
   CHECK_ERROR(af_settings_set_arg(&s, "colour=red", err, sizeof err), AF_EINVAL, err,
               "unknown parameter 'colour'");
   CHECK_ERROR(af_settings_set_arg(&s, "strike_velocity_m_s=20", err, sizeof err), AF_EINVAL, err,
-              "strike_velocity_m_s = 20 is outside the accepted range (0, 10] m/s");
+              "strike_velocity_m_s = 20 is outside the accepted range [0.05, 10] m/s");
   CHECK_ERROR(af_settings_set_arg(&s, "strike_velocity_m_s=fast", err, sizeof err), AF_EINVAL, err,
-              "strike_velocity_m_s = 'fast' is not a number (expected (0, 10] m/s)");
+              "strike_velocity_m_s = 'fast' is not a number (expected [0.05, 10] m/s)");
   char text[64];
   af_settings_value_text(&s, AF_SETTING_MODULUS_NOMINAL_PA, text, sizeof text);
   AF_CHECK(strcmp(text, "9.0e+06") == 0); /* YAML 1.1 reads it back as a number */
@@ -570,7 +583,7 @@ static void test_yaml(void)
   AF_CHECK(memcmp(&before, &s, sizeof s) == 0); /* line 2 was not kept */
   write_file(path, "lobe: 1\n\nstrike_velocity_m_s: 11.0 # too fast\n");
   snprintf(want, sizeof want,
-           "%s:3: strike_velocity_m_s = 11 is outside the accepted range (0, 10] m/s", path);
+           "%s:3: strike_velocity_m_s = 11 is outside the accepted range [0.05, 10] m/s", path);
   CHECK_ERROR(af_settings_load_yaml(&s, path, err, sizeof err), AF_EINVAL, err, want);
   remove(path);
   write_file(path, "modulus_min_pa: 2.0e6\n");
@@ -599,7 +612,7 @@ static void test_yaml(void)
   CHECK_WORDS(load_text(&s, "lobe: .inf\n", err), AF_EINVAL, err,
               "lobe = inf is outside the accepted range [1, 8]");
   CHECK_WORDS(load_text(&s, "stream_stale_after_s: .inf\n", err), AF_EINVAL, err,
-              "stream_stale_after_s = inf is outside the accepted range (0, inf) s");
+              "stream_stale_after_s = inf is outside the accepted range (0, 3600] s");
   CHECK_WORDS(load_text(&s, "markers_enabled: 1\n", err), AF_EINVAL, err,
               "markers_enabled = 1 is not true or false");
   char longline[1200];
@@ -663,13 +676,20 @@ static void test_derive_errors(void)
   CHECK_ERROR(DERIVE(err, "strike_post_s=0.003"), AF_EINVAL, err,
               "strike_post_s = 0.003 must be at least strike_double_hit_gap_s = 0.005 (a bounce "
               "must be ruled out before the strike is emitted)");
-  /* (1 + 2 x 1 + 1 + 1) s x 5 MHz + 4 = 25000004 samples > 2^24. */
-  CHECK_ERROR(DERIVE(err, "force_buffer_s=1", "force_sample_rate_hz=5e6", "strike_pre_trigger_s=1",
+  /* (1 + 2 x 1 + 1 + 1) s x 1 MHz + 4 = 5000004 samples: under 2^24 (which
+   * no rate of the table's reaches any more), but 8 queued pulses of it and
+   * the detector's copies are about 500 MiB: refused before allocating. */
+  CHECK_WORDS(DERIVE(err, "force_buffer_s=1", "force_sample_rate_hz=1e6", "strike_pre_trigger_s=1",
                      "strike_max_contact_s=1", "strike_double_hit_gap_s=1", "strike_post_s=1"),
-              AF_EINVAL, err,
-              "strike_pre_trigger_s, strike_max_contact_s, strike_double_hit_gap_s and "
-              "strike_post_s give an event span of 25000004 samples at 5e+06 Hz, above the 2^24 "
-              "accepted");
+              AF_EINVAL, err, "the lane would allocate about ");
+  AF_CHECK(strstr(err, "above the 256 MiB accepted") != NULL);
+  /* Both rings at their most that the memory cap leaves: 2 x 30 s at 1 MHz. */
+  AF_CHECK_STATUS(DERIVE(err, "force_buffer_s=30", "force_sample_rate_hz=1e6", "audio_buffer_s=30",
+                         "audio_sample_rate_hz=1e6"),
+                  AF_OK);
+  CHECK_WORDS(DERIVE(err, "force_buffer_s=60", "force_sample_rate_hz=1e6", "audio_buffer_s=30",
+                     "audio_sample_rate_hz=1e6"),
+              AF_EINVAL, err, "the lane would allocate about ");
   /* 0.1 ms at 48 kHz = 4.8 -> 5 samples. */
   CHECK_ERROR(DERIVE(err, "measure_audio_window_s=0.0001"), AF_EINVAL, err,
               "measure_audio_window_s = 0.0001 gives 5 audio samples at 48000 Hz, fewer than the "
@@ -776,10 +796,11 @@ static void test_print(void)
   int lines = 0, velocity = 0, mass = 0, choice = 0, header = 0;
   while (f && fgets(line, sizeof line, f)) {
     lines++;
-    velocity += strcmp(line, "- **strike_velocity_m_s** (double, 1.4, (0, 10], m/s): contact "
+    velocity += strcmp(line, "- **strike_velocity_m_s** (double, 1.4, [0.05, 10], m/s): contact "
                              "velocity (the paper's optimum).\n") == 0;
-    mass += strcmp(line, "- **hammer_mass_kg** (double, absent, (0, 1], kg): overrides the URDF's "
-                         "hammer mass; 0 or absent = from the URDF.\n") == 0;
+    mass +=
+        strcmp(line, "- **hammer_mass_kg** (double, absent, [0.0005, 1], kg): overrides the URDF's "
+                     "hammer mass; 0 or absent = from the URDF.\n") == 0;
     choice += strcmp(line, "- **damping_law** (string, `exact`, paper | exact | hu-guo): damping "
                            "law chi(e) (PHYSICS.md 2).\n") == 0;
     header += strncmp(line, "name ", 5) == 0;
@@ -794,6 +815,64 @@ static void test_print(void)
   AF_CHECK(velocity == 1 && mass == 1 && choice == 1 && header == 1);
 }
 
+/* Heap in use (small chunks and mmapped ones) [bytes]. */
+static double heap_bytes(void)
+{
+  struct mallinfo2 mi = mallinfo2();
+  return (double)mi.uordblks + (double)mi.hblkhd;
+}
+
+/* af_lane_config_memory bounds what af_lane_create takes, and not loosely:
+ * the defaults and the largest parts the memory cap leaves. (Skipped under
+ * ASan, whose allocator mallinfo2 does not see.) */
+static void test_memory_estimate(void)
+{
+#if defined(__SANITIZE_ADDRESS__)
+  return;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return;
+#endif
+#endif
+  static const char *const cases[][7] = {
+      {NULL},
+      {"force_buffer_s=30", "force_sample_rate_hz=1e6", "audio_buffer_s=30",
+       "audio_sample_rate_hz=1e6", NULL},
+      {"audio_sample_rate_hz=1e6", "audio_buffer_s=3", "measure_audio_window_s=1",
+       "measure_noise_window_s=1", NULL},
+      {"force_sample_rate_hz=1e6", "strike_max_contact_s=0.1", "strike_pre_trigger_s=0.2",
+       "strike_post_s=0.2", "strike_pending_size=4", NULL},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char err[ERR_MAX];
+    af_settings s;
+    af_lane_config c;
+    af_status st = shipped(&s, err);
+    for (const char *const *a = cases[k]; st == AF_OK && *a; a++)
+      st = af_settings_set_arg(&s, *a, err, ERR_MAX);
+    if (st == AF_OK)
+      st = af_lane_config_derive(&s, &c, err, ERR_MAX);
+    AF_CHECK_STATUS(st, AF_OK);
+    if (st != AF_OK) {
+      fprintf(stderr, "  case %zu: %s\n", k, err);
+      continue;
+    }
+    af_lane_memory m;
+    af_lane_config_memory(&c, &m);
+    double before = heap_bytes();
+    af_lane *lane = NULL;
+    const char *what = "";
+    AF_CHECK_STATUS(af_lane_create(&c, NULL, NULL, &lane, &what), AF_OK);
+    double taken = heap_bytes() - before;
+    af_lane_destroy(lane);
+    AF_CHECK(taken > 0.0 && taken <= m.total);
+    AF_CHECK(m.total <= 3.0 * taken + 2.0 * 1048576.0);
+    AF_CHECK(m.total <= (double)AF_LANE_MEMORY_MAX_BYTES);
+    printf("lane memory, case %zu: %.1f MiB taken, %.1f MiB estimated\n", k, taken / 1048576.0,
+           m.total / 1048576.0);
+  }
+}
+
 int main(void)
 {
   test_table();
@@ -805,5 +884,6 @@ int main(void)
   test_derive_errors();
   test_model_ranges();
   test_print();
+  test_memory_estimate();
   return af_test_summary("test_settings");
 }

@@ -66,7 +66,11 @@ class StartupTest(unittest.TestCase):
         return err
 
     def test_bad_value(self):
-        self.refused('strike_velocity_m_s', '-1', '(0, 10] m/s', changes={'strike_velocity_m_s': -1.0})
+        self.refused('strike_velocity_m_s', '-1', '[0.05, 10] m/s', changes={'strike_velocity_m_s': -1.0})
+        # Issue 11: 1 nm/s lay inside the old (0, 10] and blocked the node at
+        # 100 % CPU on the first apple; the physical range refuses it at once.
+        self.refused('strike_velocity_m_s', '1e-09', '[0.05, 10] m/s',
+                     changes={'strike_velocity_m_s': 1.0e-9})
 
     def test_bad_order(self):
         self.refused('modulus_nominal_pa', '1.5e+07', changes={'modulus_nominal_pa': 15e6})
@@ -87,7 +91,7 @@ class StartupTest(unittest.TestCase):
         self.refused('audio_unit', 'dB', changes={'audio_unit': 'dB'})
 
     def test_model_check(self):
-        # (0, 1] passes the node's own table; the core refuses e < 0.05 with the exact law.
+        # [0.01, 1] passes the node's own table; the core refuses e < 0.05 with the exact law.
         self.refused('restitution', '0.01', '[0.05, 1]', changes={'restitution': 0.01})
 
     def test_no_urdf(self):
