@@ -1,5 +1,5 @@
-/* resonance.c — Lamb's frequency equation for the 0S2 mode and the sphere
- * frequency/modulus conversions.
+/* resonance.c — Lamb's frequency equation of the free sphere (spheroidal
+ * and torsional modes) and the sphere frequency/modulus conversions.
  *
  * Frequency equation (Lamb 1882; in matrix form Sato & Usami 1962, eq. 2.2):
  * with x = omega a / c_p, y = omega a / c_s and the spheroidal displacement
@@ -10,8 +10,10 @@
  *   sigma_rt:  P  2 [(n-1) j_n(x) - x j_{n+1}(x)]
  *              S  (2(n^2-1) - y^2) j_n(y) + 2 y j_{n+1}(y)
  * and a free surface needs the 2x2 determinant D = sP tS - sS tP to vanish.
- * Near y = 0 D vanishes like x^2 y^4 (a spurious root, not a mode), so the
- * scan for the first sign change starts well above it.
+ * Near y = 0 D vanishes like a power of y (a spurious root, not a mode), so
+ * the scan for sign changes starts well above it. The torsional modes of
+ * order n need (n - 1) j_n(y) - y j_{n+1}(y) = 0 (the shear traction of
+ * the toroidal field), independent of nu.
  */
 #include "resonance.h"
 
@@ -25,18 +27,21 @@
 
 /* Spheroidal order of the 0S2 ("football") mode. */
 #define AF_LAMB_ORDER 2
-/* Scan for the first sign change of D: start above the spurious root at 0,
- * step small against the spacing of the roots (~1 in y), stop far above the
- * 0S2 root (2.4..2.7 for nu in [0, 0.5)). */
+/* Scan for sign changes of D: start above the spurious root at 0, step small
+ * against the spacing of the roots (~1 in y); the 0S2 root (2.4..2.7 for nu
+ * in [0, 0.5)) is searched up to AF_LAMB_SCAN_TO, higher roots up to
+ * AF_LAMB_SCAN_TO_HIGH (the 3rd overtone of order 8 lies near y = 20). */
 #define AF_LAMB_SCAN_FROM 0.5
 #define AF_LAMB_SCAN_STEP 0.05
 #define AF_LAMB_SCAN_TO 10.0
+#define AF_LAMB_SCAN_TO_HIGH 40.0
 /* Brent on the bracket: absolute tolerance on y, iteration cap. */
 #define AF_LAMB_XTOL 1e-12
 #define AF_LAMB_MAX_ITER 100
 
 typedef struct {
   double cs_over_cp; /* c_s / c_p = x / y */
+  int n;             /* order */
 } af_lamb_params;
 
 /* j_n(x) and j_{n+1}(x); NaN when GSL reports an error. */
@@ -49,15 +54,15 @@ static void af_bessel_pair(int n, double x, double *jn, double *jn1)
   *jn1 = s1 == GSL_SUCCESS ? r1.val : NAN;
 }
 
-/* Lamb's determinant D(y) for the order AF_LAMB_ORDER (dimensionless). */
+/* Lamb's spheroidal determinant D(y) of order p->n (dimensionless). */
 static double af_lamb_determinant(double y, void *params)
 {
   const af_lamb_params *p = params;
-  const double n = AF_LAMB_ORDER;
+  const double n = p->n;
   double x = y * p->cs_over_cp;
   double jx, jx1, jy, jy1;
-  af_bessel_pair(AF_LAMB_ORDER, x, &jx, &jx1);
-  af_bessel_pair(AF_LAMB_ORDER, y, &jy, &jy1);
+  af_bessel_pair(p->n, x, &jx, &jx1);
+  af_bessel_pair(p->n, y, &jy, &jy1);
   double s_p = (2.0 * n * (n - 1.0) - y * y) * jx + 4.0 * x * jx1;
   double s_s = 2.0 * n * (n + 1.0) * ((n - 1.0) * jy - y * jy1);
   double t_p = 2.0 * ((n - 1.0) * jx - x * jx1);
@@ -65,19 +70,33 @@ static double af_lamb_determinant(double y, void *params)
   return s_p * t_s - s_s * t_p;
 }
 
-/* First sign change of D above AF_LAMB_SCAN_FROM: [*lo, *hi]. */
-static af_status af_lamb_bracket(gsl_function *f, double *lo, double *hi)
+/* The torsional frequency function (n - 1) j_n(y) - y j_{n+1}(y), order p->n. */
+static double af_torsional_function(double y, void *params)
+{
+  const af_lamb_params *p = params;
+  double jy, jy1;
+  af_bessel_pair(p->n, y, &jy, &jy1);
+  return (p->n - 1.0) * jy - y * jy1;
+}
+
+/* The (skip + 1)-th sign change of f above AF_LAMB_SCAN_FROM, below scan_to:
+ * [*lo, *hi]. */
+static af_status af_lamb_bracket(gsl_function *f, unsigned skip, double scan_to, double *lo,
+                                 double *hi)
 {
   double y0 = AF_LAMB_SCAN_FROM;
   double d0 = GSL_FN_EVAL(f, y0);
-  for (double y1 = y0 + AF_LAMB_SCAN_STEP; y1 <= AF_LAMB_SCAN_TO; y1 += AF_LAMB_SCAN_STEP) {
+  for (double y1 = y0 + AF_LAMB_SCAN_STEP; y1 <= scan_to; y1 += AF_LAMB_SCAN_STEP) {
     double d1 = GSL_FN_EVAL(f, y1);
     if (!isfinite(d0) || !isfinite(d1))
       return AF_ENUMERIC;
     if ((d0 < 0.0) != (d1 < 0.0) || d1 == 0.0) {
-      *lo = y0;
-      *hi = y1;
-      return AF_OK;
+      if (skip == 0) {
+        *lo = y0;
+        *hi = y1;
+        return AF_OK;
+      }
+      --skip;
     }
     y0 = y1;
     d0 = d1;
@@ -113,19 +132,109 @@ static af_status af_lamb_polish(gsl_function *f, double lo, double hi, double *r
   return st;
 }
 
+/* The (overtone + 1)-th root of f above the spurious one, scanned to scan_to. */
+static af_status af_lamb_solve(gsl_function *f, unsigned overtone, double scan_to, double *xi)
+{
+  double lo, hi;
+  af_status st = af_lamb_bracket(f, overtone, scan_to, &lo, &hi);
+  if (st == AF_OK)
+    st = af_lamb_polish(f, lo, hi, xi);
+  return st;
+}
+
+/* (c_s / c_p), from (c_p / c_s)^2 = 2 (1 - nu) / (1 - 2 nu). */
+static double af_cs_over_cp(double poisson)
+{
+  return sqrt((1.0 - 2.0 * poisson) / (2.0 * (1.0 - poisson)));
+}
+
 af_status af_resonance_lamb_root(double poisson, double *xi)
 {
   if (xi == NULL || !(poisson >= 0.0 && poisson < 0.5))
     return AF_EINVAL;
   af_status_init();
-  /* (c_p / c_s)^2 = 2 (1 - nu) / (1 - 2 nu) */
-  af_lamb_params p = {sqrt((1.0 - 2.0 * poisson) / (2.0 * (1.0 - poisson)))};
+  af_lamb_params p = {af_cs_over_cp(poisson), AF_LAMB_ORDER};
   gsl_function f = {af_lamb_determinant, &p};
-  double lo, hi;
-  af_status st = af_lamb_bracket(&f, &lo, &hi);
-  if (st == AF_OK)
-    st = af_lamb_polish(&f, lo, hi, xi);
-  return st;
+  return af_lamb_solve(&f, 0, AF_LAMB_SCAN_TO, xi);
+}
+
+af_status af_resonance_spheroidal_root(double poisson, unsigned order, unsigned overtone,
+                                       double *xi)
+{
+  if (xi == NULL || !(poisson >= 0.0 && poisson < 0.5) || order < 2 ||
+      order > AF_RESONANCE_MAX_ORDER || overtone > AF_RESONANCE_MAX_OVERTONE)
+    return AF_EINVAL;
+  af_status_init();
+  af_lamb_params p = {af_cs_over_cp(poisson), (int)order};
+  gsl_function f = {af_lamb_determinant, &p};
+  return af_lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
+}
+
+af_status af_resonance_torsional_root(unsigned order, unsigned overtone, double *xi)
+{
+  if (xi == NULL || order < 2 || order > AF_RESONANCE_MAX_ORDER ||
+      overtone > AF_RESONANCE_MAX_OVERTONE)
+    return AF_EINVAL;
+  af_status_init();
+  af_lamb_params p = {1.0, (int)order};
+  gsl_function f = {af_torsional_function, &p};
+  return af_lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
+}
+
+const char *af_sphere_mode_name(af_sphere_mode mode)
+{
+  switch (mode) {
+  case AF_MODE_0S2: return "0S2";
+  case AF_MODE_0S3: return "0S3";
+  case AF_MODE_0S4: return "0S4";
+  case AF_MODE_1S2: return "1S2";
+  case AF_MODE_0T2: return "0T2";
+  case AF_MODE_COUNT: break;
+  }
+  return "?";
+}
+
+af_status af_resonance_sphere_modes(double poisson, af_sphere_modes *out)
+{
+  /* order and overtone of each af_sphere_mode; the 0T2 is torsional */
+  static const unsigned order[AF_MODE_COUNT] = {2, 3, 4, 2, 2};
+  static const unsigned overtone[AF_MODE_COUNT] = {0, 0, 0, 1, 0};
+  if (out == NULL || !(poisson >= 0.0 && poisson < 0.5))
+    return AF_EINVAL;
+  af_sphere_modes m;
+  m.poisson = poisson;
+  for (int i = 0; i < AF_MODE_COUNT; ++i) {
+    af_status st = i == AF_MODE_0T2
+                       ? af_resonance_torsional_root(order[i], overtone[i], &m.xi[i])
+                       : af_resonance_spheroidal_root(poisson, order[i], overtone[i], &m.xi[i]);
+    if (st != AF_OK)
+      return st;
+  }
+  for (int i = 0; i < AF_MODE_COUNT; ++i)
+    m.ratio[i] = m.xi[i] / m.xi[AF_MODE_0S2];
+  *out = m;
+  return AF_OK;
+}
+
+void af_sphere_modes_cache_init(af_sphere_modes_cache *c)
+{
+  c->modes.poisson = NAN;
+  for (int i = 0; i < AF_MODE_COUNT; ++i)
+    c->modes.xi[i] = c->modes.ratio[i] = NAN;
+}
+
+af_status af_resonance_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
+                                           af_sphere_modes *out)
+{
+  if (c == NULL || out == NULL)
+    return AF_EINVAL;
+  if (poisson != c->modes.poisson) {
+    af_status st = af_resonance_sphere_modes(poisson, &c->modes);
+    if (st != AF_OK)
+      return st;
+  }
+  *out = c->modes;
+  return AF_OK;
 }
 
 double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3)

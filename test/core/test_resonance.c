@@ -1,9 +1,11 @@
-/* test_resonance.c — the 0S2 root of Lamb's equation and the sphere
- * frequency/modulus conversions against PHYSICS.md 5. */
+/* test_resonance.c — the 0S2 root of Lamb's equation, its neighbouring
+ * modes (0S3, 0S4, 1S2, 0T2) and the sphere frequency/modulus conversions
+ * against PHYSICS.md 5. */
 #include "resonance.h"
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "af_test.h"
 
@@ -112,6 +114,90 @@ static void test_cache(void)
   AF_CHECK_ABS(c.poisson, 0.49, 0.0);
 }
 
+/* Ratios of the neighbouring modes to the 0S2: PHYSICS.md 5's table (4
+ * decimals, so 1e-4 absolute); the 0S2 of the general solver is the one of
+ * af_resonance_lamb_root, bit for bit. */
+static void test_mode_ratios(void)
+{
+  const double nu[] = {0.25, 0.30, 0.35, 0.40};
+  const double ref[4][4] = {{1.4835, 1.8976, 1.8430, 0.9474},
+                            {1.4879, 1.9068, 1.8921, 0.9452},
+                            {1.4919, 1.9153, 1.9381, 0.9432},
+                            {1.4954, 1.9229, 1.9804, 0.9414}};
+  const af_sphere_mode mode[] = {AF_MODE_0S3, AF_MODE_0S4, AF_MODE_1S2, AF_MODE_0T2};
+  for (size_t i = 0; i < 4; ++i) {
+    af_sphere_modes m;
+    double xi = NAN, xi2 = NAN;
+    AF_CHECK_STATUS(af_resonance_sphere_modes(nu[i], &m), AF_OK);
+    AF_CHECK_STATUS(af_resonance_lamb_root(nu[i], &xi), AF_OK);
+    AF_CHECK_STATUS(af_resonance_spheroidal_root(nu[i], 2, 0, &xi2), AF_OK);
+    AF_CHECK(xi2 == xi && m.xi[AF_MODE_0S2] == xi);
+    AF_CHECK(m.ratio[AF_MODE_0S2] == 1.0 && m.poisson == nu[i]);
+    for (size_t j = 0; j < 4; ++j)
+      AF_CHECK_ABS(m.ratio[mode[j]], ref[i][j], 1e-4);
+  }
+  /* 0T2 alone: 2.5011, independent of nu; the 0S3 and the 1S2 by order and
+   * overtone, as the table gives them (nu 0.35) */
+  double xi = NAN;
+  AF_CHECK_STATUS(af_resonance_torsional_root(2, 0, &xi), AF_OK);
+  AF_CHECK_ABS(xi, 2.5011, 1e-4);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, 3, 0, &xi), AF_OK);
+  AF_CHECK_ABS(xi / 2.6519, 1.4919, 2e-4);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, 2, 1, &xi), AF_OK);
+  AF_CHECK_ABS(xi / 2.6519, 1.9381, 2e-4);
+  /* the roots of one order rise with the overtone */
+  double prev = 0.0;
+  for (unsigned k = 0; k <= AF_RESONANCE_MAX_OVERTONE; ++k) {
+    AF_CHECK_STATUS(af_resonance_spheroidal_root(0.3, AF_RESONANCE_MAX_ORDER, k, &xi), AF_OK);
+    AF_CHECK(xi > prev + 0.5);
+    prev = xi;
+  }
+  AF_CHECK(strcmp(af_sphere_mode_name(AF_MODE_0S3), "0S3") == 0);
+  AF_CHECK(strcmp(af_sphere_mode_name(AF_MODE_1S2), "1S2") == 0);
+  AF_CHECK(strcmp(af_sphere_mode_name(AF_MODE_COUNT), "?") == 0);
+}
+
+static void test_mode_bad_input(void)
+{
+  double xi = 1.0;
+  af_sphere_modes m;
+  m.poisson = 7.0;
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, 1, 0, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, AF_RESONANCE_MAX_ORDER + 1, 0, &xi),
+                  AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, 2, AF_RESONANCE_MAX_OVERTONE + 1, &xi),
+                  AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.5, 2, 0, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_spheroidal_root(0.35, 2, 0, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_torsional_root(1, 0, &xi), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_torsional_root(2, 0, NULL), AF_EINVAL);
+  AF_CHECK(xi == 1.0);
+  AF_CHECK_STATUS(af_resonance_sphere_modes(-0.1, &m), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_sphere_modes(NAN, &m), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_sphere_modes(0.3, NULL), AF_EINVAL);
+  AF_CHECK(m.poisson == 7.0); /* untouched on failure */
+}
+
+/* The mode cache answers as the solver does; a failure keeps it. */
+static void test_mode_cache(void)
+{
+  af_sphere_modes_cache c;
+  af_sphere_modes m;
+  af_sphere_modes_cache_init(&c);
+  AF_CHECK(isnan(c.modes.poisson));
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(&c, 0.35, &m), AF_OK);
+  AF_CHECK_ABS(m.ratio[AF_MODE_0S3], 1.4919, 1e-4);
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(&c, 0.25, &m), AF_OK);
+  AF_CHECK_ABS(m.ratio[AF_MODE_1S2], 1.8430, 1e-4);
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(&c, 0.25, &m), AF_OK);
+  AF_CHECK_ABS(m.ratio[AF_MODE_1S2], 1.8430, 1e-4);
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(&c, 0.5, &m), AF_EINVAL);
+  AF_CHECK_ABS(c.modes.poisson, 0.25, 0.0);
+  AF_CHECK_ABS(m.ratio[AF_MODE_1S2], 1.8430, 1e-4);
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(NULL, 0.25, &m), AF_EINVAL);
+  AF_CHECK_STATUS(af_resonance_sphere_modes_cached(&c, 0.25, NULL), AF_EINVAL);
+}
+
 int main(void)
 {
   test_cache();
@@ -120,5 +206,8 @@ int main(void)
   test_frequency_table();
   test_inverse_and_scaling();
   test_bad_input();
+  test_mode_ratios();
+  test_mode_bad_input();
+  test_mode_cache();
   return af_test_summary("test_resonance");
 }
