@@ -11,6 +11,7 @@
 #include "criteria.h"
 #include "resonance.h"
 #include "stress.h"
+#include "text.h"
 
 /* The measured pulse goes through a spectrum sized as the model's
  * (model.c), or as the fit's longest pulse when that is longer (a faster
@@ -38,6 +39,8 @@ struct af_measure {
    * of a new ratio and cached. */
   af_lamb_cache xi;
   af_shear_cache shear;
+  af_sphere_modes_cache sphere; /* the Lamb ratios of the 0S2's neighbours, per nu */
+  af_response_result peaks[AF_RESPONSE_MAX_PEAKS]; /* af_response_peaks' list */
 };
 
 /* What the steps of one strike found, for the criteria and the reason. */
@@ -65,6 +68,8 @@ af_measure_config af_measure_config_default(void)
   c.noise_window_s = 0.020;
   c.noise_guard_s = 0.005;
   c.range_margin = 0.15;
+  c.modes = af_modes_config_default();
+  c.modulus_prior_rel_sd = 0.10;
   return c;
 }
 
@@ -81,7 +86,8 @@ static af_status af_measure_check(const af_measure_config *c, size_t *window_n, 
   if (!(isfinite(rate) && rate > 0.0) || !af_finite_nonneg(c->audio_delay_s) ||
       !(isfinite(c->audio_window_s) && c->audio_window_s > 0.0) ||
       !af_finite_nonneg(c->noise_window_s) || !af_finite_nonneg(c->noise_guard_s) ||
-      !(c->range_margin >= 0.0 && c->range_margin < 1.0))
+      !(c->range_margin >= 0.0 && c->range_margin < 1.0) ||
+      !(isfinite(c->modulus_prior_rel_sd) && c->modulus_prior_rel_sd > 0.0))
     return AF_EINVAL;
   double w = round(c->audio_window_s * rate), z = round(c->noise_window_s * rate);
   double cap = (double)c->response.window_samples;
@@ -123,6 +129,7 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   m->noise_samples = noise_n;
   af_lamb_cache_init(&m->xi);
   af_shear_cache_init(&m->shear);
+  af_sphere_modes_cache_init(&m->sphere);
   af_status st = af_fit_create(&cfg->fit, &m->fit);
   if (st == AF_OK)
     st = af_measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
@@ -156,9 +163,12 @@ af_status af_measure_prepare(af_measure *m, const af_model_params *p)
   double xi, ratio;
   if (m == NULL || p == NULL)
     return AF_EINVAL;
+  af_sphere_modes modes;
   af_status st = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (st == AF_OK)
     st = af_stress_shear_ratio_cached(&m->shear, p->shear_ratio, p->impact.fruit_poisson, &ratio);
+  if (st == AF_OK)
+    st = af_resonance_sphere_modes_cached(&m->sphere, p->impact.fruit_poisson, &modes);
   return st;
 }
 
@@ -188,6 +198,8 @@ static void af_report_start(const af_strike_event *ev, unsigned lobe, af_measure
   out->clipped = ev->clipped;
   out->lost_samples = ev->lost_samples > UINT32_MAX ? UINT32_MAX : (uint32_t)ev->lost_samples;
   af_verdict_clear(&out->verdict);
+  out->modes.peak = AF_MODES_NO_PEAK;
+  out->modes.frequency_hz = out->modes.f_pred_hz = out->modes.prior_z = NAN;
 }
 
 /* The band of the configured lobe, by the code path of the model's spectrum. */
@@ -258,7 +270,68 @@ static void af_set_noise(af_measure *m, const float *noise, size_t n_noise)
   (void)af_response_add_noise(m->response, noise + (n_noise - n), n);
 }
 
-/* The 0S2 peak in the model's range; stiffness factor and the modulus,
+/* The 0S2 predicted from the fitted E2 [Hz], the prior of the mode
+ * identification; NaN when the fit failed. */
+static double af_predicted_0s2_hz(const af_measure_apple *apple, const af_measure_report *out,
+                                  double xi)
+{
+  const af_model_params *p = &apple->model;
+  if (!isfinite(out->fitted_modulus_pa))
+    return NAN;
+  return af_resonance_frequency_hz(xi, p->modulus_factor * out->fitted_modulus_pa,
+                                   p->impact.fruit_poisson, p->fruit_density_kg_m3,
+                                   p->fruit_mass_kg);
+}
+
+/* Lists the damped peaks around the 0S2 range and identifies the 0S2 among
+ * them (modes.h); the status of af_step_audio's old single-peak reading:
+ * AF_OK (an identification, ambiguous or not), AF_ENODATA (no candidate
+ * cleared the SNR threshold: out->snr_db the best rejected one's), or the
+ * response's error. */
+static af_status af_identify(af_measure *m, const af_measure_apple *apple, const float *audio,
+                             size_t n, double xi, af_measure_report *out, af_measure_steps *s)
+{
+  af_sphere_modes modes;
+  double band_lo, band_hi;
+  size_t n_peaks = 0;
+  af_status st =
+      af_resonance_sphere_modes_cached(&m->sphere, apple->model.impact.fruit_poisson, &modes);
+  if (st == AF_OK)
+    st = af_modes_list_band(s->f_lo_hz, s->f_hi_hz, m->cfg.response.sample_rate_hz, &band_lo,
+                            &band_hi);
+  if (st == AF_OK)
+    st = af_response_peaks(m->response, audio, n, band_lo, band_hi, m->peaks, AF_RESPONSE_MAX_PEAKS,
+                           &n_peaks);
+  if (st == AF_ENODATA)
+    out->snr_db = m->peaks[0].snr_db; /* the best rejected candidate's */
+  if (st != AF_OK)
+    return st;
+  /* The fit's own standard error and the calibration's, in quadrature;
+   * f goes as sqrt(E): half the relative uncertainty in ln f. */
+  const double se = out->fitted_modulus_se_pa / out->fitted_modulus_pa;
+  const double cal = m->cfg.modulus_prior_rel_sd;
+  const af_modes_input in = {.peaks = m->peaks,
+                             .n_peaks = n_peaks,
+                             .band_lo_hz = band_lo,
+                             .band_hi_hz = band_hi,
+                             .f_lo_hz = s->f_lo_hz,
+                             .f_hi_hz = s->f_hi_hz,
+                             .modes = &modes,
+                             .f_pred_hz = af_predicted_0s2_hz(apple, out, xi),
+                             .f_pred_rel_sd =
+                                 0.5 * sqrt((isfinite(se) ? se * se : 0.0) + cal * cal)};
+  st = af_modes_identify(&m->cfg.modes, &in, &out->modes);
+  af_modes_format(&out->modes, out->modes_text, sizeof out->modes_text);
+  if (st == AF_ENODATA) { /* peaks, none in the 0S2 range: the best in range is none */
+    out->snr_db = -INFINITY;
+    for (size_t k = 0; k < n_peaks; k++)
+      if (m->peaks[k].frequency_hz >= s->f_lo_hz && m->peaks[k].frequency_hz <= s->f_hi_hz)
+        out->snr_db = fmax(out->snr_db, m->peaks[k].snr_db);
+  }
+  return st;
+}
+
+/* The 0S2 among the microphone's peaks; stiffness factor and the modulus,
  * divided by the modulus factor so that it compares with the quasi-static E2
  * of the contact and of the fit. */
 static void af_step_audio(af_measure *m, const af_measure_apple *apple, const float *audio,
@@ -266,7 +339,6 @@ static void af_step_audio(af_measure *m, const af_measure_apple *apple, const fl
                           af_measure_report *out, af_measure_steps *s)
 {
   const af_model_params *p = &apple->model;
-  af_response_result r;
   double xi;
   s->n_audio = audio == NULL ? 0 : n_audio;
   s->audio_status = AF_ENODATA;
@@ -276,16 +348,16 @@ static void af_step_audio(af_measure *m, const af_measure_apple *apple, const fl
   af_resonance_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
   af_set_noise(m, noise, n_noise);
   size_t n = s->n_audio < m->window_samples ? s->n_audio : m->window_samples;
-  s->audio_status = af_response_analyze(m->response, audio, n, s->f_lo_hz, s->f_hi_hz, &r);
-  if (s->audio_status == AF_OK || s->audio_status == AF_ENODATA)
-    out->snr_db = r.snr_db; /* the best candidate's, to say how far below the threshold */
+  s->audio_status = af_identify(m, apple, audio, n, xi, out, s);
   if (s->audio_status != AF_OK)
     return;
-  out->resonance_hz = r.frequency_hz;
-  out->resonance_q = r.q;
-  out->stiffness_factor = af_resonance_stiffness_factor(r.frequency_hz, p->fruit_mass_kg);
+  const af_response_result *r = &m->peaks[out->modes.peak];
+  out->resonance_hz = r->frequency_hz;
+  out->resonance_q = r->q;
+  out->snr_db = r->snr_db;
+  out->stiffness_factor = af_resonance_stiffness_factor(r->frequency_hz, p->fruit_mass_kg);
   out->modulus_from_resonance_pa =
-      af_resonance_modulus_pa(xi, r.frequency_hz, p->impact.fruit_poisson, p->fruit_density_kg_m3,
+      af_resonance_modulus_pa(xi, r->frequency_hz, p->impact.fruit_poisson, p->fruit_density_kg_m3,
                               p->fruit_mass_kg) /
       p->modulus_factor;
 }
@@ -359,6 +431,15 @@ static void af_verdict_audio(const af_measure *m, const af_measure_steps *s,
     v->flags |= AF_VERDICT_AUDIO_FAILED;
 }
 
+/* Two peaks could be the 0S2: the strike cannot say which (modes.h). */
+static void af_verdict_modes(const af_measure_report *out, af_verdict *v)
+{
+  if (!out->modes.ambiguous)
+    return;
+  v->flags |= AF_VERDICT_MODE_AMBIGUOUS;
+  af_text(v->mode_text, sizeof v->mode_text, "%s", out->modes_text);
+}
+
 /* The criteria on what was measured. A criterion that could not be judged
  * (no resonance, no fitted E2) is already flagged above. */
 static void af_verdict_criteria(const af_measure_apple *apple, const af_measure_steps *s,
@@ -392,6 +473,7 @@ static void af_verdict_judge(const af_measure *m, const af_strike_event *ev,
                    af_criteria_no_damage(out->max_shear_stress_pa, out->yield_shear_stress_pa);
   af_verdict_clean(ev, s, v);
   af_verdict_audio(m, s, out, v);
+  af_verdict_modes(out, v);
   af_verdict_criteria(apple, s, out, v);
   out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
   af_verdict_format(v, out->reason, sizeof out->reason);

@@ -7,10 +7,13 @@
  *                   code path as the model's spectrum)
  *               ──> inverse fit of E2, e (v0, t0) (fit.h), started from the
  *                   model's prediction for the matched apple
- *   audio window ─> 0S2 peak inside the model's range for this apple's mass
- *                   (resonance.h over [modulus_min, modulus_max], widened by
- *                   a margin), Q, SNR (response.h); stiffness factor and the
- *                   modulus through Lamb's relation
+ *   audio window ─> the damped peaks over a band around the model's 0S2
+ *                   range for this apple's mass (resonance.h over
+ *                   [modulus_min, modulus_max], widened by a margin;
+ *                   af_response_peaks), and which of them is the 0S2
+ *                   (modes.h: the 0S2 predicted from the fitted E2, the Lamb
+ *                   ratios of its neighbours, the peaks present); Q, SNR;
+ *                   stiffness factor and the modulus through Lamb's relation
  *   criteria    ──> excites_mode: the measured resonance in the measured band
  *                   of the configured lobe (same settings as the prediction);
  *                   no_damage: tau_max from the measured peak force and the
@@ -30,6 +33,7 @@
 
 #include "fit.h"
 #include "model.h"
+#include "modes.h"
 #include "response.h"
 #include "status.h"
 #include "strike.h"
@@ -51,10 +55,17 @@ typedef struct {
   double noise_window_s; /* audio just before the strike used as the noise reference [s], >= 0 (0 =
                             none) */
   double range_margin;   /* relative widening of the model's 0S2 range, [0, 1) */
+  af_modes_config modes; /* which listed peak is the 0S2 (modes.h) */
+  double modulus_prior_rel_sd; /* how well the fitted E2 predicts the dynamic modulus (the
+                                  contact's model error and the modulus_factor calibration),
+                                  relative, 1 sigma, > 0; the 0S2 predicted from it carries
+                                  0.5 sqrt(se^2 + this^2) in ln f (f goes as sqrt(E)) */
 } af_measure_config;
 
 /* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,
- * window 40 ms, noise 20 ms ending 5 ms before the contact, margin 0.15. */
+ * window 40 ms, noise 20 ms ending 5 ms before the contact, margin 0.15;
+ * modes defaults; modulus prior 0.10 (1 sigma: a fitted E2 20 % off is 2
+ * sigma, while the 0S3, 1.49 x the 0S2, sits 8 sigma away in ln f). */
 af_measure_config af_measure_config_default(void);
 
 /* The apple the strike is judged for: the model parameters of its prediction
@@ -74,6 +85,9 @@ typedef struct {
   unsigned lobe;
   double band_low_hz, band_high_hz;         /* measured band of the configured lobe */
   double resonance_hz, resonance_q, snr_db; /* 0S2 from the microphone */
+  af_modes_id modes;                        /* how the 0S2 was identified (method NONE:
+                                               no audio analysed, or no candidate) */
+  char modes_text[AF_MEASURE_REASON_MAX];   /* af_modes_format of modes; "" when none ran */
   double stiffness_factor;                  /* f^2 m^(2/3) [Hz^2 kg^(2/3)] */
   double modulus_from_resonance_pa;         /* Lamb, divided by the modulus factor */
   double fitted_modulus_pa, fitted_restitution, fit_residual; /* residual: RMS / peak */

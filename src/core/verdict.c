@@ -124,7 +124,7 @@ static void add_audio(const af_verdict *v, char *buf, size_t len)
   if (v->flags & AF_VERDICT_AUDIO_FAILED)
     add(buf, len, "audio analysis failed: %s", af_strerror(v->audio_status));
   if (v->flags & AF_VERDICT_MODE_AMBIGUOUS)
-    add(buf, len, "ambiguous 0S2: %s", v->mode_text);
+    add(buf, len, "%s", v->mode_text); /* af_modes_format: "ambiguous 0S2: ..." */
 }
 
 /* The criteria's own words (criteria.h), for the criteria flags alone. */

@@ -58,7 +58,7 @@ typedef enum {
   AF_AUDIO_STREAM_ENDED    /* offline: the recording ends before the window does */
 } af_audio_cause;
 
-#define AF_VERDICT_TEXT_MAX 96
+#define AF_VERDICT_TEXT_MAX 160
 
 typedef struct {
   uint32_t flags; /* af_verdict_flag bits; 0 = reliable */
@@ -76,7 +76,7 @@ typedef struct {
   size_t n_audio, queue_size;
   double snr_db, snr_threshold_db;     /* NO_RESONANCE: best candidate (NaN/-inf: none) */
   double f_lo_hz, f_hi_hz;             /* the 0S2 search range [Hz] */
-  char mode_text[AF_VERDICT_TEXT_MAX]; /* MODE_AMBIGUOUS: the candidates */
+  char mode_text[AF_VERDICT_TEXT_MAX]; /* MODE_AMBIGUOUS: af_modes_format's line */
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */

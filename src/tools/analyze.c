@@ -377,6 +377,12 @@ static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
   af_json_bool(out, "no_damage", r->no_damage);
   af_json_bool(out, "reliable", r->reliable);
   af_json_flags(out, r->verdict.flags);
+  fprintf(out, "      \"mode\": {\"method\": \"%s\", \"confidence\": %.4g, \"ambiguous\": %s, ",
+          af_modes_method_name(r->modes.method), r->modes.confidence,
+          r->modes.ambiguous ? "true" : "false");
+  fputs("\"text\": ", out);
+  af_json_text(out, r->modes_text);
+  fputs("},\n", out);
   fputs("      \"reason\": ", out);
   af_json_text(out, r->reason);
   fprintf(out, "\n    }%s\n", last ? "" : ",");
