@@ -15,6 +15,10 @@ PACKAGES=(
   libroscpp-dev librosbag-dev python3-rostest python3-rosbag python3-roslaunch python3-rostopic python3-rosnode python3-rosbag librostest-dev rosbash
   libstd-msgs-dev python3-std-msgs ros-std-msgs libgeometry-msgs-dev python3-geometry-msgs ros-geometry-msgs
   libvisualization-msgs-dev python3-visualization-msgs
+  # ~strike_plot (sensor_msgs/Image); the strike geometry through TF: tf2_ros, the rig's
+  # frames from robot_state_publisher (+ joint_state_publisher for the hammer's slide)
+  libsensor-msgs-dev python3-sensor-msgs libtf2-ros-dev python3-tf2-ros python3-tf2-msgs
+  ros-robot-state-publisher joint-state-publisher
   libdiagnostic-msgs-dev python3-diagnostic-msgs libdiagnostic-updater-dev
   liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
   libgtest-dev

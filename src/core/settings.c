@@ -113,6 +113,11 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
             "hammer link origin to the strike point along the axis (display only)"),
     [AF_SETTING_MARKER_ARROW_LENGTH_M] =
         NUM("marker_arrow_length_m", "0.05", "(0, 10] m", S, "hammer and rotation arrows"),
+    [AF_SETTING_STRIKE_PLOT_WIDTH_PX] =
+        WHOLE("strike_plot_width_px", "800", "[320, 2048] px", S,
+              "width of the last strike's picture on ~strike_plot (sensor_msgs/Image, rgb8)"),
+    [AF_SETTING_STRIKE_PLOT_HEIGHT_PX] = WHOLE("strike_plot_height_px", "450", "[240, 2048] px", S,
+                                               "height of the last strike's picture"),
     [AF_SETTING_STRIKE_FULL_SCALE_N] = NUM("strike_full_scale_n", "500.0", "(0, 1e6] N", S,
                                            "a raw force sample at or beyond +-this is clipped"),
     [AF_SETTING_STRIKE_THRESHOLD_NOISE_FACTOR] =

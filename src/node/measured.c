@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "markers.h"
+#include "strike_plot.h"
 #include "text.h"
 
 #define AF_OUTPUT_QUEUE 10
@@ -29,6 +30,7 @@ struct af_measured {
   const af_node_config *cfg;
   af_lane *lane;
   af_ros_pub *report_pub, *reliability_pub, *markers_pub;
+  af_strike_plot *plot; /* the live picture; NULL = none (strike_plot.h) */
   af_label_place labels[AF_LABELS];
   size_t label_next;
   double entry_wall_s; /* wall clock when the current chunk's callback began; 0 = none */
@@ -159,6 +161,7 @@ static void on_lane_strike(const af_lane_strike *s, void *user)
   const af_label_place *place = label_place(m, s->apple_id);
   if (m->markers_pub && s->prediction && s->prediction->valid && place)
     publish_label(m, place);
+  af_strike_plot_capture(m->plot, s, m->lane); /* a copy; drawn in the node's loop */
   m->have_last = true;
   m->last = *r;
   af_ros_log(m->ros, AF_LOG_DEBUG,
@@ -216,6 +219,11 @@ void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header 
   p->header = *h;
   memcpy(p->centre_m, centre_m, sizeof p->centre_m);
   p->top_m = top_m;
+}
+
+void af_measured_set_strike_plot(af_measured *m, af_strike_plot *plot)
+{
+  m->plot = plot;
 }
 
 void af_measured_poll(af_measured *m)

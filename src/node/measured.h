@@ -49,6 +49,10 @@ af_status af_measured_apple(af_measured *m, const af_apple *a, const af_predicti
 void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header *h,
                              const double centre_m[3], double top_m);
 
+/* The live picture each strike is copied into (strike_plot.h); NULL = none. */
+struct af_strike_plot;
+void af_measured_set_strike_plot(af_measured *m, struct af_strike_plot *plot);
+
 /* Each spin: measures what is due (time-outs, stale audio). */
 void af_measured_poll(af_measured *m);
 

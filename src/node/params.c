@@ -190,6 +190,8 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
   cfg->marker_lifetime_s = af_settings_number(&s, AF_SETTING_MARKER_LIFETIME_S);
   cfg->marker_strike_distance_m = af_settings_number(&s, AF_SETTING_MARKER_STRIKE_DISTANCE_M);
   cfg->marker_arrow_length_m = af_settings_number(&s, AF_SETTING_MARKER_ARROW_LENGTH_M);
+  cfg->strike_plot_width_px = (int)af_settings_number(&s, AF_SETTING_STRIKE_PLOT_WIDTH_PX);
+  cfg->strike_plot_height_px = (int)af_settings_number(&s, AF_SETTING_STRIKE_PLOT_HEIGHT_PX);
   st = load_hammer(ros, cfg, &s, err, err_len);
   if (st == AF_OK) {
     char why[AF_WHY_MAX];

@@ -47,6 +47,8 @@ typedef struct {
   double marker_lifetime_s;
   double marker_strike_distance_m; /* hammer link origin to strike point, for display */
   double marker_arrow_length_m;
+  /* --- the live strike picture (~strike_plot) --- */
+  int strike_plot_width_px, strike_plot_height_px;
 } af_node_config;
 
 /* Loads every table row from ~ (checked by the table), the URDF (hammer

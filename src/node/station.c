@@ -10,6 +10,7 @@
 #include "measured.h"
 #include "model.h"
 #include "resonance.h"
+#include "strike_plot.h"
 #include "text.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
@@ -32,6 +33,7 @@ struct af_station {
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
   af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
+  af_strike_plot *plot;  /* the last strike's picture on strike_plot */
   /* Output scratch, kept here so that no callback allocates. */
   af_excitation_band band;
   af_strike_advice advice;
@@ -430,6 +432,7 @@ static void diag_task(af_diag_status *d, void *user)
   diag_stream(d, force, force_stale);
   diag_stream(d, audio, audio_stale);
   af_measured_diag(st->measured, d);
+  af_strike_plot_diag(st->plot, d);
 }
 
 /* --- life cycle -------------------------------------------------------------- */
@@ -477,6 +480,9 @@ static af_status build(af_station *st, const char **what)
   if ((s = af_measured_create(st->ros, st->cfg, st->reliability_pub, st->markers_pub, &st->measured,
                               what)) != AF_OK)
     return s;
+  if ((s = af_strike_plot_create(st->ros, st->cfg, &st->plot, what)) != AF_OK)
+    return s;
+  af_measured_set_strike_plot(st->measured, st->plot);
   *what = "the subscribers";
   return subscribe(st);
 }
@@ -506,11 +512,13 @@ void af_station_destroy(af_station *st)
   if (!st)
     return;
   af_measured_destroy(st->measured);
+  af_strike_plot_destroy(st->plot);
   free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
 }
 
 void af_station_update(af_station *st)
 {
   af_measured_poll(st->measured);
+  af_strike_plot_update(st->plot); /* renders outside every callback */
   af_ros_diag_update(st->diag);
 }

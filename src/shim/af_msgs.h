@@ -154,6 +154,19 @@ typedef struct {
   size_t n;
 } af_marker_array;
 
+/* sensor_msgs/Image (publish only): a picture for rviz's Image display, e.g.
+ * the node's ~strike_plot. The pixels are borrowed: the shim copies them
+ * into its kept message when publishing. */
+#define AF_IMAGE_ENCODING_MAX 16
+
+typedef struct {
+  af_header header;
+  uint32_t height_px, width_px;
+  char encoding[AF_IMAGE_ENCODING_MAX]; /* sensor_msgs/image_encodings, e.g. "rgb8" */
+  uint32_t step_bytes;                  /* bytes per row */
+  const uint8_t *data;                  /* step_bytes x height_px bytes, rows top first */
+} af_image;
+
 #ifdef __cplusplus
 }
 #endif

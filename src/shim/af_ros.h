@@ -40,8 +40,9 @@ typedef enum {
   AF_MSG_EXCITATION_BAND,  /* af_excitation_band   <-> acoustic_firmness/ExcitationBand */
   AF_MSG_STRIKE_ADVICE,    /* af_strike_advice     <-> acoustic_firmness/StrikeAdvice */
   AF_MSG_RELIABILITY,      /* af_reliability       <-> acoustic_firmness/Reliability */
-  AF_MSG_MARKER_ARRAY, /* af_marker_array       -> visualization_msgs/MarkerArray (publish only) */
-  AF_MSG_STRIKE_REPORT /* af_strike_report     <-> acoustic_firmness/StrikeReport */
+  AF_MSG_MARKER_ARRAY,  /* af_marker_array       -> visualization_msgs/MarkerArray (publish only) */
+  AF_MSG_STRIKE_REPORT, /* af_strike_report     <-> acoustic_firmness/StrikeReport */
+  AF_MSG_IMAGE          /* af_image              -> sensor_msgs/Image (publish only; image.cpp) */
 } af_msg_type;
 
 typedef enum {

@@ -26,6 +26,7 @@
 #include <acoustic_firmness/StrikeAdvice.h>
 #include <acoustic_firmness/StrikeReport.h>
 #include <geometry_msgs/Vector3.h>
+#include <sensor_msgs/Image.h>
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -78,6 +79,12 @@ void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c);
 // Markers are publish-only: there is no ROS -> C direction.
 void to_ros(const af_marker &c, visualization_msgs::Marker &m);
 void to_ros(const af_marker_array &c, visualization_msgs::MarkerArray &m);
+
+// Images are publish-only too (image.cpp): the pixels are copied into m.data,
+// whose capacity is kept between publishes. Throws std::invalid_argument for
+// data NULL, a zero size, a step shorter than a row of the encoding, or an
+// encoding the shim does not know.
+void to_ros(const af_image &c, sensor_msgs::Image &m);
 
 } // namespace af_shim
 

@@ -78,6 +78,9 @@ af_status af_ros_advertise(af_ros *r, const char *topic, af_msg_type type, unsig
     case AF_MSG_MARKER_ARRAY:
       advertise_as<af_marker_array, visualization_msgs::MarkerArray>(nh, topic, queue, latch, *p);
       break;
+    case AF_MSG_IMAGE:
+      advertise_as<af_image, sensor_msgs::Image>(nh, topic, queue, latch, *p);
+      break;
     case AF_MSG_STRIKE_REPORT:
       advertise_as<af_strike_report, StrikeReport>(nh, topic, queue, latch, *p);
       break;
@@ -159,6 +162,9 @@ af_status af_ros_subscribe(af_ros *r, const char *topic, af_msg_type type, unsig
     case AF_MSG_STRIKE_REPORT:
       subscribe_as<StrikeReport, af_strike_report>(nh, topic, queue, *s);
       break;
+    case AF_MSG_IMAGE:
+      return af_shim::invalid(r, std::string("af_ros_subscribe: Image is publish-only (") + topic +
+                                     ")");
     case AF_MSG_MARKER_ARRAY:
       return af_shim::invalid(r, std::string("af_ros_subscribe: MarkerArray is publish-only (") +
                                      topic + ")");

@@ -108,6 +108,8 @@ typedef struct {
 static int af_draw(const af_plot_args *a, const af_model_params *p, const af_model_result *r,
                    const af_curves *c, double level_db, double res_lo, double res_hi)
 {
+  /* band is pointed to by spans[] until the plot is drawn: not scoped to its if. */
+  // cppcheck-suppress variableScope
   char t1[160], t2[160], t3[160], band[96], range[96], res[96], level[64], yield[64], tau[64];
   af_text(t1, sizeof t1, "impact: %.0f g at %.2f m/s on E#d2#u %.1f MPa, R#d2#u %.0f mm",
           p->impact.hammer_mass_kg * 1e3, p->impact.velocity_m_s, p->impact.fruit_modulus_pa * 1e-6,
