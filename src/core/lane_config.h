@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "grade.h"
 #include "measure.h"
 #include "model.h"
 #include "settings.h"
@@ -66,6 +67,7 @@ typedef struct {
   double equatorial_radius_min_m, equatorial_radius_max_m;
   double aspect_ratio_min, aspect_ratio_max; /* polar / equatorial semi-axis */
   double resonance_xi;                       /* Lamb root of the cultivar's Poisson ratio */
+  af_grade_config grade; /* firmness classes of measured strikes (grade_quantity, grade_classes) */
 } af_lane_config;
 
 /* Fills *out from the settings s (every row present: the hammer's mass and

@@ -215,6 +215,14 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
     [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "[0.1, 10]", C,
                                       "dynamic / quasi-static modulus for the 0S2 resonance "
                                       "(a calibration)"),
+    [AF_SETTING_GRADE_QUANTITY] =
+        CHOICE("grade_quantity", "stiffness_factor",
+               "stiffness_factor, modulus_from_resonance, fitted_modulus", C,
+               "what the firmness classes are read on (StrikeReport's figure of that name)"),
+    [AF_SETTING_GRADE_CLASSES] = STRING(
+        "grade_classes", "\"soft | 7.0e+4 | medium | 1.1e+5 | firm | 1.6e+5 | very firm\"", 400, C,
+        "firmness classes, softest first, with the boundary between neighbours in "
+        "grade_quantity's unit (grade.h); \"\" = no grading"),
 };
 
 #undef S
@@ -1649,6 +1657,8 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
     st = derive_detector(s, out, err, len);
   if (st == AF_OK)
     st = derive_measure(s, out, err, len);
+  if (st == AF_OK)
+    st = af_grade_config_from_settings(s, &out->grade, err, len);
   if (st == AF_OK)
     st = check_memory(s, out, err, len);
   if (st == AF_OK)

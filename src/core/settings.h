@@ -122,6 +122,9 @@ typedef enum {
   AF_SETTING_DENSITY_KG_M3,
   AF_SETTING_YIELD_RATIO,
   AF_SETTING_MODULUS_FACTOR,
+  /* firmness grades of measured strikes (grade.h) */
+  AF_SETTING_GRADE_QUANTITY,
+  AF_SETTING_GRADE_CLASSES,
   AF_SETTING_COUNT
 } af_setting_id;
 
@@ -140,7 +143,7 @@ typedef enum {
 #define AF_SETTINGS_ALL 3u
 
 #define AF_SETTINGS_TEXT_MAX 512 /* longest string value (a path), with its NUL */
-#define AF_SETTINGS_STRINGS 3    /* string rows: hammer_link, urdf_file, cultivar */
+#define AF_SETTINGS_STRINGS 4    /* string rows: hammer_link, urdf_file, cultivar, grade_classes */
 #define AF_SETTINGS_PREFIX_MAX 8 /* name prefix in messages, with its NUL */
 
 /* One row of the table. */

@@ -2,10 +2,12 @@
 #include "measured.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "grade.h"
 #include "markers.h"
 #include "strike_plot.h"
 #include "text.h"
@@ -43,6 +45,8 @@ struct af_measured {
   bool have_last;
   af_strike_report last;
   af_timing latency; /* [ms] */
+  /* Strikes per firmness class; [0] ungraded. */
+  unsigned long long graded[AF_GRADE_CLASSES_MAX + 1];
 };
 
 static double wall_s(void)
@@ -101,6 +105,34 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->lost_samples = q->lost_samples;
 }
 
+/* The strike's firmness class (src/core/grade.h), counted for the diagnostics. */
+static void grade_report(af_measured *m, const af_measure_report *q, af_strike_report *r)
+{
+  af_grade g;
+  af_grade_strike(&m->cfg->lane.grade, q, &g);
+  r->grade_index = (uint8_t)g.index;
+  af_text(r->grade, sizeof r->grade, "%s", g.name);
+  af_text(r->grade_reason, sizeof r->grade_reason, "%s", g.reason);
+  m->graded[g.index <= AF_GRADE_CLASSES_MAX ? g.index : 0]++;
+}
+
+static void grade_diag(const af_measured *m, af_diag_status *d)
+{
+  const af_grade_config *g = &m->cfg->lane.grade;
+  char text[AF_TEXT_MAX];
+  af_grade_config_format(g, text, sizeof text);
+  af_diag_add(d, "grade classes", "%s", text);
+  size_t used = 0;
+  text[0] = '\0';
+  for (size_t k = 1; k <= g->n_classes && used < sizeof text; k++) {
+    int w = snprintf(text + used, sizeof text - used, "%s %llu, ", g->names[k - 1], m->graded[k]);
+    used += w > 0 ? (size_t)w : 0;
+  }
+  if (used < sizeof text)
+    snprintf(text + used, sizeof text - used, "ungraded %llu", m->graded[0]);
+  af_diag_add(d, "strikes per grade", "%s", text);
+}
+
 static const af_label_place *label_place(const af_measured *m, uint32_t apple_id)
 {
   for (size_t k = 0; k < AF_LABELS; k++)
@@ -113,10 +145,11 @@ static void publish_label(af_measured *m, const af_label_place *a)
 {
   const af_strike_report *r = &m->report;
   char text[AF_TEXT_MAX];
-  af_text(text, sizeof text, "measured: 0S2 %.0f Hz (%.1f MPa), fit %.1f MPa e %.2f, %.2f ms, %s",
+  af_text(text, sizeof text,
+          "measured: 0S2 %.0f Hz (%.1f MPa), fit %.1f MPa e %.2f, %.2f ms, %s, grade %s",
           r->resonance_hz, r->modulus_from_resonance_pa * 1e-6, r->fitted_modulus_pa * 1e-6,
           r->fitted_restitution, r->contact_time_s * 1e3,
-          m->rel.reliable ? "reliable" : "NOT reliable");
+          m->rel.reliable ? "reliable" : "NOT reliable", r->grade);
   af_markers_measured_label(&a->header, a->centre_m, a->top_m, text, m->cfg->marker_lifetime_s,
                             &m->label);
   af_marker_array arr = {&m->label, 1};
@@ -145,6 +178,7 @@ static void on_lane_strike(const af_lane_strike *s, void *user)
   af_text(r->header.frame_id, sizeof r->header.frame_id, "%s", s->frame_id);
   r->apple_id = s->apple_id;
   report_from_measure(q, r);
+  grade_report(m, q, r);
   rel->header = r->header;
   rel->apple_id = s->apple_id;
   af_text(rel->source, sizeof rel->source, "measured");
@@ -184,24 +218,30 @@ static af_chunk chunk_of(const af_signal_chunk *c)
   return k;
 }
 
-af_chunk_verdict af_measured_force(af_measured *m, const af_signal_chunk *c,
-                                   af_ring_write_info *info)
+/* One chunk into the lane through push (af_lane_force or af_lane_audio),
+ * the wall clock noted for the latency of the strikes it completes. */
+static af_chunk_verdict push_chunk(af_measured *m,
+                                   af_chunk_verdict (*push)(af_lane *, const af_chunk *, int64_t,
+                                                            af_ring_write_info *),
+                                   const af_signal_chunk *c, af_ring_write_info *info)
 {
   af_chunk k = chunk_of(c);
   m->entry_wall_s = wall_s();
-  af_chunk_verdict v = af_lane_force(m->lane, &k, now_ns(m), info);
+  af_chunk_verdict v = push(m->lane, &k, now_ns(m), info);
   m->entry_wall_s = 0.0;
   return v;
+}
+
+af_chunk_verdict af_measured_force(af_measured *m, const af_signal_chunk *c,
+                                   af_ring_write_info *info)
+{
+  return push_chunk(m, af_lane_force, c, info);
 }
 
 af_chunk_verdict af_measured_audio(af_measured *m, const af_signal_chunk *c,
                                    af_ring_write_info *info)
 {
-  af_chunk k = chunk_of(c);
-  m->entry_wall_s = wall_s();
-  af_chunk_verdict v = af_lane_audio(m->lane, &k, now_ns(m), info);
-  m->entry_wall_s = 0.0;
-  return v;
+  return push_chunk(m, af_lane_audio, c, info);
 }
 
 af_status af_measured_apple(af_measured *m, const af_apple *a, const af_prediction **pred)
@@ -301,6 +341,7 @@ void af_measured_diag(const af_measured *m, af_diag_status *d)
   if (s->pulse_cut > 0)
     af_diag_add(d, "strike pulses cut", "%llu (longer than the pending slot)",
                 (unsigned long long)s->pulse_cut);
+  grade_diag(m, d);
 }
 
 /* --- life cycle ------------------------------------------------------------------ */

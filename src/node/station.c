@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "advice.h"
+#include "evaluate.h"
 #include "markers.h"
 #include "measured.h"
 #include "model.h"
@@ -33,6 +34,7 @@ struct af_station {
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
   af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
+  af_evaluate *evaluate; /* the ~evaluate service */
   af_strike_plot *plot;  /* the last strike's picture on strike_plot */
   /* Output scratch, kept here so that no callback allocates. */
   af_excitation_band band;
@@ -432,6 +434,7 @@ static void diag_task(af_diag_status *d, void *user)
   diag_stream(d, force, force_stale);
   diag_stream(d, audio, audio_stale);
   af_measured_diag(st->measured, d);
+  af_evaluate_diag(st->evaluate, d);
   af_strike_plot_diag(st->plot, d);
 }
 
@@ -483,6 +486,8 @@ static af_status build(af_station *st, const char **what)
   if ((s = af_strike_plot_create(st->ros, st->cfg, &st->plot, what)) != AF_OK)
     return s;
   af_measured_set_strike_plot(st->measured, st->plot);
+  if ((s = af_evaluate_create(st->ros, st->cfg, &st->evaluate, what)) != AF_OK)
+    return s;
   *what = "the subscribers";
   return subscribe(st);
 }
@@ -512,6 +517,7 @@ void af_station_destroy(af_station *st)
   if (!st)
     return;
   af_measured_destroy(st->measured);
+  af_evaluate_destroy(st->evaluate);
   af_strike_plot_destroy(st->plot);
   free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
 }

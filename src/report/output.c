@@ -1,4 +1,5 @@
 /* output.c — text, JSON and CSV of a session (see output.h). */
+#include "json.h"
 #include "output.h"
 
 #include <inttypes.h>
@@ -132,44 +133,16 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
 
 /* ---- JSON ----------------------------------------------------------------------- */
 
-static void af_json_str(FILE *out, const char *s)
-{
-  fputc('"', out);
-  for (; *s; s++) {
-    unsigned char ch = (unsigned char)*s;
-    if (ch == '"' || ch == '\\')
-      fprintf(out, "\\%c", ch);
-    else if (ch < 0x20)
-      fprintf(out, "\\u%04x", ch);
-    else
-      fputc(ch, out);
-  }
-  fputc('"', out);
-}
-
 static void af_json_num(FILE *out, const char *key, double v)
 {
-  if (isfinite(v))
-    fprintf(out, "\"%s\": %.17g, ", key, v);
-  else
-    fprintf(out, "\"%s\": null, ", key);
+  fprintf(out, "\"%s\": ", key);
+  af_json_double(out, v, 17);
+  fputs(", ", out);
 }
 
 static void af_json_bool(FILE *out, const char *key, bool v)
 {
   fprintf(out, "\"%s\": %s, ", key, v ? "true" : "false");
-}
-
-static void af_json_flags(FILE *out, uint32_t flags)
-{
-  fputs("\"flags\": [", out);
-  bool first = true;
-  for (uint32_t bit = 1; bit != 0; bit <<= 1)
-    if (flags & bit) {
-      fprintf(out, "%s\"%s\"", first ? "" : ", ", af_verdict_flag_name((af_verdict_flag)bit));
-      first = false;
-    }
-  fputs("], ", out);
 }
 
 static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
@@ -189,7 +162,7 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
     af_json_num(out, "band_high_Hz", r->predicted_band_high_hz);
     af_json_num(out, "resonance_Hz", r->predicted_resonance_hz);
     fprintf(out, "\"reliable\": %s, \"reason\": ", r->predicted_reliable ? "true" : "false");
-    af_json_str(out, r->predicted_reason);
+    af_json_string(out, r->predicted_reason);
     fputs("}, ", out);
   } else
     fputs("null, ", out);
@@ -215,9 +188,11 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
   af_json_bool(out, "excites_mode", q->excites_mode);
   af_json_bool(out, "no_damage", q->no_damage);
   af_json_bool(out, "reliable", q->reliable);
+  fputs("\"flags\": ", out);
   af_json_flags(out, q->verdict.flags);
+  fputs(", ", out);
   fputs("\"reason\": ", out);
-  af_json_str(out, q->reason);
+  af_json_string(out, q->reason);
   fprintf(out, "}%s\n", last ? "" : ",");
 }
 
@@ -248,9 +223,9 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
                     const af_summary *m)
 {
   fputs("{\n  \"bag\": ", out);
-  af_json_str(out, bag);
+  af_json_string(out, bag);
   fputs(",\n  \"ns\": ", out);
-  af_json_str(out, ns);
+  af_json_string(out, ns);
   fputs(",\n  \"strikes\": [\n", out);
   for (size_t k = 0; k < s->n_strikes; k++)
     af_json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);

@@ -20,6 +20,7 @@ extern "C" {
 #define AF_TEXT_MAX 256
 #define AF_UNIT_MAX 16
 #define AF_SOURCE_MAX 16
+#define AF_GRADE_NAME_TEXT 32 /* = AF_GRADE_NAME_MAX of src/core/grade.h */
 
 typedef struct {
   uint32_t sec;
@@ -118,6 +119,10 @@ typedef struct {
   bool double_hit;
   bool clipped;
   uint32_t lost_samples; /* force samples missing around the strike */
+  /* The firmness grade (src/core/grade.h). */
+  uint8_t grade_index;            /* class 1..N of grade_classes, softest first; 0 = ungraded */
+  char grade[AF_GRADE_NAME_TEXT]; /* the class name, or "ungraded" */
+  char grade_reason[AF_TEXT_MAX]; /* why ungraded; "" when graded */
 } af_strike_report;
 
 /* visualization_msgs/Marker (the subset the node draws); published as a

@@ -193,6 +193,9 @@ void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m)
   m.double_hit = c.double_hit;
   m.clipped = c.clipped;
   m.lost_samples = c.lost_samples;
+  m.grade_index = c.grade_index;
+  assign_string(c.grade, m.grade);
+  assign_string(c.grade_reason, m.grade_reason);
 }
 
 void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
@@ -215,6 +218,9 @@ void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
   c.double_hit = m.double_hit != 0;
   c.clipped = m.clipped != 0;
   c.lost_samples = m.lost_samples;
+  c.grade_index = m.grade_index;
+  copy_string(m.grade, c.grade);
+  copy_string(m.grade_reason, c.grade_reason);
 }
 
 namespace

@@ -54,6 +54,7 @@ void af_ros_destroy(af_ros *r)
   try {
     // Subscribers first, so that no callback into freed user data is queued.
     r->subs.clear();
+    r->extras.clear();
     r->pubs.clear();
     r->diag.reset();
     r->queue.clear();

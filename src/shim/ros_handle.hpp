@@ -58,6 +58,9 @@ struct af_ros {
   std::vector<std::unique_ptr<af_ros_pub>> pubs;
   std::vector<std::unique_ptr<af_ros_sub>> subs;
   std::unique_ptr<af_ros_diag> diag;
+  // Services and dynamic_reconfigure servers (service.cpp, reconfigure.cpp):
+  // owned here, released before the node handles.
+  std::vector<std::shared_ptr<void>> extras;
 };
 
 } // extern "C"

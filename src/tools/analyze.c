@@ -22,6 +22,7 @@
 #include <time.h>
 
 #include "cli_flags.h"
+#include "json.h"
 #include "lane.h"
 #include "recording.h"
 #include "resonance.h"
@@ -313,42 +314,14 @@ static void af_on_strike(const af_lane_strike *s, void *user)
 
 static void af_json_number(FILE *out, const char *key, double v)
 {
-  if (isfinite(v))
-    fprintf(out, "      \"%s\": %.10g,\n", key, v);
-  else
-    fprintf(out, "      \"%s\": null,\n", key);
+  fprintf(out, "      \"%s\": ", key);
+  af_json_double(out, v, 10);
+  fputs(",\n", out);
 }
 
 static void af_json_bool(FILE *out, const char *key, bool v)
 {
   fprintf(out, "      \"%s\": %s,\n", key, v ? "true" : "false");
-}
-
-static void af_json_text(FILE *out, const char *s)
-{
-  fputc('"', out);
-  for (; *s; s++) {
-    unsigned char ch = (unsigned char)*s;
-    if (ch == '"' || ch == '\\')
-      fprintf(out, "\\%c", ch);
-    else if (ch < 0x20)
-      fprintf(out, "\\u%04x", ch);
-    else
-      fputc(ch, out);
-  }
-  fputc('"', out);
-}
-
-static void af_json_flags(FILE *out, uint32_t flags)
-{
-  fputs("      \"flags\": [", out);
-  bool first = true;
-  for (uint32_t bit = 1; bit != 0; bit <<= 1)
-    if (flags & bit) {
-      fprintf(out, "%s\"%s\"", first ? "" : ", ", af_verdict_flag_name((af_verdict_flag)bit));
-      first = false;
-    }
-  fputs("],\n", out);
 }
 
 static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
@@ -376,15 +349,17 @@ static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
   af_json_bool(out, "excites_mode", r->excites_mode);
   af_json_bool(out, "no_damage", r->no_damage);
   af_json_bool(out, "reliable", r->reliable);
+  fputs("      \"flags\": ", out);
   af_json_flags(out, r->verdict.flags);
+  fputs(",\n", out);
   fprintf(out, "      \"mode\": {\"method\": \"%s\", \"confidence\": %.4g, \"ambiguous\": %s, ",
           af_modes_method_name(r->modes.method), r->modes.confidence,
           r->modes.ambiguous ? "true" : "false");
   fputs("\"text\": ", out);
-  af_json_text(out, r->modes_text);
+  af_json_string(out, r->modes_text);
   fputs("},\n", out);
   fputs("      \"reason\": ", out);
-  af_json_text(out, r->reason);
+  af_json_string(out, r->reason);
   fprintf(out, "\n    }%s\n", last ? "" : ",");
 }
 
@@ -398,7 +373,7 @@ static void af_json_print(FILE *out, const af_analyze_ctx *c, const char *no_str
   fputs(c->n_rows > 0 ? "  ],\n" : "],\n", out);
   fputs("  \"no_strike_reason\": ", out);
   if (no_strike)
-    af_json_text(out, no_strike);
+    af_json_string(out, no_strike);
   else
     fputs("null", out);
   fputs("\n}\n", out);

@@ -14,43 +14,14 @@ source "$(dirname "$0")/harness.sh" "$@"
 # The recording: 3 strikes of the default strike (10 g hammer, 1.4 m/s, E2
 # 8 MPa, nu 0.35, R2 40 mm, e 0.6 by the exact law's chi 0.975) at 0.1, 0.4
 # and 0.7 s (+ a sub-sample offset); truth in truth.json.
-"$PY" - "$tmp" <<'EOF'
+"$PY" - "$tmp" "$(dirname "$0")" <<'EOF'
 import json, math, random, struct, sys
 out = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+from hertz_strike import hertz_pulse
 rnd = random.Random(20240611)
-m1, v0, g, E2, nu, R, chi = 0.010, 1.4, 9.80665, 8e6, 0.35, 0.04, 0.975
-K = 4.0 / 3.0 * E2 / (1 - nu * nu) * math.sqrt(R)
-
-def accel(d, v):
-    f = K * d ** 1.5 * (1 + chi * v / v0) if d > 0 else 0.0
-    return g - f / m1, f
-
-# RK4 at 0.25 us until the deformation returns to zero
-h, d, v, t, fine = 0.25e-6, 0.0, v0, 0.0, [0.0]
-while True:
-    k1 = accel(d, v)[0]
-    k2 = accel(d + h / 2 * v, v + h / 2 * k1)[0]
-    k3 = accel(d + h / 2 * (v + h / 2 * k1), v + h / 2 * k2)[0]
-    k4 = accel(d + h * (v + h / 2 * k2), v + h * k3)[0]
-    d_new = d + h * v + h * h / 6 * (k1 + k2 + k3)
-    v = v + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    t += h
-    if d_new <= 0:
-        tc = t - h + h * d / (d - d_new)  # linear crossing
-        break
-    d = d_new
-    fine.append(max(accel(d, v)[1], 0.0))
-
-def force_at(s):
-    if s <= 0 or s >= tc:
-        return 0.0
-    u = s / h
-    j = int(u)
-    if j + 1 < len(fine):
-        return fine[j] + (u - j) * (fine[j + 1] - fine[j])
-    return fine[-1] * (tc - s) / (tc - (len(fine) - 1) * h)
-
-peak = max(fine)
+nu = 0.35
+force_at, tc, peak = hertz_pulse(8e6)
 fs_f, fs_a, span = 50000.0, 48000.0, 1.0
 starts = [0.1 + 0.3 * i + rnd.random() / fs_f for i in range(3)]
 sigma_f = peak / 100.0  # 40 dB
@@ -216,35 +187,14 @@ json_check "len(d) == 3 and all('no_resonance' in r['flags'] for r in d)" "${run
 # above. The loudest peak in range is the 0S3; the modulus fitted to the
 # pulse, the Lamb ratios and the peaks present must still pick the 0S2
 # (within 0.5 % at 30 dB).
-"$PY" - "$tmp" <<'EOF2'
+"$PY" - "$tmp" "$(dirname "$0")" <<'EOF2'
 import json, math, random, struct, sys
 out = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+from hertz_strike import hertz_pulse
 rnd = random.Random(2603)
-m1, v0, g, E2, nu, R, chi, mass, rho = 0.010, 1.4, 9.80665, 2.5e6, 0.35, 0.04, 0.975, 0.25, 840.0
-K = 4.0 / 3.0 * E2 / (1 - nu * nu) * math.sqrt(R)
-def accel(d, v):
-    f = K * d ** 1.5 * (1 + chi * v / v0) if d > 0 else 0.0
-    return g - f / m1, f
-h, d, v, t, fine = 0.25e-6, 0.0, v0, 0.0, [0.0]
-while True:
-    k1 = accel(d, v)[0]
-    k2 = accel(d + h / 2 * v, v + h / 2 * k1)[0]
-    k3 = accel(d + h / 2 * (v + h / 2 * k1), v + h / 2 * k2)[0]
-    k4 = accel(d + h * (v + h / 2 * k2), v + h * k3)[0]
-    d_new = d + h * v + h * h / 6 * (k1 + k2 + k3)
-    v = v + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    t += h
-    if d_new <= 0:
-        tc = t - h + h * d / (d - d_new)
-        break
-    d = d_new
-    fine.append(max(accel(d, v)[1], 0.0))
-def force_at(s):
-    if s <= 0 or s >= tc:
-        return 0.0
-    j = int(s / h)
-    return fine[j] if j < len(fine) else 0.0
-peak = max(fine)
+E2, nu, mass, rho = 2.5e6, 0.35, 0.25, 840.0
+force_at, tc, peak = hertz_pulse(E2)
 a = (3 * mass / (4 * math.pi * rho)) ** (1 / 3)
 f0 = 2.6519 / (2 * math.pi * a) * math.sqrt(E2 / (2 * (1 + nu) * rho))
 f3 = 1.4919 * f0

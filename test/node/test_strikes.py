@@ -171,6 +171,40 @@ class StrikesTest(unittest.TestCase):
             self.assertLess(abs(e), START_TOL_S, 'contact start of apple %d: %+.2e s off'
                             % (r.apple_id, e))
 
+    def test_02b_grades(self):
+        """Every reliable strike has the class of the cultivar's grade_classes that
+        its stiffness factor falls in (the truth's too, away from a boundary);
+        every other strike is "ungraded" with the measured reason."""
+        reports, measured, diag = self.played
+        spec = [s.strip() for s in sc.param('grade_classes').split('|')]
+        names, bounds = spec[0::2], [float(b) for b in spec[1::2]]
+        self.assertEqual(sc.param('grade_quantity'), 'stiffness_factor')
+        rel = {m.apple_id: m for m in measured}
+        seen = {}
+        for r in reports:
+            m = rel[r.apple_id]
+            if not m.reliable:
+                self.assertEqual((r.grade_index, r.grade), (0, 'ungraded'), 'apple %d' % r.apple_id)
+                self.assertEqual(r.grade_reason, 'not reliable: ' + m.reason)
+                continue
+            k = sum(1 for b in bounds if r.stiffness_factor >= b)
+            self.assertEqual((r.grade_index, r.grade, r.grade_reason), (k + 1, names[k], ''),
+                             'apple %d, S %.4g' % (r.apple_id, r.stiffness_factor))
+            t = self.truth[r.apple_id]
+            s_true = float(t['resonance_hz']) ** 2 * float(t['mass_kg']) ** (2.0 / 3.0)
+            if all(abs(s_true / b - 1.0) > 0.02 for b in bounds):  # 0S2 within 1 %
+                self.assertEqual(r.grade_index, 1 + sum(1 for b in bounds if s_true >= b),
+                                 'apple %d: truth S %.4g' % (r.apple_id, s_true))
+            seen[r.grade] = seen.get(r.grade, 0) + 1
+        print('grades: %s' % seen)
+        self.assertGreaterEqual(len(seen), 3, 'the bag spans 2-12 MPa: several classes')
+        # /diagnostics counts them per class (its last report may predate the last strikes:
+        # the simulated clock stops with the bag).
+        counts = [int(part.rsplit(' ', 1)[1]) for part in diag['strikes per grade'].split(', ')]
+        self.assertEqual(len(counts), len(names) + 1, diag['strikes per grade'])
+        self.assertLessEqual(sum(counts), len(reports))
+        self.assertGreaterEqual(sum(counts), len(reports) - 5)
+
     def test_03_nothing_lost_on_the_way(self):
         _, _, diag = self.played
         self.assertTrue(diag, 'no diagnostics from the node')

@@ -363,6 +363,9 @@ TEST(StrikeReport, BothWaysAndNaN)
   c.double_hit = true;
   c.clipped = false;
   c.lost_samples = 4000000002u;
+  c.grade_index = 3;
+  std::strcpy(c.grade, "very firm");
+  std::strcpy(c.grade_reason, "");
 
   acoustic_firmness::StrikeReport m;
   af_shim::to_ros(c, m);
@@ -384,6 +387,9 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_TRUE(m.double_hit);
   EXPECT_FALSE(m.clipped);
   EXPECT_EQ(m.lost_samples, 4000000002u);
+  EXPECT_EQ(m.grade_index, 3u);
+  EXPECT_EQ(m.grade, "very firm");
+  EXPECT_EQ(m.grade_reason, "");
 
   af_strike_report back;
   poison(back);
@@ -437,6 +443,13 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_FALSE(back.double_hit);
   EXPECT_TRUE(back.clipped);
   EXPECT_EQ(back.contact_time_s, 1.4375e-3);
+  EXPECT_EQ(back.grade_index, 3u);
+  EXPECT_STREQ(back.grade, "very firm");
+  EXPECT_STREQ(back.grade_reason, "");
+  // A name longer than the C array is cut, NUL-terminated.
+  m.grade = std::string(100, 'g');
+  af_shim::from_ros(m, back);
+  EXPECT_EQ(std::string(back.grade), std::string(AF_GRADE_NAME_TEXT - 1, 'g'));
 }
 
 namespace
