@@ -384,7 +384,8 @@ static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_meas
                                                 af_impact_effective_radius_m(&fitted),
                                                 af_impact_effective_modulus_pa(&fitted));
   out->max_shear_stress_pa = ratio * af_stress_center_pressure_pa(out->peak_force_n, a_m);
-  out->yield_shear_stress_pa = af_stress_yield_shear_pa(p->yield_ratio, out->fitted_modulus_pa);
+  af_yield_law law = af_model_yield_law(p);
+  out->yield_shear_stress_pa = af_yield_shear_pa(&law, out->fitted_modulus_pa);
 }
 
 /* ---- verdict ------------------------------------------------------------------ */

@@ -29,6 +29,9 @@
  * between two scan points (about 12 halvings for 0.002 .. 1 m, under 20 for
  * any bracket of doubles), with room to spare: it guards the loop. */
 #define AF_MODEL_SEARCH_BUDGET 80
+/* The shipped yield law (calibration: doc/paper.md, "The yield law"). */
+#define AF_MODEL_YIELD_RATIO 0.0414
+#define AF_MODEL_YIELD_EXPONENT 0.70
 
 struct af_model {
   af_impact *impact;
@@ -50,7 +53,12 @@ af_model_params af_model_params_default(void)
   p.lobe = 1;
   p.band_level = AF_BAND_AMPLITUDE_HALF;
   p.shear_ratio = AF_SHEAR_EXACT;
-  p.yield_ratio = 0.04;
+  /* The yield law, calibrated on the shipped profile (doc/paper.md, "The
+   * yield law"): tau_y = 0.0414 E_ref (E2/E_ref)^0.70 with E_ref 8 MPa. */
+  p.yield_ratio = AF_MODEL_YIELD_RATIO;
+  p.yield_exponent = AF_MODEL_YIELD_EXPONENT;
+  p.yield_reference_modulus_pa = 8e6;
+  p.yield_measured.n = 0;
   return p;
 }
 
@@ -87,6 +95,16 @@ static void af_model_refuse(af_param_error *err, const char *field, double value
   }
 }
 
+af_yield_law af_model_yield_law(const af_model_params *p)
+{
+  af_yield_law law;
+  law.ratio = p->yield_ratio;
+  law.reference_modulus_pa = p->yield_reference_modulus_pa;
+  law.exponent = p->yield_exponent;
+  law.measured = p->yield_measured;
+  return law;
+}
+
 af_status af_model_params_check(const af_model_params *p, af_param_error *err)
 {
   const af_impact_params *i = &p->impact;
@@ -106,6 +124,9 @@ af_status af_model_params_check(const af_model_params *p, af_param_error *err)
       {"modulus_factor", p->modulus_factor, AF_SETTING_MODULUS_FACTOR},
       {"lobe", (double)p->lobe, AF_SETTING_LOBE},
       {"yield_ratio", p->yield_ratio, AF_SETTING_YIELD_RATIO},
+      {"yield_exponent", p->yield_exponent, AF_SETTING_YIELD_EXPONENT},
+      {"yield_reference_modulus_pa", p->yield_reference_modulus_pa,
+       AF_SETTING_YIELD_REFERENCE_MODULUS_PA},
   };
   for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
     const af_field_check *f = &fields[k];
@@ -224,7 +245,8 @@ static af_status stress_figures(af_model *m, const af_model_params *p, af_model_
   if (st != AF_OK)
     return st;
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
-  r->yield_shear_stress_pa = af_stress_yield_shear_pa(p->yield_ratio, p->impact.fruit_modulus_pa);
+  af_yield_law law = af_model_yield_law(p);
+  r->yield_shear_stress_pa = af_yield_shear_pa(&law, p->impact.fruit_modulus_pa);
   return AF_OK;
 }
 

@@ -14,6 +14,7 @@
 #include "spectrum.h"
 #include "status.h"
 #include "stress.h"
+#include "yield.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -29,13 +30,21 @@ typedef struct {
   unsigned lobe;              /* lobe of the criterion, 1-based (1 = main lobe) */
   af_band_level band_level;   /* half-power reading */
   af_shear_ratio shear_ratio; /* tau_max / p0: paper 0.31 or exact for nu2 */
-  double yield_ratio;         /* tau_yield / E2, > 0: a calibration */
+  double yield_ratio;         /* tau_ref / E_ref of the yield law, > 0: a calibration */
+  double yield_exponent;      /* p of tau_y = yield_ratio E_ref (E2/E_ref)^p; 1 = ratio law */
+  double yield_reference_modulus_pa; /* E_ref [Pa] */
+  af_yield_points yield_measured;    /* measured tau_y(E2); overrides the law when n > 0 */
 } af_model_params;
+
+/* The yield law of p (yield.h). */
+af_yield_law af_model_yield_law(const af_model_params *p);
 
 /* Shipped default profile: the paper's optimal strike on the average apple
  * (175 g, 840 kg/m3) with exact damping, lobe 1, amplitude-half, exact shear,
- * yield ratio 0.04 (calibrated so that the damage boundary of the average
- * apple lies near the paper's 31 mm under this profile), modulus factor 1. */
+ * yield law tau_y = 0.0414 x 8 MPa x (E2 / 8 MPa)^0.70 (calibrated: the
+ * average apple's damage boundary at the paper's 31 mm under this profile,
+ * and an exponent below the shear's 0.8 so that soft apples are safe when
+ * firm ones are, Fig. 3b's ordering; doc/paper.md), modulus factor 1. */
 af_model_params af_model_params_default(void);
 /* Paper-literal profile: LN damping as printed, lobe 2, power-half, 0.31. */
 af_model_params af_model_params_paper(void);

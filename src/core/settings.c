@@ -210,8 +210,14 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
         NUM("fruit_poisson", "0.35", "[0, 0.5)", C, "Poisson ratio of the flesh"),
     [AF_SETTING_DENSITY_KG_M3] =
         NUM("density_kg_m3", "840.0", "[100, 3000] kg/m3", C, "density of the fruit"),
-    [AF_SETTING_YIELD_RATIO] = NUM("yield_ratio", "0.04", "[0.001, 1]", C,
-                                   "yield shear stress / E2, a calibration (PHYSICS.md 6)"),
+    [AF_SETTING_YIELD_RATIO] = NUM("yield_ratio", "0.0414", "[0.001, 1]", C,
+                                   "yield law tau_y = yield_ratio E_ref (E2/E_ref)^p: "
+                                   "tau_y / E2 at E_ref, a calibration (doc/paper.md)"),
+    [AF_SETTING_YIELD_EXPONENT] = NUM("yield_exponent", "0.70", "[0, 3]", C,
+                                      "p of the yield law; 1 = the ratio law tau_y = "
+                                      "yield_ratio E2"),
+    [AF_SETTING_YIELD_REFERENCE_MODULUS_PA] =
+        NUM("yield_reference_modulus_pa", "8.0e+6", "[1e5, 1e9] Pa", C, "E_ref of the yield law"),
     [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "[0.1, 10]", C,
                                       "dynamic / quasi-static modulus for the 0S2 resonance "
                                       "(a calibration)"),
@@ -1295,6 +1301,8 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
   i->fruit_poisson = num(s, AF_SETTING_FRUIT_POISSON);
   m->fruit_density_kg_m3 = num(s, AF_SETTING_DENSITY_KG_M3);
   m->yield_ratio = num(s, AF_SETTING_YIELD_RATIO);
+  m->yield_exponent = num(s, AF_SETTING_YIELD_EXPONENT);
+  m->yield_reference_modulus_pa = num(s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
   m->modulus_factor = num(s, AF_SETTING_MODULUS_FACTOR);
   if (!(c->modulus_min_pa <= i->fruit_modulus_pa && i->fruit_modulus_pa <= c->modulus_max_pa)) {
     say(err, len, "%s = %g must lie in [%s, %s] = [%g, %g] Pa",
@@ -1594,6 +1602,8 @@ static const af_field_source field_sources[] = {
     {"band_level", {AF_SETTING_BAND_LEVEL}, 1, ""},
     {"shear_ratio", {AF_SETTING_SHEAR_RATIO}, 1, ""},
     {"yield_ratio", {AF_SETTING_YIELD_RATIO}, 1, ""},
+    {"yield_exponent", {AF_SETTING_YIELD_EXPONENT}, 1, ""},
+    {"yield_reference_modulus_pa", {AF_SETTING_YIELD_REFERENCE_MODULUS_PA}, 1, ""},
 };
 
 /* "~a / ~b (note)" for field, or the field itself. */

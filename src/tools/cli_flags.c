@@ -37,7 +37,11 @@ static const af_cli_flag flags[] = {
                    "half-power reading: power-half | amplitude-half"),
     AF_CHOICE_FLAG("shear-ratio", "shear_ratio", AF_FLAG_SHEAR,
                    "tau_max/p0: paper (0.31) | exact (for nu2)"),
-    AF_DOUBLE_FLAG("yield-ratio", yield_ratio, "yield shear stress / E2 [-] (calibration)"),
+    AF_DOUBLE_FLAG("yield-ratio", yield_ratio, "yield law tau_y / E2 at E_ref [-] (calibration)"),
+    AF_DOUBLE_FLAG("yield-exponent", yield_exponent,
+                   "yield law exponent p, tau_y ~ E2^p [-] (1 = ratio law)"),
+    AF_DOUBLE_FLAG("yield-reference-modulus", yield_reference_modulus_pa,
+                   "yield law reference modulus E_ref [Pa]"),
     AF_DOUBLE_FLAG("modulus-factor", modulus_factor, "dynamic / quasi-static modulus [-]"),
 };
 #define N_FLAGS (sizeof flags / sizeof flags[0])

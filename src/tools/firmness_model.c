@@ -22,7 +22,7 @@
 static void usage(void)
 {
   printf("usage: firmness_model [--profile default|paper] [model flags] [--json]\n"
-         "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] "
+         "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] [--ode] "
          "[model flags]\n"
          "       firmness_model bench [--seconds S] [model flags]\n"
          "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "

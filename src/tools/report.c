@@ -18,6 +18,21 @@ af_status af_report_compute(af_model *m, const af_model_params *p, af_report *re
   return st;
 }
 
+af_status af_report_compute_fast(af_fastpath *f, const af_model_params *p, af_report *rep)
+{
+  rep->params = *p;
+  af_status st = af_fastpath_evaluate(f, p, &rep->result);
+  if (st != AF_OK)
+    return st;
+  st = af_fastpath_min_strike_radius(f, p, AF_REPORT_R2_LO_M, AF_REPORT_R2_HI_M,
+                                     &rep->min_strike_radius_m);
+  if (st == AF_ENOROOT) {
+    rep->min_strike_radius_m = NAN;
+    st = AF_OK;
+  }
+  return st;
+}
+
 /* JSON has no NaN: a missing figure is null. */
 static void json_number(FILE *out, const char *key, double v, const char *sep)
 {

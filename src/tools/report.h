@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 
+#include "fastpath.h"
 #include "model.h"
 
 /* R2_min search bracket [m]: from a sharp bump to a nearly flat cheek. */
@@ -19,6 +20,9 @@ typedef struct {
 
 /* Evaluates p and searches R2_min into rep. */
 af_status af_report_compute(af_model *m, const af_model_params *p, af_report *rep);
+/* The same on the fast path (fastpath.h): the table, the ODE path where it
+ * falls back. */
+af_status af_report_compute_fast(af_fastpath *f, const af_model_params *p, af_report *rep);
 
 void af_report_json(FILE *out, const af_report *rep);
 void af_report_text(FILE *out, const af_report *rep);

@@ -17,6 +17,7 @@ typedef struct {
   double from, to;
   long steps;
   const char *csv_path; /* NULL = stdout */
+  bool ode;             /* --ode: the reference ODE path instead of the fast path */
 } af_sweep_args;
 
 static bool parse_double_arg(const char *flag, const char *text, double *out)
@@ -39,6 +40,10 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
   memset(a, 0, sizeof *a);
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
+    if (strcmp(flag, "--ode") == 0) {
+      a->ode = true;
+      continue;
+    }
     const char *value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1 ? argv[rest[k + 1]] : NULL;
     if (value == NULL) {
       fprintf(stderr, "firmness_model sweep: unknown argument or missing value '%s'\n", flag);
@@ -102,11 +107,12 @@ static void progress(long done, long total)
  * and value named, since later rows would silently miss. */
 static int run_sweep(const af_sweep_args *a, const af_model_params *base, FILE *out)
 {
-  af_model *m;
+  af_model *m = NULL;
+  af_fastpath *fast = NULL;
   af_report rep;
   bool bar = isatty(STDERR_FILENO);
   char text[64];
-  if (af_model_create(&m) != AF_OK) {
+  if (a->ode ? af_model_create(&m) != AF_OK : af_fastpath_create(&fast) != AF_OK) {
     fprintf(stderr, "firmness_model sweep: cannot create the model workspace\n");
     return 1;
   }
@@ -117,16 +123,18 @@ static int run_sweep(const af_sweep_args *a, const af_model_params *base, FILE *
     snprintf(text, sizeof text, "%.17g", v);
     if (!af_cli_flag_set(a->param, text, &p)) {
       af_model_destroy(m);
+      af_fastpath_destroy(fast);
       return AF_CLI_EXIT_USAGE;
     }
     af_param_error err;
     af_status st = af_model_params_check(&p, &err);
     if (st == AF_OK)
-      st = af_report_compute(m, &p, &rep);
+      st = fast ? af_report_compute_fast(fast, &p, &rep) : af_report_compute(m, &p, &rep);
     if (st != AF_OK) {
       fprintf(stderr, "firmness_model sweep: --%s %g: %s\n", a->param->name, v,
               st == AF_EINVAL ? err.range : af_strerror(st));
       af_model_destroy(m);
+      af_fastpath_destroy(fast);
       return st == AF_EINVAL ? AF_CLI_EXIT_USAGE : 1;
     }
     af_report_csv_row(out, v, &rep);
@@ -134,6 +142,7 @@ static int run_sweep(const af_sweep_args *a, const af_model_params *base, FILE *
       progress(k + 1, a->steps);
   }
   af_model_destroy(m);
+  af_fastpath_destroy(fast);
   return 0;
 }
 

@@ -107,7 +107,21 @@ sys.exit(0 if all(a > b for a, b in zip(t, t[1:])) else 1)"; then ok; else bad "
 if "$FM" sweep --param R2 --from 0.01 --to 0.05 --steps 3 --csv "$tmp/r2.csv" >/dev/null 2>&1 &&
   [ "$(wc -l <"$tmp/r2.csv")" -eq 4 ]; then ok; else bad "sweep --csv"; fi
 
-if "$FM" bench --seconds 0.2 | grep -q "evaluations/second"; then ok; else bad "bench"; fi
+bench_out=$("$FM" bench --seconds 0.2)
+if grep -q "^ODE path, this strike" <<<"$bench_out" && grep -q "^fast path, 1000 random strikes" <<<"$bench_out"; then ok; else bad "bench"; fi
+# sweep: the fast path by default, the ODE path with --ode; the same rows to 0.1 %
+"$FM" sweep --param E2 --from 2e6 --to 12e6 --steps 4 >"$tmp/fast.csv" &&
+  "$FM" sweep --param E2 --from 2e6 --to 12e6 --steps 4 --ode >"$tmp/ode.csv" || bad "sweep --ode"
+if /usr/bin/python3 - "$tmp/fast.csv" "$tmp/ode.csv" <<'PY'
+import csv, sys
+a, b = (list(csv.DictReader(open(f))) for f in sys.argv[1:3])
+assert len(a) == len(b) == 4
+for x, y in zip(a, b):
+    for k in ("contact_time_s", "peak_force_N", "band_high_Hz", "max_shear_stress_Pa"):
+        assert abs(float(x[k]) / float(y[k]) - 1) < 1e-3, (k, x[k], y[k])
+    assert x["reliable"] == y["reliable"]
+PY
+then ok; else bad "sweep fast vs --ode"; fi
 if "$FM" --help | grep -q -- "--hammer-radius"; then ok; else bad "--help lists flags"; fi
 
 summary test_cli

@@ -326,7 +326,8 @@ static void test_derive_shipped(void)
   AF_CHECK(i->strike_radius_m == 0.0 && c.model.fruit_mass_kg == 0.0); /* per apple */
   AF_CHECK(c.model.lobe == 1 && c.model.band_level == AF_BAND_AMPLITUDE_HALF &&
            c.model.shear_ratio == AF_SHEAR_EXACT);
-  AF_CHECK(c.model.fruit_density_kg_m3 == 840.0 && c.model.yield_ratio == 0.04 &&
+  AF_CHECK(c.model.fruit_density_kg_m3 == 840.0 && c.model.yield_ratio == 0.0414 &&
+           c.model.yield_exponent == 0.70 && c.model.yield_reference_modulus_pa == 8e6 &&
            c.model.modulus_factor == 1.0);
   AF_CHECK_ABS(c.latitude_tolerance_rad, 3.14159265358979323846 / 12.0, 1e-15); /* 15 deg */
   AF_CHECK(c.r2_search_low_m == 0.002 && c.r2_search_high_m == 0.5);

@@ -1,0 +1,508 @@
+/* fastpath.c — the table of normalised pulses and its interpolation. */
+#include "fastpath.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "criteria.h"
+#include "impact.h"
+#include "resonance.h"
+#include "settings.h"
+#include "spectrum.h"
+#include "stress.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* The grid: chi 0 .. 5 (exact law e >= 0.2, LN all, Hu-Guo e >= 0.23),
+ * gamma 0 .. 0.3 (the paper's strike: 0.003; 0.3 = a 100 g hammer at
+ * 0.3 m/s on a soft fruit), phi = f T 0 .. 1.6 (the main lobe ends near
+ * 0.61, the eighth near 2.9). */
+#define AF_FP_NCHI 101
+#define AF_FP_CHI_STEP 0.05
+#define AF_FP_NGAM 13
+#define AF_FP_GAM_STEP 0.025
+#define AF_FP_NPHI 401
+#define AF_FP_PHI_STEP 0.004
+/* Selected band edges: the cubic on the chi stencil and on the stencil
+ * shifted by one node must agree to this (relative to the band's upper
+ * edge), or the strike goes to the ODE path. */
+#define AF_FP_EDGE_AGREEMENT 3e-4
+/* As model.c: the pulse sampled at the elastic contact time / 128, at most
+ * 1024 samples, transformed on 4096 points. */
+#define AF_FP_SAMPLES_PER_PULSE 128
+#define AF_FP_MAX_SAMPLES 1024
+#define AF_FP_FFT_SIZE 4096
+#define AF_FP_LOBES AF_MODEL_MAX_LOBES
+/* Per-lobe figures: start, end, peak, peak magnitude, then band low/high at
+ * power-half and at amplitude-half. */
+#define AF_FP_LOBE_FIGS 8
+enum {
+  Q_TAU_C,
+  Q_TAU_PEAK,
+  Q_F_PEAK,
+  Q_X_MAX,
+  Q_E_DELIVERED,
+  Q_PMAX, /* max over the samples of f / x: p0 = 3 F0 / (2 pi R D) x this */
+  Q_MAG_MAX,
+  Q_N_SAMPLES,
+  Q_LOBES,
+  NQ = Q_LOBES + AF_FP_LOBES * AF_FP_LOBE_FIGS
+};
+
+struct af_fastpath {
+  double *q;     /* [chi][gamma][NQ] */
+  int *n_lobes;  /* [chi][gamma] */
+  double *mag;   /* [chi][gamma][phi]: |X| / (F0 T) */
+  af_model *ode; /* the reference, for fallbacks */
+  af_shear_cache shear;
+  af_lamb_cache xi;
+  af_impact *impact;      /* for chi(e) */
+  af_damping_law chi_law; /* chi of the last (law, e) asked */
+  double chi_e, chi;
+  af_setting_range ranges[AF_SETTING_COUNT]; /* the table's ranges, parsed once */
+  size_t from_table, fallbacks;
+};
+
+static size_t node_index(int i, int j)
+{
+  return (size_t)i * AF_FP_NGAM + (size_t)j;
+}
+
+/* The normalising strike of a node: 10 g at 1 m/s on 8 MPa, R 40 mm, rigid
+ * flat hammer; chi set through Hu-Guo's law (e = 3 / (3 + 2 chi) gives
+ * exactly chi), gamma through g. */
+static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, double *force,
+                            double *defo, double chi, double gamma, size_t at)
+{
+  af_impact_params ip = af_impact_params_default();
+  ip.velocity_m_s = 1.0;
+  ip.damping = AF_DAMPING_HU_GUO;
+  ip.restitution = 3.0 / (3.0 + 2.0 * chi);
+  double k = af_impact_stiffness(&ip);
+  double d = pow(5.0 * ip.hammer_mass_kg * ip.velocity_m_s * ip.velocity_m_s / (4.0 * k), 0.4);
+  double t = d / ip.velocity_m_s, f0 = ip.hammer_mass_kg * ip.velocity_m_s * ip.velocity_m_s / d;
+  ip.gravity_m_s2 = gamma * ip.velocity_m_s * ip.velocity_m_s / d;
+  double dt = af_impact_hertz_contact_time_s(&ip) / AF_FP_SAMPLES_PER_PULSE;
+  af_impact_result res;
+  af_status st = af_impact_run(imp, &ip, dt, force, defo, AF_FP_MAX_SAMPLES, &res);
+  if (st == AF_OK)
+    st = af_spectrum_execute(spec, force, res.n_samples, res.dt_s);
+  double p0 = 0.0;
+  if (st == AF_OK)
+    st = af_stress_max_center_pressure_pa(force, defo, res.n_samples,
+                                          af_impact_effective_radius_m(&ip), &p0, NULL);
+  if (st == AF_ESIZE || st == AF_EBUDGET_ODE_STEPS) {
+    /* A pulse the ODE path samples more coarsely (over 8 elastic contact
+     * times): not tabulated; strikes near it take the ODE path. */
+    f->n_lobes[at] = -1;
+    return AF_OK;
+  }
+  if (st != AF_OK)
+    return st;
+  double *q = f->q + at * NQ;
+  q[Q_TAU_C] = res.contact_time_s / t;
+  q[Q_TAU_PEAK] = res.time_of_peak_s / t;
+  q[Q_F_PEAK] = res.peak_force_n / f0;
+  q[Q_X_MAX] = res.max_deformation_m / d;
+  q[Q_E_DELIVERED] = res.delivered_restitution;
+  q[Q_PMAX] = p0 * 2.0 * M_PI * af_impact_effective_radius_m(&ip) * d / (3.0 * f0);
+  q[Q_MAG_MAX] = af_spectrum_max_magnitude(spec) / (f0 * t);
+  q[Q_N_SAMPLES] = (double)res.n_samples;
+  size_t count = af_spectrum_lobe_count(spec);
+  int n = (int)(count < AF_FP_LOBES ? count : AF_FP_LOBES);
+  f->n_lobes[at] = n;
+  for (int l = 0; l < AF_FP_LOBES; l++) {
+    double *g = q + Q_LOBES + l * AF_FP_LOBE_FIGS;
+    af_lobe power, amp;
+    memset(g, 0, AF_FP_LOBE_FIGS * sizeof *g);
+    if (l >= n)
+      continue;
+    if (af_spectrum_lobe(spec, (unsigned)(l + 1), AF_BAND_POWER_HALF, &power) != AF_OK ||
+        af_spectrum_lobe(spec, (unsigned)(l + 1), AF_BAND_AMPLITUDE_HALF, &amp) != AF_OK)
+      return AF_ENUMERIC;
+    g[0] = power.start_hz * t;
+    g[1] = power.end_hz * t;
+    g[2] = power.peak_hz * t;
+    g[3] = power.peak_magnitude_n_s / (f0 * t);
+    g[4] = power.band_low_hz * t;
+    g[5] = power.band_high_hz * t;
+    g[6] = amp.band_low_hz * t;
+    g[7] = amp.band_high_hz * t;
+  }
+  double *m = f->mag + at * AF_FP_NPHI;
+  for (int k2 = 0; k2 < AF_FP_NPHI; k2++)
+    m[k2] = af_spectrum_magnitude(spec, k2 * AF_FP_PHI_STEP / t) / (f0 * t);
+  return AF_OK;
+}
+
+static af_status build(af_fastpath *f)
+{
+  af_spectrum_config sc = af_spectrum_config_default();
+  af_spectrum *spec = NULL;
+  af_impact *imp = NULL;
+  double *force = malloc(AF_FP_MAX_SAMPLES * sizeof *force);
+  double *defo = malloc(AF_FP_MAX_SAMPLES * sizeof *defo);
+  sc.max_samples = AF_FP_MAX_SAMPLES;
+  sc.fft_size = AF_FP_FFT_SIZE;
+  sc.max_lobes = AF_FP_LOBES;
+  af_status st = force && defo ? af_impact_create(&imp) : AF_ENOMEM;
+  if (st == AF_OK)
+    st = af_spectrum_create(&sc, &spec);
+  for (int i = 0; i < AF_FP_NCHI && st == AF_OK; i++)
+    for (int j = 0; j < AF_FP_NGAM && st == AF_OK; j++)
+      st = build_node(f, imp, spec, force, defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
+                      node_index(i, j));
+  af_spectrum_destroy(spec);
+  af_impact_destroy(imp);
+  free(force);
+  free(defo);
+  return st;
+}
+
+af_status af_fastpath_create(af_fastpath **out)
+{
+  af_fastpath *f = calloc(1, sizeof *f);
+  *out = NULL;
+  if (f == NULL)
+    return AF_ENOMEM;
+  size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
+  f->q = malloc(nodes * NQ * sizeof *f->q);
+  f->n_lobes = malloc(nodes * sizeof *f->n_lobes);
+  f->mag = malloc(nodes * AF_FP_NPHI * sizeof *f->mag);
+  af_shear_cache_init(&f->shear);
+  af_lamb_cache_init(&f->xi);
+  af_status st = f->q && f->n_lobes && f->mag ? AF_OK : AF_ENOMEM;
+  if (st == AF_OK)
+    st = af_model_create(&f->ode);
+  if (st == AF_OK)
+    st = af_impact_create(&f->impact);
+  for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
+    if (af_setting_range_of((af_setting_id)k, &f->ranges[k]) != AF_OK)
+      f->ranges[k].lo = NAN; /* not a number row: never asked */
+  f->chi_e = NAN;
+  if (st == AF_OK)
+    st = build(f);
+  if (st != AF_OK) {
+    af_fastpath_destroy(f);
+    return st;
+  }
+  *out = f;
+  return AF_OK;
+}
+
+void af_fastpath_destroy(af_fastpath *f)
+{
+  if (f == NULL)
+    return;
+  free(f->q);
+  free(f->n_lobes);
+  free(f->mag);
+  af_model_destroy(f->ode);
+  af_impact_destroy(f->impact);
+  free(f);
+}
+
+af_model *af_fastpath_model(af_fastpath *f)
+{
+  return f ? f->ode : NULL;
+}
+
+void af_fastpath_counts(const af_fastpath *f, size_t *from_table, size_t *fallbacks)
+{
+  if (from_table)
+    *from_table = f ? f->from_table : 0;
+  if (fallbacks)
+    *fallbacks = f ? f->fallbacks : 0;
+}
+
+/* Four-point Lagrange weights on a uniform grid of n nodes at x (in node
+ * units): first node *i0, weights w[4]; l0 the node below x. */
+typedef struct {
+  int i0;
+  double w[4];
+  int l0;
+} af_fp_weights;
+
+/* Lagrange weights of nodes 0..3 at t (in node units). */
+static void cubic_weights(double t, double w[4])
+{
+  w[0] = -(t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0;
+  w[1] = t * (t - 2.0) * (t - 3.0) / 2.0;
+  w[2] = -t * (t - 1.0) * (t - 3.0) / 2.0;
+  w[3] = t * (t - 1.0) * (t - 2.0) / 6.0;
+}
+
+static bool weights(double x, int n, af_fp_weights *out)
+{
+  if (!(x >= 0.0 && x <= n - 1))
+    return false;
+  int i = (int)floor(x);
+  if (i > n - 2)
+    i = n - 2;
+  out->l0 = i;
+  int i0 = i - 1;
+  if (i0 < 0)
+    i0 = 0;
+  if (i0 > n - 4)
+    i0 = n - 4;
+  out->i0 = i0;
+  cubic_weights(x - i0, out->w);
+  return true;
+}
+
+/* Bicubic value of quantity k over the (chi, gamma) stencil. */
+static double bicubic_q(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b, int k)
+{
+  double s = 0.0;
+  for (int i = 0; i < 4; i++) {
+    const double *row = f->q + node_index(a->i0 + i, b->i0) * NQ + k;
+    double r = row[0] * b->w[0] + row[NQ] * b->w[1] + row[2 * NQ] * b->w[2] + row[3 * NQ] * b->w[3];
+    s += a->w[i] * r;
+  }
+  return s;
+}
+
+/* |X| / (F0 T) at phi: bicubic in (chi, gamma), cubic in phi. */
+static double magnitude(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+                        const af_fp_weights *c)
+{
+  double s = 0.0;
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      const double *m = f->mag + node_index(a->i0 + i, b->i0 + j) * AF_FP_NPHI + c->i0;
+      double v = m[0] * c->w[0] + m[1] * c->w[1] + m[2] * c->w[2] + m[3] * c->w[3];
+      s += a->w[i] * b->w[j] * v;
+    }
+  return s;
+}
+
+static bool lobes_agree(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b)
+{
+  int n = f->n_lobes[node_index(a->i0, b->i0)];
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++)
+      if (f->n_lobes[node_index(a->i0 + i, b->i0 + j)] != n)
+        return false;
+  return true;
+}
+
+/* Figure k equals figure edge at some nodes of the stencil but not all. */
+static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+                          int k, int edge)
+{
+  int clipped = 0;
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      const double *q = f->q + node_index(a->i0 + i, b->i0 + j) * NQ;
+      clipped += q[k] == q[edge];
+    }
+  return clipped != 0 && clipped != 16;
+}
+
+static af_status fallback(af_fastpath *f, const af_model_params *p, af_model_result *r)
+{
+  f->fallbacks++;
+  return af_model_evaluate(f->ode, p, r);
+}
+
+/* af_model_params_check's numeric rows, with the ranges parsed once: the
+ * quick test of every call. A strike it refuses (or a choice out of its
+ * enum) goes to af_model_params_check itself for the verdict and message. */
+static bool quick_check(const af_fastpath *f, const af_model_params *p)
+{
+  const af_impact_params *i = &p->impact;
+  const struct {
+    double v;
+    af_setting_id row;
+  } fields[] = {
+      {i->hammer_mass_kg, AF_SETTING_HAMMER_MASS_KG},
+      {i->velocity_m_s, AF_SETTING_STRIKE_VELOCITY_M_S},
+      {i->hammer_modulus_pa, AF_SETTING_HAMMER_MODULUS_PA},
+      {i->hammer_poisson, AF_SETTING_HAMMER_POISSON},
+      {i->hammer_radius_m, AF_SETTING_HAMMER_TIP_RADIUS_M},
+      {i->fruit_modulus_pa, AF_SETTING_MODULUS_NOMINAL_PA},
+      {i->fruit_poisson, AF_SETTING_FRUIT_POISSON},
+      {i->strike_radius_m, AF_SETTING_STRIKE_RADIUS_MIN_M},
+      {i->restitution, AF_SETTING_RESTITUTION},
+      {i->gravity_m_s2, AF_SETTING_GRAVITY_M_S2},
+      {p->fruit_mass_kg, AF_SETTING_MASS_MIN_KG},
+      {p->fruit_density_kg_m3, AF_SETTING_DENSITY_KG_M3},
+      {p->modulus_factor, AF_SETTING_MODULUS_FACTOR},
+      {(double)p->lobe, AF_SETTING_LOBE},
+      {p->yield_ratio, AF_SETTING_YIELD_RATIO},
+      {p->yield_exponent, AF_SETTING_YIELD_EXPONENT},
+      {p->yield_reference_modulus_pa, AF_SETTING_YIELD_REFERENCE_MODULUS_PA},
+  };
+  for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)
+    if (!af_setting_range_contains(&f->ranges[fields[k].row], fields[k].v))
+      return false;
+  return (i->damping != AF_DAMPING_EXACT || i->restitution >= 0.05) &&
+         (i->damping == AF_DAMPING_PAPER || i->damping == AF_DAMPING_EXACT ||
+          i->damping == AF_DAMPING_HU_GUO) &&
+         (p->band_level == AF_BAND_POWER_HALF || p->band_level == AF_BAND_AMPLITUDE_HALF) &&
+         (p->shear_ratio == AF_SHEAR_PAPER || p->shear_ratio == AF_SHEAR_EXACT) &&
+         p->yield_measured.n <= AF_YIELD_MAX_POINTS;
+}
+
+af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r)
+{
+  const af_impact_params *ip = &p->impact;
+  double chi = f->chi, xi, ratio;
+  af_status st = AF_OK;
+  if (!quick_check(f, p)) {
+    st = af_model_params_check(p, NULL);
+    if (st != AF_OK) {
+      memset(r, 0, sizeof *r);
+      return st;
+    }
+  }
+  if (!(ip->restitution == f->chi_e && ip->damping == f->chi_law)) {
+    st = af_impact_chi(f->impact, ip->damping, ip->restitution, &chi);
+    f->chi = chi;
+    f->chi_e = st == AF_OK ? ip->restitution : NAN;
+    f->chi_law = ip->damping;
+  }
+  if (st == AF_OK)
+    st = af_resonance_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi);
+  if (st == AF_OK)
+    st = af_stress_shear_ratio_cached(&f->shear, p->shear_ratio, ip->fruit_poisson, &ratio);
+  if (st != AF_OK)
+    return fallback(f, p, r);
+  double m1 = ip->hammer_mass_kg, v0 = ip->velocity_m_s;
+  double radius = af_impact_effective_radius_m(ip);
+  double k = 4.0 / 3.0 * af_impact_effective_modulus_pa(ip) * sqrt(radius);
+  double d = pow(1.25 * m1 * v0 * v0 / k, 0.4);
+  double t = d / v0, f0 = m1 * v0 * v0 / d;
+  double gamma = ip->gravity_m_s2 * d / (v0 * v0);
+  double res_hz =
+      af_resonance_frequency_hz(xi, p->modulus_factor * ip->fruit_modulus_pa, ip->fruit_poisson,
+                                p->fruit_density_kg_m3, p->fruit_mass_kg);
+  af_fp_weights a, b, c;
+  if (!weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &a) ||
+      !weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) ||
+      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) || !lobes_agree(f, &a, &b))
+    return fallback(f, p, r);
+  memset(r, 0, sizeof *r);
+  int n = f->n_lobes[node_index(a.i0, b.i0)];
+  int band_fig = p->band_level == AF_BAND_POWER_HALF ? 4 : 6;
+  r->n_lobes = (size_t)n;
+  for (int l = 0; l < n; l++) {
+    int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
+    af_lobe *lb = &r->lobes[l];
+    lb->index = (unsigned)(l + 1);
+    lb->start_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 0) / t;
+    lb->end_hz = bicubic_q(f, &a, &b, base + 1) / t;
+    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 2) / t;
+    lb->peak_magnitude_n_s = bicubic_q(f, &a, &b, base + 3) * f0 * t;
+    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + band_fig) / t;
+    lb->band_high_hz = bicubic_q(f, &a, &b, base + band_fig + 1) / t;
+  }
+  r->band_found = p->lobe <= r->n_lobes;
+  if (r->band_found) {
+    int base = Q_LOBES + (int)(p->lobe - 1) * AF_FP_LOBE_FIGS + band_fig;
+    r->band = r->lobes[p->lobe - 1];
+    /* A band edge clipped to its lobe's end at some nodes of the stencil and
+     * not at others has a kink inside it: not interpolated. */
+    if (clipped_mixed(f, &a, &b, base, base - band_fig) ||
+        clipped_mixed(f, &a, &b, base + 1, base - band_fig + 1))
+      return fallback(f, p, r);
+    /* The error estimate: the same cubic on the chi stencil shifted by one
+     * node (both hold the strike's interval). */
+    af_fp_weights a2 = a;
+    a2.i0 = a.i0 + 1 <= a.l0 && a.i0 + 4 <= AF_FP_NCHI - 1 ? a.i0 + 1 : a.i0 - 1;
+    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(f, &a2, &b))
+      return fallback(f, p, r);
+    cubic_weights(chi / AF_FP_CHI_STEP - a2.i0, a2.w);
+    double hi = r->band.band_high_hz * t;
+    if (fabs(bicubic_q(f, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
+        fabs(bicubic_q(f, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
+      return fallback(f, p, r);
+  }
+  af_impact_result *im = &r->impact;
+  im->contact_time_s = bicubic_q(f, &a, &b, Q_TAU_C) * t;
+  im->peak_force_n = bicubic_q(f, &a, &b, Q_F_PEAK) * f0;
+  im->time_of_peak_s = bicubic_q(f, &a, &b, Q_TAU_PEAK) * t;
+  im->max_deformation_m = bicubic_q(f, &a, &b, Q_X_MAX) * d;
+  im->delivered_restitution = bicubic_q(f, &a, &b, Q_E_DELIVERED);
+  im->chi = chi;
+  im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
+  im->n_samples = (size_t)lround(f->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
+  r->resonance_hz = res_hz;
+  r->excitation_at_resonance_db =
+      20.0 * log10(magnitude(f, &a, &b, &c) / bicubic_q(f, &a, &b, Q_MAG_MAX));
+  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(f, &a, &b, Q_PMAX);
+  r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
+  af_yield_law law = af_model_yield_law(p);
+  r->yield_shear_stress_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
+  r->excites_mode = af_criteria_excites_mode(r->band_found ? &r->band : NULL, r->resonance_hz);
+  r->no_damage = af_criteria_no_damage(r->max_shear_stress_pa, r->yield_shear_stress_pa);
+  r->reliable = r->excites_mode && r->no_damage;
+  f->from_table++;
+  return AF_OK;
+}
+
+/* As model.c's R2_min search (AF_MODEL_RADIUS_SCAN 24, AF_MODEL_RADIUS_RTOL
+ * 1e-4, 80 evaluations), on this path. */
+#define AF_FP_RADIUS_SCAN 24
+#define AF_FP_RADIUS_RTOL 1e-4
+#define AF_FP_SEARCH_BUDGET 80
+
+static af_status reliable_at(af_fastpath *f, const af_model_params *p, double radius_m, bool *ok)
+{
+  af_model_params q = *p;
+  af_model_result r;
+  q.impact.strike_radius_m = radius_m;
+  af_status st = af_fastpath_evaluate(f, &q, &r);
+  *ok = st == AF_OK && r.reliable;
+  return st;
+}
+
+af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
+                                        double r_hi_m, double *r_min_m)
+{
+  bool ok;
+  int budget = AF_FP_SEARCH_BUDGET - 1;
+  if (!(r_lo_m > 0.0 && r_hi_m > r_lo_m && isfinite(r_hi_m)))
+    return AF_EINVAL;
+  af_status st = reliable_at(f, p, r_hi_m, &ok);
+  if (st != AF_OK)
+    return st;
+  if (!ok)
+    return AF_ENOROOT;
+  double step = pow(r_lo_m / r_hi_m, 1.0 / (AF_FP_RADIUS_SCAN - 1));
+  double good = r_hi_m, bad = 0.0;
+  for (int k = 1; k < AF_FP_RADIUS_SCAN; k++) {
+    double r = k == AF_FP_RADIUS_SCAN - 1 ? r_lo_m : r_hi_m * pow(step, k);
+    budget--;
+    st = reliable_at(f, p, r, &ok);
+    if (st != AF_OK)
+      return st;
+    if (!ok) {
+      bad = r;
+      break;
+    }
+    good = r;
+  }
+  if (bad == 0.0) {
+    *r_min_m = r_lo_m;
+    return AF_OK;
+  }
+  while (good - bad > AF_FP_RADIUS_RTOL * good) {
+    if (budget-- <= 0)
+      return AF_EBUDGET_SEARCH;
+    double mid = sqrt(good * bad);
+    st = reliable_at(f, p, mid, &ok);
+    if (st != AF_OK)
+      return st;
+    if (ok)
+      good = mid;
+    else
+      bad = mid;
+  }
+  *r_min_m = good;
+  return AF_OK;
+}
