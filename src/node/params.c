@@ -136,8 +136,6 @@ static af_status load_hammer(af_ros *r, af_node_config *c, af_settings *s, char 
     st = af_urdf_hammer(c->urdf, c->hammer_link, &c->hammer, uerr, sizeof uerr);
   if (st == AF_ENOMEM)
     return st;
-  if (st == AF_OK)
-    st = af_urdf_position_in_root(c->urdf, c->hammer_link, &c->hammer_origin_m);
   c->hammer_axis_known = st == AF_OK;
   if (st != AF_OK) {
     af_urdf_destroy(c->urdf);

@@ -36,8 +36,8 @@ typedef struct {
   char urdf_file[AF_PATH_MAX]; /* "" = the robot_description parameter */
   af_urdf *urdf;               /* NULL when running on parameters alone */
   bool hammer_axis_known;      /* the URDF gave the strike axis */
-  af_hammer_geometry hammer;   /* mass and tip radius after overrides; axis in hammer.root_frame */
-  af_vec3 hammer_origin_m;     /* of the hammer link in the root frame (for the markers) */
+  af_hammer_geometry hammer;   /* mass and tip radius after overrides; the axis and origin in
+                                  hammer.mount_frame, turned into the apple's frame through TF */
   char urdf_source[AF_SOURCE_TEXT_MAX]; /* where the URDF came from, or why there is none */
   char hammer_mass_source[AF_SOURCE_TEXT_MAX];
   char hammer_tip_source[AF_SOURCE_TEXT_MAX];

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "advice.h"
+#include "af_tf.h"
 #include "evaluate.h"
 #include "markers.h"
 #include "measured.h"
@@ -26,6 +27,8 @@
 #define AF_APPLE_QUEUE 10
 #define AF_CHUNK_QUEUE 1000
 #define AF_OUTPUT_QUEUE 10
+/* How long the start-up waits for the rig's frames in TF [s]. */
+#define AF_TF_WAIT_S 3.0
 /* Diagnostics period [s] follows the updater (~diagnostic_period). */
 
 struct af_station {
@@ -36,6 +39,7 @@ struct af_station {
   af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
   af_evaluate *evaluate; /* the ~evaluate service */
   af_strike_plot *plot;  /* the last strike's picture on strike_plot */
+  af_tf *tf;             /* the rig's frames (robot_state_publisher, static transforms) */
   /* Output scratch, kept here so that no callback allocates. */
   af_excitation_band band;
   af_strike_advice advice;
@@ -52,9 +56,9 @@ struct af_station {
 
 /* What the node adds to one apple's prediction: the rig's geometry. */
 typedef struct {
-  bool frame_known;           /* the apple's frame is in the URDF */
-  double rotation_to_root[9]; /* of the apple's frame, row-major */
-  double centre_m[3];         /* apple centre in its frame, for the markers */
+  bool frame_known;      /* TF transforms the hammer's mount frame into the apple's */
+  af_transform to_frame; /* mount frame -> the apple's frame */
+  double centre_m[3];    /* apple centre in its frame, for the markers */
 } af_apple_work;
 
 static double deg(double rad)
@@ -69,60 +73,65 @@ static void vec_of(const af_vec3 *v, double out[3])
 
 /* --- geometry -------------------------------------------------------------- */
 
-/* v (root axes) in the axes of the frame whose rotation to the root is r: r^T v. */
-static void root_to_frame(const double r[9], const double v[3], double out[3])
+/* r v (r row-major 3 x 3). */
+static void rotate_vec(const double r[9], const double v[3], double out[3])
 {
   for (int i = 0; i < 3; i++)
-    out[i] = r[i] * v[0] + r[3 + i] * v[1] + r[6 + i] * v[2];
+    out[i] = r[3 * i] * v[0] + r[3 * i + 1] * v[1] + r[3 * i + 2] * v[2];
 }
 
 /* The strike direction in the apple's frame: the URDF's hammer axis (in the
- * root frame) turned into that frame; zero, with a note, when unknown. */
-static void strike_direction(const af_node_config *c, const char *frame, af_apple_work *w,
-                             af_apple *a)
+ * frame the hammer's slide is mounted on) turned into that frame through TF;
+ * zero, with the reason in the note, when it cannot be. */
+static void strike_direction(af_station *st, const char *frame, af_apple_work *w, af_apple *a)
 {
+  const af_node_config *c = st->cfg;
   double *d = a->strike_direction;
+  char why[AF_TEXT_MAX];
   d[0] = d[1] = d[2] = 0.0;
   if (!c->hammer_axis_known) {
     af_text(a->direction_note, sizeof a->direction_note, "hammer axis unknown (no URDF)");
     return;
   }
-  w->frame_known =
-      frame[0] != '\0' && af_urdf_rotation_to_root(c->urdf, frame, w->rotation_to_root) == AF_OK;
-  if (!w->frame_known) {
-    af_text(a->direction_note, sizeof a->direction_note, "frame '%s' unknown to the URDF", frame);
+  if (frame[0] == '\0') {
+    af_text(a->direction_note, sizeof a->direction_note, "the AppleEstimate has no frame_id");
     return;
   }
-  const double axis[3] = {c->hammer.strike_axis.x, c->hammer.strike_axis.y,
-                          c->hammer.strike_axis.z};
-  root_to_frame(w->rotation_to_root, axis, d);
+  w->frame_known =
+      af_tf_lookup(st->tf, frame, c->hammer.mount_frame, &w->to_frame, why, sizeof why) == AF_OK;
+  if (!w->frame_known) {
+    af_text(a->direction_note, sizeof a->direction_note, "no TF from the rig's '%s' to '%s': %s",
+            c->hammer.mount_frame, frame, why);
+    return;
+  }
+  double axis[3];
+  vec_of(&c->hammer.mount_axis, axis);
+  rotate_vec(w->to_frame.rotation, axis, d);
 }
 
 /* Where the apple's centre is drawn: the strike point lies
  * marker_strike_distance_m along the hammer axis from the hammer link's
- * origin, and the centre behind it. Display only; the origin when unknown. */
+ * origin (joint at zero), and the centre behind it. Display only; the
+ * frame's origin when the frame is unknown. */
 static void marker_centre(const af_node_config *c, const af_apple_estimate *a,
                           const af_prediction *pr, af_apple_work *w)
 {
   double stem[3], p[3], q[3];
-  af_vec3 origin;
   memset(w->centre_m, 0, sizeof w->centre_m);
-  if (!w->frame_known || af_urdf_position_in_root(c->urdf, a->header.frame_id, &origin) != AF_OK)
+  if (!w->frame_known)
     return;
-  const af_vec3 *h = &c->hammer_origin_m, *s = &c->hammer.strike_axis;
+  const af_vec3 *h = &c->hammer.mount_origin_m, *s = &c->hammer.mount_axis;
   const double D = c->marker_strike_distance_m;
-  const double strike[3] = {h->x + D * s->x - origin.x, h->y + D * s->y - origin.y,
-                            h->z + D * s->z - origin.z}; /* from the frame origin, root axes */
-  root_to_frame(w->rotation_to_root, strike, q);
+  const double strike[3] = {h->x + D * s->x, h->y + D * s->y, h->z + D * s->z}; /* mount frame */
+  rotate_vec(w->to_frame.rotation, strike, q);
   vec_of(&a->stem_axis, stem);
   af_advice_surface_point_m(a->equatorial_radius_m, pr->polar_semi_axis_m, stem, pr->geo.normal, p);
   for (int i = 0; i < 3; i++)
-    w->centre_m[i] = q[i] - p[i];
+    w->centre_m[i] = q[i] + w->to_frame.translation_m[i] - p[i];
 }
 
 /* The lane's view of the estimate, with the strike direction in its frame. */
-static void apple_of(const af_node_config *c, const af_apple_estimate *m, af_apple_work *w,
-                     af_apple *a)
+static void apple_of(af_station *st, const af_apple_estimate *m, af_apple_work *w, af_apple *a)
 {
   memset(a, 0, sizeof *a);
   a->apple_id = m->apple_id;
@@ -132,7 +141,7 @@ static void apple_of(const af_node_config *c, const af_apple_estimate *m, af_app
   a->strike_radius_m = m->strike_radius_m;
   vec_of(&m->stem_axis, a->stem_axis);
   a->confidence = m->confidence;
-  strike_direction(c, m->header.frame_id, w, a);
+  strike_direction(st, m->header.frame_id, w, a);
 }
 
 /* --- outputs --------------------------------------------------------------- */
@@ -294,7 +303,7 @@ static void on_apple(const void *msg, void *user)
   const af_prediction *pr = NULL;
   memset(&w, 0, sizeof w);
   st->apples++;
-  apple_of(st->cfg, m, &w, &a);
+  apple_of(st, m, &w, &a);
   af_status s = af_measured_apple(st->measured, &a, &pr);
   if (s != AF_OK) {
     st->model_failures += s != AF_EINVAL;
@@ -469,6 +478,24 @@ static af_status subscribe(af_station *st)
   return s;
 }
 
+/* Waits up to AF_TF_WAIT_S for the hammer's mount frame in TF (latched
+ * /tf_static from robot_state_publisher), so that the first apples find it;
+ * without it each apple's prediction says why its strike point is unknown. */
+static void wait_for_rig_frames(af_station *st)
+{
+  const char *mount = st->cfg->hammer.mount_frame;
+  if (!st->cfg->hammer_axis_known)
+    return;
+  for (int k = 0; k < (int)(AF_TF_WAIT_S / 0.1) && !af_tf_frame_known(st->tf, mount); k++)
+    if (af_ros_spin_once(st->ros, 0.1) != AF_OK || !af_ros_ok(st->ros))
+      return;
+  if (!af_tf_frame_known(st->tf, mount))
+    af_ros_log(st->ros, AF_LOG_WARN,
+               "the rig's frame '%s' is not in TF after %.0f s (is robot_state_publisher "
+               "running on the rig's URDF?): strike points stay unknown until it is",
+               mount, AF_TF_WAIT_S);
+}
+
 /* Makes each part in turn; *what names the one that failed. */
 static af_status build(af_station *st, const char **what)
 {
@@ -488,6 +515,10 @@ static af_status build(af_station *st, const char **what)
   af_measured_set_strike_plot(st->measured, st->plot);
   if ((s = af_evaluate_create(st->ros, st->cfg, &st->evaluate, what)) != AF_OK)
     return s;
+  *what = "the TF listener";
+  if ((s = af_tf_create(st->ros, &st->tf)) != AF_OK)
+    return s;
+  wait_for_rig_frames(st);
   *what = "the subscribers";
   return subscribe(st);
 }
@@ -519,6 +550,7 @@ void af_station_destroy(af_station *st)
   af_measured_destroy(st->measured);
   af_evaluate_destroy(st->evaluate);
   af_strike_plot_destroy(st->plot);
+  af_tf_destroy(st->tf);
   free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
 }
 

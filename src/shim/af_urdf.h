@@ -4,9 +4,10 @@
  * geometry (collision: sphere -> tip radius [m]; box or cylinder -> flat
  * face, radius 0). The strike direction is the axis of the hammer's parent
  * joint (a prismatic joint along which the hammer moves, positive towards the
- * fruit). Frames are composed along the tree with every movable joint at
- * zero, so that a direction can be expressed in any link's frame (e.g. the
- * vision frame named in AppleEstimate.header.frame_id). */
+ * fruit), given in the frame the joint is mounted on (its parent link); the
+ * node turns it into the vision frame through TF (af_tf.h). Frames are also
+ * composed along the tree with every movable joint at zero (root_frame,
+ * af_urdf_rotation_to_root), for tools and tests without TF. */
 #ifndef AF_URDF_H
 #define AF_URDF_H
 
@@ -33,6 +34,12 @@ typedef struct {
   double tip_radius_m; /* collision sphere radius; 0 = flat face (box/cylinder) */
   af_vec3 strike_axis; /* unit strike direction in root_frame */
   char root_frame[AF_FRAME_ID_MAX];
+  /* The hammer's mount, for TF (af_tf.h): the parent link of its joint, a
+   * frame that does not move with the hammer, and in it the unit strike
+   * direction and the hammer link's origin with the joint at zero [m]. */
+  char mount_frame[AF_FRAME_ID_MAX];
+  af_vec3 mount_axis;
+  af_vec3 mount_origin_m;
 } af_hammer_geometry;
 
 /* Reads the hammer from link hammer_link. AF_ENODATA with err naming what is

@@ -250,6 +250,20 @@ af_status hammer(const af_urdf &u, const std::string &name, af_hammer_geometry &
   out.strike_axis.x = axis[0];
   out.strike_axis.y = axis[1];
   out.strike_axis.z = axis[2];
+  // The mount: the joint's own origin and axis in its parent link.
+  double jr[9];
+  rotation_matrix(joint->parent_to_joint_origin_transform.rotation, jr);
+  out.mount_axis.x = (jr[0] * a[0] + jr[1] * a[1] + jr[2] * a[2]) / norm;
+  out.mount_axis.y = (jr[3] * a[0] + jr[4] * a[1] + jr[5] * a[2]) / norm;
+  out.mount_axis.z = (jr[6] * a[0] + jr[7] * a[1] + jr[8] * a[2]) / norm;
+  const urdf::Vector3 &jp = joint->parent_to_joint_origin_transform.position;
+  out.mount_origin_m.x = jp.x;
+  out.mount_origin_m.y = jp.y;
+  out.mount_origin_m.z = jp.z;
+  const std::string &mount = joint->parent_link_name;
+  const size_t nm = mount.size() < AF_FRAME_ID_MAX - 1 ? mount.size() : AF_FRAME_ID_MAX - 1;
+  mount.copy(out.mount_frame, nm);
+  out.mount_frame[nm] = '\0';
   const std::string &root = m.getRoot()->name;
   const size_t n = root.size() < AF_FRAME_ID_MAX - 1 ? root.size() : AF_FRAME_ID_MAX - 1;
   root.copy(out.root_frame, n);

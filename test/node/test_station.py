@@ -159,11 +159,11 @@ class StationTest(unittest.TestCase):
         _, out = self.ask(frame='no_such_frame')
         rel = out['reliability']
         self.assertFalse(rel.reliable)
-        self.assertIn("'no_such_frame' unknown to the URDF", rel.reason)
+        self.assertIn("frame 'no_such_frame' does not exist in TF", rel.reason)
         self.assertEqual(out['strike_advice'].strike_radius, 0.040)  # the equatorial radius
         # A measured strike radius does not need the frame.
         _, out = self.ask(frame='no_such_frame', strike_radius=0.05)
-        self.assertNotIn('unknown to the URDF', out['reliability'].reason)
+        self.assertNotIn('does not exist in TF', out['reliability'].reason)
 
     def test_08_markers(self):
         apple_id = self.new_id()
