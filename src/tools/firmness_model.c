@@ -15,6 +15,7 @@
 #include "analyze.h"
 #include "bench.h"
 #include "cli_flags.h"
+#include "design.h"
 #include "plot_cmd.h"
 #include "report.h"
 #include "sweep.h"
@@ -25,6 +26,9 @@ static void usage(void)
          "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] [--ode] "
          "[model flags]\n"
          "       firmness_model bench [--seconds S] [model flags]\n"
+         "       firmness_model design [--cultivar FILE] [--hammer-mass-range A:B] [--v0-range A:B]\n"
+         "                      [--tip-radius-range A:B] [--hammer-modulus X] [--r2-min M] [--plot FILE] "
+         "[--ode]\n"
          "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
          "[--modulus-max PA]\n"
          "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
@@ -87,6 +91,8 @@ int main(int argc, char **argv)
     return af_bench_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "plot") == 0)
     return af_plot_main(argc, argv, 2);
+  if (argc > 1 && strcmp(argv[1], "design") == 0)
+    return af_design_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "analyze") == 0)
     return af_analyze_main(argc, argv, 2);
   return single(argc, argv);
