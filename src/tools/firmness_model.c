@@ -23,12 +23,13 @@
 static void usage(void)
 {
   printf("usage: firmness_model [--profile default|paper] [model flags] [--json]\n"
-         "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] [--ode] "
-         "[model flags]\n"
+         "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] "
+         "[--ode] [model flags]\n"
          "       firmness_model bench [--seconds S] [model flags]\n"
-         "       firmness_model design [--cultivar FILE] [--hammer-mass-range A:B] [--v0-range A:B]\n"
-         "                      [--tip-radius-range A:B] [--hammer-modulus X] [--r2-min M] [--plot FILE] "
-         "[--ode]\n"
+         "       firmness_model design [--cultivar FILE] [--hammer-mass-range A:B] "
+         "[--v0-range A:B]\n"
+         "                      [--tip-radius-range A:B] [--hammer-modulus X] [--r2-min M] "
+         "[--plot FILE] [--ode]\n"
          "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
          "[--modulus-max PA]\n"
          "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
