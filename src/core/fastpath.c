@@ -115,12 +115,10 @@ static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, d
   size_t count = af_spectrum_lobe_count(spec);
   int n = (int)(count < AF_FP_LOBES ? count : AF_FP_LOBES);
   f->n_lobes[at] = n;
-  for (int l = 0; l < AF_FP_LOBES; l++) {
+  memset(q + Q_LOBES, 0, AF_FP_LOBES * AF_FP_LOBE_FIGS * sizeof *q);
+  for (int l = 0; l < n; l++) {
     double *g = q + Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe power, amp;
-    memset(g, 0, AF_FP_LOBE_FIGS * sizeof *g);
-    if (l >= n)
-      continue;
     if (af_spectrum_lobe(spec, (unsigned)(l + 1), AF_BAND_POWER_HALF, &power) != AF_OK ||
         af_spectrum_lobe(spec, (unsigned)(l + 1), AF_BAND_AMPLITUDE_HALF, &amp) != AF_OK)
       return AF_ENUMERIC;
