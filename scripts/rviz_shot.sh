@@ -1,36 +1,59 @@
 #!/usr/bin/env bash
-# Renders what an operator sees in rviz (config/station.rviz) headless under
-# Xvfb and saves a screenshot: the station node answers one apple estimate on
-# lane1, rviz draws its markers. Not part of the test command.
-# Usage: bash scripts/rviz_shot.sh [OUT.png]   (default build/station.png)
+# What an operator sees in rviz (config/station.rviz), headless under Xvfb:
+# a few strikes of a strike_bag replayed on simulated time through
+# station.launch (lane1, with robot_state_publisher), then a screenshot: the
+# rig (RobotModel), the last apple's markers and its measured line, the
+# diagnostic status over the rig, the last strike's picture (strike_plot)
+# beside the 3D view, and the Displays panel (no warning expected).
+# Not part of the test command (rviz, Xvfb and ImageMagick are installed
+# here by setup.sh --rviz).
+# Usage: bash scripts/rviz_shot.sh [OUT.png]   (default doc/rviz.png)
+#   AF_RVIZ_STRIKES=N (5) strikes replayed; AF_RVIZ_LOG=DIR keeps the logs there.
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
 bash "$AF_ROOT/scripts/setup.sh" --rviz
 [ -x "$AF_DEVEL/lib/acoustic_firmness/firmness_node" ] || bash "$AF_ROOT/scripts/build.sh"
 af_source_devel
-out=${1:-$AF_BUILD/station.png}
+out=${1:-$AF_ROOT/doc/rviz.png}
+strikes=${AF_RVIZ_STRIKES:-5}
+tmp=$(mktemp -d /tmp/af_rviz_shot.XXXXXX)
+log=${AF_RVIZ_LOG:-$tmp}
+mkdir -p "$log"
 port=$((20000 + RANDOM % 20000))
 display=:$((50 + RANDOM % 40))
 export ROS_MASTER_URI=http://localhost:$port DISPLAY=$display LIBGL_ALWAYS_SOFTWARE=1
 pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 2>/dev/null || true; }
+cleanup() {
+  local p
+  for ((k = ${#pids[@]} - 1; k >= 0; k--)); do
+    p=${pids[k]}
+    kill -INT "$p" 2>/dev/null || true
+    for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 "$p" 2>/dev/null || break; sleep 0.5; done
+    kill "$p" 2>/dev/null || true
+  done
+  wait 2>/dev/null || true
+  [ -n "${AF_RVIZ_LOG:-}" ] || rm -rf "$tmp"
+}
 trap cleanup EXIT
 
-roscore -p "$port" >/tmp/af_rviz_roscore.log 2>&1 &
+"$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --seed 3 --spacing 1.0 \
+  --out "$tmp/shot.bag" >"$log/strike_bag.log"
+roscore -p "$port" >"$log/roscore.log" 2>&1 &
 pids+=($!)
-Xvfb "$display" -screen 0 1280x800x24 >/tmp/af_rviz_xvfb.log 2>&1 &
+Xvfb "$display" -screen 0 1600x860x24 >"$log/xvfb.log" 2>&1 &
 pids+=($!)
-sleep 3
-roslaunch acoustic_firmness station.launch ns:=lane1 >/tmp/af_rviz_station.log 2>&1 &
+for _ in $(seq 50); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+# Simulated time, as replay.launch sets it, before any node starts.
+rosparam set /use_sim_time true
+roslaunch acoustic_firmness station.launch ns:=lane1 >"$log/station.log" 2>&1 &
 pids+=($!)
-rviz -d "$AF_ROOT/config/station.rviz" >/tmp/af_rviz.log 2>&1 &
+rviz -d "$AF_ROOT/config/station.rviz" >"$log/rviz.log" 2>&1 &
 pids+=($!)
-sleep 6
-# An apple whose stem leans 45 degrees: the node advises a rotation.
-rostopic pub -r 1 /lane1/apple acoustic_firmness/AppleEstimate \
-  "{header: {stamp: now, frame_id: camera_optical_frame}, apple_id: 7, mass: 0.175, equatorial_radius: 0.040, strike_radius: 0.0, stem_axis: {x: 1.0, y: 0.0, z: -1.0}, confidence: 0.9}" \
-  >/dev/null 2>&1 &
-pids+=($!)
-sleep 8
+sleep 10
+rosbag play --clock -q --delay=1 "$tmp/shot.bag" >"$log/play.log" 2>&1
+# rviz draws at its frame rate on the last clock; the node's status marker
+# came with the last diagnostics.
+sleep 4
+mkdir -p "$(dirname "$out")"
 import -window root "$out"
-echo "rviz_shot: wrote $out"
+echo "rviz_shot: wrote $out ($strikes strikes replayed; logs in $log)"

@@ -123,9 +123,16 @@ size_t af_markers_build(const af_markers_scene *s, af_marker out[AF_MARKERS_COUN
   base(s, AF_MARKER_LABEL, AF_MARKER_TEXT, t);
   double top =
       s->equatorial_radius_m > s->polar_semi_axis_m ? s->equatorial_radius_m : s->polar_semi_axis_m;
-  t->position.x = s->centre_m[0];
-  t->position.y = s->centre_m[1];
-  t->position.z = s->centre_m[2] + top + 2.0 * AF_LABEL_HEIGHT_M;
+  /* Above the apple: towards the hammer (the outward normal at the strike
+   * point) when the strike direction is known, else +z of the frame (which
+   * is down in a camera's optical frame). */
+  const double up[3] = {s->direction_known ? s->normal[0] : 0.0,
+                        s->direction_known ? s->normal[1] : 0.0,
+                        s->direction_known ? s->normal[2] : 1.0};
+  const double lift = top + 2.0 * AF_LABEL_HEIGHT_M;
+  t->position.x = s->centre_m[0] + lift * up[0];
+  t->position.y = s->centre_m[1] + lift * up[1];
+  t->position.z = s->centre_m[2] + lift * up[2];
   t->scale.z = AF_LABEL_HEIGHT_M;
   set_rgba(t, 1.0f, 1.0f, 1.0f, 1.0f);
   af_text(t->text, sizeof t->text, "%s", s->text ? s->text : "");

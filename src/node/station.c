@@ -12,6 +12,7 @@
 #include "measured.h"
 #include "model.h"
 #include "resonance.h"
+#include "status_marker.h"
 #include "strike_plot.h"
 #include "text.h"
 
@@ -45,6 +46,7 @@ struct af_station {
   af_strike_advice advice;
   af_reliability reliability;
   af_marker markers[AF_MARKERS_COUNT];
+  af_marker status; /* the diagnostic summary in rviz */
   /* Counters and last values for the diagnostics. */
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
@@ -313,8 +315,16 @@ static void on_apple(const void *msg, void *user)
   st->last_apple_invalid = false;
   if (st->cfg->markers_enabled) {
     marker_centre(st->cfg, m, pr, &w);
-    af_measured_label_place(st->measured, m->apple_id, &m->header, w.centre_m,
-                            fmax(m->equatorial_radius_m, pr->polar_semi_axis_m));
+    /* The measured line goes 1.5 label heights above the apple's label, towards
+     * the hammer when the direction is known (af_markers_measured_label adds
+     * top + 3.5 h along +z of the frame: the anchor takes that back). */
+    const double top = fmax(m->equatorial_radius_m, pr->polar_semi_axis_m), h = 0.012;
+    double anchor[3];
+    for (int i = 0; i < 3; i++)
+      anchor[i] = w.centre_m[i] +
+                  (pr->geo.direction_known ? (top + 3.5 * h) * pr->geo.normal[i] : 0.0) -
+                  (pr->geo.direction_known && i == 2 ? top + 3.5 * h : 0.0);
+    af_measured_label_place(st->measured, m->apple_id, &m->header, anchor, top);
   }
   fill_band(m, pr, &st->band);
   fill_advice(st->cfg, m, &a, pr, &st->advice);
@@ -396,6 +406,28 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%s", !s->seen ? "no chunk yet" : stale ? "stale" : "live");
 }
 
+/* The diagnostic summary in rviz (status_marker.h): warning NULL = OK. Over
+ * the rig, in the hammer's mount frame (the URDF root's axes on the shipped
+ * rig). */
+static void publish_status(af_station *st, const char *warning)
+{
+  const af_node_config *c = st->cfg;
+  if (!st->markers_pub || !c->hammer_axis_known)
+    return;
+  char text[AF_TEXT_MAX];
+  const af_lane_stats *ls = af_lane_get_stats(af_measured_lane(st->measured));
+  af_text(text, sizeof text, "%s: %s\napples %llu, strikes %llu (unreliable %llu)",
+          af_ros_node_name(st->ros), warning ? warning : "OK", st->apples,
+          (unsigned long long)ls->strikes, (unsigned long long)ls->unreliable);
+  const af_vec3 *h = &c->hammer.mount_origin_m;
+  const double at[3] = {h->x - 0.12, h->y, h->z + 0.08}; /* beside the hammer, above it */
+  af_status_marker(c->hammer.mount_frame, at, warning ? AF_DIAG_WARN : AF_DIAG_OK, text,
+                   &st->status);
+  af_marker_array arr = {&st->status, 1};
+  if (af_ros_publish(st->markers_pub, &arr) != AF_OK)
+    af_ros_log(st->ros, AF_LOG_WARN, "status marker not published: %s", af_ros_last_error(st->ros));
+}
+
 static void diag_task(af_diag_status *d, void *user)
 {
   af_station *st = user;
@@ -420,6 +452,11 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_summary(d, AF_DIAG_WARN, strike_warning);
   else
     af_diag_summary(d, AF_DIAG_OK, "ok");
+  /* The same summary in rviz; NULL = ok. */
+  publish_status(st, st->last_apple_invalid ? "last apple got no prediction"
+                     : new_problems         ? "stream gaps or bad chunks since the last report"
+                     : force_stale || audio_stale ? "a stream went silent"
+                                                  : strike_warning);
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
   af_diag_add(d, "hammer mass [kg]", "%g from %s", c->hammer.mass_kg, c->hammer_mass_source);

@@ -175,7 +175,8 @@ class StationTest(unittest.TestCase):
             with self.station.lock:
                 mine = [m for m in self.station.markers
                         if any(apple_id == int(k.text.split(':')[0].split()[-1])
-                               for k in m.markers if k.type == k.TEXT_VIEW_FACING)]
+                               for k in m.markers
+                               if k.type == k.TEXT_VIEW_FACING and k.ns == 'firmness')]
             time.sleep(0.05)
         self.assertTrue(mine, 'no MarkerArray for apple %d' % apple_id)
         markers = mine[-1].markers
