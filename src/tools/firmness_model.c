@@ -16,6 +16,7 @@
 #include "bench.h"
 #include "cli_flags.h"
 #include "design.h"
+#include "paper.h"
 #include "plot_cmd.h"
 #include "report.h"
 #include "sweep.h"
@@ -30,6 +31,8 @@ static void usage(void)
          "[--v0-range A:B]\n"
          "                      [--tip-radius-range A:B] [--hammer-modulus X] [--r2-min M] "
          "[--plot FILE] [--ode]\n"
+         "       firmness_model paper [--out DIR] [--quick]   (the paper's Figs. 2-8 and "
+         "claims)\n"
          "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
          "[--modulus-max PA]\n"
          "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
@@ -94,6 +97,8 @@ int main(int argc, char **argv)
     return af_plot_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "design") == 0)
     return af_design_main(argc, argv, 2);
+  if (argc > 1 && strcmp(argv[1], "paper") == 0)
+    return af_paper_main(argc, argv, 2);
   if (argc > 1 && strcmp(argv[1], "analyze") == 0)
     return af_analyze_main(argc, argv, 2);
   return single(argc, argv);
