@@ -218,6 +218,10 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
                                       "yield_ratio E2"),
     [AF_SETTING_YIELD_REFERENCE_MODULUS_PA] =
         NUM("yield_reference_modulus_pa", "8.0e+6", "[1e5, 1e9] Pa", C, "E_ref of the yield law"),
+    [AF_SETTING_YIELD_MEASURED] =
+        STRING("yield_measured", "\"\"", AF_SETTINGS_TEXT_MAX - 1, C,
+               "measured yield shear stress \"E2:tau_y, ...\" [Pa], overriding the law; "
+               "\"\" = the law"),
     [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "[0.1, 10]", C,
                                       "dynamic / quasi-static modulus for the 0S2 resonance "
                                       "(a calibration)"),
@@ -1303,6 +1307,12 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
   m->yield_ratio = num(s, AF_SETTING_YIELD_RATIO);
   m->yield_exponent = num(s, AF_SETTING_YIELD_EXPONENT);
   m->yield_reference_modulus_pa = num(s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
+  char why[160];
+  if (af_yield_points_parse(af_settings_string(s, AF_SETTING_YIELD_MEASURED), &m->yield_measured,
+                            why, sizeof why) != AF_OK) {
+    say(err, len, "%s: %s", name_of(s, AF_SETTING_YIELD_MEASURED).text, why);
+    return AF_EINVAL;
+  }
   m->modulus_factor = num(s, AF_SETTING_MODULUS_FACTOR);
   if (!(c->modulus_min_pa <= i->fruit_modulus_pa && i->fruit_modulus_pa <= c->modulus_max_pa)) {
     say(err, len, "%s = %g must lie in [%s, %s] = [%g, %g] Pa",
@@ -1604,6 +1614,7 @@ static const af_field_source field_sources[] = {
     {"yield_ratio", {AF_SETTING_YIELD_RATIO}, 1, ""},
     {"yield_exponent", {AF_SETTING_YIELD_EXPONENT}, 1, ""},
     {"yield_reference_modulus_pa", {AF_SETTING_YIELD_REFERENCE_MODULUS_PA}, 1, ""},
+    {"yield_measured", {AF_SETTING_YIELD_MEASURED}, 1, ""},
 };
 
 /* "~a / ~b (note)" for field, or the field itself. */

@@ -123,6 +123,7 @@ typedef enum {
   AF_SETTING_YIELD_RATIO,
   AF_SETTING_YIELD_EXPONENT,
   AF_SETTING_YIELD_REFERENCE_MODULUS_PA,
+  AF_SETTING_YIELD_MEASURED,
   AF_SETTING_MODULUS_FACTOR,
   /* firmness grades of measured strikes (grade.h) */
   AF_SETTING_GRADE_QUANTITY,
@@ -145,7 +146,8 @@ typedef enum {
 #define AF_SETTINGS_ALL 3u
 
 #define AF_SETTINGS_TEXT_MAX 512 /* longest string value (a path), with its NUL */
-#define AF_SETTINGS_STRINGS 4    /* string rows: hammer_link, urdf_file, cultivar, grade_classes */
+/* string rows: hammer_link, urdf_file, cultivar, yield_measured, grade_classes */
+#define AF_SETTINGS_STRINGS 5
 #define AF_SETTINGS_PREFIX_MAX 8 /* name prefix in messages, with its NUL */
 
 /* One row of the table. */

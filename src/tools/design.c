@@ -192,6 +192,11 @@ int af_design_main(int argc, char **argv, int first)
   base.yield_exponent = af_settings_number(&s, AF_SETTING_YIELD_EXPONENT);
   base.yield_reference_modulus_pa = af_settings_number(&s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
   base.modulus_factor = af_settings_number(&s, AF_SETTING_MODULUS_FACTOR);
+  if (af_yield_points_parse(af_settings_string(&s, AF_SETTING_YIELD_MEASURED), &base.yield_measured,
+                            err, sizeof err) != AF_OK) {
+    fprintf(stderr, "firmness_model design: %s: yield_measured: %s\n", cultivar, err);
+    return AF_CLI_EXIT_USAGE;
+  }
   double dom[4] = {af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA),
                    af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA),
                    af_settings_number(&s, AF_SETTING_MASS_MIN_KG),

@@ -642,6 +642,32 @@ static af_status derive_with(const char *const *args, char *err)
 }
 #define DERIVE(err, ...) derive_with((const char *const[]){__VA_ARGS__, NULL}, err)
 
+/* yield_measured: "" = the law; "E2:tau, ..." parsed into the model and
+ * overriding the law at its points; a malformed row names itself. */
+static void test_yield_measured(void)
+{
+  char err[ERR_MAX];
+  af_settings s;
+  af_lane_config c;
+  AF_CHECK(shipped(&s, err) == AF_OK);
+  AF_CHECK(strcmp(af_settings_string(&s, AF_SETTING_YIELD_MEASURED), "") == 0);
+  AF_CHECK(af_lane_config_derive(&s, &c, err, sizeof err) == AF_OK);
+  AF_CHECK(c.model.yield_measured.n == 0);
+  AF_CHECK(af_settings_set_arg(&s, "yield_measured=2e6:0.12e6, 8e6:0.33e6, 12e6:0.44e6", err,
+                               sizeof err) == AF_OK);
+  AF_CHECK(af_lane_config_derive(&s, &c, err, sizeof err) == AF_OK);
+  AF_CHECK(c.model.yield_measured.n == 3);
+  AF_CHECK(c.model.yield_measured.modulus_pa[0] == 2e6 &&
+           c.model.yield_measured.yield_shear_pa[2] == 0.44e6);
+  af_yield_law law = af_model_yield_law(&c.model);
+  AF_CHECK_ABS(af_yield_shear_pa(&law, 8e6), 0.33e6, 1e-6);  /* the point, not the law's 0.331 */
+  AF_CHECK_ABS(af_yield_shear_pa(&law, 12e6), 0.44e6, 1e-6); /* the point, not the law's 0.440 */
+  AF_CHECK_ABS(af_yield_shear_pa(&law, 2e6), 0.12e6, 1e-6);
+  CHECK_WORDS(DERIVE(err, "yield_measured=8e6:0.33e6, 2e6:0.12e6"), AF_EINVAL, err,
+              "yield_measured");
+  CHECK_WORDS(DERIVE(err, "yield_measured=8e6"), AF_EINVAL, err, "yield_measured");
+}
+
 static void test_derive_errors(void)
 {
   char err[ERR_MAX];
@@ -883,6 +909,7 @@ int main(void)
   test_args();
   test_yaml();
   test_derive_errors();
+  test_yield_measured();
   test_model_ranges();
   test_print();
   test_memory_estimate();
