@@ -165,6 +165,8 @@ static void af_steps(const af_plot_series *s)
   }
 }
 
+#define AF_PLOT_DIAMOND "\xe2\x97\x86" /* U+25C6, a filled diamond */
+
 static void af_series(const af_plot_series *s)
 {
   plcol0(s->colour);
@@ -179,6 +181,22 @@ static void af_series(const af_plot_series *s)
       }
     break;
   case AF_PLOT_STEPS: af_steps(s); break;
+  case AF_PLOT_MARKER: {
+    PLFLT def_mm, height_mm; /* the page's character scale, restored after the markers */
+    plgchr(&def_mm, &height_mm);
+    for (size_t k = 0; k < s->n; k++)
+      if (isfinite(s->x[k]) && isfinite(s->y[k])) {
+        PLFLT x = s->x[k], y = s->y[k];
+        plcol0(AF_PLOT_BLACK);
+        plschr(0.0, 2.4);
+        plstring(1, &x, &y, AF_PLOT_DIAMOND);
+        plcol0(s->colour);
+        plschr(0.0, 1.7);
+        plstring(1, &x, &y, AF_PLOT_DIAMOND);
+      }
+    plschr(0.0, def_mm > 0.0 ? height_mm / def_mm : 1.0);
+    break;
+  }
   default: af_line(s->x, s->y, s->n); break;
   }
   pllsty(1);
@@ -248,8 +266,13 @@ static void af_legend_draw(const af_plot_panel *p)
     af_legend_add(&l, p->spans[k].label, PL_LEGEND_COLOR_BOX, p->spans[k].colour, false);
   for (size_t k = 0; k < p->n_series; k++) {
     const af_plot_series *s = &p->series[k];
-    af_legend_add(&l, s->label, s->style == AF_PLOT_POINTS ? PL_LEGEND_SYMBOL : PL_LEGEND_LINE,
-                  s->colour, s->style == AF_PLOT_DASHED);
+    bool symbol = s->style == AF_PLOT_POINTS || s->style == AF_PLOT_MARKER;
+    int at = af_legend_add(&l, s->label, symbol ? PL_LEGEND_SYMBOL : PL_LEGEND_LINE, s->colour,
+                           s->style == AF_PLOT_DASHED);
+    if (at >= 0 && s->style == AF_PLOT_MARKER) {
+      l.symbol[at] = AF_PLOT_DIAMOND;
+      l.symbol_scale[at] = 1.2;
+    }
   }
   for (size_t k = 0; k < p->n_x_rules; k++)
     af_legend_add(&l, p->x_rules[k].label, PL_LEGEND_LINE, p->x_rules[k].colour,

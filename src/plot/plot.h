@@ -69,7 +69,8 @@ typedef enum {
   AF_PLOT_LINE = 0,
   AF_PLOT_DASHED,
   AF_PLOT_POINTS,
-  AF_PLOT_STEPS /* histogram: x[k] the left edge of bin k, bins of equal width x[1] - x[0] */
+  AF_PLOT_STEPS, /* histogram: x[k] the left edge of bin k, bins of equal width x[1] - x[0] */
+  AF_PLOT_MARKER /* a large diamond outlined in black per point, drawn over the data: a choice */
 } af_plot_style;
 
 typedef struct {

@@ -298,11 +298,14 @@ int af_design_main(int argc, char **argv, int first)
         nx_[nn] = map_m[k], ny_[nn++] = map_v[k];
     }
     double bx = best_m * 1e3, by = best_v, px = 10.0, py = 1.4;
+    char rec_label[96];
+    snprintf(rec_label, sizeof rec_label, "%s: %.1f g at %.2f m/s",
+             best.failed == 0 ? "recommended" : "best compromise", bx, by);
     af_plot_series ser[4] = {
         {"feasible: every apple reliable", fx, fy, nf, AF_PLOT_GREEN, AF_PLOT_POINTS},
         {"not feasible", nx_, ny_, nn, AF_PLOT_LIGHT_RED, AF_PLOT_POINTS},
-        {"recommended / best compromise", &bx, &by, 1, AF_PLOT_BLUE, AF_PLOT_POINTS},
-        {"paper's optimum (10 g, 1.4 m/s)", &px, &py, 1, AF_PLOT_BLACK, AF_PLOT_POINTS},
+        {rec_label, &bx, &by, 1, AF_PLOT_BLUE, AF_PLOT_MARKER},
+        {"paper's optimum (10 g, 1.4 m/s)", &px, &py, 1, AF_PLOT_ORANGE, AF_PLOT_MARKER},
     };
     af_plot_panel panel = af_plot_panel_empty();
     panel.title = "Feasibility map of the strike over the cultivar's domain";
