@@ -20,6 +20,9 @@ PACKAGES=(
   libsensor-msgs-dev python3-sensor-msgs libtf2-ros-dev python3-tf2-ros python3-tf2-msgs
   ros-robot-state-publisher joint-state-publisher
   libdiagnostic-msgs-dev python3-diagnostic-msgs libdiagnostic-updater-dev
+  # audio_common_msgs on ~audio_input audio_common, subscribed generically (ShapeShifter);
+  # its rostest builds the message classes at test time (genpy)
+  libtopic-tools-dev python3-genpy
   liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
   libgtest-dev
   # the node's rostests (Python test nodes)

@@ -102,6 +102,16 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
                                       "audio kept in the ring (at most 1e8 samples)"),
     [AF_SETTING_AUDIO_UNIT] = CHOICE("audio_unit", "Pa", "Pa, V", S,
                                      "the microphone's unit (the force transducer's is N)"),
+    [AF_SETTING_AUDIO_INPUT] =
+        CHOICE("audio_input", "signal_chunk", "signal_chunk, audio_common", S,
+               "what the audio topic carries: acoustic_firmness/SignalChunk, "
+               "or audio_common_msgs/AudioData(Stamped) with audio_info"),
+    [AF_SETTING_AUDIO_CHANNEL] =
+        WHOLE("audio_channel", "0", "[0, 255]", S,
+              "the channel taken from audio_common frames (0 = the first)"),
+    [AF_SETTING_AUDIO_FULL_SCALE] =
+        NUM("audio_full_scale", "1.0", "[1e-6, 1e6]", S,
+            "audio_common: the microphone's value at digital full scale, in audio_unit"),
     [AF_SETTING_STREAM_STALE_AFTER_S] = NUM("stream_stale_after_s", "1.0", "(0, 3600] s", S,
                                             "a stream silent this long is reported stale"),
     [AF_SETTING_MARKERS_ENABLED] =

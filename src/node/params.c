@@ -188,6 +188,9 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
   cfg->marker_lifetime_s = af_settings_number(&s, AF_SETTING_MARKER_LIFETIME_S);
   cfg->marker_strike_distance_m = af_settings_number(&s, AF_SETTING_MARKER_STRIKE_DISTANCE_M);
   cfg->marker_arrow_length_m = af_settings_number(&s, AF_SETTING_MARKER_ARROW_LENGTH_M);
+  cfg->audio_common = af_settings_number(&s, AF_SETTING_AUDIO_INPUT) == 1.0; /* audio_common */
+  cfg->audio_channel = (unsigned)af_settings_number(&s, AF_SETTING_AUDIO_CHANNEL);
+  cfg->audio_full_scale = af_settings_number(&s, AF_SETTING_AUDIO_FULL_SCALE);
   cfg->strike_plot_width_px = (int)af_settings_number(&s, AF_SETTING_STRIKE_PLOT_WIDTH_PX);
   cfg->strike_plot_height_px = (int)af_settings_number(&s, AF_SETTING_STRIKE_PLOT_HEIGHT_PX);
   st = load_hammer(ros, cfg, &s, err, err_len);
@@ -196,6 +199,8 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
     st = af_lane_config_derive(&s, &cfg->lane, why, sizeof why);
     if (st != AF_OK)
       refuse(st, why, err, err_len);
+    else
+      cfg->settings = s; /* the base of a reconfigure (src/node/reconfigure.c) */
   }
   if (st != AF_OK)
     af_params_free(cfg);

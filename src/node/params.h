@@ -42,6 +42,12 @@ typedef struct {
   char hammer_mass_source[AF_SOURCE_TEXT_MAX];
   char hammer_tip_source[AF_SOURCE_TEXT_MAX];
   af_lane_config lane; /* everything outside ROS (src/core/lane_config.h) */
+  /* Every row as loaded (the URDF's hammer too): the base of a reconfigure. */
+  af_settings settings;
+  /* --- audio input (~audio_input, src/node/audio_in.h) --- */
+  bool audio_common;       /* audio_common_msgs on audio + audio_info, not SignalChunk */
+  unsigned audio_channel;  /* the channel taken from each audio_common frame */
+  double audio_full_scale; /* the microphone's value at digital full scale [audio_unit] */
   /* --- rviz markers --- */
   bool markers_enabled;
   double marker_lifetime_s;

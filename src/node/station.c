@@ -7,6 +7,7 @@
 
 #include "advice.h"
 #include "af_tf.h"
+#include "audio_in.h"
 #include "evaluate.h"
 #include "markers.h"
 #include "measured.h"
@@ -39,6 +40,7 @@ struct af_station {
   af_ros_diag *diag;
   af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
   af_evaluate *evaluate; /* the ~evaluate service */
+  af_audio_in *audio_in; /* audio_common input (~audio_input); NULL with SignalChunk */
   af_strike_plot *plot;  /* the last strike's picture on strike_plot */
   af_tf *tf;             /* the rig's frames (robot_state_publisher, static transforms) */
   /* Output scratch, kept here so that no callback allocates. */
@@ -442,6 +444,8 @@ static void diag_task(af_diag_status *d, void *user)
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
   const char *strike_warning = af_measured_warning(st->measured);
+  if (!strike_warning)
+    strike_warning = af_audio_in_warning(st->audio_in);
   if (st->last_apple_invalid)
     af_diag_summary(d, AF_DIAG_WARN, "last apple got no prediction");
   else if (new_problems)
@@ -481,6 +485,7 @@ static void diag_task(af_diag_status *d, void *user)
   diag_stream(d, audio, audio_stale);
   af_measured_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
+  af_audio_in_diag(st->audio_in, d);
   af_strike_plot_diag(st->plot, d);
 }
 
@@ -507,7 +512,10 @@ static af_status subscribe(af_station *st)
   af_ros_sub *sub; /* owned by the af_ros */
   af_status s =
       af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
-  if (s == AF_OK)
+  const char *what;
+  if (s == AF_OK && st->cfg->audio_common) /* audio_common_msgs, decoded (audio_in.h) */
+    s = af_audio_in_create(st->ros, st->cfg, on_audio, st, &st->audio_in, &what);
+  else if (s == AF_OK)
     s = af_ros_subscribe(st->ros, "audio", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_audio, st, &sub);
   if (s == AF_OK)
     s = af_ros_subscribe(st->ros, "apple", AF_MSG_APPLE_ESTIMATE, AF_APPLE_QUEUE, on_apple, st,
@@ -586,6 +594,7 @@ void af_station_destroy(af_station *st)
     return;
   af_measured_destroy(st->measured);
   af_evaluate_destroy(st->evaluate);
+  af_audio_in_destroy(st->audio_in);
   af_strike_plot_destroy(st->plot);
   af_tf_destroy(st->tf);
   free(st); /* publishers, subscribers and diagnostics belong to the af_ros */
