@@ -328,11 +328,6 @@ static int sweep_figure(af_paper *w, int prof, const af_sweep_fig *sf)
 
 /* ---- the claims ----------------------------------------------------------- */
 
-typedef struct {
-  double e2, mass, r2;
-  bool excites, safe;
-} af_apple;
-
 static const double grid_e2[4] = {2e6, 4e6, 8e6, 12e6};
 static const double grid_mass[3] = {0.100, 0.175, 0.250};
 
