@@ -23,6 +23,10 @@ PACKAGES=(
   # audio_common_msgs on ~audio_input audio_common, subscribed generically (ShapeShifter);
   # its rostest builds the message classes at test time (genpy)
   libtopic-tools-dev python3-genpy
+  # dynamic_reconfigure of the criteria, thresholds and grades (its generator and client)
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  # one diagnostic_aggregator per master, the lanes grouped (config/analyzers.yaml)
+  libdiagnostic-aggregator-tools
   liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
   libgtest-dev
   # the node's rostests (Python test nodes)

@@ -37,6 +37,7 @@ struct af_lane {
   void *user;
   af_stream force, audio;
   af_strike *detector;
+  af_strike_config detector_cfg; /* what the detector was made with */
   af_measure *measure;
   af_model *model;
   af_pending *pending;
@@ -420,6 +421,35 @@ af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
   return af_strike_prime(l->detector, x, n);
 }
 
+af_status af_lane_reconfigured(af_lane *l, const char **what)
+{
+  af_measure *m = NULL;
+  af_strike *d = NULL;
+  /* The measurement holds a copy of its configuration: made anew (an
+   * operator's change, not a chunk or a strike). */
+  *what = "the strike measurement";
+  af_status s = af_measure_create(&l->mc->measure, &m);
+  if (s == AF_OK)
+    s = af_measure_prepare(m, &l->cfg->model);
+  if (s == AF_OK && memcmp(&l->detector_cfg, &l->mc->strike, sizeof l->detector_cfg) != 0) {
+    *what = "the strike detector";
+    s = af_strike_create(&l->mc->strike, &d);
+  }
+  if (s != AF_OK) {
+    af_measure_destroy(m);
+    af_strike_destroy(d);
+    return s;
+  }
+  af_measure_destroy(l->measure);
+  l->measure = m;
+  if (d) {
+    af_strike_destroy(l->detector);
+    l->detector = d;
+    l->detector_cfg = l->mc->strike;
+  }
+  return AF_OK;
+}
+
 /* --- life cycle and queries ------------------------------------------------------- */
 
 af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void *user,
@@ -444,6 +474,7 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   *what = "the strike detector";
   if ((s = af_strike_create(&l->mc->strike, &l->detector)) != AF_OK)
     goto fail;
+  l->detector_cfg = l->mc->strike;
   *what = "the strike measurement";
   if ((s = af_measure_create(&l->mc->measure, &l->measure)) != AF_OK ||
       (s = af_measure_prepare(l->measure, &cfg->model)) != AF_OK)

@@ -109,6 +109,17 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
 /* Measures what has become due on the clock (time-outs, stale audio). */
 void af_lane_poll(af_lane *l, int64_t now_ns);
 
+/* The configuration the lane was created with has been changed in place by
+ * its owner (dynamic_reconfigure: criteria, thresholds, grades; never a size:
+ * rates, rings, windows and the queue must stay as they were). The parts
+ * that hold a copy are made anew: the measurement always, the strike
+ * detector when its settings changed (it then learns its baseline again, a
+ * warm-up of strike_baseline_time_constant_s; a strike in progress is
+ * lost). Apples already predicted keep their prediction. Allocates (not per
+ * chunk or strike). AF_OK; AF_ENOMEM / AF_EINVAL with *what naming the part,
+ * the old parts kept: the owner then restores its configuration. */
+af_status af_lane_reconfigured(af_lane *l, const char **what);
+
 /* The recording has ended (desk tools): a strike still in the detector is
  * emitted (af_strike_flush), and every pending strike is measured now with
  * what there is (a window past the end of the audio: AF_AUDIO_STREAM_ENDED). */

@@ -271,6 +271,13 @@ void af_measured_poll(af_measured *m)
   af_lane_poll(m->lane, now_ns(m));
 }
 
+af_status af_measured_reconfigured(af_measured *m, bool grades_changed, const char **what)
+{
+  if (grades_changed) /* the classes' counts start again */
+    memset(m->graded, 0, sizeof m->graded);
+  return af_lane_reconfigured(m->lane, what);
+}
+
 const af_lane *af_measured_lane(const af_measured *m)
 {
   return m->lane;

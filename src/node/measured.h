@@ -53,6 +53,11 @@ void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header 
 struct af_strike_plot;
 void af_measured_set_strike_plot(af_measured *m, struct af_strike_plot *plot);
 
+/* The node's configuration was changed in place (src/node/live_settings.c):
+ * the lane's parts that copied it are made anew (af_lane_reconfigured);
+ * grades_changed restarts the counts per class. */
+af_status af_measured_reconfigured(af_measured *m, bool grades_changed, const char **what);
+
 /* Each spin: measures what is due (time-outs, stale audio). */
 void af_measured_poll(af_measured *m);
 

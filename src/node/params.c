@@ -200,7 +200,7 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
     if (st != AF_OK)
       refuse(st, why, err, err_len);
     else
-      cfg->settings = s; /* the base of a reconfigure (src/node/reconfigure.c) */
+      cfg->settings = s; /* the base of a reconfigure (src/node/live_settings.c) */
   }
   if (st != AF_OK)
     af_params_free(cfg);

@@ -9,6 +9,7 @@
 #include "af_tf.h"
 #include "audio_in.h"
 #include "evaluate.h"
+#include "live_settings.h"
 #include "markers.h"
 #include "measured.h"
 #include "model.h"
@@ -40,6 +41,8 @@ struct af_station {
   af_ros_diag *diag;
   af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
   af_evaluate *evaluate; /* the ~evaluate service */
+  /* dynamic_reconfigure of the criteria, thresholds and grades */
+  af_live_settings *live;
   af_audio_in *audio_in; /* audio_common input (~audio_input); NULL with SignalChunk */
   af_strike_plot *plot;  /* the last strike's picture on strike_plot */
   af_tf *tf;             /* the rig's frames (robot_state_publisher, static transforms) */
@@ -485,6 +488,7 @@ static void diag_task(af_diag_status *d, void *user)
   diag_stream(d, audio, audio_stale);
   af_measured_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
+  af_live_settings_diag(st->live, d);
   af_audio_in_diag(st->audio_in, d);
   af_strike_plot_diag(st->plot, d);
 }
@@ -560,6 +564,10 @@ static af_status build(af_station *st, const char **what)
   af_measured_set_strike_plot(st->measured, st->plot);
   if ((s = af_evaluate_create(st->ros, st->cfg, &st->evaluate, what)) != AF_OK)
     return s;
+  /* main owns the configuration (not const there); a reconfigure changes it in place. */
+  if ((s = af_live_settings_create(st->ros, (af_node_config *)st->cfg, st->measured, &st->live,
+                                   what)) != AF_OK)
+    return s;
   *what = "the TF listener";
   if ((s = af_tf_create(st->ros, &st->tf)) != AF_OK)
     return s;
@@ -594,6 +602,7 @@ void af_station_destroy(af_station *st)
     return;
   af_measured_destroy(st->measured);
   af_evaluate_destroy(st->evaluate);
+  af_live_settings_destroy(st->live);
   af_audio_in_destroy(st->audio_in);
   af_strike_plot_destroy(st->plot);
   af_tf_destroy(st->tf);
