@@ -6,6 +6,9 @@ set -euo pipefail
 PACKAGES=(
   # toolchain and checks
   build-essential cmake pkg-config clang-format clang-tidy cppcheck catkin-lint
+  # the sanitizer stage and the fuzzers (scripts/sanitize.sh, fuzz.sh: clang-14 with
+  # ASan, UBSan, libFuzzer), valgrind memcheck (scripts/valgrind.sh)
+  clang-14 libclang-rt-14-dev valgrind
   # numerics
   libgsl-dev libfftw3-dev
   # plots (src/plot: PLplot with its cairo PNG/SVG/memory drivers)

@@ -263,6 +263,11 @@ say(char *err, size_t len, const char *fmt, ...)
   va_start(ap, fmt);
   vsnprintf(err, len, fmt, ap);
   va_end(ap);
+  /* One line, whatever the values quoted in it hold: a control character
+   * (a newline in a flag's value, a CR of a DOS file) shows as '?'. */
+  for (char *p = err; *p; p++)
+    if ((unsigned char)*p < 0x20 || *p == 0x7f)
+      *p = '?';
 }
 
 static bool valid_id(af_setting_id id)
@@ -1555,11 +1560,12 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
   m->detector_queue = 4.0 * (span + 1024.0) + 20.0 * span + 8.0 * 8192.0 +
                       (double)mc->pending_size * (8.0 * span + 256.0) +
                       4.0 * ((double)mc->audio_window_samples + (double)mc->noise_window_samples);
-  /* microphone analysis: the FFT input, two complex and four real spectra,
-   * the window, FFTW's plan (its twiddles about one complex per point) */
+  /* microphone analysis: the FFT input, its complex and real spectra, the
+   * mode analysis's work arrays, FFTW's plan (its twiddles about one complex
+   * per point): 86 bytes per FFT point measured (test_settings), counted as
+   * 128 so that a buffer added there does not outgrow the estimate */
   const double fft = (double)mc->measure.response.fft_size;
-  m->microphone = 8.0 * fft + (fft / 2.0 + 1.0) * (2.0 * 16.0 + 4.0 * 8.0) +
-                  8.0 * (double)mc->measure.response.window_samples + 16.0 * fft;
+  m->microphone = 128.0 * fft + 8.0 * (double)mc->measure.response.window_samples;
   /* pulse fit (GSL's n x p workspace and the oversampled model buffers)
    * and the pulse's spectrum (4 x zero-padded) */
   const double n = (double)mc->measure.fit.max_samples;

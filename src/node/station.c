@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "advice.h"
 #include "af_tf.h"
@@ -59,6 +60,8 @@ struct af_station {
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
   bool have_band;
+  int starts;       /* this process's start under the master (~node_starts), 1 = first */
+  char started[32]; /* when, UTC */
 };
 
 /* What the node adds to one apple's prediction: the rig's geometry. */
@@ -457,6 +460,8 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
   else if (strike_warning)
     af_diag_summary(d, AF_DIAG_WARN, strike_warning);
+  else if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0)
+    af_diag_summary(d, AF_DIAG_WARN, "restarted: resuming with the next apple");
   else
     af_diag_summary(d, AF_DIAG_OK, "ok");
   /* The same summary in rviz; NULL = ok. */
@@ -471,6 +476,12 @@ static void diag_task(af_diag_status *d, void *user)
               c->hammer_tip_source);
   af_diag_add(d, "parameters", "%s (private; config/station.yaml + cultivar YAML)",
               af_ros_node_name(st->ros));
+  af_diag_add(d, "node starts", "%d (%s; this one at %s UTC)", st->starts,
+              st->starts > 1 ? "restarted: resumes with the next apple, nothing from before the "
+                               "restart is reported"
+                             : "first start",
+              st->started);
+  af_diag_add(d, "malformed messages dropped", "%llu", af_ros_malformed(st->ros));
   af_diag_add(d, "apples processed", "%llu", st->apples);
   af_diag_add(d, "apples without prediction", "%llu (model failures %llu)", st->apples_invalid,
               st->model_failures);
@@ -546,6 +557,33 @@ static void wait_for_rig_frames(af_station *st)
 }
 
 /* Makes each part in turn; *what names the one that failed. */
+/* This process's start under the master: ~node_starts + 1 (station.launch
+ * sets it to 0 at each launch; the master keeps it across respawns). A
+ * restarted process keeps nothing of the one before (no pending strike, no
+ * apple, fresh streams and detector, which stays unarmed through its warm-up
+ * so that the tail of a contact cut by the restart is not taken for a
+ * strike): it resumes with the next apple's estimate and the strikes after
+ * it, and says so in the log and /diagnostics. */
+static void note_start(af_station *st)
+{
+  int n = 0;
+  if (af_ros_param_int(st->ros, "node_starts", &n) != AF_OK || n < 0)
+    n = 0; /* absent (rosrun): a first start */
+  st->starts = n + 1;
+  if (af_ros_param_set_int(st->ros, "node_starts", st->starts) != AF_OK)
+    af_ros_log(st->ros, AF_LOG_WARN, "could not record the start count: %s",
+               af_ros_last_error(st->ros));
+  time_t now = time(NULL);
+  const struct tm *utc = gmtime(&now);
+  if (!utc || strftime(st->started, sizeof st->started, "%Y-%m-%d %H:%M:%S", utc) == 0)
+    af_text(st->started, sizeof st->started, "unknown time");
+  if (st->starts > 1)
+    af_ros_log(st->ros, AF_LOG_WARN,
+               "restarted (start %d under this master): resuming with the next apple; nothing "
+               "from before the restart is reported",
+               st->starts);
+}
+
 static af_status build(af_station *st, const char **what)
 {
   af_status s;
@@ -553,6 +591,7 @@ static af_status build(af_station *st, const char **what)
   if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
       (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
     return s;
+  note_start(st);
   *what = "the publishers";
   if ((s = advertise(st)) != AF_OK)
     return s;

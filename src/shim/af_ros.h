@@ -91,6 +91,9 @@ void af_ros_log(const af_ros *r, af_log_level level, const char *fmt, ...)
  * with another type (an int is accepted for a double). */
 af_status af_ros_param_double(const af_ros *r, const char *name, double *out);
 af_status af_ros_param_int(const af_ros *r, const char *name, int *out);
+/* Sets the private parameter ~name (e.g. the node's start count, which
+ * outlives a respawned process: the master keeps it). */
+af_status af_ros_param_set_int(af_ros *r, const char *name, int value);
 af_status af_ros_param_bool(const af_ros *r, const char *name, bool *out);
 /* Copies at most len - 1 bytes; AF_ESIZE when the value is longer. */
 af_status af_ros_param_string(const af_ros *r, const char *name, char *buf, size_t len);
@@ -109,6 +112,12 @@ unsigned af_ros_pub_subscribers(const af_ros_pub *p);
 
 af_status af_ros_subscribe(af_ros *r, const char *topic, af_msg_type type, unsigned queue,
                            af_ros_callback cb, void *user, af_ros_sub **out);
+/* Messages s dropped before deserializing them: malformed, a length prefix
+ * claiming more bytes than the message holds (which would make roscpp
+ * allocate it). Each is also logged (WARN at the 1st, 2nd, 4th, ...). */
+unsigned long long af_ros_sub_malformed(const af_ros_sub *s);
+/* The same over every subscriber of r. */
+unsigned long long af_ros_malformed(const af_ros *r);
 
 /* diagnostic_updater: one updater per node, on /diagnostics.
  * hardware_id names the station (e.g. the lane). */

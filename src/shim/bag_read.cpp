@@ -12,6 +12,7 @@
 
 #include "af_bag.h"
 #include "convert.hpp"
+#include "wire.hpp"
 
 using namespace acoustic_firmness;
 
@@ -23,6 +24,7 @@ struct af_bag_reader {
   std::string topic, last_error;
   // The message being read: kept until the next call (its arrays are borrowed).
   SignalChunk::ConstPtr chunk;
+  std::vector<uint8_t> raw; // a SignalChunk's bytes, checked before deserializing
   std::map<std::string, size_t> counts;
 };
 } // extern "C"
@@ -100,6 +102,19 @@ void check_topics(af_bag_reader *r, const char *const *topics, size_t n)
   }
 }
 
+// roscpp's deserializer sizes SignalChunk.data from its length prefix before
+// it checks the bytes (wire.hpp): the message's own bytes are checked first.
+void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
+{
+  r->raw.resize(mi.size());
+  ros::serialization::OStream out(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
+  mi.write(out);
+  if (!af_shim::signal_chunk_plausible(r->raw.data(), r->raw.size()))
+    throw rosbag::BagFormatException("a SignalChunk on " + mi.getTopic() + " of " +
+                                     std::to_string(r->raw.size()) +
+                                     " bytes claims more samples than it holds");
+}
+
 } // namespace
 
 extern "C" {
@@ -114,6 +129,12 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
   *out = nullptr;
   af_bag_reader *r = nullptr;
   try {
+    // rosbag trusts the lengths the file states (wire.hpp): walk them first.
+    std::string why;
+    if (!af_shim::bag_plausible(path, why)) {
+      set_error(nullptr, std::string(path) + ": not a readable bag: " + why);
+      return AF_EIO;
+    }
     r = new af_bag_reader;
     r->bag.open(path, rosbag::bagmode::Read);
     check_topics(r, topics, n_topics);
@@ -154,6 +175,7 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
       m->type = t;
       switch (t) {
       case AF_MSG_SIGNAL_CHUNK:
+        check_chunk_bytes(r, mi);
         r->chunk = mi.instantiate<SignalChunk>();
         af_shim::from_ros(*r->chunk, m->msg.chunk);
         break;

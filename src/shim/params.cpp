@@ -120,6 +120,20 @@ af_status af_ros_param_int(const af_ros *r, const char *name, int *out)
   }
 }
 
+af_status af_ros_param_set_int(af_ros *r, const char *name, int value)
+{
+  try {
+    if (r == nullptr)
+      return af_shim::invalid(nullptr, "af_ros_param_set_int: r is NULL");
+    if (name == nullptr || name[0] == '\0')
+      return af_shim::invalid(r, "af_ros_param_set_int: name is NULL or empty");
+    r->pnh->setParam(name, value);
+    return AF_OK;
+  } catch (...) {
+    return af_shim::status_from_exception(r);
+  }
+}
+
 af_status af_ros_param_bool(const af_ros *r, const char *name, bool *out)
 {
   try {

@@ -1,6 +1,9 @@
 // pubsub.cpp — publishers and subscribers of the C message types.
 #include "convert.hpp"
 #include "ros_handle.hpp"
+#include "wire.hpp"
+
+#include <boost/make_shared.hpp>
 
 namespace
 {
@@ -21,6 +24,44 @@ void advertise_as(ros::NodeHandle &nh, const std::string &topic, unsigned queue,
   };
 }
 
+// Whether roscpp may deserialize these bytes as an M: every type but
+// SignalChunk has no vector a length prefix could blow up (wire.hpp).
+template <class M> bool plausible(const uint8_t *, std::size_t)
+{
+  return true;
+}
+template <> bool plausible<acoustic_firmness::SignalChunk>(const uint8_t *p, std::size_t n)
+{
+  return af_shim::signal_chunk_plausible(p, n);
+}
+
+// roscpp's callback helper with the bytes checked first: a message that
+// would make the deserializer allocate what it does not hold is dropped
+// (roscpp skips a null message), counted and logged, never allocated.
+template <class M>
+class checked_helper : public ros::SubscriptionCallbackHelperT<const boost::shared_ptr<const M> &>
+{
+public:
+  using base = ros::SubscriptionCallbackHelperT<const boost::shared_ptr<const M> &>;
+  checked_helper(const typename base::Callback &cb, af_ros_sub *s) : base(cb), s_(s) {}
+
+  ros::VoidConstPtr deserialize(const ros::SubscriptionCallbackHelperDeserializeParams &p) override
+  {
+    if (!plausible<M>(p.buffer, p.length)) {
+      unsigned long long n = ++s_->malformed;
+      if ((n & (n - 1)) == 0) // the 1st, 2nd, 4th, 8th ...
+        ROS_WARN("%s: dropped a malformed %s of %u bytes (a length prefix claims more than the "
+                 "message holds); %llu so far",
+                 s_->sub.getTopic().c_str(), ros::message_traits::datatype<M>(), p.length, n);
+      return ros::VoidConstPtr();
+    }
+    return base::deserialize(p);
+  }
+
+private:
+  af_ros_sub *s_;
+};
+
 // The C struct lives on the stack of the callback, its strings copied into
 // fixed arrays and its arrays borrowed from m: nothing is allocated per
 // message beyond what roscpp itself does.
@@ -29,11 +70,13 @@ void subscribe_as(ros::NodeHandle &nh, const std::string &topic, unsigned queue,
 {
   af_ros_sub *sp = &s;
   ros::SubscribeOptions ops;
-  ops.template init<M>(topic, queue, [sp](const boost::shared_ptr<const M> &m) {
+  auto cb = [sp](const boost::shared_ptr<const M> &m) {
     C c{};
     af_shim::from_ros(*m, c);
     sp->cb(&c, sp->user);
-  });
+  };
+  ops.template init<M>(topic, queue, cb);
+  ops.helper = boost::make_shared<checked_helper<M>>(cb, sp);
   s.sub = nh.subscribe(ops);
 }
 
@@ -111,6 +154,20 @@ af_status af_ros_publish(af_ros_pub *p, const void *msg)
   } catch (...) {
     return af_shim::status_from_exception(r);
   }
+}
+
+unsigned long long af_ros_sub_malformed(const af_ros_sub *s)
+{
+  return s != nullptr ? s->malformed.load() : 0ull;
+}
+
+unsigned long long af_ros_malformed(const af_ros *r)
+{
+  unsigned long long n = 0;
+  if (r != nullptr)
+    for (const auto &s : r->subs)
+      n += s->malformed.load();
+  return n;
 }
 
 unsigned af_ros_pub_subscribers(const af_ros_pub *p)

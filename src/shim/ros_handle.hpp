@@ -4,6 +4,7 @@
 #ifndef AF_SHIM_ROS_HANDLE_HPP
 #define AF_SHIM_ROS_HANDLE_HPP
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
@@ -32,6 +33,9 @@ struct af_ros_sub {
   af_ros_callback cb;
   void *user;
   ros::Subscriber sub;
+  // Messages dropped before deserializing: a length prefix claiming more
+  // bytes than the message has (wire.hpp). Written in the spinning thread.
+  std::atomic<unsigned long long> malformed{0};
 };
 
 struct af_diag_status {

@@ -51,15 +51,50 @@
 
 /* ---- allocation count ------------------------------------------------------- */
 
-/* A process that defines malloc & co. replaces glibc's for every library
- * (GSL, FFTW included): these forward to glibc's and count while armed. */
-#ifdef __GLIBC__
+/* Under AddressSanitizer the allocator is ASan's: its hooks see every
+ * allocation (aligned ones included), and the process must not define
+ * malloc & co. (freeing ASan's blocks with glibc's free aborts). Without it,
+ * a process that defines malloc & co. replaces glibc's for every library
+ * (GSL, FFTW included): these forward to glibc's and count while armed,
+ * FFTW's aligned allocations too. */
+#if defined(__SANITIZE_ADDRESS__)
+#define AF_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define AF_TEST_ASAN 1
+#endif
+#endif
+
+static int alloc_armed;
+static long alloc_count;
+#if defined(AF_TEST_ASAN)
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void *, size_t),
+                                              void (*free_hook)(const volatile void *));
+
+static void count_malloc(const volatile void *p, size_t size)
+{
+  (void)p;
+  (void)size;
+  alloc_count += alloc_armed;
+}
+
+static void count_free(const volatile void *p)
+{
+  (void)p;
+}
+
+/* Before main: the counts start armed-off; the hooks stay for the process. */
+__attribute__((constructor)) static void install_count_hooks(void)
+{
+  __sanitizer_install_malloc_and_free_hooks(count_malloc, count_free);
+}
+#define ALLOC_COUNTING 1
+#elif defined(__GLIBC__)
 extern void *__libc_malloc(size_t size);
 extern void *__libc_calloc(size_t n, size_t size);
 extern void *__libc_realloc(void *p, size_t size);
+extern void *__libc_memalign(size_t alignment, size_t size);
 extern void __libc_free(void *p);
-static int alloc_armed;
-static long alloc_count;
 
 void *malloc(size_t size)
 {
@@ -79,14 +114,30 @@ void *realloc(void *p, size_t size)
   return __libc_realloc(p, size);
 }
 
+/* fftw_malloc's (and aligned_alloc's) path: glibc's memalign, so that the
+ * free below stays glibc's own. */
+int posix_memalign(void **out, size_t alignment, size_t size)
+{
+  alloc_count += alloc_armed;
+  void *p = __libc_memalign(alignment, size);
+  if (p == NULL)
+    return 12; /* ENOMEM */
+  *out = p;
+  return 0;
+}
+
+void *aligned_alloc(size_t alignment, size_t size)
+{
+  alloc_count += alloc_armed;
+  return __libc_memalign(alignment, size);
+}
+
 void free(void *p)
 {
   __libc_free(p);
 }
 #define ALLOC_COUNTING 1
 #else
-static int alloc_armed;
-static long alloc_count;
 #define ALLOC_COUNTING 0
 #endif
 

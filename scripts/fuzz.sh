@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# Fuzzes each libFuzzer harness of test/fuzz/ for a bounded time (not part of
+# the default tests; CI runs it in a short mode, the ctest test
+# fuzz_script_short of the sanitizer build). Uses the sanitizer build
+# (./build-san, ASan + UBSan + libFuzzer, scripts/sanitize.sh) and builds the
+# harnesses there if needed. Each harness starts from its seed corpus
+# (test/fuzz/<name>/) and a working corpus that grows in
+# build-san/fuzz/corpus/<name>; a crash, a timeout (an input over a second)
+# or an out-of-memory (over 2 GB) leaves its input in build-san/fuzz/ and
+# fails the run: copy it into test/fuzz/<name>/ as a regression input once
+# fixed. Prints executions per harness.
+#
+#   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--no-build]
+#
+# --seconds: per harness (default 60); --jobs: harnesses run side by side
+# (default 1); --no-build: use the build as it is.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+export AF_BUILD_DIR=${AF_SAN_BUILD_DIR:-$root/build-san}
+source "$root/scripts/env.sh"
+seconds=60
+only=""
+jobs=1
+build=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds=${2:?--seconds needs a value}; shift 2 ;;
+    --only) only=${2:?--only needs a name}; shift 2 ;;
+    --jobs) jobs=${2:?--jobs needs a value}; shift 2 ;;
+    --no-build) build=0; shift ;;
+    *) echo "fuzz.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
+  esac
+done
+case "$seconds" in '' | *[!0-9]*) echo "fuzz.sh: --seconds '$seconds' is not a whole number" >&2; exit 2 ;; esac
+case "$jobs" in '' | *[!0-9]* | 0) echo "fuzz.sh: --jobs '$jobs' is not a whole number >= 1" >&2; exit 2 ;; esac
+
+names=()
+for src in "$root"/test/fuzz/fuzz_*.c "$root"/test/fuzz/fuzz_*.cpp; do
+  [ -e "$src" ] || continue
+  n=$(basename "$src")
+  n=${n%.*}
+  n=${n#fuzz_}
+  [ -z "$only" ] || [ "$n" = "$only" ] && names+=("$n")
+done
+[ "${#names[@]}" -gt 0 ] || { echo "fuzz.sh: no harness named '$only'" >&2; exit 2; }
+
+if [ "$build" = 1 ]; then
+  if [ ! -f "$AF_BUILD/CMakeCache.txt" ]; then
+    export CC=clang-14 CXX=clang++-14
+    export AF_CMAKE_ARGS="-DACOUSTIC_FIRMNESS_SANITIZE=address,undefined -DACOUSTIC_FIRMNESS_FUZZ=ON"
+    bash "$root/scripts/build.sh" >/dev/null
+  fi
+  make -C "$AF_BUILD" -j"$(nproc)" $(printf 'fuzz_%s ' "${names[@]}") >/dev/null
+fi
+
+out="$AF_BUILD/fuzz"
+mkdir -p "$out/previous"
+# what an earlier run found is kept, out of the way of this run's count
+for n in "${names[@]}"; do
+  find "$out" -maxdepth 1 -type f -name "$n-*" -exec mv -f {} "$out/previous/" \;
+done
+export ASAN_OPTIONS="detect_leaks=1"
+export LSAN_OPTIONS="suppressions=$root/test/sanitizers/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$root/test/sanitizers/ubsan.supp"
+
+# The longest input each harness takes [bytes]: a few chunks, a window of
+# audio, an argument list, a YAML file, a small bag, two short recordings.
+max_len() {
+  case "$1" in
+    strike) echo 65536 ;; response) echo 16384 ;; cli) echo 1024 ;; yaml) echo 8192 ;;
+    msgs) echo 65536 ;; bag) echo 65536 ;; analyze) echo 65536 ;; *) echo 4096 ;;
+  esac
+}
+
+run_one() {
+  local n=$1 exe="$AF_DEVEL/lib/acoustic_firmness/fuzz_$1"
+  [ -x "$exe" ] || exe=$(find "$AF_BUILD" "$AF_DEVEL" -name "fuzz_$n" -type f -perm -u+x | head -1)
+  [ -n "$exe" ] || { echo "$n: harness not built" >"$out/$n.log"; return 1; }
+  mkdir -p "$out/corpus/$n"
+  # -close_fd_mask=3: the harnesses' own output (analyze's JSON, refusal
+  # lines) is discarded; libFuzzer's reports still show.
+  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout=1 \
+    -rss_limit_mb=2048 -max_len="$(max_len "$n")" -print_final_stats=1 -close_fd_mask=3 \
+    -artifact_prefix="$out/$n-" >"$out/$n.log" 2>&1
+}
+
+status=0
+pids=()
+for n in "${names[@]}"; do
+  run_one "$n" &
+  pids+=($!)
+  if [ "${#pids[@]}" -ge "$jobs" ]; then
+    wait "${pids[0]}" || status=1
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+
+printf '%-10s %8s %12s %10s %8s  %s\n' harness seconds executions "exec/s" corpus result
+for n in "${names[@]}"; do
+  log="$out/$n.log"
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  corpus=$(find "$out/corpus/$n" -type f | wc -l)
+  found=$(find "$out" -maxdepth 1 -name "$n-*" -type f | wc -l)
+  result=ok
+  if [ "$found" -gt 0 ] || grep -q -e 'ERROR: libFuzzer' -e 'ERROR: AddressSanitizer' \
+    -e 'runtime error:' -e 'ERROR: LeakSanitizer' "$log"; then
+    result="FAILED ($found input(s) in $out; log $log)"
+    status=1
+  fi
+  printf '%-10s %8s %12s %10s %8s  %s\n' "$n" "$seconds" "${execs:-?}" "${rate:-?}" "$corpus" "$result"
+done
+exit "$status"

@@ -1,0 +1,39 @@
+// wire.hpp — checks on serialized messages before roscpp deserializes them.
+//
+// roscpp's deserializer sizes a vector of a simple type from its 4-byte
+// length prefix (std::vector::resize) before it checks that the message holds
+// that many bytes (ros/serialization.h, VectorSerializer): 20 bytes claiming
+// 10^9 float32 samples make it allocate and zero 4 GB. Strings are checked
+// before they are built. So the only field of our inputs that can do this is
+// SignalChunk.data; its layout is walked here, every length checked against
+// the bytes that remain. Found by test/fuzz/fuzz_msgs.cpp (issue 11).
+#ifndef AF_SHIM_WIRE_HPP
+#define AF_SHIM_WIRE_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace af_shim
+{
+
+// Whether the n serialized bytes at p can be a SignalChunk whose every
+// length prefix fits inside them (the message need not be complete: roscpp
+// then throws, as usual). False when a prefix claims more than remains.
+bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
+
+// rosbag trusts the lengths a bag file states: a record header or a chunk
+// that claims gigabytes makes it allocate them (rosbag::Bag::readHeader,
+// the chunk's decompression buffer) before it finds the file shorter. This
+// walks a bag's records (v2.0: header length, header fields, data length,
+// and the records inside uncompressed chunks) by their lengths only, seeking
+// over the data, and checks each against the file's size, a header against
+// AF_BAG_HEADER_MAX and a chunk's stated size against AF_BAG_CHUNK_MAX.
+// False with the first problem in why. Found by test/fuzz/fuzz_bag.c.
+constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
+constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 28;  // 256 MiB
+bool bag_plausible(const char *path, std::string &why);
+
+} // namespace af_shim
+
+#endif

@@ -1,0 +1,188 @@
+#!/usr/bin/python3
+"""Writes the seed corpus of the libFuzzer harnesses (test/fuzz/<name>/seed_*):
+small valid inputs of each kind, so that fuzzing starts from inputs that reach
+deep (a strike, a ringing mode, accepted flags, the shipped YAML, a bag and
+messages with chunks and an apple). Deterministic; the files are committed.
+Usage (after a build, for the message classes):
+  source devel/setup.bash; /usr/bin/python3 test/fuzz/make_seeds.py"""
+
+import io
+import math
+import os
+import random
+import struct
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+
+def put(name, seed, data):
+    d = os.path.join(HERE, name)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, 'seed_' + seed), 'wb') as f:
+        f.write(data)
+
+
+def pulse(fs, tc=1.4e-3, peak=35.0):
+    """A Hertz-like sin^1.5 pulse of contact time tc [s] at fs [Hz]."""
+    n = int(tc * fs) + 1
+    return [peak * math.sin(math.pi * k / fs / tc) ** 1.5 if k / fs < tc else 0.0 for k in range(n)]
+
+
+def mode(fs, n, f0=680.0, q=30.0, amp=1.0, rnd=None):
+    return [amp * math.exp(-math.pi * f0 / q * k / fs) * math.cos(2 * math.pi * f0 * k / fs) +
+            (rnd.gauss(0, 0.01) if rnd else 0.0) for k in range(n)]
+
+
+def strike_seeds():
+    # head: rate 50 kHz (3), no threshold byte; first index; then chunks:
+    # kind 0 (int16 samples), n, scale, samples
+    rnd = random.Random(1)
+    scale = 0.01  # N per count
+    x = [rnd.gauss(0, 0.02) for _ in range(2000)]
+    p = pulse(50000.0)
+    for k, v in enumerate(p):
+        x[1200 + k] += v
+    out = bytearray([3]) + struct.pack('<H', 0)
+    for c in range(0, len(x), 500):
+        part = x[c:c + 500]
+        out += bytes([0]) + struct.pack('<H', len(part)) + struct.pack('<H', int(scale / 0.01 * 65535))
+        out += b''.join(struct.pack('<h', max(-32768, min(32767, int(round(v / scale))))) for v in part)
+    out += bytes([0xff])
+    put('strike', 'pulse', bytes(out))
+    # a gap and a restart
+    put('strike', 'gap', bytes(out[:300]) + bytes([0x30]) + struct.pack('<HH', 4, 65535) +
+        struct.pack('<Q', 1 << 40) + bytes(out[300:]))
+
+
+def response_seeds():
+    rnd = random.Random(2)
+    for k, fs in enumerate((25600.0, 44100.0, 48000.0)):
+        n = int(0.04 * fs)
+        a = mode(fs, n, rnd=rnd)
+        scale = 1.0 / 30000.0
+        lo, hi = 300.0 / (0.5 * fs) * 65535, 1300.0 / (0.5 * fs) * 65535
+        f_lo = 1.0 + (0.5 * fs - 1.0) * lo / 65535
+        hi_u = (1300.0 - f_lo) / (0.5 * fs - f_lo) * 65535
+        out = bytearray([k]) + struct.pack('<HH', int(lo), int(hi_u)) + struct.pack('<H', n)
+        out += struct.pack('<H', int(scale * 65535))
+        out += b''.join(struct.pack('<h', int(round(v / scale))) for v in a)
+        put('response', 'mode_%d' % int(fs), bytes(out))
+
+
+def cli_seeds():
+    put('cli', 'default', b'\x01')
+    put('cli', 'flags', b'\0'.join([b'--E2', b'8e6', b'--R2', b'0.04', b'--e', b'0.6',
+                                      b'--damping', b'exact', b'--lobe', b'1']))
+    put('cli', 'paper', b'\0'.join([b'--profile', b'paper', b'--hammer-mass', b'0.02',
+                                      b'--v0', b'1.0', b'--gravity', b'0']))
+    put('cli', 'set', b'\0'.join([b'strike_velocity_m_s=1.4', b'modulus_min_pa=2e6', b'lobe=2']))
+    put('cli', 'hammer', b'\0'.join([b'--hammer-E', b'4e7', b'--hammer-radius', b'0.005',
+                                       b'--hammer-nu', b'0.3', b'--nu2', b'0.3']))
+
+
+def yaml_seeds():
+    for name in ('station.yaml', 'jonagold.yaml'):
+        with open(os.path.join(ROOT, 'config', name), 'rb') as f:
+            put('yaml', name.split('.')[0], f.read())
+
+
+def messages():
+    """(force chunks, audio chunks, apple) as message objects."""
+    from acoustic_firmness.msg import AppleEstimate, SignalChunk
+    import rospy
+    rnd = random.Random(3)
+    force = [0.3 + rnd.gauss(0, 0.02) for _ in range(3000)]
+    for k, v in enumerate(pulse(50000.0)):
+        force[1500 + k] += v
+    audio = [rnd.gauss(0, 0.001) for _ in range(2880)]
+    for k, v in enumerate(mode(48000.0, 1400)):
+        audio[1440 + k] += v
+    t0 = 1700000000.0
+
+    def chunks(x, fs, unit):
+        out = []
+        for c in range(0, len(x), 1024):
+            m = SignalChunk()
+            m.header.stamp = rospy.Time.from_sec(t0 + c / fs)
+            m.header.frame_id = 'force_sensor' if unit == 'N' else 'microphone'
+            m.first_sample = c
+            m.sample_rate = fs
+            m.unit = unit
+            m.data = x[c:c + 1024]
+            out.append(m)
+        return out
+
+    a = AppleEstimate()
+    a.header.stamp = rospy.Time.from_sec(t0)
+    a.header.frame_id = 'camera_optical_frame'
+    a.apple_id, a.mass, a.equatorial_radius, a.strike_radius = 1, 0.175, 0.04, 0.04
+    a.stem_axis.x, a.confidence = 1.0, 0.9
+    return chunks(force, 50000.0, 'N'), chunks(audio, 48000.0, 'Pa'), a
+
+
+def serialized(m):
+    b = io.BytesIO()
+    m.serialize(b)
+    return b.getvalue()
+
+
+def msgs_seeds():
+    force, audio, apple = messages()
+    out = bytearray()
+
+    def rec(kind, m):
+        s = serialized(m)
+        return bytes([kind]) + struct.pack('<H', len(s)) + s
+    out += rec(2, apple)
+    for f, a in zip(force, audio):
+        out += rec(0, f) + rec(1, a)
+    put('msgs', 'strike', bytes(out))
+    put('msgs', 'apple', rec(2, apple))
+
+
+def bag_seeds():
+    import rosbag
+    force, audio, apple = messages()
+    path = os.path.join(HERE, 'bag', 'seed_small')
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with rosbag.Bag(path, 'w') as bag:
+        bag.write('/lane1/apple', apple, apple.header.stamp)
+        for f, a in zip(force[:2], audio[:2]):
+            bag.write('/lane1/force', f, f.header.stamp)
+            bag.write('/lane1/audio', a, a.header.stamp)
+
+
+def analyze_seeds():
+    rnd = random.Random(4)
+    fs = 25600.0
+    n = int(0.06 * fs)
+    force = [0.3 + rnd.gauss(0, 0.02) for _ in range(n)]
+    for k, v in enumerate(pulse(fs)):
+        force[200 + k] += v
+    audio = [rnd.gauss(0, 0.001) for _ in range(n)]
+    for k, v in enumerate(mode(fs, n - 220)):
+        audio[220 + k] += v
+    f = struct.pack('<%df' % n, *force)
+    a = struct.pack('<%df' % n, *audio)
+    # head: rates 25600/25600 (0, 0), split at 8/17 of the rest: force 8/17 of it
+    body = f + a
+    head = 7 << 4  # (7 + 1) / 17 of the body: force part
+    # pad so that the split falls exactly between force and audio
+    pad = len(f) * 17 // 8 - len(body)
+    body = f + a + bytes(max(0, pad))
+    put('analyze', 'strike', bytes([head]) + body)
+
+
+if __name__ == '__main__':
+    strike_seeds()
+    response_seeds()
+    cli_seeds()
+    yaml_seeds()
+    analyze_seeds()
+    try:
+        msgs_seeds()
+        bag_seeds()
+    except ImportError as e:
+        sys.exit('make_seeds: %s (source devel/setup.bash first)' % e)
