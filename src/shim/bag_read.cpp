@@ -115,6 +115,20 @@ void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
                                      " bytes claims more samples than it holds");
 }
 
+// rosbag's instantiate gives a null pointer when the connection's type or
+// md5sum is not M's (a bag edited, or written with another definition):
+// refused with its topic, never dereferenced (found by fuzz_bag.c).
+template <class M> boost::shared_ptr<M> instantiate(const rosbag::MessageInstance &mi)
+{
+  boost::shared_ptr<M> m = mi.instantiate<M>();
+  if (!m)
+    throw rosbag::BagFormatException("a message on " + mi.getTopic() + " of type " +
+                                     mi.getDataType() + " (md5sum " + mi.getMD5Sum() +
+                                     ") does not match " + ros::message_traits::datatype<M>() +
+                                     " as built here");
+  return m;
+}
+
 } // namespace
 
 extern "C" {
@@ -176,16 +190,16 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
       switch (t) {
       case AF_MSG_SIGNAL_CHUNK:
         check_chunk_bytes(r, mi);
-        r->chunk = mi.instantiate<SignalChunk>();
+        r->chunk = instantiate<SignalChunk>(mi);
         af_shim::from_ros(*r->chunk, m->msg.chunk);
         break;
       case AF_MSG_APPLE_ESTIMATE:
-        af_shim::from_ros(*mi.instantiate<AppleEstimate>(), m->msg.apple);
+        af_shim::from_ros(*instantiate<AppleEstimate>(mi), m->msg.apple);
         break;
       case AF_MSG_STRIKE_REPORT:
-        af_shim::from_ros(*mi.instantiate<StrikeReport>(), m->msg.report);
+        af_shim::from_ros(*instantiate<StrikeReport>(mi), m->msg.report);
         break;
-      default: af_shim::from_ros(*mi.instantiate<Reliability>(), m->msg.reliability); break;
+      default: af_shim::from_ros(*instantiate<Reliability>(mi), m->msg.reliability); break;
       }
       ++r->it;
       return AF_OK;
