@@ -1,6 +1,7 @@
 // wire.cpp — checks on serialized messages (see wire.hpp).
 #include "wire.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -90,8 +91,19 @@ bool read_u32(std::FILE *f, uint32_t &v)
 struct record {
   int op = -1;
   std::string compression;
-  uint64_t size = 0; // a chunk's uncompressed size
+  uint64_t size = 0;      // a chunk's uncompressed size
+  uint64_t count = 0;     // index data: entries
+  uint64_t chunk_pos = 0; // chunk info: where its chunk starts
+  uint64_t index_pos = 0; // bag header: where the index starts
 };
+
+uint64_t little_endian(const std::string &v)
+{
+  uint64_t x = 0;
+  for (std::size_t k = v.size(); k-- > 0;)
+    x = x << 8 | uint8_t(v[k]);
+  return x;
+}
 
 bool parse_header(const std::vector<unsigned char> &h, record &r, std::string &why)
 {
@@ -117,19 +129,81 @@ bool parse_header(const std::vector<unsigned char> &h, record &r, std::string &w
       else if (name == "compression")
         r.compression = value;
       else if (name == "size" && value.size() == 4)
-        r.size = uint32_t(uint8_t(value[0])) | uint32_t(uint8_t(value[1])) << 8 |
-                 uint32_t(uint8_t(value[2])) << 16 | uint32_t(uint8_t(value[3])) << 24;
+        r.size = little_endian(value);
+      else if (name == "count" && value.size() == 4)
+        r.count = little_endian(value);
+      else if (name == "chunk_pos" && value.size() == 8)
+        r.chunk_pos = little_endian(value);
+      else if (name == "index_pos" && value.size() == 8)
+        r.index_pos = little_endian(value);
     }
     at += len;
   }
   return true;
 }
 
-// The records in [pos, end) of f: each header and data inside the range.
-// inner: the records of an uncompressed chunk (no chunks within).
-bool walk(std::FILE *f, uint64_t pos, uint64_t end, bool inner, std::string &why)
+// What the walk learns: the chunks (where each starts, its uncompressed
+// size, and for an uncompressed one where its records start, relative to its
+// data), the last chunk seen (index data records follow their chunk), and
+// the index's position from the bag header.
+struct layout {
+  struct chunk {
+    uint64_t size = 0;
+    bool compressed = false;
+    std::vector<uint64_t> records;
+  };
+  std::vector<std::pair<uint64_t, chunk>> chunks; // in file order
+  std::vector<uint64_t> chunk_infos;              // chunk_pos of each chunk info record
+  uint64_t index_pos = 0;
+};
+
+// The offsets of an index data record's entries (time 8, offset 4 each):
+// every one must start a record of its chunk (rosbag reads a header there
+// without checking it lies inside the chunk).
+bool check_index(std::FILE *f, uint64_t data, uint32_t dlen, const record &r, const layout &l,
+                 uint64_t pos, std::string &why)
+{
+  if (l.chunks.empty()) {
+    why = "index data at byte " + std::to_string(pos) + " before any chunk";
+    return false;
+  }
+  const layout::chunk &c = l.chunks.back().second;
+  if (r.count > dlen / 12 || dlen != r.count * 12) {
+    why = "index data at byte " + std::to_string(pos) + " states " + std::to_string(r.count) +
+          " entries in " + std::to_string(dlen) + " bytes";
+    return false;
+  }
+  if (std::fseek(f, static_cast<long>(data), SEEK_SET) != 0) {
+    why = "cut at byte " + std::to_string(data);
+    return false;
+  }
+  for (uint64_t k = 0; k < r.count; k++) {
+    unsigned char e[12];
+    if (std::fread(e, 1, 12, f) != 12) {
+      why = "index data at byte " + std::to_string(pos) + " is cut";
+      return false;
+    }
+    const uint64_t off =
+        uint32_t(e[8]) | uint32_t(e[9]) << 8 | uint32_t(e[10]) << 16 | uint32_t(e[11]) << 24;
+    const bool ok = c.compressed ? off + 8 <= c.size
+                                 : std::binary_search(c.records.begin(), c.records.end(), off);
+    if (!ok) {
+      why = "index data at byte " + std::to_string(pos) + " points at byte " + std::to_string(off) +
+            " of its chunk, where no record starts";
+      return false;
+    }
+  }
+  return true;
+}
+
+// The records in [pos, end) of f: each header and data inside the range;
+// inner: the chunk being walked (its records noted; no chunk or index
+// within), NULL at the top level.
+bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout &l,
+          std::string &why)
 {
   std::vector<unsigned char> h;
+  const uint64_t begin = pos;
   while (pos < end) {
     uint32_t hlen, dlen;
     if (std::fseek(f, static_cast<long>(pos), SEEK_SET) != 0 || !read_u32(f, hlen)) {
@@ -158,25 +232,37 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, bool inner, std::string &why
             " bytes of data, beyond " + (inner ? "its chunk" : "the end of the file");
       return false;
     }
-    if (r.op == 0x05) { // a chunk
-      if (inner) {
-        why = "a chunk inside a chunk at byte " + std::to_string(pos);
+    if (inner != nullptr) {
+      inner->records.push_back(pos - begin);
+      if (r.op == 0x05 || r.op == 0x04 || r.op == 0x06 || r.op == 0x03) {
+        why = "an index or chunk record inside a chunk at byte " + std::to_string(pos);
         return false;
       }
+    } else if (r.op == 0x05) { // a chunk
       if (r.size > AF_BAG_CHUNK_MAX) {
         why = "the chunk at byte " + std::to_string(pos) + " claims " + std::to_string(r.size) +
               " bytes uncompressed, above the 256 MiB accepted";
         return false;
       }
-      if (r.compression == "none" && r.size != dlen) {
+      layout::chunk c;
+      c.size = r.size;
+      c.compressed = r.compression != "none";
+      if (!c.compressed && r.size != dlen) {
         why = "the uncompressed chunk at byte " + std::to_string(pos) + " states " +
               std::to_string(r.size) + " bytes, its data has " + std::to_string(dlen);
         return false;
       }
-      if (r.compression == "none" && !walk(f, data, data + dlen, true, why)) {
+      if (!c.compressed && !walk(f, data, data + dlen, &c, l, why)) {
         why = "in the chunk at byte " + std::to_string(pos) + ": " + why;
         return false;
       }
+      l.chunks.emplace_back(pos, std::move(c));
+    } else if (r.op == 0x04 && !check_index(f, data, dlen, r, l, pos, why)) {
+      return false;
+    } else if (r.op == 0x06) {
+      l.chunk_infos.push_back(r.chunk_pos);
+    } else if (r.op == 0x03) {
+      l.index_pos = r.index_pos;
     }
     pos = data + dlen;
   }
@@ -208,7 +294,24 @@ bool bag_plausible(const char *path, std::string &why)
     why = "cannot tell its size";
     return false;
   }
-  return walk(f.get(), sizeof head, static_cast<uint64_t>(size), false, why);
+  layout l;
+  if (!walk(f.get(), sizeof head, static_cast<uint64_t>(size), nullptr, l, why))
+    return false;
+  // rosbag seeks to the index and to each chunk by these positions
+  if (l.index_pos < sizeof head || l.index_pos > static_cast<uint64_t>(size)) {
+    why = "the bag header's index position " + std::to_string(l.index_pos) + " is outside the file";
+    return false;
+  }
+  for (uint64_t p : l.chunk_infos) {
+    bool found = false;
+    for (const auto &c : l.chunks)
+      found = found || c.first == p;
+    if (!found) {
+      why = "a chunk info points at byte " + std::to_string(p) + ", where no chunk starts";
+      return false;
+    }
+  }
+  return true;
 }
 
 } // namespace af_shim
