@@ -154,6 +154,7 @@ struct layout {
   };
   std::vector<std::pair<uint64_t, chunk>> chunks; // in file order
   std::vector<uint64_t> chunk_infos;              // chunk_pos of each chunk info record
+  std::vector<uint64_t> records;                  // where each top-level record starts
   uint64_t index_pos = 0;
 };
 
@@ -232,6 +233,8 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout
             " bytes of data, beyond " + (inner ? "its chunk" : "the end of the file");
       return false;
     }
+    if (inner == nullptr)
+      l.records.push_back(pos);
     if (inner != nullptr) {
       inner->records.push_back(pos - begin);
       if (r.op == 0x05 || r.op == 0x04 || r.op == 0x06 || r.op == 0x03) {
@@ -298,8 +301,10 @@ bool bag_plausible(const char *path, std::string &why)
   if (!walk(f.get(), sizeof head, static_cast<uint64_t>(size), nullptr, l, why))
     return false;
   // rosbag seeks to the index and to each chunk by these positions
-  if (l.index_pos < sizeof head || l.index_pos > static_cast<uint64_t>(size)) {
-    why = "the bag header's index position " + std::to_string(l.index_pos) + " is outside the file";
+  if (l.index_pos != static_cast<uint64_t>(size) &&
+      !std::binary_search(l.records.begin(), l.records.end(), l.index_pos)) {
+    why = "the bag header's index position " + std::to_string(l.index_pos) +
+          " is not where a record starts";
     return false;
   }
   for (uint64_t p : l.chunk_infos) {
