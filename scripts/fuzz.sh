@@ -10,10 +10,14 @@
 # fails the run: copy it into test/fuzz/<name>/ as a regression input once
 # fixed. Prints executions per harness.
 #
-#   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--no-build]
+#   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--timeout T] [--no-build]
 #
 # --seconds: per harness (default 60); --jobs: harnesses run side by side
-# (default 1); --no-build: use the build as it is.
+# (default 1); --timeout: seconds an input may take while fuzzing (default 1;
+# libFuzzer's clock is the wall's, so on a loaded machine, e.g. fuzzing
+# under `nice`, give more: every input reported as a timeout is run again
+# on its own and fails the run only if it takes over a second then too);
+# --no-build: use the build as it is.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 export AF_BUILD_DIR=${AF_SAN_BUILD_DIR:-$root/build-san}
@@ -21,18 +25,21 @@ source "$root/scripts/env.sh"
 seconds=60
 only=""
 jobs=1
+timeout=1
 build=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds=${2:?--seconds needs a value}; shift 2 ;;
     --only) only=${2:?--only needs a name}; shift 2 ;;
     --jobs) jobs=${2:?--jobs needs a value}; shift 2 ;;
+    --timeout) timeout=${2:?--timeout needs a value}; shift 2 ;;
     --no-build) build=0; shift ;;
     *) echo "fuzz.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
 case "$seconds" in '' | *[!0-9]*) echo "fuzz.sh: --seconds '$seconds' is not a whole number" >&2; exit 2 ;; esac
 case "$jobs" in '' | *[!0-9]* | 0) echo "fuzz.sh: --jobs '$jobs' is not a whole number >= 1" >&2; exit 2 ;; esac
+case "$timeout" in '' | *[!0-9]* | 0) echo "fuzz.sh: --timeout '$timeout' is not a whole number >= 1" >&2; exit 2 ;; esac
 
 names=()
 for src in "$root"/test/fuzz/fuzz_*.c "$root"/test/fuzz/fuzz_*.cpp; do
@@ -72,14 +79,20 @@ max_len() {
   esac
 }
 
+exe_of() {
+  local exe="$AF_DEVEL/lib/acoustic_firmness/fuzz_$1"
+  [ -x "$exe" ] || exe=$(find "$AF_BUILD" "$AF_DEVEL" -name "fuzz_$1" -type f -perm -u+x | head -1)
+  echo "$exe"
+}
+
 run_one() {
-  local n=$1 exe="$AF_DEVEL/lib/acoustic_firmness/fuzz_$1"
-  [ -x "$exe" ] || exe=$(find "$AF_BUILD" "$AF_DEVEL" -name "fuzz_$n" -type f -perm -u+x | head -1)
+  local n=$1 exe
+  exe=$(exe_of "$n")
   [ -n "$exe" ] || { echo "$n: harness not built" >"$out/$n.log"; return 1; }
   mkdir -p "$out/corpus/$n"
   # -close_fd_mask=3: the harnesses' own output (analyze's JSON, refusal
   # lines) is discarded; libFuzzer's reports still show.
-  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout=1 \
+  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout="$timeout" \
     -rss_limit_mb=2048 -max_len="$(max_len "$n")" -print_final_stats=1 -close_fd_mask=3 \
     -artifact_prefix="$out/$n-" >"$out/$n.log" 2>&1
 }
@@ -102,10 +115,19 @@ for n in "${names[@]}"; do
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   corpus=$(find "$out/corpus/$n" -type f | wc -l)
+  # a timeout must show again on its own, within a second, to count
+  for t in "$out/$n"-timeout-*; do
+    [ -e "$t" ] || continue
+    if "$(exe_of "$n")" -timeout=1 -rss_limit_mb=2048 "$t" >"$t.rerun" 2>&1; then
+      mv -f "$t" "$t.rerun" "$out/previous/"
+      echo "$n: $(basename "$t") ran within a second on its own: the run was starved of CPU" >&2
+    fi
+  done
   found=$(find "$out" -maxdepth 1 -name "$n-*" -type f | wc -l)
   result=ok
-  if [ "$found" -gt 0 ] || grep -q -e 'ERROR: libFuzzer' -e 'ERROR: AddressSanitizer' \
-    -e 'runtime error:' -e 'ERROR: LeakSanitizer' "$log"; then
+  # (a timeout that did not show again is no failure; its input was moved)
+  if [ "$found" -gt 0 ] || grep -q -e 'ERROR: libFuzzer: deadly signal' -e 'out-of-memory' \
+    -e 'ERROR: AddressSanitizer' -e 'runtime error:' -e 'ERROR: LeakSanitizer' "$log"; then
     result="FAILED ($found input(s) in $out; log $log)"
     status=1
   fi

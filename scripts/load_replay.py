@@ -62,7 +62,8 @@ def main():
     ap.add_argument('out')
     ap.add_argument('--ns', default='lane1')
     ap.add_argument('--timeout', type=float, default=0.0,
-                    help='wall seconds after the bag ends to wait for the last reports')
+                    help='wall seconds after the bag ends to wait at most for the last reports '
+                         '(default 120; the wait ends 3 s after the last report)')
     ap.add_argument('--rss-every', type=float, default=1.0)
     a = ap.parse_args()
 
@@ -148,17 +149,19 @@ def main():
                 nxt += a.rss_every
             time.sleep(0.05)
         wall = time.time() - w0
-        # the last strikes: their audio window and the node's time-outs
-        wait = a.timeout if a.timeout > 0 else 3.0
-        end = time.time() + wait
-        last = -1
+        # the last strikes (their audio windows, the node's time-outs) and,
+        # when the node fell behind, its backlog: until no report has come for
+        # 3 s (at most --timeout, default 120 s)
+        end = time.time() + (a.timeout if a.timeout > 0 else 120.0)
+        last, since = -1, time.time()
         while time.time() < end:
             with lock:
                 n = len(reports)
-            if n >= len(starts) and n == last:
+            if n != last:
+                last, since = n, time.time()
+            elif time.time() - since >= (1.0 if n >= len(starts) else 3.0):
                 break
-            last = n
-            time.sleep(0.5)
+            time.sleep(0.2)
         rss.append((time.time() - w0, rss_kb()))
         time.sleep(1.2)  # one more /diagnostics
     finally:
@@ -241,6 +244,7 @@ def main():
         'misattributed_flagged': flagged_wrong, 'extra_reports': len(extra),
         'reports_doubtful': doubtful, 'reports_without_audio': n_audio,
         'lost_list': lost[:20], 'wrong_list': wrong[:20],
+        'unflagged_list': [w for w in wrong if not w['flagged']],
         'rss_kb': rss, 'rss_after_warmup_kb': warm[0], 'rss_end_kb': rss[-1][1],
         'rss_max_kb': max(kb for _, kb in rss), 'rss_growth_after_warmup_kb': warm[-1] - warm[0],
         'latency_ms': {'p50': percentile(lat, 50), 'p99': percentile(lat, 99),

@@ -10,6 +10,10 @@
 
 /* AppleEstimates remembered for the match: a few seconds of a line. */
 #define AF_LANE_APPLES 16
+/* Force gaps remembered (the time after each): a strike among lost samples
+ * leaves its apple without a strike, and the next strike must not take it
+ * silently (issue 11: at 80x replay, a dropped chunk's strike). */
+#define AF_LANE_GAPS 16
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -25,6 +29,7 @@ typedef struct {
   af_prediction prediction; /* prediction.valid false: refused (prediction.why) */
   uint64_t strikes;         /* strikes matched to it so far */
   int64_t last_strike_ns;
+  uint32_t late_after;      /* its estimate came after its strike went to this apple (0: no) */
 } af_apple_slot;
 
 /* The audio of a pending strike: ready, to be waited for, or not coming. */
@@ -49,6 +54,8 @@ struct af_lane {
   int64_t newest_apple_ns; /* stamp of the newest estimate received */
   bool any_apple;
   int64_t now_ns;
+  int64_t force_gap_ns[AF_LANE_GAPS]; /* stamps of the chunks after force gaps or restarts */
+  size_t force_gaps;                  /* written so far (the newest AF_LANE_GAPS kept) */
   bool finished;
   af_lane_strike out; /* callback scratch */
   af_lane_stats stats;
@@ -91,7 +98,7 @@ static bool apple_decided(const af_lane *l, const af_pending *p)
 
 /* An estimate stamped before strikes already reported against another apple
  * (or none) came too late: say so; a report cannot be taken back. */
-static void check_late(af_lane *l, const af_apple *a)
+static uint32_t check_late(af_lane *l, const af_apple *a)
 {
   af_apple_slot *matched = NULL;
   for (size_t k = 0; k < AF_LANE_APPLES; k++) {
@@ -101,21 +108,23 @@ static void check_late(af_lane *l, const af_apple *a)
       matched = s;
   }
   if (matched == NULL)
-    return;
+    return 0;
   l->stats.late_apples++;
   af_text(l->stats.last_late_apple, sizeof l->stats.last_late_apple,
           "apple %u's estimate arrived after a strike it should have taken was reported "
           "against apple %u",
           a->apple_id, matched->apple.apple_id);
+  return matched->apple.apple_id;
 }
 
 af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_prediction **out)
 {
   l->now_ns = now_ns;
-  check_late(l, a);
+  const uint32_t late_after = check_late(l, a);
   af_apple_slot *s = &l->apples[l->apple_next];
   l->apple_next = (l->apple_next + 1) % AF_LANE_APPLES;
   memset(s, 0, sizeof *s);
+  s->late_after = late_after;
   s->used = true;
   s->apple = *a;
   af_status st = af_prediction_run(l->model, l->cfg, a, &s->prediction);
@@ -274,6 +283,28 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
     af_text(v->doubtful_why, sizeof v->doubtful_why,
             "already struck %.3f s before; this strike's own estimate may be missing",
             (double)(p->start_ns - a->last_strike_ns) * 1e-9);
+  } else if (a->late_after != 0 && !l->mc->single_apple) {
+    /* Its estimate came late, after its own strike had gone to another
+     * apple: this strike may well be the next apple's. */
+    v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+    af_text(v->doubtful_why, sizeof v->doubtful_why,
+            "its estimate came after its own strike was judged against apple %u",
+            a->late_after);
+  } else if (!l->mc->single_apple) {
+    /* Not struck yet, but force samples were lost after its estimate: its
+     * own strike may have been among them, and this one another apple's. */
+    const size_t n = l->force_gaps < AF_LANE_GAPS ? l->force_gaps : AF_LANE_GAPS;
+    for (size_t k = 0; k < n; k++) {
+      const int64_t g = l->force_gap_ns[k];
+      if (g > a->apple.stamp_ns && g <= p->start_ns) {
+        v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+        af_text(v->doubtful_why, sizeof v->doubtful_why,
+                "force samples were lost %.3f s after its estimate; its own strike may be "
+                "among them",
+                (double)(g - a->apple.stamp_ns) * 1e-9);
+        break;
+      }
+    }
   }
   return a;
 }
@@ -386,7 +417,13 @@ af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
                                af_ring_write_info *info)
 {
   l->now_ns = now_ns;
+  af_ring_write_info own;
+  if (info == NULL)
+    info = &own;
+  memset(info, 0, sizeof *info);
   af_chunk_verdict v = af_stream_push(&l->force, c, now_ns, info);
+  if (v == AF_CHUNK_OK && (info->gap_samples > 0 || info->restarted))
+    l->force_gap_ns[l->force_gaps++ % AF_LANE_GAPS] = c->stamp_ns;
   if (v == AF_CHUNK_OK)
     (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
   /* The audio may lead the force: what is complete goes now. */

@@ -30,7 +30,10 @@
  * The queue holds messages only while the node is behind. */
 #define AF_APPLE_QUEUE 10
 #define AF_CHUNK_QUEUE 1000
-#define AF_OUTPUT_QUEUE 10
+/* Outgoing messages a slow subscriber may leave queued: a node catching up
+ * on a backlog publishes a burst of reports, and roscpp drops what exceeds
+ * the queue without a word (issue 11: 5 StrikeReports lost at 80x with 10). */
+#define AF_OUTPUT_QUEUE 1000
 /* How long the start-up waits for the rig's frames in TF [s]. */
 #define AF_TF_WAIT_S 3.0
 /* Diagnostics period [s] follows the updater (~diagnostic_period). */

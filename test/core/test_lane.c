@@ -131,6 +131,10 @@ static af_apple apple(uint32_t id, double stamp_s)
   return a;
 }
 
+/* Force chunks starting in [drop_from_s, drop_to_s) are lost on the way
+ * (never given to the lane): a dropped chunk's strike. */
+static double drop_from_s = -1.0, drop_to_s = -1.0;
+
 /* An apple to push once the session time reaches at_s. */
 typedef struct {
   af_apple a;
@@ -159,6 +163,10 @@ static void feed(af_lane *l, const session *s, size_t n_force, size_t n_audio, b
     size_t *k = take_force ? &kf : &ka;
     size_t step = take_force ? n_force : n_audio, end = take_force ? end_f : end_a;
     size_t n = end - *k < step ? end - *k : step;
+    if (take_force && t >= drop_from_s && t < drop_to_s) {
+      *k += n;
+      continue;
+    }
     double rate = take_force ? FS_FORCE : FS_AUDIO;
     af_chunk c = {(int64_t)llround((double)*k / rate * 1e9),
                   *k,
@@ -232,6 +240,63 @@ static void test_doubtful_and_late(void)
   AF_CHECK(af_lane_get_stats(l)->late_apples == 1);
   AF_CHECK(af_lane_get_stats(l)->doubtful == 1);
   printf("doubtful: %s\nlate: %s\n", out.r[1].reason, af_lane_get_stats(l)->last_late_apple);
+  af_lane_destroy(l);
+  free_session(&s);
+}
+
+/* A strike lost with dropped force chunks leaves its apple without a strike;
+ * when the next apple's estimate is late, the next strike is matched to that
+ * apple: flagged doubtful, never silent (issue 11: 80x replays). */
+static void test_doubtful_after_lost_samples(void)
+{
+  const double strikes[] = {0.5, 1.2};
+  session s = make_session(strikes, 2);
+  const char *sets[] = {"apple_wait_s=0.1"};
+  af_lane_config cfg = config(sets, 1);
+  reports out;
+  af_lane *l = make_lane(&cfg, &out);
+  scheduled_apple ap[] = {{apple(1, 0.3), 0.3, false}, {apple(2, 1.0), 2.2, false}};
+  drop_from_s = 0.45;
+  drop_to_s = 0.6;
+  feed(l, &s, 1024, 1024, false, ap, 2, SPAN_S);
+  drop_from_s = drop_to_s = -1.0;
+  af_lane_finish(l);
+  AF_CHECK(out.n == 1);
+  AF_CHECK(out.apple_id[0] == 1);
+  AF_CHECK(out.r[0].verdict.flags & AF_VERDICT_APPLE_DOUBTFUL);
+  AF_CHECK(!out.r[0].reliable);
+  AF_CHECK(strstr(out.r[0].reason, "force samples were lost") != NULL);
+  AF_CHECK(af_lane_get_stats(l)->doubtful == 1);
+  printf("doubtful after lost samples: %s\n", out.r[0].reason);
+  af_lane_destroy(l);
+  free_session(&s);
+}
+
+/* Two late estimates in a row: strike 2 goes to apple 1 (already struck:
+ * doubtful), then strike 3 to apple 2, which has no strike of its own yet
+ * but whose estimate came after its strike had gone to apple 1: doubtful
+ * too, never a silent match one apple behind (issue 11). */
+static void test_doubtful_chain(void)
+{
+  const double strikes[] = {0.5, 1.2, 1.9};
+  session s = make_session(strikes, 3);
+  const char *sets[] = {"apple_wait_s=0.1"};
+  af_lane_config cfg = config(sets, 1);
+  reports out;
+  af_lane *l = make_lane(&cfg, &out);
+  scheduled_apple ap[] = {{apple(1, 0.3), 0.3, false},
+                          {apple(2, 1.0), 1.5, false},
+                          {apple(3, 1.7), 2.5, false}};
+  feed(l, &s, 1024, 1024, false, ap, 3, SPAN_S);
+  af_lane_finish(l);
+  AF_CHECK(out.n == 3);
+  AF_CHECK(out.apple_id[1] == 1 && out.apple_id[2] == 2);
+  AF_CHECK(out.r[1].verdict.flags & AF_VERDICT_APPLE_DOUBTFUL);
+  AF_CHECK(out.r[2].verdict.flags & AF_VERDICT_APPLE_DOUBTFUL);
+  AF_CHECK(strstr(out.r[2].reason, "its estimate came after its own strike was judged against "
+                                   "apple 1") != NULL);
+  AF_CHECK(af_lane_get_stats(l)->late_apples == 2 && af_lane_get_stats(l)->doubtful == 2);
+  printf("doubtful chain: %s\n", out.r[2].reason);
   af_lane_destroy(l);
   free_session(&s);
 }
@@ -338,6 +403,8 @@ int main(void)
 {
   test_waits_for_its_own_apple();
   test_doubtful_and_late();
+  test_doubtful_after_lost_samples();
+  test_doubtful_chain();
   test_no_apple();
   test_chunking_and_order();
   test_without_audio();

@@ -12,7 +12,8 @@
 #define AF_FUZZ_CHUNK_MAX 4096
 
 typedef struct {
-  uint64_t end; /* one past the last sample written */
+  uint64_t end; /* one past the furthest sample written (a restart goes back; an event
+                   of the old stream may still come) */
   size_t events;
 } af_fuzz_state;
 
@@ -63,7 +64,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
       next = next > 1000 ? next - af_fuzz_u16(&in) % 1000 : 0;
     if (n > UINT64_MAX - next)
       next = 0;
-    s.end = next + n;
+    if (next + n > s.end)
+      s.end = next + n;
     (void)af_strike_write(d, next, x, n, on_strike, &s);
     next += n;
   }

@@ -88,6 +88,13 @@ class RestartTest(unittest.TestCase):
         with cls.lock:
             cls.final = list(cls.reports), dict(cls.reasons), list(cls.diags)
         shutil.rmtree(cls.tmp, ignore_errors=True)
+        reports = cls.final[0]
+        after = reports[cls.n_before:]
+        print('restart: %d reports before the kill (bag time %.2f s), new process up at %.2f s; '
+              '%d after it (%d without apple), %d of %d strikes not reported'
+              % (cls.n_before, cls.kill_stamp - cls.truth[0][0], cls.up_stamp - cls.truth[0][0],
+                 len(after), sum(1 for _, a, _ in after if a == 0),
+                 STRIKES - len(reports), STRIKES))
 
     @classmethod
     def _pid(cls, node, other):
