@@ -29,7 +29,7 @@ typedef struct {
   af_prediction prediction; /* prediction.valid false: refused (prediction.why) */
   uint64_t strikes;         /* strikes matched to it so far */
   int64_t last_strike_ns;
-  uint32_t late_after;      /* its estimate came after its strike went to this apple (0: no) */
+  uint32_t late_after; /* its estimate came after its strike went to this apple (0: no) */
 } af_apple_slot;
 
 /* The audio of a pending strike: ready, to be waited for, or not coming. */
@@ -288,8 +288,7 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
      * apple: this strike may well be the next apple's. */
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,
-            "its estimate came after its own strike was judged against apple %u",
-            a->late_after);
+            "its estimate came after its own strike was judged against apple %u", a->late_after);
   } else if (!l->mc->single_apple) {
     /* Not struck yet, but force samples were lost after its estimate: its
      * own strike may have been among them, and this one another apple's. */

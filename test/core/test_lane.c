@@ -284,9 +284,8 @@ static void test_doubtful_chain(void)
   af_lane_config cfg = config(sets, 1);
   reports out;
   af_lane *l = make_lane(&cfg, &out);
-  scheduled_apple ap[] = {{apple(1, 0.3), 0.3, false},
-                          {apple(2, 1.0), 1.5, false},
-                          {apple(3, 1.7), 2.5, false}};
+  scheduled_apple ap[] = {
+      {apple(1, 0.3), 0.3, false}, {apple(2, 1.0), 1.5, false}, {apple(3, 1.7), 2.5, false}};
   feed(l, &s, 1024, 1024, false, ap, 3, SPAN_S);
   af_lane_finish(l);
   AF_CHECK(out.n == 3);
