@@ -265,6 +265,17 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
   af_verdict_format(v, r->reason, sizeof r->reason);
 }
 
+/* The stamp [ns] of a remembered force gap in (from_ns, to_ns], or 0: the
+ * newest AF_LANE_GAPS gaps are kept, older ones are long settled. */
+static int64_t force_lost_between(const af_lane *l, int64_t from_ns, int64_t to_ns)
+{
+  for (size_t k = 0; k < AF_LANE_GAPS && k < l->force_gaps; k++) {
+    if (l->force_gap_ns[k] > from_ns && l->force_gap_ns[k] <= to_ns)
+      return l->force_gap_ns[k];
+  }
+  return 0;
+}
+
 /* The apple flags of p: none, refused, or doubtful. */
 static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v)
 {
@@ -292,17 +303,13 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   } else if (!l->mc->single_apple) {
     /* Not struck yet, but force samples were lost after its estimate: its
      * own strike may have been among them, and this one another apple's. */
-    const size_t n = l->force_gaps < AF_LANE_GAPS ? l->force_gaps : AF_LANE_GAPS;
-    for (size_t k = 0; k < n; k++) {
-      const int64_t g = l->force_gap_ns[k];
-      if (g > a->apple.stamp_ns && g <= p->start_ns) {
-        v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
-        af_text(v->doubtful_why, sizeof v->doubtful_why,
-                "force samples were lost %.3f s after its estimate; its own strike may be "
-                "among them",
-                (double)(g - a->apple.stamp_ns) * 1e-9);
-        break;
-      }
+    const int64_t g = force_lost_between(l, a->apple.stamp_ns, p->start_ns);
+    if (g != 0) {
+      v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+      af_text(v->doubtful_why, sizeof v->doubtful_why,
+              "force samples were lost %.3f s after its estimate; its own strike may be "
+              "among them",
+              (double)(g - a->apple.stamp_ns) * 1e-9);
     }
   }
   return a;
