@@ -138,7 +138,7 @@ def main():
 
         rss = [(0.0, rss_kb())]
         w0 = time.time()
-        player = subprocess.Popen(['rosbag', 'play', '--clock', '-q', '--delay=2', '-r', repr(a.rate), a.bag],
+        player = subprocess.Popen(['rosbag', 'play', '--clock', '-q', '--delay=2', '--wait-for-subscribers', '-r', repr(a.rate), a.bag],
                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
                                   start_new_session=True)
         nxt = w0 + a.rss_every

@@ -38,7 +38,7 @@ rosbag record -q -O "$tmp/out.bag" /lane1/strike_report /lane1/reliability __nam
 pids+=($!)
 sleep 2
 echo "report_vs_node: replaying $N strikes at ${RATE}x through the node"
-rosbag play --clock -q --delay=1 --rate="$RATE" "$tmp/in.bag" >/dev/null
+rosbag play --clock -q --delay=1 --wait-for-subscribers --rate="$RATE" "$tmp/in.bag" >/dev/null
 sleep 3
 kill -INT "${pids[1]}" && wait "${pids[1]}" || true
 "$lib/firmness_report" "$tmp/in.bag" --json --bench >"$tmp/report.json"

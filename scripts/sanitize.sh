@@ -51,12 +51,10 @@ status=0
 #    executable twice in a tree holding two devel spaces (./devel and
 #    ./build-san_devel) and stops to ask which; the default stage runs them,
 #    and the instrumented node runs here in every rostest.
-#  - fuzz_script_short: three seconds of new random inputs per harness with a
-#    1 s per-input timeout, which a loaded 2-core CI machine can miss under
-#    ASan (a bag input once took over 1 s): not reproducible, so not a CI
-#    gate; every corpus input (fuzz_*_corpus) runs here, and scripts/fuzz.sh
-#    is the fuzzing run.
-skip='^(lint|core_test_modes|_ctest_acoustic_firmness_rostest_test_node_strike_plot\.test|scripts_.*|fuzz_script_short)$'
+# fuzz_script_short runs: an input over libFuzzer's 1 s timeout fails it only
+# if it takes over a second again on its own (scripts/fuzz.sh), so a loaded
+# machine's starved run is no failure.
+skip='^(lint|core_test_modes|_ctest_acoustic_firmness_rostest_test_node_strike_plot\.test|scripts_.*)$'
 ctest --output-on-failure -E "$skip" "$@" || status=1
 t2=$(date +%s)
 reports=$(find "$logs" -type f | sort)

@@ -110,7 +110,7 @@ EOF
 /usr/bin/python3 "$work/count.py" "$strikes" 600 >"$work/count.txt" &
 count_pid=$!
 sleep 1
-rosbag play --clock -q -r 0.5 "$work/vg.bag" >/dev/null 2>&1 &
+rosbag play --clock -q --wait-for-subscribers -r 0.5 "$work/vg.bag" >/dev/null 2>&1 &
 play_pid=$!
 wait "$play_pid" || true
 play_pid=""

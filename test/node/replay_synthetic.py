@@ -32,7 +32,7 @@ def main():
         # rosbag play advertises "clock" relative to its namespace: play from the root.
         env = dict(os.environ)
         env.pop('ROS_NAMESPACE', None)
-        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=2', '--rate=%g' % args.rate, bag],
+        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=2', '--wait-for-subscribers', '--rate=%g' % args.rate, bag],
                        check=True, stdout=subprocess.DEVNULL, env=env)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -69,7 +69,7 @@ class RestartTest(unittest.TestCase):
         cls.pid0 = cls._pid(node, None)
         env = dict(os.environ)
         env.pop('ROS_NAMESPACE', None)  # /clock, not /lane1/clock
-        play = subprocess.Popen(['rosbag', 'play', '--clock', '-q', '--delay=1', bag],
+        play = subprocess.Popen(['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers', bag],
                                 stdout=subprocess.DEVNULL, env=env)
         end = time.time() + 60.0
         while time.time() < end:

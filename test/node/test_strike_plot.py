@@ -63,7 +63,7 @@ class StrikePlotTest(unittest.TestCase):
             time.sleep(0.1)
         env = dict(os.environ)
         env.pop('ROS_NAMESPACE', None)  # /clock, not /lane1/clock
-        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--rate=%g' % RATE,
+        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers', '--rate=%g' % RATE,
                         cls.bag], check=True, stdout=subprocess.DEVNULL, env=env)
         end = time.time() + 10.0
         while time.time() < end:

@@ -110,7 +110,7 @@ class StrikesTest(unittest.TestCase):
         # hears. The bag's own topics are absolute.
         env = dict(os.environ)
         env.pop('ROS_NAMESPACE', None)
-        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--rate=%g' % RATE, cls.bag],
+        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers', '--rate=%g' % RATE, cls.bag],
                        check=True, stdout=subprocess.DEVNULL, env=env)
         end = time.time() + 10.0
         while time.time() < end:
