@@ -5,10 +5,11 @@
 # rig (RobotModel), the last apple's markers and its measured line, the
 # diagnostic status over the rig, the last strike's picture (strike_plot)
 # beside the 3D view, and the Displays panel (no warning expected).
-# Not part of the test command (rviz, Xvfb and ImageMagick are installed
-# here by setup.sh --rviz).
+# The test command runs it with 2 strikes (scripts_readme_scripts); rviz, Xvfb
+# and ImageMagick are installed here by setup.sh --rviz.
 # Usage: bash scripts/rviz_shot.sh [OUT.png]   (default doc/rviz.png)
-#   AF_RVIZ_STRIKES=N (5) strikes replayed; AF_RVIZ_LOG=DIR keeps the logs there.
+#   AF_RVIZ_STRIKES=N (5) strikes replayed; AF_RVIZ_LOG=DIR keeps the logs there;
+#   AF_RVIZ_PORT=P the master's port (default: a random one in 20000-39999).
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
 bash "$AF_ROOT/scripts/setup.sh" --rviz
@@ -19,7 +20,7 @@ strikes=${AF_RVIZ_STRIKES:-5}
 tmp=$(mktemp -d /tmp/af_rviz_shot.XXXXXX)
 log=${AF_RVIZ_LOG:-$tmp}
 mkdir -p "$log"
-port=$((20000 + RANDOM % 20000))
+port=${AF_RVIZ_PORT:-$((20000 + RANDOM % 20000))}
 display=:$((50 + RANDOM % 40))
 export ROS_MASTER_URI=http://localhost:$port DISPLAY=$display LIBGL_ALWAYS_SOFTWARE=1
 pids=()

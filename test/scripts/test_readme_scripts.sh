@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The README's other script commands, in short modes, each on a master port
+# of its own (the figures they print in full take minutes; see README):
+#  - bash scripts/report_vs_node.sh N SEED: 6 strikes (seed 3) through the
+#    node and through firmness_report must agree (exit 0, "the same apples");
+#  - bash scripts/bench_node.sh --seconds S: 4 s of input, every strike
+#    reported, the CPU and latency lines printed;
+#  - bash scripts/rviz_shot.sh OUT.png: 2 strikes, a 1600x860 screenshot
+#    that is not blank (rviz's panels, the rig and the markers give it
+#    hundreds of colours; an empty Xvfb screen has one).
+# Each must leave no process of its own running. Registered in ctest as
+# scripts_readme_scripts.
+set -euo pipefail
+source "$(dirname "$0")/harness.sh"
+
+fail=0
+bad() { fail=1; echo "FAIL: $*" >&2; }
+
+port=$(af_free_port)
+status=0
+AF_REPORT_PORT=$port timeout -k 5 150 bash "$AF_ROOT/scripts/report_vs_node.sh" 6 3 \
+  >"$tmp/report.out" 2>&1 || status=$?
+cat "$tmp/report.out"
+[ "$status" -eq 0 ] || bad "scripts/report_vs_node.sh 6 3 exited $status"
+grep -qE '^report_vs_node: 6 strikes, [0-9]+ reliable; node and firmness_report: the same apples' \
+  "$tmp/report.out" || bad "report_vs_node.sh: no line '6 strikes ... the same apples'"
+af_check_stopped "$port" || fail=1
+
+port=$(af_free_port)
+status=0
+AF_BENCH_PORT=$port timeout -k 5 150 bash "$AF_ROOT/scripts/bench_node.sh" --seconds 4 \
+  >"$tmp/bench.out" 2>&1 || status=$?
+cat "$tmp/bench.out"
+[ "$status" -eq 0 ] || bad "scripts/bench_node.sh --seconds 4 exited $status"
+# 4 s of input: one strike every 0.5 s after 1.5 s of lead (bench_node.sh)
+grep -qE '^bench: 5 strikes in 4\.0 s of input' "$tmp/bench.out" ||
+  bad "bench_node.sh: not 5 strikes reported in 4 s of input"
+grep -qE 'node CPU: [0-9.]+ s over the replay = [0-9.]+ % of one core' "$tmp/bench.out" ||
+  bad "bench_node.sh: no CPU figure"
+grep -qE 'strike latency, end to end .*: median [0-9.]+, 90 % [0-9.]+, max [0-9.]+ over 5' \
+  "$tmp/bench.out" || bad "bench_node.sh: no latency over the 5 strikes"
+af_check_stopped "$port" || fail=1
+
+port=$(af_free_port)
+status=0
+AF_RVIZ_PORT=$port AF_RVIZ_STRIKES=2 timeout -k 5 200 bash "$AF_ROOT/scripts/rviz_shot.sh" "$tmp/shot.png" \
+  >"$tmp/rviz.out" 2>&1 || status=$?
+cat "$tmp/rviz.out"
+[ "$status" -eq 0 ] || bad "scripts/rviz_shot.sh exited $status"
+if [ -s "$tmp/shot.png" ]; then
+  size=$(identify -format '%wx%h' "$tmp/shot.png")
+  colours=$(identify -format '%k' "$tmp/shot.png")
+  echo "rviz_shot: $size, $colours colours"
+  [ "$size" = "1600x860" ] || bad "rviz_shot.sh: screenshot $size, not 1600x860"
+  [ "$colours" -ge 100 ] || bad "rviz_shot.sh: screenshot of $colours colours (blank?)"
+else
+  bad "rviz_shot.sh wrote no screenshot"
+fi
+af_check_stopped "$port" || fail=1
+[ "$fail" -eq 0 ] && echo "test_readme_scripts: passed"
+exit "$fail"
