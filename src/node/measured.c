@@ -38,7 +38,8 @@ struct af_measured {
   af_strike_plot *plot; /* the live picture; NULL = none (strike_plot.h) */
   af_label_place labels[AF_LABELS];
   size_t label_next;
-  double entry_wall_s; /* wall clock when the current chunk's callback began; 0 = none */
+  double entry_wall_s; /* wall clock [s] when the current callback began (chunk, apple
+                        * estimate or poll: what can make a strike decidable); 0 = none */
   /* Output scratch. */
   af_strike_report report;
   af_reliability rel;
@@ -249,7 +250,10 @@ af_chunk_verdict af_measured_audio(af_measured *m, const af_signal_chunk *c,
 
 af_status af_measured_apple(af_measured *m, const af_apple *a, const af_prediction **pred)
 {
-  return af_lane_apple(m->lane, a, now_ns(m), pred);
+  m->entry_wall_s = wall_s(); /* the next apple's estimate settles a waiting strike */
+  af_status st = af_lane_apple(m->lane, a, now_ns(m), pred);
+  m->entry_wall_s = 0.0;
+  return st;
 }
 
 void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header *h,
@@ -271,7 +275,9 @@ void af_measured_set_strike_plot(af_measured *m, af_strike_plot *plot)
 
 void af_measured_poll(af_measured *m)
 {
+  m->entry_wall_s = wall_s(); /* the apple wait may have run out */
   af_lane_poll(m->lane, now_ns(m));
+  m->entry_wall_s = 0.0;
 }
 
 af_status af_measured_reconfigured(af_measured *m, bool grades_changed, const char **what)
@@ -344,8 +350,9 @@ void af_measured_diag(const af_measured *m, af_diag_status *d)
     af_diag_add(d, "strike report latency [ms]", "none yet");
   else
     af_diag_add(d, "strike report latency [ms]",
-                "last %.3f, mean %.3f, max %.3f over %llu (arrival of the chunk completing the "
-                "audio window to the published report)",
+                "last %.3f, mean %.3f, max %.3f over %llu (from the callback that made the "
+                "strike decidable: its last audio chunk, the next apple's estimate or the "
+                "apple wait's end, to the published report)",
                 m->latency.last, m->latency.sum / (double)m->latency.n, m->latency.max,
                 (unsigned long long)m->latency.n);
   if (s->pulse_cut > 0)
