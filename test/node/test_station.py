@@ -5,9 +5,12 @@ firmness_model's for the same inputs; the strike geometry on the spheroid;
 small-R2 and bad-field apples; markers; stream bookkeeping in /diagnostics."""
 
 import math
+import struct
 import sys
 import time
 import unittest
+
+import genpy
 
 import rospy
 import rostest
@@ -219,6 +222,45 @@ class StationTest(unittest.TestCase):
         for key, value in want.items():
             self.assertEqual(values.get(key), value, key)
         self.assertIn('URDF source', values)
+
+    def test_10_malformed_chunk_dropped(self):
+        """A SignalChunk whose data length claims more floats than its bytes
+        hold (20 bytes can claim 16 GB, which roscpp's deserializer would
+        allocate): dropped before deserializing, counted, the node alive."""
+
+        class RawChunk(genpy.Message):
+            """SignalChunk's type and md5sum on the wire, any bytes inside."""
+            _type, _md5sum, _full_text = SignalChunk._type, SignalChunk._md5sum, SignalChunk._full_text
+            _has_header = False
+            __slots__ = ['raw']
+            _slot_types = ['string']
+
+            def __init__(self, raw=b''):
+                self.raw = raw
+
+            def serialize(self, buff):
+                buff.write(self.raw)
+
+        force = rospy.Publisher('force', RawChunk, queue_size=10)
+        end = time.time() + 10.0
+        while time.time() < end and force.get_num_connections() == 0:
+            time.sleep(0.05)
+        rate = float(sc.param('force_sample_rate_hz'))
+        # seq, stamp, frame_id ''; first_sample, sample_rate; unit 'N'; data:
+        # 2^30 floats claimed, 8 bytes present
+        raw = struct.pack('<IIII', 0, 3000, 0, 0) + struct.pack('<Qd', 10 ** 6, rate) + \
+            struct.pack('<I', 1) + b'N' + struct.pack('<I', 1 << 30) + bytes(8)
+        for _ in range(2):
+            force.publish(RawChunk(raw))
+        values = {}
+        end = time.time() + 5.0
+        while time.time() < end and values.get('malformed messages dropped') != '2':
+            arr = rospy.wait_for_message('/diagnostics', DiagnosticArray, timeout=5.0)
+            for status in arr.status:
+                if status.hardware_id == rospy.resolve_name(sc.NODE):
+                    values = {kv.key: kv.value for kv in status.values}
+        self.assertEqual(values.get('malformed messages dropped'), '2')
+        self.ask(strike_radius=0.040)  # still answering
 
 
 if __name__ == '__main__':
