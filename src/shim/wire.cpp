@@ -197,6 +197,32 @@ bool check_index(std::FILE *f, uint64_t data, uint32_t dlen, const record &r, co
   return true;
 }
 
+// A connection record's data is itself a header (topic, type, md5sum,
+// definition), which rosbag parses without checking its fields' lengths
+// against it (heap overflow in ros::Header::parse, found by fuzz_bag.c).
+// h: scratch.
+bool check_connection(std::FILE *f, uint64_t data, uint32_t dlen, uint64_t pos,
+                      std::vector<unsigned char> &h, std::string &why)
+{
+  if (dlen > AF_BAG_HEADER_MAX) {
+    why = "the connection record at byte " + std::to_string(pos) + " has a header of " +
+          std::to_string(dlen) + " bytes, above the 1 MiB accepted";
+    return false;
+  }
+  h.resize(dlen);
+  record ignored;
+  if (std::fseek(f, static_cast<long>(data), SEEK_SET) != 0 ||
+      std::fread(h.data(), 1, dlen, f) != dlen) {
+    why = "the connection record at byte " + std::to_string(pos) + " is cut";
+    return false;
+  }
+  if (!parse_header(h, ignored, why)) {
+    why = "the connection record at byte " + std::to_string(pos) + ": " + why;
+    return false;
+  }
+  return true;
+}
+
 // The records in [pos, end) of f: each header and data inside the range;
 // inner: the chunk being walked (its records noted; no chunk or index
 // within), NULL at the top level.
@@ -233,6 +259,8 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout
             " bytes of data, beyond " + (inner ? "its chunk" : "the end of the file");
       return false;
     }
+    if (r.op == 0x07 && !check_connection(f, data, dlen, pos, h, why))
+      return false;
     if (inner == nullptr)
       l.records.push_back(pos);
     if (inner != nullptr) {

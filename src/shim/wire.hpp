@@ -33,8 +33,10 @@ bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 // checking it lies inside its chunk: every index entry must point at a record
 // of an uncompressed chunk (inside a compressed one, only within its size:
 // its records are not walked), every chunk info at a chunk, the bag header's
-// index position inside the file. False with the first problem in why. Found
-// by test/fuzz/fuzz_bag.c.
+// index position inside the file; and a connection record's data, itself a
+// header that rosbag parses without checking its fields, is parsed here first
+// (at most AF_BAG_HEADER_MAX). False with the first problem in why. Found by
+// test/fuzz/fuzz_bag.c.
 constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
 constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 28;  // 256 MiB
 bool bag_plausible(const char *path, std::string &why);
