@@ -44,7 +44,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed "$seed" --out "$work/demo.bag"
+"$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --seed "$seed" --out "$work/demo.bag"
 
 af_start_master "$port" "$work/roscore.log" || { core_pid=$AF_MASTER_PID; exit 1; }
 core_pid=$AF_MASTER_PID

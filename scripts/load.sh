@@ -62,7 +62,7 @@ if [ -z "$bag" ]; then
   bag=$work/load.bag
   truth=$work/load.truth.csv
   t0=$(date +%s)
-  rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed "$seed" --spacing "$spacing" \
+  "$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --seed "$seed" --spacing "$spacing" \
     --out "$bag" --truth "$truth"
   echo "load: $strikes strikes, $(du -m "$bag" | cut -f1) MB bag made in $(($(date +%s) - t0)) s"
 fi

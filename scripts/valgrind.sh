@@ -80,7 +80,7 @@ fi
 # The node on a short replay.
 port=${AF_VALGRIND_PORT:-11348}
 unset ROS_NAMESPACE
-rosrun acoustic_firmness strike_bag --strikes "$strikes" --seed 9 --out "$work/vg.bag" >/dev/null
+"$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --seed 9 --out "$work/vg.bag" >/dev/null
 af_start_master "$port" "$work/roscore.log" || { core_pid=$AF_MASTER_PID; exit 1; }
 core_pid=$AF_MASTER_PID
 rosparam set /use_sim_time true
