@@ -50,6 +50,19 @@ class StationTest(unittest.TestCase):
         self.assertEqual(set(got), set(topics), 'apple %d: answers on %s only' % (apple_id, list(got)))
         return msg, {t: m for t, (m, _) in got.items()}
 
+    @staticmethod
+    def node_diag(done, timeout_s=5.0):
+        """The node's latest /diagnostics values {key: value}, once done(values)
+        holds or timeout_s has passed."""
+        values = {}
+        end = time.time() + timeout_s
+        while time.time() < end and not done(values):
+            arr = rospy.wait_for_message('/diagnostics', DiagnosticArray, timeout=5.0)
+            for status in arr.status:
+                if status.hardware_id == rospy.resolve_name(sc.NODE):
+                    values = {kv.key: kv.value for kv in status.values}
+        return values
+
     def test_01_node_up(self):
         self.assertTrue(self.connected, 'firmness_node did not connect to apple and its outputs')
 
@@ -212,13 +225,7 @@ class StationTest(unittest.TestCase):
         audio.publish(chunk(0, float(sc.param('audio_sample_rate_hz')), sc.param('audio_unit'), [0.0] * 10))
         want = {'force gaps': '1 (50 samples lost)', 'force bad chunks': '3 (rate 1, unit 1, NaN/inf 1)',
                 'force chunks': '2', 'audio chunks': '1'}
-        values = {}
-        end = time.time() + 5.0
-        while time.time() < end and any(values.get(k) != v for k, v in want.items()):
-            arr = rospy.wait_for_message('/diagnostics', DiagnosticArray, timeout=5.0)
-            for status in arr.status:
-                if status.hardware_id == rospy.resolve_name(sc.NODE):
-                    values = {kv.key: kv.value for kv in status.values}
+        values = self.node_diag(lambda v: all(v.get(k) == w for k, w in want.items()))
         for key, value in want.items():
             self.assertEqual(values.get(key), value, key)
         self.assertIn('URDF source', values)
@@ -252,13 +259,7 @@ class StationTest(unittest.TestCase):
             struct.pack('<I', 1) + b'N' + struct.pack('<I', 1 << 30) + bytes(8)
         for _ in range(2):
             force.publish(RawChunk(raw))
-        values = {}
-        end = time.time() + 5.0
-        while time.time() < end and values.get('malformed messages dropped') != '2':
-            arr = rospy.wait_for_message('/diagnostics', DiagnosticArray, timeout=5.0)
-            for status in arr.status:
-                if status.hardware_id == rospy.resolve_name(sc.NODE):
-                    values = {kv.key: kv.value for kv in status.values}
+        values = self.node_diag(lambda v: v.get('malformed messages dropped') == '2')
         self.assertEqual(values.get('malformed messages dropped'), '2')
         self.ask(strike_radius=0.040)  # still answering
 

@@ -66,3 +66,27 @@ af_check_stopped() {
   kill $left 2>/dev/null || true
   return 1
 }
+
+# The test's verdict: bad names a problem and marks the test failed.
+fail=0
+bad() {
+  fail=1
+  echo "FAIL: $*" >&2
+}
+
+# Runs a package script on a master port of its own, as a user would:
+#   af_run_script PORT_VAR SECONDS OUT SCRIPT [ARGS...]
+# sets $port to a free port and PORT_VAR=$port in the script's environment,
+# runs `bash scripts/SCRIPT ARGS` within SECONDS (timeout signals its whole
+# process group on a hang, killed 5 s later), keeps and prints its output in
+# OUT, and calls bad when it exits non-zero. The caller then checks OUT and
+# af_check_stopped "$port".
+af_run_script() {
+  local var=$1 seconds=$2 out=$3 script=$4 status=0
+  shift 4
+  port=$(af_free_port)
+  env "$var=$port" timeout -k 5 "$seconds" bash "$AF_ROOT/scripts/$script" "$@" >"$out" 2>&1 ||
+    status=$?
+  cat "$out"
+  [ "$status" -eq 0 ] || bad "scripts/$script $* exited $status"
+}

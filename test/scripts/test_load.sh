@@ -8,26 +8,14 @@
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 
-fail=0
-bad() { fail=1; echo "FAIL: $*" >&2; }
-port=$(af_free_port)
-status=0
-AF_LOAD_PORT=$port timeout -k 5 100 bash "$AF_ROOT/scripts/load.sh" --strikes 6 --rates 5 \
-  >"$tmp/load.out" 2>&1 || status=$?
-cat "$tmp/load.out"
-[ "$status" -eq 0 ] || bad "scripts/load.sh --strikes 6 --rates 5 exited $status"
+af_run_script AF_LOAD_PORT 100 "$tmp/load.out" load.sh --strikes 6 --rates 5
 grep -qE '^rate 5x .*: 6 strikes, 6 reports, 0 lost, 0 misattributed' "$tmp/load.out" ||
   bad "load.sh: no line '6 strikes, 6 reports, 0 lost, 0 misattributed'"
 grep -qE 'RSS [0-9.]+ MB after warm-up.*latency p50 [0-9.]+ ms, p99 [0-9.]+ ms, max [0-9.]+ ms' \
   "$tmp/load.out" || bad "load.sh: no RSS or latency figures"
 af_check_stopped "$port" || fail=1
 
-port=$(af_free_port)
-status=0
-AF_LOAD_PORT=$port timeout -k 5 100 bash "$AF_ROOT/scripts/soak.sh" --hours 0.002 --rate 10 \
-  >"$tmp/soak.out" 2>&1 || status=$?
-cat "$tmp/soak.out"
-[ "$status" -eq 0 ] || bad "scripts/soak.sh --hours 0.002 --rate 10 exited $status"
+af_run_script AF_LOAD_PORT 100 "$tmp/soak.out" soak.sh --hours 0.002 --rate 10
 grep -qE '^rate 10x .*: 14 strikes, 14 reports, 0 lost, 0 misattributed' "$tmp/soak.out" ||
   bad "soak.sh: no line '14 strikes, 14 reports, 0 lost, 0 misattributed'"
 af_check_stopped "$port" || fail=1

@@ -13,25 +13,12 @@
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 
-fail=0
-bad() { fail=1; echo "FAIL: $*" >&2; }
-
-port=$(af_free_port)
-status=0
-AF_REPORT_PORT=$port timeout -k 5 150 bash "$AF_ROOT/scripts/report_vs_node.sh" 6 3 \
-  >"$tmp/report.out" 2>&1 || status=$?
-cat "$tmp/report.out"
-[ "$status" -eq 0 ] || bad "scripts/report_vs_node.sh 6 3 exited $status"
+af_run_script AF_REPORT_PORT 150 "$tmp/report.out" report_vs_node.sh 6 3
 grep -qE '^report_vs_node: 6 strikes, [0-9]+ reliable; node and firmness_report: the same apples' \
   "$tmp/report.out" || bad "report_vs_node.sh: no line '6 strikes ... the same apples'"
 af_check_stopped "$port" || fail=1
 
-port=$(af_free_port)
-status=0
-AF_BENCH_PORT=$port timeout -k 5 150 bash "$AF_ROOT/scripts/bench_node.sh" --seconds 4 \
-  >"$tmp/bench.out" 2>&1 || status=$?
-cat "$tmp/bench.out"
-[ "$status" -eq 0 ] || bad "scripts/bench_node.sh --seconds 4 exited $status"
+af_run_script AF_BENCH_PORT 150 "$tmp/bench.out" bench_node.sh --seconds 4
 # 4 s of input: one strike every 0.5 s after 1.5 s of lead (bench_node.sh)
 grep -qE '^bench: 5 strikes in 4\.0 s of input' "$tmp/bench.out" ||
   bad "bench_node.sh: not 5 strikes reported in 4 s of input"
@@ -41,12 +28,8 @@ grep -qE 'strike latency, end to end .*: median [0-9.]+, 90 % [0-9.]+, max [0-9.
   "$tmp/bench.out" || bad "bench_node.sh: no latency over the 5 strikes"
 af_check_stopped "$port" || fail=1
 
-port=$(af_free_port)
-status=0
-AF_RVIZ_PORT=$port AF_RVIZ_STRIKES=2 timeout -k 5 200 bash "$AF_ROOT/scripts/rviz_shot.sh" "$tmp/shot.png" \
-  >"$tmp/rviz.out" 2>&1 || status=$?
-cat "$tmp/rviz.out"
-[ "$status" -eq 0 ] || bad "scripts/rviz_shot.sh exited $status"
+export AF_RVIZ_STRIKES=2
+af_run_script AF_RVIZ_PORT 200 "$tmp/rviz.out" rviz_shot.sh "$tmp/shot.png"
 if [ -s "$tmp/shot.png" ]; then
   size=$(identify -format '%wx%h' "$tmp/shot.png")
   colours=$(identify -format '%k' "$tmp/shot.png")

@@ -6,14 +6,7 @@
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 
-fail=0
-bad() { fail=1; echo "FAIL: $*" >&2; }
-port=$(af_free_port)
-status=0
-AF_VALGRIND_PORT=$port timeout -k 5 280 bash "$AF_ROOT/scripts/valgrind.sh" --short \
-  >"$tmp/vg.out" 2>&1 || status=$?
-cat "$tmp/vg.out"
-[ "$status" -eq 0 ] || bad "scripts/valgrind.sh --short exited $status"
+af_run_script AF_VALGRIND_PORT 280 "$tmp/vg.out" valgrind.sh --short
 for run in firmness_model analyze firmness_node; do
   grep -qE "^valgrind $run +[0-9]+ s: 0 errors, definitely lost 0 bytes" "$tmp/vg.out" ||
     bad "valgrind.sh: $run not clean"
