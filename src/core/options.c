@@ -61,9 +61,9 @@ static void field_default(const af_option *o, const void *defaults, char *buf, s
     if (text != NULL)
       snprintf(buf, len, "%s", text);
     break;
-  case AF_OPTION_NUMBER:
+  case AF_OPTION_NUMBER: /* 0 = not given: `absent` or required */
     field(defaults, o->offset, d, sizeof d[0]);
-    if (d[0] != 0.0 || o->absent != NULL)
+    if (d[0] != 0.0)
       snprintf(buf, len, "%g", d[0]);
     break;
   case AF_OPTION_RANGE:
@@ -72,7 +72,7 @@ static void field_default(const af_option *o, const void *defaults, char *buf, s
     break;
   case AF_OPTION_LONG:
     field(defaults, o->offset, &l, sizeof l);
-    if (l != 0 || o->absent != NULL)
+    if (l != 0)
       snprintf(buf, len, "%ld", l);
     break;
   case AF_OPTION_U64:

@@ -29,9 +29,9 @@ extern "C" {
 typedef enum {
   AF_OPTION_SWITCH,  /* no value; a bool field, shown "off" or "on" */
   AF_OPTION_TEXT,    /* a const char * field; NULL shown as the row's `absent` */
-  AF_OPTION_NUMBER,  /* a double field, shown %g */
+  AF_OPTION_NUMBER,  /* a double field, shown %g; 0 = not given (`absent`, or required) */
   AF_OPTION_RANGE,   /* two doubles (lo, hi) from the field on, shown A:B */
-  AF_OPTION_LONG,    /* a long field */
+  AF_OPTION_LONG,    /* a long field, as NUMBER */
   AF_OPTION_U64,     /* a uint64_t field */
   AF_OPTION_SETTING, /* a row of the parameter table: default, unit and range
                         from the af_settings given to the help */

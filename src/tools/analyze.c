@@ -15,6 +15,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +25,7 @@
 #include "cli_flags.h"
 #include "json.h"
 #include "lane.h"
+#include "options.h"
 #include "recording.h"
 #include "resonance.h"
 #include "settings.h"
@@ -99,19 +101,68 @@ static bool af_parse_value(const char *flag, const char *text, bool positive, do
   return true;
 }
 
-/* A flag that is a row of the parameter table under another name. */
-typedef struct {
-  const char *flag, *row;
-} af_alias;
+/* The defaults the parser starts from: the shipped YAML files; the
+ * recordings, their rates and the apple are required (0 / NULL). */
+static af_analyze_args af_analyze_args_default(void)
+{
+  af_analyze_args a;
+  memset(&a, 0, sizeof a);
+  a.config_path = AF_CONFIG_DIR "/station.yaml";
+  a.cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
+  return a;
+}
 
-static const af_alias aliases[] = {
-    {"--hammer-mass", "hammer_mass_kg"}, {"--hammer-radius", "hammer_tip_radius_m"},
-    {"--modulus-min", "modulus_min_pa"}, {"--modulus-max", "modulus_max_pa"},
-    {"--E2", "modulus_nominal_pa"},      {"--e", "restitution"},
-    {"--v0", "strike_velocity_m_s"},     {"--snr-threshold", "measure_snr_threshold_db"},
-    {"--nu2", "fruit_poisson"},          {"--density", "density_kg_m3"},
-    {"--yield-ratio", "yield_ratio"},    {"--modulus-factor", "modulus_factor"},
+#define AF_ARG(field) offsetof(af_analyze_args, field)
+#define AF_ROW(flag, value, id) {flag, value, AF_OPTION_SETTING, 0, id, NULL, NULL}
+/* Every flag of analyze: its own (files, rates, the apple), then those that
+ * set a row of the parameter table (applied after the files: later =
+ * stronger). The parser knows no other; --help prints each. */
+static const af_option analyze_options[] = {
+    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force_path), -1,
+     "force recording, raw little-endian float32 [N]", NULL},
+    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio_path), -1,
+     "audio recording, raw little-endian float32 [the station's audio_unit]", NULL},
+    {"--rate-force", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_force_hz), -1,
+     "force sample rate, > 0 [Hz] (the table's range applies)", NULL},
+    {"--rate-audio", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_audio_hz), -1,
+     "audio sample rate, > 0 [Hz] (the table's range applies)", NULL},
+    {"--audio-offset", "S", AF_OPTION_NUMBER, AF_ARG(audio_offset_s), -1,
+     "audio start minus force start, within +-3600 [s]", "0"},
+    {"--mass", "KG", AF_OPTION_NUMBER, AF_ARG(mass_kg), -1, "the apple's mass [kg]", NULL},
+    {"--R2", "M", AF_OPTION_NUMBER, AF_ARG(r2_m), -1,
+     "the apple's radius of curvature under the hammer [m]", NULL},
+    {"--equatorial-radius", "M", AF_OPTION_NUMBER, AF_ARG(equatorial_radius_m), -1,
+     "the apple's equatorial radius [m]", "the sphere of --mass at the cultivar's density"},
+    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config_path), -1,
+     "station parameters (YAML), as the node loads them", NULL},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1,
+     "cultivar parameters (YAML), as the node loads them", NULL},
+    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
+     "CPU time and speed against real time, on stderr", NULL},
+    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
+     "any row of the parameter table, after the files (repeatable)", "the files' values"},
+    {"--profile", "default|paper", AF_OPTION_NONE, 0, -1,
+     "paper: the paper-literal criterion (damping paper, lobe 2, power-half, shear paper)",
+     "the files' values"},
+    AF_ROW("--hammer-mass", "KG", AF_SETTING_HAMMER_MASS_KG),
+    AF_ROW("--hammer-radius", "M", AF_SETTING_HAMMER_TIP_RADIUS_M),
+    AF_ROW("--modulus-min", "PA", AF_SETTING_MODULUS_MIN_PA),
+    AF_ROW("--modulus-max", "PA", AF_SETTING_MODULUS_MAX_PA),
+    AF_ROW("--E2", "PA", AF_SETTING_MODULUS_NOMINAL_PA),
+    AF_ROW("--e", "X", AF_SETTING_RESTITUTION),
+    AF_ROW("--v0", "M/S", AF_SETTING_STRIKE_VELOCITY_M_S),
+    AF_ROW("--snr-threshold", "DB", AF_SETTING_MEASURE_SNR_THRESHOLD_DB),
+    AF_ROW("--nu2", "X", AF_SETTING_FRUIT_POISSON),
+    AF_ROW("--density", "KG/M3", AF_SETTING_DENSITY_KG_M3),
+    AF_ROW("--yield-ratio", "X", AF_SETTING_YIELD_RATIO),
+    AF_ROW("--modulus-factor", "X", AF_SETTING_MODULUS_FACTOR),
 };
+#define AF_N_OPTIONS (sizeof analyze_options / sizeof analyze_options[0])
+
+static const af_option *af_option_of(const char *flag)
+{
+  return af_option_find(analyze_options, AF_N_OPTIONS, flag);
+}
 
 /* "--flag value" as "row=value" into s; false after a message naming both. */
 static bool af_set_row(af_settings *s, const char *flag, const char *row, const char *value)
@@ -143,15 +194,11 @@ static bool af_set_profile(af_settings *s, const char *name)
   return true;
 }
 
+/* Files, rates, the apple: held in af_analyze_args. */
 static bool af_is_own_flag(const char *flag)
 {
-  static const char *const own[] = {
-      "--force",      "--audio",        "--config", "--cultivar", "--rate-force",
-      "--rate-audio", "--audio-offset", "--mass",   "--R2",       "--equatorial-radius"};
-  for (size_t k = 0; k < sizeof own / sizeof own[0]; k++)
-    if (strcmp(flag, own[k]) == 0)
-      return true;
-  return false;
+  const af_option *o = af_option_of(flag);
+  return o != NULL && o->kind != AF_OPTION_SETTING && o->kind != AF_OPTION_NONE;
 }
 
 /* One of analyze's own flags with its value; false after a message. (The
@@ -183,14 +230,11 @@ static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args
   return true;
 }
 
+/* --set, --profile and the rows of the parameter table. */
 static bool af_is_settings_flag(const char *flag)
 {
-  if (strcmp(flag, "--set") == 0 || strcmp(flag, "--profile") == 0)
-    return true;
-  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
-    if (strcmp(flag, aliases[k].flag) == 0)
-      return true;
-  return false;
+  const af_option *o = af_option_of(flag);
+  return o != NULL && (o->kind == AF_OPTION_SETTING || o->kind == AF_OPTION_NONE);
 }
 
 static bool af_apply_settings_flag(af_settings *s, const char *flag, const char *value)
@@ -204,9 +248,9 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
   }
   if (strcmp(flag, "--profile") == 0)
     return af_set_profile(s, value);
-  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
-    if (strcmp(flag, aliases[k].flag) == 0)
-      return af_set_row(s, flag, aliases[k].row, value);
+  const af_option *o = af_option_of(flag);
+  if (o != NULL && o->kind == AF_OPTION_SETTING)
+    return af_set_row(s, flag, af_setting_def_of((af_setting_id)o->setting)->name, value);
   return false;
 }
 
@@ -214,13 +258,12 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
  * value. */
 static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
-  memset(a, 0, sizeof *a);
-  a->config_path = AF_CONFIG_DIR "/station.yaml";
-  a->cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
+  *a = af_analyze_args_default();
   for (int k = first; k < argc; k++) {
     const char *flag = argv[k];
-    if (strcmp(flag, "--bench") == 0) {
-      a->bench = true;
+    const af_option *o = af_option_of(flag);
+    if (o != NULL && o->value == NULL) { /* a switch */
+      (void)af_option_store(o, NULL, a);
       continue;
     }
     if (strncmp(flag, "--", 2) != 0) {
@@ -259,22 +302,17 @@ static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 
 /* The settings the node would run with: table defaults, the two files, the
  * recording's rates, the hammer when no file gives it, then the flags. */
-static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
-                                af_settings *s)
+/* Table defaults, the two files, the hammer when no file gives it: what
+ * the flags then change (and what --help shows as their defaults). */
+static bool af_analyze_files(const af_analyze_args *a, af_settings *s)
 {
-  char err[AF_ERR_MAX], rate[64];
+  char err[AF_ERR_MAX];
   af_settings_init(s);
   if (af_settings_load_yaml(s, a->config_path, err, sizeof err) != AF_OK ||
       af_settings_load_yaml(s, a->cultivar_path, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model analyze: %s\n", err);
     return false;
   }
-  snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
-  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
-    return false;
-  snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
-  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
-    return false;
   /* The node reads the hammer from the rig's URDF; this tool cannot, and
    * takes the shipped rig's hammer (config/rig.urdf: 10 g, flat face)
    * unless a file or a flag gives it. */
@@ -284,9 +322,25 @@ static bool af_analyze_settings(int argc, char **argv, int first, const af_analy
   if (!af_settings_present(s, AF_SETTING_HAMMER_TIP_RADIUS_M) &&
       !af_set_row(s, "--hammer-radius", "hammer_tip_radius_m", "0.0"))
     return false;
-  /* Every flag but --bench has a value (af_parse_args checked it). */
+  return true;
+}
+
+static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
+                                af_settings *s)
+{
+  char rate[64];
+  if (!af_analyze_files(a, s))
+    return false;
+  snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
+  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+    return false;
+  snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
+  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
+    return false;
+  /* Every flag but the switches has a value (af_parse_args checked it). */
   for (int k = first; k + 1 < argc; k++) {
-    if (strcmp(argv[k], "--bench") == 0)
+    const af_option *o = af_option_of(argv[k]);
+    if (o != NULL && o->value == NULL)
       continue;
     const char *flag = argv[k], *value = argv[++k];
     if (af_is_settings_flag(flag) && !af_apply_settings_flag(s, flag, value))
@@ -496,8 +550,33 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   return code;
 }
 
+/* --help: every flag, the rows' defaults as the shipped files set them. */
+static void af_analyze_help(void)
+{
+  af_analyze_args d = af_analyze_args_default();
+  af_settings s;
+  bool files = af_analyze_files(&d, &s);
+  if (!files)
+    af_settings_init(&s);
+  printf("usage: firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ\n"
+         "                              --mass KG --R2 M [flags]\n\n"
+         "A recording judged as the node judges it live: the force and audio files through\n"
+         "the station's lane, configured from the node's YAML files, one apple for the whole\n"
+         "recording. Prints one JSON object: the strikes with their StrikeReport figures and\n"
+         "verdict flags, and why there are none when there are none.\n\n"
+         "flags (the parameter rows' defaults: %s):\n",
+         files ? "the parameter table under the default --config and --cultivar"
+               : "the parameter table's, the default files being unreadable");
+  af_options_help(stdout, analyze_options, AF_N_OPTIONS, &d, &s);
+  printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
+}
+
 int af_analyze_main(int argc, char **argv, int first)
 {
+  if (af_options_want_help(argc, argv, first)) {
+    af_analyze_help();
+    return 0;
+  }
   af_analyze_args a;
   af_settings s;
   af_lane_config cfg;

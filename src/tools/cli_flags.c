@@ -203,6 +203,15 @@ void af_cli_print_flags(void)
     case AF_FLAG_BAND: snprintf(def, sizeof def, "%s", af_band_level_name(d.band_level)); break;
     case AF_FLAG_SHEAR: snprintf(def, sizeof def, "%s", af_shear_ratio_name(d.shear_ratio)); break;
     }
-    printf("  --%-15s %-52s (default %s)\n", f->name, f->help, def);
+    char flag[64];
+    snprintf(flag, sizeof flag, "--%s %s", f->name,
+             f->kind == AF_FLAG_DOUBLE ? "X"
+             : f->kind == AF_FLAG_LOBE ? "N"
+                                       : "WORD");
+    printf("  %-28s %s (default %s)\n", flag, f->help, def);
   }
+  /* Read by apply_profile before the table's flags. */
+  printf("  %-28s %s\n", "--profile default|paper",
+         "starting values: default = shipped, paper = paper-literal (model.h) "
+         "(default default)");
 }

@@ -46,7 +46,8 @@ double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p);
 bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
                         int *n_rest);
 
-/* Prints the model flags with units and defaults for --help. */
+/* Prints the model flags (every entry of the table, then --profile) with
+ * units and defaults for --help, on stdout. */
 void af_cli_print_flags(void);
 
 #endif
