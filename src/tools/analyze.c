@@ -1,8 +1,10 @@
 /* analyze.c — `firmness_model analyze`: a recording judged as the node judges
  * it live.
  *
- * Reads the force [N] and the audio (any unit) as raw little-endian float32
- * files, configures the lane from the same YAML files the node loads
+ * Reads the force [N] and the audio (any unit), each a WAV (its rate from
+ * its header; --force-channel/--audio-channel, --force-scale/--audio-scale)
+ * or raw little-endian float32 (--rate-force/--rate-audio), through
+ * recording.h; configures the lane from the same YAML files the node loads
  * (--config, --cultivar, defaulting to the shipped config/station.yaml and
  * config/jonagold.yaml; --set name=value for any row of the parameter table),
  * gives it one apple (--mass, --R2) stamped at the recording's start, and
@@ -44,8 +46,9 @@
 typedef struct {
   const char *force_path, *audio_path;
   const char *config_path, *cultivar_path;
-  double rate_force_hz, rate_audio_hz;
-  double audio_offset_s; /* audio start time minus force start time [s] */
+  double rate_force_hz, rate_audio_hz;      /* the flags', then the files' [Hz] */
+  af_recording_spec force_spec, audio_spec; /* channel and scale flags */
+  double audio_offset_s;                    /* audio start time minus force start time [s] */
   double mass_kg, r2_m, equatorial_radius_m;
   bool bench;
 } af_analyze_args;
@@ -146,18 +149,34 @@ static bool af_set_profile(af_settings *s, const char *name)
 static bool af_is_own_flag(const char *flag)
 {
   static const char *const own[] = {
-      "--force",      "--audio",        "--config", "--cultivar", "--rate-force",
-      "--rate-audio", "--audio-offset", "--mass",   "--R2",       "--equatorial-radius"};
+      "--force",         "--audio",         "--config",      "--cultivar",   "--rate-force",
+      "--rate-audio",    "--audio-offset",  "--mass",        "--R2",         "--equatorial-radius",
+      "--force-channel", "--audio-channel", "--force-scale", "--audio-scale"};
   for (size_t k = 0; k < sizeof own / sizeof own[0]; k++)
     if (strcmp(flag, own[k]) == 0)
       return true;
   return false;
 }
 
+/* A channel or scale flag of the force or the audio; false after a message. */
+static bool af_input_flag(const char *flag, const char *value, af_analyze_args *a)
+{
+  char err[AF_ERR_MAX];
+  af_recording_spec *in = strncmp(flag, "--force", 7) == 0 ? &a->force_spec : &a->audio_spec;
+  bool ok = strstr(flag, "-channel")
+                ? af_recording_parse_channel(flag, value, &in->channel, err, sizeof err)
+                : af_recording_parse_scale(flag, value, &in->scale, err, sizeof err);
+  if (!ok)
+    fprintf(stderr, "firmness_model analyze: %s\n", err);
+  return ok;
+}
+
 /* One of analyze's own flags with its value; false after a message. (The
  * settings flags are applied later, after the files: later = stronger.) */
 static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args *a)
 {
+  if (strstr(flag, "-channel") || strstr(flag, "-scale"))
+    return af_input_flag(flag, value, a);
   if (strcmp(flag, "--force") == 0)
     a->force_path = value;
   else if (strcmp(flag, "--audio") == 0)
@@ -215,6 +234,8 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
 static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
   memset(a, 0, sizeof *a);
+  a->force_spec = af_recording_spec_default("--rate-force", "--force-channel");
+  a->audio_spec = af_recording_spec_default("--rate-audio", "--audio-channel");
   a->config_path = AF_CONFIG_DIR "/station.yaml";
   a->cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
   for (int k = first; k < argc; k++) {
@@ -241,13 +262,12 @@ static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
     if (!af_analyze_flag(flag, value, a))
       return false;
   }
-  const char *missing = !a->force_path      ? "--force FILE"
-                        : !a->audio_path    ? "--audio FILE"
-                        : !a->rate_force_hz ? "--rate-force HZ"
-                        : !a->rate_audio_hz ? "--rate-audio HZ"
-                        : !a->mass_kg       ? "--mass KG (the apple's)"
-                        : !a->r2_m          ? "--R2 M (the apple's)"
-                                            : NULL;
+  /* The rates: a WAV's header gives them (af_analyze_load). */
+  const char *missing = !a->force_path   ? "--force FILE"
+                        : !a->audio_path ? "--audio FILE"
+                        : !a->mass_kg    ? "--mass KG (the apple's)"
+                        : !a->r2_m       ? "--R2 M (the apple's)"
+                                         : NULL;
   if (missing != NULL) {
     fprintf(stderr, "firmness_model analyze: %s is required\n", missing);
     return false;
@@ -496,23 +516,44 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   return code;
 }
 
+/* Both recordings, WAV or raw (recording.h), and their rates into a. */
+static bool af_analyze_load(af_analyze_args *a, af_recording *force, af_recording *audio)
+{
+  char rerr[AF_ERR_MAX];
+  a->force_spec.rate_hz = a->rate_force_hz;
+  a->audio_spec.rate_hz = a->rate_audio_hz;
+  if (af_recording_load(a->force_path, &a->force_spec, force, &a->rate_force_hz, rerr,
+                        sizeof rerr) != AF_OK) {
+    af_usage("--force %s", rerr, "");
+    return false;
+  }
+  if (af_recording_load(a->audio_path, &a->audio_spec, audio, &a->rate_audio_hz, rerr,
+                        sizeof rerr) != AF_OK) {
+    af_recording_free(force);
+    af_usage("--audio %s", rerr, "");
+    return false;
+  }
+  return true;
+}
+
 int af_analyze_main(int argc, char **argv, int first)
 {
   af_analyze_args a;
   af_settings s;
   af_lane_config cfg;
   char err[AF_ERR_MAX];
-  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_settings(argc, argv, first, &a, &s))
-    return AF_CLI_EXIT_USAGE;
-  if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
-    return af_usage("%s%s", err, "");
   af_recording force = {0}, audio = {0};
-  char rerr[AF_ERR_MAX];
-  if (af_recording_read(a.force_path, &force, rerr, sizeof rerr) != AF_OK)
-    return af_usage("--force %s", rerr, "");
-  if (af_recording_read(a.audio_path, &audio, rerr, sizeof rerr) != AF_OK) {
+  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_load(&a, &force, &audio))
+    return AF_CLI_EXIT_USAGE;
+  int code = 0;
+  if (!af_analyze_settings(argc, argv, first, &a, &s))
+    code = AF_CLI_EXIT_USAGE;
+  else if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
+    code = af_usage("%s%s", err, "");
+  if (code != 0) {
     af_recording_free(&force);
-    return af_usage("--audio %s", rerr, "");
+    af_recording_free(&audio);
+    return code;
   }
   /* Nothing to analyze is bad input, not an empty answer. (An empty audio
    * file is allowed: the strikes are then measured without audio, each
@@ -526,7 +567,7 @@ int af_analyze_main(int argc, char **argv, int first)
   double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
-  int code = af_analyze_run(&a, &cfg, &force, &audio);
+  code = af_analyze_run(&a, &cfg, &force, &audio);
   af_recording_free(&force);
   af_recording_free(&audio);
   return code;
