@@ -114,8 +114,7 @@ static void setting_line(FILE *out, const char *flag, const af_option *o, const 
   af_settings_value_text(s, (af_setting_id)o->setting, value, sizeof value);
   const char *unit = af_setting_unit((af_setting_id)o->setting);
   fprintf(out, "  %-28s %s", flag, o->help ? o->help : row->help);
-  if (unit[0] != '\0')
-    fprintf(out, " [%s]", unit);
+  fprintf(out, " [%s]", unit[0] != '\0' ? unit : "-"); /* "-": dimensionless */
   fprintf(out, " (default %s", value);
   if (row->range != NULL)
     fprintf(out, ", range %s", row->range);
@@ -138,6 +137,23 @@ void af_options_help(FILE *out, const af_option *table, size_t n, const void *de
     field_note(o, defaults, note, sizeof note);
     fprintf(out, "  %-28s %s %s\n", flag, o->help ? o->help : "", note);
   }
+}
+
+void af_options_unknown(const char *tool, const af_option *table, size_t n, const char *flag,
+                        const char *more)
+{
+  fprintf(stderr, "%s: unknown flag '%s'; accepted:", tool, flag);
+  for (size_t k = 0; k < n; k++)
+    fprintf(stderr, "%s %s", k ? "," : "", table[k].name);
+  if (more != NULL)
+    fprintf(stderr, " and %s", more);
+  fprintf(stderr, " (%s --help: units and defaults)\n", tool);
+}
+
+void af_options_missing(const char *tool, const af_option *o)
+{
+  fprintf(stderr, "%s: %s needs a value: %s, %s\n", tool, o->name, o->value ? o->value : "",
+          o->help ? o->help : "");
 }
 
 void af_options_wrote(const char *path)

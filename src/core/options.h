@@ -60,11 +60,27 @@ bool af_option_store(const af_option *o, const char *value, void *args);
 /* True when argv[first..argc) asks for help (--help or -h). */
 bool af_options_want_help(int argc, char **argv, int first);
 
+/* A number macro as text, for a help line: AF_OPTION_STR(AF_X_MAX) where
+ * AF_X_MAX is a plain literal (600.0, 1e6), so that the help and the check
+ * read the same number. */
+#define AF_OPTION_STR_(x) #x
+#define AF_OPTION_STR(x) AF_OPTION_STR_(x)
+
 /* One line per flag: "  --name VALUE  help [unit] (default X)", X read from
  * defaults (the tool's default arguments; may be NULL when no entry reads a
  * field) or, for SETTING entries, from s with the row's name, unit and range. */
 void af_options_help(FILE *out, const af_option *table, size_t n, const void *defaults,
                      const af_settings *s);
+
+/* The one line (stderr) for a flag the table does not hold: "TOOL: unknown
+ * flag 'FLAG'; accepted: --a, --b, ... [and MORE] (TOOL --help: units and
+ * defaults)". more may be NULL (e.g. "the model flags"). */
+void af_options_unknown(const char *tool, const af_option *table, size_t n, const char *flag,
+                        const char *more);
+
+/* The one line (stderr) for a flag given without its value: "TOOL: FLAG
+ * needs a value: VALUE, help". */
+void af_options_missing(const char *tool, const af_option *o);
 
 /* The one line a tool prints for each file it wrote: "wrote PATH" on stderr. */
 void af_options_wrote(const char *path);

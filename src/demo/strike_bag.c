@@ -109,13 +109,17 @@ typedef struct {
   double spacing_s;
 } args;
 
+#define STRIKES_MAX 100000 /* strikes in one bag */
+#define SPACING_MIN_S 0.1  /* [s] */
+#define SPACING_MAX_S 60   /* [s] */
+
 /* The defaults the parser starts from; --strikes and --out are required. */
 static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5};
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
     {"--strikes", "N", AF_OPTION_LONG, AF_ARG(strikes), -1,
-     "strikes (apples), a whole number in [1, 100000]", NULL},
+     "strikes (apples), a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "]", NULL},
     {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag", NULL},
     {"--seed", "S", AF_OPTION_U64, AF_ARG(seed), -1,
      "seed of the noise and the apples, a whole number >= 0", NULL},
@@ -124,7 +128,9 @@ static const af_option options[] = {
     {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
      "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
     {"--spacing", "S", AF_OPTION_NUMBER, AF_ARG(spacing_s), -1,
-     "time between strikes, in [0.1, 60] [s]", NULL},
+     "time between strikes, in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
+         SPACING_MAX_S) "] [s]",
+     NULL},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -135,8 +141,7 @@ static void help(void)
          "replay demo and the tests, and the truth CSV it was made from. Each file written is\n"
          "told by a line \"wrote FILE\" on stderr.\n\nflags:\n");
   af_options_help(stdout, options, N_OPTIONS, &args_defaults, NULL);
-  printf("  %-28s %s\n\nexit status: 0 done, 1 failure, 2 bad input\n", "-h, --help",
-         "this help");
+  printf("  %-28s %s\n\nexit status: 0 done, 1 failure, 2 bad input\n", "-h, --help", "this help");
 }
 
 static int usage(const char *msg, const char *value)
@@ -159,8 +164,9 @@ static int parse(int argc, char **argv, args *a)
     errno = 0;
     if (strcmp(flag, "--strikes") == 0) {
       a->strikes = strtol(v, &end, 10);
-      if (errno || *end || a->strikes < 1 || a->strikes > 100000)
-        return usage("--strikes must be a whole number in [1, 100000], got", v);
+      if (errno || *end || a->strikes < 1 || a->strikes > STRIKES_MAX)
+        return usage("--strikes must be a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "], got",
+                     v);
     } else if (strcmp(flag, "--seed") == 0) {
       unsigned long long s = strtoull(v, &end, 10);
       if (errno || *end || v[0] == '-')
@@ -168,8 +174,10 @@ static int parse(int argc, char **argv, args *a)
       a->seed = (uint64_t)s;
     } else if (strcmp(flag, "--spacing") == 0) {
       a->spacing_s = strtod(v, &end);
-      if (errno || *end || !(a->spacing_s >= 0.1 && a->spacing_s <= 60.0))
-        return usage("--spacing must be in [0.1, 60] s, got", v);
+      if (errno || *end || !(a->spacing_s >= SPACING_MIN_S && a->spacing_s <= SPACING_MAX_S))
+        return usage("--spacing must be in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
+                         SPACING_MAX_S) "] s, got",
+                     v);
     } else {
       (void)af_option_store(af_option_find(options, N_OPTIONS, flag), v, a);
     }

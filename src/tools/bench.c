@@ -32,6 +32,8 @@ static double cpu_s(void)
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+#define AF_BENCH_SECONDS_MAX 600 /* [s] */
+
 typedef struct {
   double seconds; /* CPU time of the four runs together [s] */
 } af_bench_args;
@@ -41,7 +43,7 @@ static const af_bench_args bench_defaults = {2.0};
 /* The bench's own flag; the model flags are cli_flags.c's. */
 static const af_option bench_options[] = {
     {"--seconds", "S", AF_OPTION_NUMBER, offsetof(af_bench_args, seconds), -1,
-     "time of the four runs together, in (0, 600] [s]", NULL},
+     "time of the four runs together, in (0, " AF_OPTION_STR(AF_BENCH_SECONDS_MAX) "] [s]", NULL},
 };
 #define N_OPTIONS (sizeof bench_options / sizeof bench_options[0])
 
@@ -61,8 +63,7 @@ static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seco
   for (int k = 0; k < n_rest; k++) {
     char *end;
     if (af_option_find(bench_options, N_OPTIONS, argv[rest[k]]) == NULL) {
-      fprintf(stderr, "firmness_model bench: unknown argument '%s' (see --help)\n",
-              argv[rest[k]]);
+      fprintf(stderr, "firmness_model bench: unknown argument '%s' (see --help)\n", argv[rest[k]]);
       return false;
     }
     if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
@@ -70,8 +71,9 @@ static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seco
       return false;
     }
     *seconds = strtod(argv[rest[++k]], &end);
-    if (*end != '\0' || !(*seconds > 0.0 && *seconds <= 600.0)) {
-      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, 600]\n", argv[rest[k]]);
+    if (*end != '\0' || !(*seconds > 0.0 && *seconds <= AF_BENCH_SECONDS_MAX)) {
+      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, %d] s\n", argv[rest[k]],
+              AF_BENCH_SECONDS_MAX);
       return false;
     }
   }

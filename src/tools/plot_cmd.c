@@ -95,8 +95,8 @@ static bool af_number(const af_option *o, const char *text, double *out)
   if (end == text || *end != '\0' || errno == ERANGE ||
       af_setting_range_of((af_setting_id)o->setting, &r) != AF_OK ||
       !af_setting_range_contains(&r, *out)) {
-    fprintf(stderr, "firmness_model plot: %s %s is outside the accepted range %s\n", o->name,
-            text, af_setting_def_of((af_setting_id)o->setting)->range);
+    fprintf(stderr, "firmness_model plot: %s %s is outside the accepted range %s\n", o->name, text,
+            af_setting_def_of((af_setting_id)o->setting)->range);
     return false;
   }
   return true;

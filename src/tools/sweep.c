@@ -14,6 +14,8 @@
 #include "options.h"
 #include "report.h"
 
+#define AF_SWEEP_STEPS_MAX 1000000 /* rows */
+
 typedef struct {
   const af_cli_flag *param;
   double from, to;
@@ -33,8 +35,8 @@ static const af_option sweep_options[] = {
      "the model flag stepped, without its -- (a number flag below, or lobe)", NULL},
     {"--from", "X", AF_OPTION_NUMBER, AF_ARG(from), -1, "first value [the flag's unit]", NULL},
     {"--to", "X", AF_OPTION_NUMBER, AF_ARG(to), -1, "last value [the flag's unit]", NULL},
-    {"--steps", "N", AF_OPTION_LONG, AF_ARG(steps), -1, "rows, linearly spaced, 1 .. 1000000 [-]",
-     NULL},
+    {"--steps", "N", AF_OPTION_LONG, AF_ARG(steps), -1,
+     "rows, linearly spaced, 1 .. " AF_OPTION_STR(AF_SWEEP_STEPS_MAX) " [-]", NULL},
     {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv_path), -1, "the rows into FILE", "stdout"},
     {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
      "the reference ODE path instead of the fast path (fastpath.h)", NULL},
@@ -117,9 +119,9 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
     fprintf(stderr, "firmness_model sweep: needs --param NAME --from X --to Y --steps N\n");
     return false;
   }
-  if (steps != floor(steps) || steps < 1 || steps > 1e6) {
-    fprintf(stderr, "firmness_model sweep: --steps %g must be a whole number in 1 .. 1000000\n",
-            steps);
+  if (steps != floor(steps) || steps < 1 || steps > AF_SWEEP_STEPS_MAX) {
+    fprintf(stderr, "firmness_model sweep: --steps %g must be a whole number in 1 .. %d\n", steps,
+            AF_SWEEP_STEPS_MAX);
     return false;
   }
   if (a->param->kind != AF_FLAG_DOUBLE && a->param->kind != AF_FLAG_LOBE) {
