@@ -155,10 +155,15 @@ static int parse(int argc, char **argv, args *a)
   *a = args_defaults;
   for (int i = 1; i < argc; i++) {
     const char *flag = argv[i];
-    if (af_option_find(options, N_OPTIONS, flag) == NULL)
-      return usage("unknown flag", flag);
-    if (i + 1 >= argc)
-      return usage("missing value for", flag);
+    const af_option *o = af_option_find(options, N_OPTIONS, flag);
+    if (o == NULL) {
+      af_options_unknown("strike_bag", options, N_OPTIONS, flag, NULL);
+      return 2;
+    }
+    if (i + 1 >= argc) {
+      af_options_missing("strike_bag", o);
+      return 2;
+    }
     const char *v = argv[++i];
     char *end = NULL;
     errno = 0;
@@ -179,7 +184,7 @@ static int parse(int argc, char **argv, args *a)
                          SPACING_MAX_S) "] s, got",
                      v);
     } else {
-      (void)af_option_store(af_option_find(options, N_OPTIONS, flag), v, a);
+      (void)af_option_store(o, v, a);
     }
   }
   if (a->strikes == 0)

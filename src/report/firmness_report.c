@@ -67,7 +67,9 @@ static const af_option af_report_options[] = {
     {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
      "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
     {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
-     "any parameter of the two files, after them (repeatable, at most 64)", "the files' values"},
+     "any parameter of the two files, after them (repeatable, at most " AF_OPTION_STR(
+         AF_SETS_MAX) ")",
+     "the files' values"},
     {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1, "one row per strike", "no CSV"},
     {"--plots", "DIR", AF_OPTION_TEXT, AF_ARG(plots), -1,
      "per-strike and session figures (PNG), the folder made if missing", "no figures"},
@@ -134,18 +136,22 @@ static int af_parse(int argc, char **argv, af_report_args *a)
       continue;
     }
     const af_option *o = af_option_find(af_report_options, AF_N_OPTIONS, f);
-    if (!o)
-      return af_bad("unknown argument '%s' (see --help)%s", f, "");
+    if (!o) {
+      af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "one BAG");
+      return AF_EXIT_USAGE;
+    }
     if (o->value == NULL) {
       (void)af_option_store(o, NULL, a);
       continue;
     }
-    if (k + 1 >= argc || argv[k + 1][0] == '\0')
-      return af_bad("%s needs a value%s", f, "");
+    if (k + 1 >= argc || argv[k + 1][0] == '\0') {
+      af_options_missing("firmness_report", o);
+      return AF_EXIT_USAGE;
+    }
     const char *v = argv[++k];
     if (strcmp(f, "--set") == 0) {
       if (a->n_sets == AF_SETS_MAX)
-        return af_bad("--set %s: more than 64 --set flags%s", v, "");
+        return af_bad("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
       a->sets[a->n_sets++] = v;
     } else
       (void)af_option_store(o, v, a);

@@ -62,12 +62,15 @@ static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seco
 {
   for (int k = 0; k < n_rest; k++) {
     char *end;
-    if (af_option_find(bench_options, N_OPTIONS, argv[rest[k]]) == NULL) {
-      fprintf(stderr, "firmness_model bench: unknown argument '%s' (see --help)\n", argv[rest[k]]);
+    const af_option *o = af_option_find(bench_options, N_OPTIONS, argv[rest[k]]);
+    if (o == NULL) {
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model bench", bench_options, N_OPTIONS, argv[rest[k]], names);
       return false;
     }
     if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
-      fprintf(stderr, "firmness_model bench: %s needs a value\n", argv[rest[k]]);
+      af_options_missing("firmness_model bench", o);
       return false;
     }
     *seconds = strtod(argv[rest[++k]], &end);

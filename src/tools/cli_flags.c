@@ -172,20 +172,34 @@ bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, in
     const af_cli_flag *f = strncmp(argv[k], "--", 2) == 0 ? af_cli_flag_find(argv[k]) : NULL;
     if (f == NULL) {
       if (rest == NULL) {
-        fprintf(stderr, "firmness_model: unknown argument '%s' (see --help)\n", argv[k]);
+        char names[1024];
+        af_cli_flag_names(names, sizeof names);
+        fprintf(stderr,
+                "firmness_model: unknown flag or subcommand '%s'; accepted: %s, --json, "
+                "or a subcommand first (firmness_model --help: units and defaults)\n",
+                argv[k], names);
         return false;
       }
       rest[(*n_rest)++] = k;
       continue;
     }
     if (k + 1 >= argc) {
-      fprintf(stderr, "firmness_model: --%s needs a value\n", f->name);
+      fprintf(stderr, "firmness_model: --%s needs a value: %s\n", f->name, f->help);
       return false;
     }
     if (!af_cli_flag_set(f, argv[++k], p))
       return false;
   }
   return validate(p);
+}
+
+void af_cli_flag_names(char *buf, size_t len)
+{
+  size_t used = (size_t)snprintf(buf, len, "the model flags");
+  for (size_t k = 0; k < N_FLAGS && used < len; k++)
+    used += (size_t)snprintf(buf + used, len - used, "%s --%s", k ? "," : "", flags[k].name);
+  if (used < len)
+    snprintf(buf + used, len - used, ", --profile");
 }
 
 void af_cli_print_flags(void)

@@ -100,12 +100,18 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
       (void)af_option_store(o, NULL, a);
       continue;
     }
-    const char *v = k + 1 < argc ? argv[++k] : NULL;
+    if (o == NULL) {
+      af_options_unknown("firmness_model design", design_options, N_OPTIONS, f, NULL);
+      return false;
+    }
+    if (k + 1 >= argc) {
+      af_options_missing("firmness_model design", o);
+      return false;
+    }
+    const char *v = argv[++k];
     char *end = NULL;
-    bool ok = v != NULL && o != NULL;
-    if (!ok)
-      ;
-    else if (strcmp(f, "--cultivar") == 0)
+    bool ok = true;
+    if (strcmp(f, "--cultivar") == 0)
       a->cultivar = v;
     else if (strcmp(f, "--plot") == 0)
       a->plot = v;
@@ -122,8 +128,7 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
     else
       ok = false;
     if (!ok) {
-      fprintf(stderr, "firmness_model design: bad or unknown argument '%s%s%s' (see --help)\n", f,
-              v ? " " : "", v ? v : "");
+      fprintf(stderr, "firmness_model design: %s '%s' is not accepted: %s\n", f, v, o->help);
       return false;
     }
   }

@@ -91,14 +91,6 @@ static void paper_help(void)
   printf("\nexit status: 0 done, 1 model or output failure, 2 bad input\n");
 }
 
-static int usage(const char *what, const char *arg)
-{
-  fprintf(stderr,
-          "firmness_model paper: %s%s (usage: firmness_model paper [--out DIR] [--quick])\n", what,
-          arg);
-  return AF_CLI_EXIT_USAGE;
-}
-
 static af_model_params profile(int k)
 {
   return k == 0 ? af_model_params_paper() : af_model_params_default();
@@ -896,14 +888,18 @@ int af_paper_main(int argc, char **argv, int first)
   paper_defaults(&w);
   for (int k = first; k < argc; k++) {
     const af_option *o = af_option_find(paper_options, N_OPTIONS, argv[k]);
-    if (o == NULL)
-      return usage("unknown argument ", argv[k]);
+    if (o == NULL) {
+      af_options_unknown("firmness_model paper", paper_options, N_OPTIONS, argv[k], NULL);
+      return AF_CLI_EXIT_USAGE;
+    }
     if (o->value == NULL)
       (void)af_option_store(o, NULL, &w);
     else if (k + 1 < argc && argv[k + 1][0] != '\0')
       (void)af_option_store(o, argv[++k], &w);
-    else
-      return usage("--out needs a directory", "");
+    else {
+      af_options_missing("firmness_model paper", o);
+      return AF_CLI_EXIT_USAGE;
+    }
   }
   af_text(w.fig_dir, sizeof w.fig_dir, "%s/paper", w.out_dir);
   if (make_dir(w.out_dir) || make_dir(w.fig_dir))

@@ -109,10 +109,16 @@ static int af_plot_parse(char **argv, const int *rest, int n_rest, af_plot_args 
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
     const af_option *o = af_option_find(plot_options, N_OPTIONS, flag);
-    if (o == NULL)
-      return af_usage("unknown argument '%s' (see firmness_model plot --help)%s", flag, "");
-    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1)
-      return af_usage("%s needs a value%s", flag, "");
+    if (o == NULL) {
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model plot", plot_options, N_OPTIONS, flag, names);
+      return AF_CLI_EXIT_USAGE;
+    }
+    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
+      af_options_missing("firmness_model plot", o);
+      return AF_CLI_EXIT_USAGE;
+    }
     const char *v = argv[rest[++k]];
     if (strcmp(flag, "--out") == 0)
       a->out = v;

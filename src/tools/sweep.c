@@ -77,7 +77,9 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
     const char *flag = argv[rest[k]];
     const af_option *o = af_option_find(sweep_options, N_OPTIONS, flag);
     if (o == NULL) {
-      fprintf(stderr, "firmness_model sweep: unknown argument '%s' (see --help)\n", flag);
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model sweep", sweep_options, N_OPTIONS, flag, names);
       return false;
     }
     if (o->value == NULL) {
@@ -86,7 +88,7 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
     }
     const char *value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1 ? argv[rest[k + 1]] : NULL;
     if (value == NULL) {
-      fprintf(stderr, "firmness_model sweep: %s needs a value\n", flag);
+      af_options_missing("firmness_model sweep", o);
       return false;
     }
     k++;
