@@ -137,6 +137,7 @@ void af_options_help(FILE *out, const af_option *table, size_t n, const void *de
     field_note(o, defaults, note, sizeof note);
     fprintf(out, "  %-28s %s %s\n", flag, o->help ? o->help : "", note);
   }
+  fprintf(out, "  %-28s %s\n", "-h, --help", "this help");
 }
 
 void af_options_unknown(const char *tool, const af_option *table, size_t n, const char *flag,

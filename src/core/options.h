@@ -66,7 +66,7 @@ bool af_options_want_help(int argc, char **argv, int first);
 #define AF_OPTION_STR_(x) #x
 #define AF_OPTION_STR(x) AF_OPTION_STR_(x)
 
-/* One line per flag: "  --name VALUE  help [unit] (default X)", X read from
+/* One line per flag, then -h/--help's: "  --name VALUE  help [unit] (default X)", X read from
  * defaults (the tool's default arguments; may be NULL when no entry reads a
  * field) or, for SETTING entries, from s with the row's name, unit and range. */
 void af_options_help(FILE *out, const af_option *table, size_t n, const void *defaults,

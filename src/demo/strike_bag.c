@@ -119,10 +119,10 @@ static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5};
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
     {"--strikes", "N", AF_OPTION_LONG, AF_ARG(strikes), -1,
-     "strikes (apples), a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "]", NULL},
+     "strikes (apples), a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "] [-]", NULL},
     {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag", NULL},
     {"--seed", "S", AF_OPTION_U64, AF_ARG(seed), -1,
-     "seed of the noise and the apples, a whole number >= 0", NULL},
+     "seed of the noise and the apples, a whole number >= 0 [-]", NULL},
     {"--truth", "FILE", AF_OPTION_TEXT, AF_ARG(truth), -1, "the truth CSV",
      "FILE of --out without .bag, + .truth.csv"},
     {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
@@ -141,7 +141,7 @@ static void help(void)
          "replay demo and the tests, and the truth CSV it was made from. Each file written is\n"
          "told by a line \"wrote FILE\" on stderr.\n\nflags:\n");
   af_options_help(stdout, options, N_OPTIONS, &args_defaults, NULL);
-  printf("  %-28s %s\n\nexit status: 0 done, 1 failure, 2 bad input\n", "-h, --help", "this help");
+  printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
 }
 
 static int usage(const char *msg, const char *value)

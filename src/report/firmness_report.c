@@ -91,8 +91,7 @@ static void af_usage(FILE *out)
           "needed. Every file written is told by a line \"wrote FILE\" on stderr.\n\n"
           "flags:\n");
   af_options_help(out, af_report_options, AF_N_OPTIONS, &d, NULL);
-  fprintf(out, "  %-28s %s\n\nexit status: 0 done, 1 failure, 2 bad input\n", "-h, --help",
-          "this help");
+  fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input\n");
 }
 
 static int af_bad(const char *fmt, const char *a, const char *b)

@@ -183,6 +183,12 @@ static const af_option analyze_options[] = {
 };
 #define AF_N_OPTIONS (sizeof analyze_options / sizeof analyze_options[0])
 
+const af_option *af_analyze_options(size_t *n)
+{
+  *n = AF_N_OPTIONS;
+  return analyze_options;
+}
+
 static const af_option *af_option_of(const char *flag)
 {
   return af_option_find(analyze_options, AF_N_OPTIONS, flag);
@@ -618,7 +624,7 @@ static void af_analyze_help(void)
          files ? "the parameter table under the default --config and --cultivar"
                : "the parameter table's, the default files being unreadable");
   af_options_help(stdout, analyze_options, AF_N_OPTIONS, &d, &s);
-  printf("  %-28s %s\n\nexit status: 0 done, 1 failure, 2 bad input\n", "-h, --help", "this help");
+  printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
 }
 
 int af_analyze_main(int argc, char **argv, int first)

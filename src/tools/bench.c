@@ -47,6 +47,12 @@ static const af_option bench_options[] = {
 };
 #define N_OPTIONS (sizeof bench_options / sizeof bench_options[0])
 
+const af_option *af_bench_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return bench_options;
+}
+
 static void bench_help(void)
 {
   printf("usage: firmness_model bench [--seconds S] [model flags]\n\n"

@@ -61,6 +61,12 @@ static const af_option design_options[] = {
 };
 #define N_OPTIONS (sizeof design_options / sizeof design_options[0])
 
+const af_option *af_design_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return design_options;
+}
+
 static void design_help(void)
 {
   printf("usage: firmness_model design [flags]\n\n"

@@ -25,19 +25,46 @@ typedef int af_subcommand_fn(int argc, char **argv, int first);
 /* Every subcommand: main dispatches through this table and the usage lists
  * it, so a subcommand cannot exist without being listed. Each answers
  * `firmness_model SUB --help` with its flags. */
+typedef const af_option *af_options_fn(size_t *n);
+
 static const struct {
   const char *name;
   af_subcommand_fn *main;
+  af_options_fn *options; /* its flag table */
+  bool model_flags;       /* also takes the model flags below */
   const char *summary;
 } subcommands[] = {
-    {"analyze", af_analyze_main, "recorded force and audio judged as the node judges them live"},
-    {"design", af_design_main, "the strike that makes the cultivar's domain reliable"},
-    {"plot", af_plot_main, "one predicted strike as a figure (PNG or SVG)"},
-    {"sweep", af_sweep_main, "CSV rows over a range of one model flag"},
-    {"bench", af_bench_main, "model evaluations per second, ODE and fast path"},
-    {"paper", af_paper_main, "the paper's Figs. 2-8 and a verdict on each of its claims"},
+    {"analyze", af_analyze_main, af_analyze_options, false,
+     "recorded force and audio judged as the node judges them live"},
+    {"design", af_design_main, af_design_options, false,
+     "the strike that makes the cultivar's domain reliable"},
+    {"plot", af_plot_main, af_plot_options, true, "one predicted strike as a figure (PNG or SVG)"},
+    {"sweep", af_sweep_main, af_sweep_options, true, "CSV rows over a range of one model flag"},
+    {"bench", af_bench_main, af_bench_options, true,
+     "model evaluations per second, ODE and fast path"},
+    {"paper", af_paper_main, af_paper_options, false,
+     "the paper's Figs. 2-8 and a verdict on each of its claims"},
 };
 #define N_SUBCOMMANDS (sizeof subcommands / sizeof subcommands[0])
+
+/* A subcommand's flags as "--name VALUE" words, wrapped under its summary. */
+static void print_flag_words(const af_option *table, size_t n, bool model_flags)
+{
+  const int indent = 12, width = 96;
+  int col = printf("%*s", indent, "");
+  for (size_t k = 0; k < n + (model_flags ? 1 : 0); k++) {
+    char word[64];
+    if (k == n)
+      snprintf(word, sizeof word, "[model flags]");
+    else
+      snprintf(word, sizeof word, "%s%s%s", table[k].name, table[k].value ? " " : "",
+               table[k].value ? table[k].value : "");
+    if (col > indent && col + 1 + (int)strlen(word) > width)
+      col = printf("\n%*s", indent, "") - 1;
+    col += printf("%s%s", col > indent ? " " : "", word);
+  }
+  printf("\n");
+}
 
 static void usage(void)
 {
@@ -45,15 +72,21 @@ static void usage(void)
          "       firmness_model SUBCOMMAND [flags]   (firmness_model SUBCOMMAND --help: its "
          "flags)\n\n"
          "subcommands:\n");
-  for (size_t k = 0; k < N_SUBCOMMANDS; k++)
+  for (size_t k = 0; k < N_SUBCOMMANDS; k++) {
+    size_t n;
+    const af_option *table = subcommands[k].options(&n);
     printf("  %-9s %s\n", subcommands[k].name, subcommands[k].summary);
+    print_flag_words(table, n, subcommands[k].model_flags);
+  }
   printf("\n"
          "One strike: predicts the hammer impact on an apple (Hertz contact with hysteresis\n"
          "damping), its excitation spectrum, the 0S2 resonance and the subsurface shear, and\n"
          "tells whether the strike is reliable. Defaults: the paper's optimal strike on the\n"
          "average apple under the shipped profile (exact damping, lobe 1, amplitude-half,\n"
          "exact shear); --profile paper: LN damping as printed, lobe 2, power-half, 0.31.\n"
-         "Files written by any subcommand are told by a line \"wrote FILE\" on stderr.\n\n"
+         "Files written by any subcommand are told by a line \"wrote FILE\" on stderr.\n"
+         "The other tools: firmness_report BAG (a recorded session as the node judges it),\n"
+         "strike_bag (a bag of synthetic strikes); each answers --help.\n\n"
          "flags (SI units):\n");
   af_cli_print_flags();
   printf("  %-28s %s\n  %-28s %s\n", "--json", "the report as JSON instead of text (default off)",
@@ -129,5 +162,10 @@ int main(int argc, char **argv)
     usage();
     return 0;
   }
+  /* No argument: the documented default strike (README), and where the
+   * subcommands and flags are told. */
+  if (argc == 1)
+    fprintf(stderr, "firmness_model: the paper's optimal strike on the average apple "
+                    "(firmness_model --help: every subcommand and flag)\n");
   return single(argc, argv);
 }

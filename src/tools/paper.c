@@ -72,6 +72,12 @@ static const af_option paper_options[] = {
 };
 #define N_OPTIONS (sizeof paper_options / sizeof paper_options[0])
 
+const af_option *af_paper_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return paper_options;
+}
+
 /* The defaults the parser starts from. */
 static void paper_defaults(af_paper *w)
 {

@@ -62,6 +62,12 @@ static const af_option plot_options[] = {
 };
 #define N_OPTIONS (sizeof plot_options / sizeof plot_options[0])
 
+const af_option *af_plot_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return plot_options;
+}
+
 static void af_plot_help(void)
 {
   af_settings s;

@@ -43,6 +43,12 @@ static const af_option sweep_options[] = {
 };
 #define N_OPTIONS (sizeof sweep_options / sizeof sweep_options[0])
 
+const af_option *af_sweep_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return sweep_options;
+}
+
 static void sweep_help(void)
 {
   printf("usage: firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] [--ode]\n"
