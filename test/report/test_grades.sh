@@ -61,7 +61,7 @@ for r, j in zip(rows, rep):
     assert got == want, ('csv', aid, r[column], got, want)
     assert (j['apple_id'], j['grade_index'], j['grade'], j['grade_reason'], j['flags']) == \
         (aid,) + want + (flags,), ('json', j, want, flags)
-    assert text[aid] == (want[0], want[1], ','.join(flags)), ('text', aid, text[aid], want, flags)
+    assert text[aid] == (want[0], want[1], '|'.join(flags)), ('text', aid, text[aid], want, flags)
     seen[want[1]] = seen.get(want[1], 0) + 1
 print(' '.join('%s %d' % kv for kv in sorted(seen.items())))
 EOF
@@ -95,6 +95,11 @@ if [ "$(wc -w <"$tmp/shipped.seen")" -ge 8 ] && grep -q ungraded "$tmp/shipped.s
 
 # Other classes on another quantity, through --set (the parameter table's rows).
 run fitted fitted_modulus "low | 6e6 | high" --set grade_quantity=fitted_modulus --set "grade_classes=low | 6e6 | high"
+
+# A yield law 40x weaker: every strike bruises (damage), some also outside the
+# band: two flags on a strike, each named, none graded.
+run weak "$quantity" "$classes" --set yield_ratio=0.001
+if [ "$(cat "$tmp/weak.seen")" = "ungraded $N" ] && grep -q 'outside_band|damage' "$tmp/weak.txt"; then ok; else bad "weak: $(cat "$tmp/weak.seen")"; fi
 
 # A boundary exactly on the first reliable strike's stiffness factor: that strike
 # goes to the class above.
