@@ -51,7 +51,7 @@ static const af_option design_options[] = {
     {"--tip-radius-range", "A:B", AF_OPTION_RANGE, AF_ARG(tip_lo), -1,
      "tip radii searched, 0 <= A <= B, A = 0 adds the flat face [m]", NULL},
     {"--hammer-modulus", "PA", AF_OPTION_NUMBER, AF_ARG(hammer_modulus), -1,
-     "hammer tip modulus, 0 = rigid [Pa]", "0"},
+     "hammer tip modulus, 0 = rigid [Pa]", "rigid"},
     {"--r2-min", "M", AF_OPTION_NUMBER, AF_ARG(r2_min), -1,
      "smallest radius of curvature under the hammer of the domain [m]", NULL},
     {"--plot", "FILE", AF_OPTION_TEXT, AF_ARG(plot), -1,
