@@ -143,7 +143,7 @@ static bool field(const af_csv *c, af_csv_col col, const char *text, double *v)
   return false;
 }
 
-static af_status row(af_csv *c, char *line, af_csv_apple *a)
+static af_status parse_row(af_csv *c, char *line, af_csv_apple *a)
 {
   char *f[COL_COUNT + 1];
   size_t n = split(line, f, COL_COUNT + 1);
@@ -228,7 +228,8 @@ static af_status rows_of(af_csv *c, FILE *f, af_csv_apple **rows, size_t *n)
     if (!have_header) {
       s = header(c, t);
       have_header = true;
-    } else if ((s = grow(c, rows, *n, &cap)) == AF_OK && (s = row(c, t, &(*rows)[*n])) == AF_OK &&
+    } else if ((s = grow(c, rows, *n, &cap)) == AF_OK &&
+               (s = parse_row(c, t, &(*rows)[*n])) == AF_OK &&
                (s = against_earlier(c, *rows, *n)) == AF_OK) {
       (*n)++;
     }

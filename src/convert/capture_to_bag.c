@@ -438,8 +438,9 @@ static int af_c2b_run(const af_c2b_args *a, af_c2b_stream *s)
   const double force_s = (double)s[0].rec.n / s[0].rate_hz;
   af_csv_apple *apples = NULL;
   size_t n_apples = 0;
-  char err[AF_C2B_ERR_MAX], msg[AF_C2B_ERR_MAX + 16];
+  char err[AF_C2B_ERR_MAX];
   if (af_apple_csv_read(a->apples, 0.0, force_s, &apples, &n_apples, err, sizeof err) != AF_OK) {
+    char msg[AF_C2B_ERR_MAX + 16];
     snprintf(msg, sizeof msg, "--apples %s", err);
     return af_c2b_bad(msg);
   }
