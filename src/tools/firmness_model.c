@@ -4,8 +4,9 @@
  *   firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE]
  *   firmness_model bench [--seconds S]
  *   firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] [--modulus-max PA]
- *   firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ
- *                          --mass KG --R2 M [--audio-offset S]
+ *   firmness_model analyze --force FILE --audio FILE [--rate-force HZ] [--rate-audio HZ]
+ *                          --mass KG --R2 M [--force-channel N] [--audio-channel N]
+ *                          [--force-scale N] [--audio-scale X] [--audio-offset S]
  *
  * Bad input exits with code 2 and a one-line message naming the flag. */
 #include <stdbool.h>
@@ -36,10 +37,17 @@ static void usage(void)
          "claims)\n"
          "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
          "[--modulus-max PA]\n"
-         "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
-         "--mass KG --R2 M\n"
+         "       firmness_model analyze --force FILE --audio FILE [--rate-force HZ] "
+         "[--rate-audio HZ] --mass KG --R2 M\n"
+         "                      [--force-channel N] [--audio-channel N] [--force-scale N] "
+         "[--audio-scale X]\n"
          "                      [--audio-offset S] [--modulus-min PA] [--modulus-max PA] [--bench] "
-         "[model flags]\n\n"
+         "[model flags]\n"
+         "                      (FILE: a WAV, its rate from its header, channel 0-based, default "
+         "0;\n"
+         "                      or raw float32, --rate-* required; scale: the value of integer "
+         "full\n"
+         "                      scale or of a float 1.0, default 1; doc/notes/wav.md)\n\n"
          "Predicts the hammer impact on an apple (Hertz contact with hysteresis damping), its\n"
          "excitation spectrum, the 0S2 resonance and the subsurface shear, and tells whether\n"
          "the strike is reliable. Defaults: the paper's optimal strike on the average apple\n"
