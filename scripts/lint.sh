@@ -19,7 +19,7 @@ fi
 # analysed (system includes), only our code.
 if ! cppcheck --quiet --error-exitcode=1 --enable=warning,style,performance --std=c11 \
   --inline-suppr -Isrc/core -Isrc/shim -Isrc/tools -Isrc/plot -Isrc/report src/core src/tools src/node \
-  src/plot src/report test/core; then
+  src/plot src/report src/demo src/convert src/cfg src/doc test/core; then
   echo "lint: cppcheck (C) found the problems above" >&2
   status=1
 fi

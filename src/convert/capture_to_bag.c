@@ -112,15 +112,13 @@ static void af_c2b_usage(FILE *out)
                "\"wrote FILE\" on stderr.\n\n"
                "flags:\n");
   af_options_help(out, af_c2b_options, AF_C2B_N_OPTIONS, &d, NULL);
-  fprintf(out,
-          "  %-28s %s\n\n"
-          "apple list: a header row naming the columns apple_id, stamp_s, mass_kg,\n"
-          "equatorial_radius_m, strike_radius_m, stem_axis_x, stem_axis_y, stem_axis_z,\n"
-          "confidence (any order), then one row per apple; stamp_s is the estimate's time\n"
-          "from the force's first sample [s] (the node matches a strike to the newest\n"
-          "estimate at most apple_stale_after_s before it).\n\n"
-          "exit status: 0 done, 1 failure, 2 bad input\n",
-          "-h, --help", "this help");
+  fprintf(out, "\n"
+               "apple list: a header row naming the columns apple_id, stamp_s, mass_kg,\n"
+               "equatorial_radius_m, strike_radius_m, stem_axis_x, stem_axis_y, stem_axis_z,\n"
+               "confidence (any order), then one row per apple; stamp_s is the estimate's time\n"
+               "from the force's first sample [s] (the node matches a strike to the newest\n"
+               "estimate at most apple_stale_after_s before it).\n\n"
+               "exit status: 0 done, 1 failure, 2 bad input\n");
 }
 
 static int af_c2b_bad(const char *msg)
@@ -239,13 +237,11 @@ static int af_c2b_parse(int argc, char **argv, af_c2b_args *a)
   for (int k = 1; k < argc; k++) {
     const af_option *o = af_option_find(af_c2b_options, AF_C2B_N_OPTIONS, argv[k]);
     if (o == NULL) {
-      fprintf(stderr,
-              "capture_to_bag: unknown flag '%s' (capture_to_bag --help lists every flag)\n",
-              argv[k]);
+      af_options_unknown("capture_to_bag", af_c2b_options, AF_C2B_N_OPTIONS, argv[k], NULL);
       return AF_C2B_EXIT_USAGE;
     }
     if (k + 1 >= argc) {
-      fprintf(stderr, "capture_to_bag: %s needs a value: %s, %s\n", o->name, o->value, o->help);
+      af_options_missing("capture_to_bag", o);
       return AF_C2B_EXIT_USAGE;
     }
     if (!af_c2b_value(a, o, argv[++k]))

@@ -2,12 +2,13 @@
 # Every command-line tool answers --help and -h (exit 0, stdout only) with
 # every flag of its table, each with a unit and a default (or "required"),
 # and a bad flag or a missing value with one line naming it, exit 2.
-#   test_help.sh FIRMNESS_MODEL FIRMNESS_REPORT STRIKE_BAG
+#   test_help.sh FIRMNESS_MODEL FIRMNESS_REPORT STRIKE_BAG CAPTURE_TO_BAG
 # The flags expected are read from the C sources' tables (the af_option rows
 # and cli_flags.c's model flags) by this script, not from the tools' output.
 source "$(dirname "$0")/../cli/harness.sh" "$1"
 REPORT=${2:?path to firmness_report}
 SB=${3:?path to strike_bag}
+C2B=${4:?path to capture_to_bag}
 SRC=$(cd "$(dirname "$0")/../../src" && pwd)
 
 # tool (as run) | source of its table | the table's name | takes the model flags
@@ -21,6 +22,7 @@ tools=(
   "$FM paper|tools/paper.c|paper_options|-"
   "$REPORT|report/firmness_report.c|af_report_options|-"
   "$SB|demo/strike_bag.c|options|-"
+  "$C2B|convert/capture_to_bag.c|af_c2b_options|-"
 )
 
 # The subcommands of firmness_model's table: each must be in the list above.
