@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# Every example of README.md and doc/*.md re-run against the build under
+# test, its output compared with the one the page shows, so that a figure
+# pasted into the docs cannot go stale. An example is a code block line
+# starting with "$ " (a command; a line ending in "\" continues it); the
+# lines after it, up to the next "$ " line or the end of the block, are its
+# output (stdout and stderr together), compared line by line: exactly, except
+# that a line "..." stands for any number of lines and "..." within a line for
+# any text (a path of the checkout, say). A comment "# exit N" on
+# the command gives its exit status (default 0). The commands of one page run
+# in order in one scratch folder (a bag made by one is read by the next),
+# where ../shared is the project's shared folder ("bash scripts/..." runs in
+# the package's root); scripts/run.sh gets a free master port of its own. Blocks without "$ " lines (synopses, measured
+# timings) are not examples. Registered in ctest as scripts_doc_examples.
+# Usage: test_doc_examples.sh [PAGE.md...]
+set -euo pipefail
+source "$(dirname "$0")/harness.sh"
+if [ "$#" -gt 0 ]; then
+  pages=("$@")
+else
+  pages=("$AF_ROOT/README.md" "$AF_ROOT"/doc/*.md)
+fi
+ln -s "$(cd "$AF_ROOT/.." && pwd)/shared" "$tmp/shared"
+
+# One file per example: $tmp/ex/<n>.{where,cmd,want,exit}.
+mkdir -p "$tmp/ex"
+/usr/bin/python3 - "$tmp/ex" "${pages[@]}" <<'PY'
+import os, re, sys
+out, pages = sys.argv[1], sys.argv[2:]
+n = 0
+for page in pages:
+    lines = open(page, encoding='utf-8').read().split('\n')
+    in_code, cur, i = False, None, 0
+
+    def close():
+        global cur, n
+        if cur:
+            n += 1
+            base = os.path.join(out, '%03d' % n)
+            for key in ('where', 'cmd', 'want', 'exit'):
+                with open(base + '.' + key, 'w', encoding='utf-8') as f:
+                    f.write(cur[key] if key != 'want' else ''.join(l + '\n' for l in cur[key]))
+        cur = None
+
+    while i < len(lines):
+        line = lines[i]
+        if line.lstrip().startswith('```'):
+            close()
+            in_code = not in_code
+        elif in_code and line.startswith('$ '):
+            close()
+            no, cmd = i + 1, line[2:]
+            while cmd.endswith('\\') and i + 1 < len(lines):
+                i += 1
+                cmd = cmd[:-1] + ' ' + lines[i].strip()
+            status = re.search(r'#\s*exit (\d+)\s*$', cmd)
+            cur = {'where': '%s:%d' % (page, no), 'cmd': cmd,
+                   'exit': status.group(1) if status else '0', 'want': []}
+        elif in_code and cur is not None:
+            cur['want'].append(line)
+        i += 1
+    close()
+PY
+
+# Compares output $1 with the expected $2 ("..." lines: any lines); exit 1
+# printing the first difference.
+cat >"$tmp/compare.py" <<'PY'
+import re, sys
+got = open(sys.argv[1], encoding='utf-8', errors='replace').read().rstrip('\n').split('\n')
+want = open(sys.argv[2], encoding='utf-8').read().rstrip('\n').split('\n')
+if want == ['']:
+    sys.exit(0)  # no output shown: only the exit status is checked
+def same(g, w):
+    if '...' not in w:
+        return g == w
+    return re.fullmatch('.*'.join(re.escape(part) for part in w.split('...')), g) is not None
+def match(g, w):
+    if not w:
+        return not g
+    if w[0] == '...':
+        return any(match(g[k:], w[1:]) for k in range(len(g) + 1))
+    return bool(g) and same(g[0], w[0]) and match(g[1:], w[1:])
+if not match(got, want):
+    fixed = [w for w in want if w != '...']
+    missing = next((w for w in fixed if not any(same(g, w) for g in got)), None)
+    print('  expected line not printed: %r' % missing if missing else '  lines out of order or extra lines')
+    print('  the output was:')
+    print('\n'.join('    ' + g for g in got[:60]))
+    sys.exit(1)
+PY
+
+ran=0 page="" port=""
+for want in "$tmp"/ex/*.want; do
+  [ -e "$want" ] || break
+  base=${want%.want}
+  where=$(cat "$base.where") cmd=$(cat "$base.cmd") expect=$(cat "$base.exit")
+  if [ "${where%%:*}" != "$page" ]; then
+    page=${where%%:*}
+    rm -rf "$tmp/cwd" && mkdir -p "$tmp/cwd"
+  fi
+  ran=$((ran + 1))
+  echo "${where#"$AF_ROOT"/}: $cmd"
+  status=0
+  port=$(af_free_port)
+  dir=$tmp/cwd
+  case "$cmd" in bash\ scripts/*) dir=$AF_ROOT ;; esac
+  (cd "$dir" && AF_DEMO_PORT=$port timeout -k 5 200 bash -c "$cmd") >"$tmp/out" 2>&1 ||
+    status=$?
+  af_check_stopped "$port" || fail=1
+  if [ "$status" -ne "$expect" ]; then
+    tail -5 "$tmp/out" >&2
+    bad "${where#"$AF_ROOT"/}: exited $status, expected $expect"
+  elif ! /usr/bin/python3 "$tmp/compare.py" "$tmp/out" "$want" >&2; then
+    bad "${where#"$AF_ROOT"/}: the output differs from the page's"
+  fi
+done
+[ "$ran" -gt 0 ] || bad "no example found"
+[ "$fail" -eq 0 ] && echo "test_doc_examples: $ran examples passed"
+exit "$fail"
