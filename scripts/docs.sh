@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Rewrites the generated part of doc/parameters.md (between the "generated"
 # markers) from the one parameter table, through af_settings_doc of the
-# build (scripts/build.sh first). test/scripts/test_doc_parameters.sh fails
-# when the page and the table differ.
-#   bash scripts/docs.sh
+# build (scripts/build.sh first). test/scripts/test_doc_parameters.sh runs it
+# on a copy of the page and fails when the page and the table differ.
+#   bash scripts/docs.sh [PAGE]      (default doc/parameters.md)
 set -euo pipefail
 # shellcheck disable=SC1091
 source "$(dirname "$0")/env.sh"
-page=$AF_ROOT/doc/parameters.md
+page=${1:-$AF_ROOT/doc/parameters.md}
 gen=$AF_DEVEL/lib/acoustic_firmness/af_settings_doc
 [ -x "$gen" ] || { echo "docs.sh: $gen not built (bash scripts/build.sh)" >&2; exit 1; }
 /usr/bin/python3 - "$page" <("$gen") <<'PY'

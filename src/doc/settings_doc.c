@@ -9,6 +9,7 @@
  * "- **name** (kind, default, range, unit): help." test/scripts/
  * test_doc_parameters.sh checks that doc/parameters.md holds exactly this
  * between its "generated" markers; `bash scripts/docs.sh` rewrites it.
+ * Installed with the package (`rosrun acoustic_firmness af_settings_doc`).
  * Exit 0, or 1 when stdout cannot be written. */
 #include <stdio.h>
 

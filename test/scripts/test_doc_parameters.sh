@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # doc/parameters.md holds, between its "generated" markers, exactly what
-# af_settings_doc prints from the one parameter table (src/core/settings.c):
+# af_settings_doc prints from the one parameter table (src/core/settings.c),
+# as scripts/docs.sh writes it (run here on a copy of the page):
 # every parameter's kind, default, range, unit and help, so that the docs
 # cannot drift from the table. Also checks the table side: every row of
 # config/station.yaml and config/jonagold.yaml is in the generated list.
@@ -14,11 +15,14 @@ end='<!-- end of generated -->'
 grep -qxF "$begin" "$page" || bad "doc/parameters.md: no line '$begin'"
 grep -qxF "$end" "$page" || bad "doc/parameters.md: no line '$end'"
 sed -n "\\|^$begin\$|,\\|^$end\$|p" "$page" | sed '1d;$d' >"$tmp/page"
-"$AF_DEVEL/lib/acoustic_firmness/af_settings_doc" >"$tmp/table"
-if ! diff -u "$tmp/table" "$tmp/page" >"$tmp/diff"; then
+# The page as scripts/docs.sh would write it, from the table, on a copy.
+cp "$page" "$tmp/parameters.md"
+bash "$AF_ROOT/scripts/docs.sh" "$tmp/parameters.md" || bad "scripts/docs.sh failed"
+if ! diff -u "$page" "$tmp/parameters.md" >"$tmp/diff"; then
   head -40 "$tmp/diff" >&2
   bad "doc/parameters.md differs from the parameter table (bash scripts/docs.sh rewrites it)"
 fi
+grep -q '^- \*\*strike_velocity_m_s\*\* (double, ' "$tmp/page" || bad "no generated row in doc/parameters.md"
 rows=0
 for yaml in "$AF_ROOT/config/station.yaml" "$AF_ROOT/config/jonagold.yaml"; do
   while read -r key; do
