@@ -5,14 +5,16 @@
 # starting with "$ " (a command; a line ending in "\" continues it); the
 # lines after it, up to the next "$ " line or the end of the block, are its
 # output (stdout and stderr together), compared line by line: exactly, except
-# that a line "..." stands for any number of lines and "..." within a line for
-# any text (a path of the checkout, say). A comment "# exit N" on
-# the command gives its exit status (default 0). The commands of one page run
-# in order in one scratch folder (a bag made by one is read by the next),
-# where ../shared is the project's shared folder ("bash scripts/..." runs in
-# the package's root); scripts/run.sh gets a free master port of its own. Blocks without "$ " lines (synopses, measured
-# timings) are not examples. Registered in ctest as scripts_doc_examples.
-# Usage: test_doc_examples.sh [PAGE.md...]
+# that a line "..." stands for any number of lines and "..." within a line
+# for any text (a path of the checkout, say). A comment "# exit N" on the
+# command gives its exit status (default 0). The commands of one page run in
+# order in one scratch folder (a bag made by one is read by the next), where
+# ../shared is the project's shared folder ("bash scripts/..." runs in the
+# package's root); scripts/run.sh gets a free master port of its own. Blocks
+# without "$ " lines (synopses, measured timings) are not examples. Also
+# checks that every code block is closed and that every relative link of the
+# pages (file and heading) resolves. Registered in ctest as
+# scripts_doc_examples. Usage: test_doc_examples.sh [PAGE.md...]
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 if [ "$#" -gt 0 ]; then
@@ -68,6 +70,29 @@ for page in pages:
     close()
     if in_code:
         sys.exit('FAIL: %s: a code block is not closed (an odd number of ``` lines)' % page)
+
+
+# Every relative link of the pages names a file that exists, and a heading
+# of it when it names one (GitHub's anchors: lower case, punctuation dropped,
+# spaces as dashes).
+def anchors(path):
+    return {re.sub(r'[^\w\- ]', '', l.lstrip('#').strip().lower()).replace(' ', '-')
+            for l in open(path, encoding='utf-8') if l.startswith('#')}
+
+
+broken = []
+for page in pages:
+    for link in re.findall(r'\]\(([^)\s]+)\)', open(page, encoding='utf-8').read()):
+        if re.match(r'[a-z]+:', link):
+            continue
+        path, _, anchor = link.partition('#')
+        target = os.path.normpath(os.path.join(os.path.dirname(page), path)) if path else page
+        if not os.path.exists(target):
+            broken.append('%s: link to %s: no such file' % (page, link))
+        elif anchor and target.endswith('.md') and anchor not in anchors(target):
+            broken.append('%s: link to %s: no such heading' % (page, link))
+if broken:
+    sys.exit('\n'.join('FAIL: ' + b for b in broken))
 PY
 
 # Compares output $1 with the expected $2 ("..." lines: any lines); exit 1
