@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Every `rosrun acoustic_firmness ...` and `roslaunch acoustic_firmness ...`
-# line of README.md (in code blocks, or inline in backticks), against the
-# build under test, so that a README line that no longer works fails CI:
+# line of README.md and doc/*.md (in code blocks, or inline in backticks),
+# against the build under test, so that a documented line that no longer
+# works fails CI. Example lines starting with "$ " are left to
+# test_doc_examples.sh, which also compares their output.
 #  - rosrun of a CLI (firmness_model, strike_bag) runs, with no master, and
 #    must exit 0, or N when its comment says "exit N";
 #  - rosrun of the node (firmness_node) runs under a master of the test's
@@ -14,36 +16,43 @@
 # S -> 1, NAME -> lane1, FILE and <any text> -> a scratch file, /path/to/X
 # -> config/X of the package (cultivar.yaml -> config/jonagold.yaml) or a
 # scratch file.
-# Also checks that the README's `source .../setup.bash` names the devel
-# space scripts/build.sh makes by default. Registered in ctest as
-# scripts_readme_ros_lines. Usage: test_readme_ros_lines.sh [README]
+# Also checks that a page's `source .../setup.bash` names the devel space
+# scripts/build.sh makes by default. Registered in ctest as
+# scripts_readme_ros_lines. Usage: test_readme_ros_lines.sh [PAGE.md...]
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
-readme=${1:-$AF_ROOT/README.md}
+if [ "$#" -gt 0 ]; then
+  pages=("$@")
+else
+  pages=("$AF_ROOT/README.md" "$AF_ROOT"/doc/*.md)
+fi
 mkdir -p "$tmp/cwd"
 
-# The lines, one per output line: kind <TAB> expected exit <TAB> README line
-# number <TAB> the command with placeholders filled (shell-quoted).
-/usr/bin/python3 - "$readme" "$AF_ROOT" "$tmp" >"$tmp/lines" <<'PY'
+# The lines, one per output line: kind <TAB> expected exit <TAB> page:line
+# <TAB> the command with placeholders filled (shell-quoted).
+/usr/bin/python3 - "$AF_ROOT" "$tmp" "${pages[@]}" >"$tmp/lines" <<'PY'
 import os, re, shlex, sys
-readme, root, tmp = sys.argv[1:4]
+root, tmp, pages = sys.argv[1], sys.argv[2], sys.argv[3:]
 NODES = {'firmness_node'}
 PREFIXES = ('rosrun acoustic_firmness ', 'roslaunch acoustic_firmness ')
-candidates, in_code = [], False
-for no, line in enumerate(open(readme, encoding='utf-8'), 1):
-    if line.lstrip().startswith('```'):
-        in_code = not in_code
-        continue
-    if in_code:
-        text = line.strip()
-        text = text[2:] if text.startswith('$ ') else text
-        if text.startswith(PREFIXES):
-            cmd, _, comment = text.partition(' #')
-            candidates.append((no, cmd.strip(), comment))
-    else:
-        for span in re.findall(r'`([^`]+)`', line):
-            if span.startswith(PREFIXES):
-                candidates.append((no, span.strip(), ''))
+candidates = []
+for page in pages:
+    in_code = False
+    name = os.path.relpath(page, root)
+    for no, line in enumerate(open(page, encoding='utf-8'), 1):
+        where = '%s:%d' % (name, no)
+        if line.lstrip().startswith('```'):
+            in_code = not in_code
+            continue
+        if in_code:
+            text = line.strip()
+            if text.startswith(PREFIXES) and not line.startswith('$ '):
+                cmd, _, comment = text.partition(' #')
+                candidates.append((where, cmd.strip(), comment))
+        else:
+            for span in re.findall(r'`([^`]+)`', line):
+                if span.startswith(PREFIXES):
+                    candidates.append((where, span.strip(), ''))
 files = 0
 
 
@@ -71,7 +80,7 @@ for no, cmd, comment in candidates:
              for w in words]
     status = re.search(r'\bexit (?:code |status )?(\d+)', comment)
     kind = 'launch' if words[0] == 'roslaunch' else 'node' if words[2] in NODES else 'cli'
-    print('%s\t%s\t%d\t%s' % (kind, status.group(1) if status else '0', no, shlex.join(words)))
+    print('%s\t%s\t%s\t%s' % (kind, status.group(1) if status else '0', no, shlex.join(words)))
 PY
 
 # Resolves a roslaunch command line (roslaunch's own loader) and finds every
@@ -95,7 +104,7 @@ print('  resolves: %s; nodes %s' % (files[0], ', '.join('%s/%s' % (n.package, n.
 PY
 
 fail=0 ran=0 port=""
-bad() { fail=1; echo "FAIL: README.md:$*" >&2; }
+bad() { fail=1; echo "FAIL: $*" >&2; }
 core_pid=""
 cleanup_master() {
   if [ -n "$core_pid" ]; then
@@ -108,7 +117,7 @@ trap 'cleanup_master; rm -rf "$tmp"' EXIT
 
 while IFS=$'\t' read -r kind expect no cmd; do
   ran=$((ran + 1))
-  echo "README.md:$no: $cmd"
+  echo "$no: $cmd"
   words=()
   eval "words=($cmd)"
   status=0
@@ -137,21 +146,21 @@ while IFS=$'\t' read -r kind expect no cmd; do
       ;;
   esac
 done <"$tmp/lines"
-[ "$ran" -gt 0 ] || bad " no rosrun or roslaunch line found"
+[ "$ran" -gt 0 ] || bad "no rosrun or roslaunch line found"
 
-# The README's setup file is the devel space of a default build.
+# A page's setup file is the devel space of a default build.
 default_devel=$(unset AF_BUILD_DIR AF_DEVEL_DIR && source "$AF_ROOT/scripts/env.sh" && echo "${AF_DEVEL#"$AF_ROOT"/}")
-while IFS=: read -r no text; do
+while IFS=: read -r page no text; do
   for path in $(grep -oE 'source [^ `;]*setup\.bash' <<<"$text" | cut -d' ' -f2); do
     [ "$path" = "$default_devel/setup.bash" ] ||
-      bad "$no: 'source $path', but a default build's devel space is $default_devel/"
+      bad "${page#"$AF_ROOT"/}:$no: 'source $path', but a default build's devel space is $default_devel/"
   done
-done < <(grep -n 'source [^ `;]*setup\.bash' "$readme" || true)
+done < <(grep -Hn 'source [^ `;]*setup\.bash' "${pages[@]}" || true)
 
 if [ -n "$core_pid" ]; then
   cleanup_master
   unset ROS_MASTER_URI
   af_check_stopped "$port" || fail=1
 fi
-[ "$fail" -eq 0 ] && echo "test_readme_ros_lines: $ran README lines passed"
+[ "$fail" -eq 0 ] && echo "test_readme_ros_lines: $ran lines of README.md and doc/*.md passed"
 exit "$fail"
