@@ -29,7 +29,7 @@ PACKAGES=(
   # dynamic_reconfigure of the criteria, thresholds and grades (its generator and client)
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   # one diagnostic_aggregator per master, the lanes grouped (config/analyzers.yaml)
-  libdiagnostic-aggregator-tools
+  libdiagnostic-aggregator-dev libdiagnostic-aggregator-tools
   liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev
   libgtest-dev
   # the node's rostests (Python test nodes)
