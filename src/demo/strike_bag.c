@@ -2,7 +2,7 @@
  * strikes rostest, with the truth it was made from.
  *
  *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
- *              [--spacing S]
+ *              [--spacing S]          (flags: the table `options`; --help)
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
  * 1 s lead-in, with a random sub-millisecond offset:
@@ -35,6 +35,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +43,7 @@
 
 #include "af_bag.h"
 #include "impact.h"
+#include "options.h"
 #include "resonance.h"
 #include "synth.h"
 
@@ -107,35 +109,69 @@ typedef struct {
   double spacing_s;
 } args;
 
+#define STRIKES_MAX 100000 /* strikes in one bag */
+#define SPACING_MIN_S 0.1  /* [s] */
+#define SPACING_MAX_S 60   /* [s] */
+
+/* The defaults the parser starts from; --strikes and --out are required. */
+static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5};
+
+#define AF_ARG(field) offsetof(args, field)
+static const af_option options[] = {
+    {"--strikes", "N", AF_OPTION_LONG, AF_ARG(strikes), -1,
+     "strikes (apples), a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "] [-]", NULL},
+    {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag", NULL},
+    {"--seed", "S", AF_OPTION_U64, AF_ARG(seed), -1,
+     "seed of the noise and the apples, a whole number >= 0 [-]", NULL},
+    {"--truth", "FILE", AF_OPTION_TEXT, AF_ARG(truth), -1, "the truth CSV",
+     "FILE of --out without .bag, + .truth.csv"},
+    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
+     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
+    {"--spacing", "S", AF_OPTION_NUMBER, AF_ARG(spacing_s), -1,
+     "time between strikes, in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
+         SPACING_MAX_S) "] [s]",
+     NULL},
+};
+#define N_OPTIONS (sizeof options / sizeof options[0])
+
+static void help(void)
+{
+  printf("usage: strike_bag --strikes N --out FILE [flags]\n\n"
+         "A rosbag of synthetic strikes (force 50 kHz, audio 48 kHz, AppleEstimates) for the\n"
+         "replay demo and the tests, and the truth CSV it was made from. Each file written is\n"
+         "told by a line \"wrote FILE\" on stderr.\n\nflags:\n");
+  af_options_help(stdout, options, N_OPTIONS, &args_defaults, NULL);
+  printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
+}
+
 static int usage(const char *msg, const char *value)
 {
-  if (msg)
-    fprintf(stderr, "strike_bag: %s%s%s\n", msg, value ? " " : "", value ? value : "");
-  fprintf(stderr, "usage: strike_bag --strikes N --out FILE [--seed S] [--truth FILE] "
-                  "[--ns NAME] [--spacing SECONDS]\n");
+  fprintf(stderr, "strike_bag: %s%s%s (see --help)\n", msg, value ? " " : "", value ? value : "");
   return 2;
 }
 
 static int parse(int argc, char **argv, args *a)
 {
-  a->strikes = 0;
-  a->out = a->truth = NULL;
-  a->ns = "lane1";
-  a->seed = 1;
-  a->spacing_s = 0.5;
+  *a = args_defaults;
   for (int i = 1; i < argc; i++) {
     const char *flag = argv[i];
-    if (strcmp(flag, "--help") == 0 || strcmp(flag, "-h") == 0)
-      return usage(NULL, NULL);
-    if (i + 1 >= argc)
-      return usage("missing value for", flag);
+    const af_option *o = af_option_find(options, N_OPTIONS, flag);
+    if (o == NULL) {
+      af_options_unknown("strike_bag", options, N_OPTIONS, flag, NULL);
+      return 2;
+    }
+    if (i + 1 >= argc) {
+      af_options_missing("strike_bag", o);
+      return 2;
+    }
     const char *v = argv[++i];
     char *end = NULL;
     errno = 0;
     if (strcmp(flag, "--strikes") == 0) {
       a->strikes = strtol(v, &end, 10);
-      if (errno || *end || a->strikes < 1 || a->strikes > 100000)
-        return usage("--strikes must be a whole number in [1, 100000], got", v);
+      if (errno || *end || a->strikes < 1 || a->strikes > STRIKES_MAX)
+        return usage("--strikes must be a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "], got",
+                     v);
     } else if (strcmp(flag, "--seed") == 0) {
       unsigned long long s = strtoull(v, &end, 10);
       if (errno || *end || v[0] == '-')
@@ -143,16 +179,12 @@ static int parse(int argc, char **argv, args *a)
       a->seed = (uint64_t)s;
     } else if (strcmp(flag, "--spacing") == 0) {
       a->spacing_s = strtod(v, &end);
-      if (errno || *end || !(a->spacing_s >= 0.1 && a->spacing_s <= 60.0))
-        return usage("--spacing must be in [0.1, 60] s, got", v);
-    } else if (strcmp(flag, "--out") == 0) {
-      a->out = v;
-    } else if (strcmp(flag, "--truth") == 0) {
-      a->truth = v;
-    } else if (strcmp(flag, "--ns") == 0) {
-      a->ns = v;
+      if (errno || *end || !(a->spacing_s >= SPACING_MIN_S && a->spacing_s <= SPACING_MAX_S))
+        return usage("--spacing must be in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
+                         SPACING_MAX_S) "] s, got",
+                     v);
     } else {
-      return usage("unknown flag", flag);
+      (void)af_option_store(o, v, a);
     }
   }
   if (a->strikes == 0)
@@ -280,6 +312,7 @@ static int write_truth(const char *path, const strike *s, size_t n)
     fprintf(stderr, "strike_bag: cannot write %s\n", path);
     return 1;
   }
+  af_options_wrote(path);
   return 0;
 }
 
@@ -343,6 +376,7 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
   st = af_bag_close(bag);
   if (st != AF_OK)
     return fail(a->out, st);
+  af_options_wrote(a->out);
   printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz, audio %llu at %.0f "
          "Hz), seed %llu -> %s, truth %s\n",
          n, duration_s, (unsigned long long)next_force, FORCE_RATE_HZ,
@@ -354,6 +388,10 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
 int main(int argc, char **argv)
 {
   args a;
+  if (af_options_want_help(argc, argv, 1)) {
+    help();
+    return 0;
+  }
   int rc = parse(argc, argv, &a);
   if (rc)
     return rc;

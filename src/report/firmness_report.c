@@ -1,7 +1,7 @@
 /* firmness_report — the lab's report of a recorded session.
  *
  *   firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME] [--set NAME=VALUE]
- *                   [--csv FILE] [--plots DIR] [--json] [--bench]
+ *                   [--csv FILE] [--plots DIR] [--json] [--bench]   (flags: af_report_options)
  *
  * Reads BAG through the shim's rosbag reader (no ROS master), runs the
  * recorded force, audio and apple topics of lane NS through the core lane
@@ -19,11 +19,13 @@
 #define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
 #include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "options.h"
 #include "output.h"
 #include "report_plots.h"
 #include "session.h"
@@ -45,25 +47,51 @@ typedef struct {
   bool json, bench;
 } af_report_args;
 
+/* The defaults the parser starts from (and --help shows). */
+static af_report_args af_report_args_default(void)
+{
+  af_report_args a;
+  memset(&a, 0, sizeof a);
+  a.config = AF_CONFIG_DIR "/station.yaml";
+  a.cultivar = AF_CONFIG_DIR "/jonagold.yaml";
+  a.ns = "lane1";
+  return a;
+}
+
+#define AF_ARG(field) offsetof(af_report_args, field)
+/* Every flag: the parser knows no other, --help prints each. */
+static const af_option af_report_options[] = {
+    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config), -1, "station parameters (YAML)", NULL},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1, "cultivar parameters (YAML)",
+     NULL},
+    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
+     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
+    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
+     "any parameter of the two files, after them (repeatable, at most " AF_OPTION_STR(
+         AF_SETS_MAX) ")",
+     "the files' values"},
+    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1, "one row per strike", "no CSV"},
+    {"--plots", "DIR", AF_OPTION_TEXT, AF_ARG(plots), -1,
+     "per-strike and session figures (PNG), the folder made if missing", "no figures"},
+    {"--json", NULL, AF_OPTION_SWITCH, AF_ARG(json), -1,
+     "the report as JSON on stdout instead of text", NULL},
+    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
+     "recorded time processed per wall-clock second, on stderr", NULL},
+};
+#define AF_N_OPTIONS (sizeof af_report_options / sizeof af_report_options[0])
+
 static void af_usage(FILE *out)
 {
+  af_report_args d = af_report_args_default();
   fprintf(out,
-          "usage: firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME]\n"
-          "                       [--set NAME=VALUE]... [--csv FILE] [--plots DIR] [--json] "
-          "[--bench]\n\n"
+          "usage: firmness_report BAG [flags]\n\n"
           "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
           "through the station's lane, as the node judges it live, and reports every strike\n"
-          "and a summary. No ROS master needed.\n\n"
-          "  --config FILE    station parameters (default %s/station.yaml)\n"
-          "  --cultivar FILE  cultivar parameters (default %s/jonagold.yaml)\n"
-          "  --ns NAME        lane namespace of the topics (default lane1)\n"
-          "  --set NAME=VALUE any parameter of the two files, after them\n"
-          "  --csv FILE       one row per strike\n"
-          "  --plots DIR      per-strike and session figures (PNG), made if missing\n"
-          "  --json           the report as JSON on stdout instead of text\n"
-          "  --bench          recorded time processed per wall-clock second, on stderr\n\n"
-          "exit status: 0 done, 1 failure, 2 bad input\n",
-          AF_CONFIG_DIR, AF_CONFIG_DIR);
+          "(its measurement, verdict flags and firmness grade) and a summary. No ROS master\n"
+          "needed. Every file written is told by a line \"wrote FILE\" on stderr.\n\n"
+          "flags:\n");
+  af_options_help(out, af_report_options, AF_N_OPTIONS, &d, NULL);
+  fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input\n");
 }
 
 static int af_bad(const char *fmt, const char *a, const char *b)
@@ -97,44 +125,35 @@ static bool af_ns_valid(const char *ns, char *out, size_t len)
 
 static int af_parse(int argc, char **argv, af_report_args *a)
 {
-  memset(a, 0, sizeof *a);
-  a->config = AF_CONFIG_DIR "/station.yaml";
-  a->cultivar = AF_CONFIG_DIR "/jonagold.yaml";
-  a->ns = "lane1";
+  *a = af_report_args_default();
   for (int k = 1; k < argc; k++) {
     const char *f = argv[k];
-    if (strcmp(f, "--json") == 0) {
-      a->json = true;
-      continue;
-    }
-    if (strcmp(f, "--bench") == 0) {
-      a->bench = true;
-      continue;
-    }
     if (strncmp(f, "--", 2) != 0) {
       if (a->bag)
         return af_bad("one bag only: '%s' after '%s'", f, a->bag);
       a->bag = f;
       continue;
     }
-    const char **slot = strcmp(f, "--config") == 0     ? &a->config
-                        : strcmp(f, "--cultivar") == 0 ? &a->cultivar
-                        : strcmp(f, "--ns") == 0       ? &a->ns
-                        : strcmp(f, "--csv") == 0      ? &a->csv
-                        : strcmp(f, "--plots") == 0    ? &a->plots
-                        : strcmp(f, "--set") == 0      ? &a->sets[0]
-                                                       : NULL;
-    if (!slot)
-      return af_bad("unknown argument '%s' (see --help)%s", f, "");
-    if (k + 1 >= argc || argv[k + 1][0] == '\0')
-      return af_bad("%s needs a value%s", f, "");
+    const af_option *o = af_option_find(af_report_options, AF_N_OPTIONS, f);
+    if (!o) {
+      af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "one BAG");
+      return AF_EXIT_USAGE;
+    }
+    if (o->value == NULL) {
+      (void)af_option_store(o, NULL, a);
+      continue;
+    }
+    if (k + 1 >= argc || argv[k + 1][0] == '\0') {
+      af_options_missing("firmness_report", o);
+      return AF_EXIT_USAGE;
+    }
     const char *v = argv[++k];
-    if (slot == &a->sets[0]) {
+    if (strcmp(f, "--set") == 0) {
       if (a->n_sets == AF_SETS_MAX)
-        return af_bad("--set %s: more than 64 --set flags%s", v, "");
+        return af_bad("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
       a->sets[a->n_sets++] = v;
     } else
-      *slot = v;
+      (void)af_option_store(o, v, a);
   }
   if (!a->bag)
     return af_bad("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
@@ -217,7 +236,7 @@ static int af_report(const af_report_args *a, const char *ns, const af_lane_conf
 
 int main(int argc, char **argv)
 {
-  if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+  if (af_options_want_help(argc, argv, 1)) {
     af_usage(stdout);
     return 0;
   }
@@ -244,6 +263,7 @@ int main(int argc, char **argv)
   if (csv && fclose(csv) != 0 && code == 0) {
     fprintf(stderr, "firmness_report: --csv %s: write failed\n", a.csv);
     code = 1;
-  }
+  } else if (csv && code == 0)
+    af_options_wrote(a.csv);
   return code;
 }

@@ -17,6 +17,18 @@ static void af_cell(FILE *out, const char *fmt, int width, double v)
     fprintf(out, "%*s", width, "-");
 }
 
+/* The names of the verdict flags set in flags (verdict.h), in flag order,
+ * separated by sep. */
+static void af_flag_names(FILE *out, uint32_t flags, const char *sep)
+{
+  const char *between = "";
+  for (uint32_t bit = 1; bit != 0; bit <<= 1)
+    if (flags & bit) {
+      fprintf(out, "%s%s", between, af_verdict_flag_name((af_verdict_flag)bit));
+      between = sep;
+    }
+}
+
 static void af_text_strike(FILE *out, const af_session_strike *r)
 {
   const af_measure_report *q = &r->report;
@@ -37,8 +49,15 @@ static void af_text_strike(FILE *out, const af_session_strike *r)
   af_cell(out, "%*.3f", 6, q->fitted_restitution);
   af_cell(out, "%*.3f", 7, q->contact_time_s * 1e3);
   af_cell(out, "%*.2f", 7, q->peak_force_n);
-  fprintf(out, " | %s%s%s\n", q->reliable ? "reliable" : "NOT reliable", q->reliable ? "" : ": ",
-          q->reason);
+  fprintf(out, " | %2u %-10s |", r->grade.index, r->grade.name);
+  if (q->reliable) {
+    /* A reliable strike is ungraded only for a reason of the grading's own. */
+    fprintf(out, " reliable%s%s\n", r->grade.index ? "" : "; ungraded: ", r->grade.reason);
+    return;
+  }
+  fputs(" NOT reliable [", out);
+  af_flag_names(out, q->verdict.flags, "|");
+  fprintf(out, "]: %s\n", q->reason);
 }
 
 static void af_text_quantiles(FILE *out, const char *name, const af_quantiles *q, double scale,
@@ -67,12 +86,12 @@ static double af_share(size_t part, size_t whole)
 
 void af_output_text(FILE *out, const af_session *s, const af_summary *m)
 {
-  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %s\n", "apple",
-          "contact start [s]", "m [g]", "pred. band", "pred.", "0S2", "Q", "SNR", "S", "E(0S2)",
-          "E2 fit", "e", "t_c", "F_max", "measured verdict");
-  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s |\n", "", "", "",
-          "[Hz]", "verdict", "[Hz]", "", "[dB]", "[Hz2kg^2/3]", "[MPa]", "[MPa]", "", "[ms]",
-          "[N]");
+  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %-13s | %s\n",
+          "apple", "contact start [s]", "m [g]", "pred. band", "pred.", "0S2", "Q", "SNR", "S",
+          "E(0S2)", "E2 fit", "e", "t_c", "F_max", "grade", "measured verdict [flags]");
+  fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %-13s |\n", "", "",
+          "", "[Hz]", "verdict", "[Hz]", "", "[dB]", "[Hz2kg^2/3]", "[MPa]", "[MPa]", "", "[ms]",
+          "[N]", "index name");
   for (size_t k = 0; k < s->n_strikes; k++)
     af_text_strike(out, &s->strikes[k]);
   if (m->apples_without_strike > 0) {
@@ -193,6 +212,10 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
   fputs(", ", out);
   fputs("\"reason\": ", out);
   af_json_string(out, q->reason);
+  fprintf(out, ", \"grade_index\": %u, \"grade\": ", r->grade.index);
+  af_json_string(out, r->grade.name);
+  fputs(", \"grade_reason\": ", out);
+  af_json_string(out, r->grade.reason);
   fprintf(out, "}%s\n", last ? "" : ",");
 }
 
@@ -279,6 +302,18 @@ static void af_csv_num(FILE *out, double v, bool last)
   fputc(last ? '\n' : ',', out);
 }
 
+/* Text in double quotes, its quotes doubled (RFC 4180). */
+static void af_csv_text(FILE *out, const char *text)
+{
+  fputc('"', out);
+  for (const char *c = text; *c; c++) {
+    if (*c == '"')
+      fputc('"', out);
+    fputc(*c, out);
+  }
+  fputc('"', out);
+}
+
 void af_output_csv(FILE *out, const af_session *s)
 {
   fputs("apple_id,contact_start_s,apple_stamp_s,mass_kg,predicted_band_low_hz,"
@@ -286,7 +321,8 @@ void af_output_csv(FILE *out, const af_session *s)
         "peak_force_n,impulse_n_s,band_low_hz,band_high_hz,resonance_hz,resonance_q,snr_db,"
         "stiffness_factor,modulus_from_resonance_pa,fitted_modulus_pa,fitted_restitution,"
         "fit_residual,max_shear_stress_pa,yield_shear_stress_pa,double_hit,clipped,"
-        "lost_samples,with_audio,excites_mode,no_damage,reliable,flags,reason\n",
+        "lost_samples,with_audio,excites_mode,no_damage,reliable,flags,reason,grade_index,grade,"
+        "grade_reason\n",
         out);
   for (size_t k = 0; k < s->n_strikes; k++) {
     const af_session_strike *r = &s->strikes[k];
@@ -310,14 +346,15 @@ void af_output_csv(FILE *out, const af_session *s)
                         q->yield_shear_stress_pa};
     for (size_t j = 0; j < sizeof v / sizeof v[0]; j++)
       af_csv_num(out, v[j], false);
-    fprintf(out, "%d,%d,%" PRIu32 ",%d,%d,%d,%d,%" PRIu32 ",\"", q->double_hit, q->clipped,
-            q->lost_samples, r->with_audio, q->excites_mode, q->no_damage, q->reliable,
-            q->verdict.flags);
-    for (const char *c = q->reason; *c; c++) {
-      if (*c == '"')
-        fputc('"', out);
-      fputc(*c, out);
-    }
-    fputs("\"\n", out);
+    fprintf(out, "%d,%d,%" PRIu32 ",%d,%d,%d,%d,", q->double_hit, q->clipped, q->lost_samples,
+            r->with_audio, q->excites_mode, q->no_damage, q->reliable);
+    af_flag_names(out, q->verdict.flags, "|");
+    fputc(',', out);
+    af_csv_text(out, q->reason);
+    fprintf(out, ",%u,", r->grade.index);
+    af_csv_text(out, r->grade.name);
+    fputc(',', out);
+    af_csv_text(out, r->grade.reason);
+    fputc('\n', out);
   }
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "options.h"
 #include "plot.h"
 #include "resonance.h"
 #include "strike_view.h"
@@ -85,6 +86,8 @@ void af_report_plots_strike(const af_lane_strike *s, const af_lane *lane, void *
       af_plot_target_file(path, AF_STRIKE_W_PX, AF_STRIKE_H_PX, &t) != AF_OK ||
       af_strike_view_draw(p->view, &t, err, sizeof err) != AF_OK)
     af_failed(p, path);
+  else
+    af_options_wrote(path);
 }
 
 /* ---- session figures ----------------------------------------------------------- */
@@ -99,7 +102,10 @@ static af_status af_draw_one(af_report_plots *p, const char *name, const af_plot
     af_text(err, len, "%s: bad target", path);
     return AF_EINVAL;
   }
-  return af_plot_draw(&t, panel, 1, 1, err, len);
+  af_status st = af_plot_draw(&t, panel, 1, 1, err, len);
+  if (st == AF_OK)
+    af_options_wrote(path);
+  return st;
 }
 
 /* Histogram counts of x [Pa] in AF_HIST_BIN_MPA bins from 0; edges in MPa. */

@@ -89,6 +89,7 @@ static void af_on_strike(const af_lane_strike *ls, void *user)
   }
   r->with_audio = ls->with_audio;
   r->report = ls->report;
+  af_grade_strike(&c->o->cfg->grade, &r->report, &r->grade); /* as the node (measured.c) */
   af_session_apple *a = ls->apple_id ? af_find_apple(s, ls->apple_id) : NULL;
   if (a)
     a->strikes++;
@@ -258,12 +259,8 @@ static af_bag_reader *af_open(const af_session_options *o,
   }
   af_bag_reader *bag = NULL;
   af_status st = af_bag_open_read(o->bag_path, list, AF_TOPICS, &bag);
-  if (st != AF_OK) {
-    if (st == AF_EINVAL)
-      af_text(err, len, "%s", af_bag_reader_error(NULL));
-    else
-      af_text(err, len, "%s is not a readable bag (not a bag, or truncated): %s", o->bag_path,
-              af_bag_reader_error(NULL));
+  if (st != AF_OK) { /* the reader's line names the bag (and rosbag reindex when it helps) */
+    af_text(err, len, "%s", af_bag_reader_error(NULL));
     return NULL;
   }
   *total = 0;

@@ -28,6 +28,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "grade.h"
 #include "lane.h"
 
 #define AF_SESSION_OK 0
@@ -51,6 +52,8 @@ typedef struct {
   bool with_audio;          /* an audio window was analysed */
   double modulus_factor;    /* the apple's (dynamic / quasi-static), to suggest a new one */
   af_measure_report report; /* the StrikeReport figures and the measured verdict */
+  af_grade grade; /* its firmness class from the cultivar's grade_quantity and grade_classes
+                     (grade.h), as the node's StrikeReport grade_index, grade, grade_reason */
 } af_session_strike;
 
 /* One AppleEstimate and its prediction. */

@@ -72,7 +72,10 @@ typedef struct {
  * n_topics 0 = every topic whose type is one of the above). AF_EIO when
  * the file is not a readable bag (not a bag, truncated, unindexed),
  * AF_EINVAL for bad arguments or a listed topic whose type in the bag is not
- * one of the above (the message names the topic and both types). */
+ * one of the above (the message names the topic and both types). The error
+ * (af_bag_reader_error(NULL)) is one line that names path once:
+ * "PATH: not a readable bag: WHY", ending with the `rosbag reindex PATH`
+ * hint when the file is a bag cut short or never closed. */
 af_status af_bag_open_read(const char *path, const char *const *topics, size_t n_topics,
                            af_bag_reader **out);
 

@@ -145,8 +145,14 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
   try {
     // rosbag trusts the lengths the file states (wire.hpp): walk them first.
     std::string why;
-    if (!af_shim::bag_plausible(path, why)) {
-      set_error(nullptr, std::string(path) + ": not a readable bag: " + why);
+    bool reindexable = false;
+    if (!af_shim::bag_plausible(path, why, &reindexable)) {
+      // One line naming the file once; the way out when there is one.
+      set_error(nullptr, std::string(path) + ": not a readable bag: " + why +
+                             (reindexable ? std::string("; if it was cut short or not closed, "
+                                                        "`rosbag reindex ") +
+                                                path + "` may recover it"
+                                          : std::string()));
       return AF_EIO;
     }
     r = new af_bag_reader;
@@ -163,7 +169,8 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
     return AF_OK;
   } catch (...) {
     af_status s = reader_status(nullptr);
-    set_error(nullptr, std::string(path) + ": " + g_reader_error);
+    set_error(nullptr,
+              std::string(path) + (s == AF_EIO ? ": not a readable bag: " : ": ") + g_reader_error);
     delete r;
     return s;
   }

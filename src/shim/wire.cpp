@@ -302,8 +302,10 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout
 
 } // namespace
 
-bool bag_plausible(const char *path, std::string &why)
+bool bag_plausible(const char *path, std::string &why, bool *reindexable)
 {
+  if (reindexable != nullptr)
+    *reindexable = false;
   std::unique_ptr<std::FILE, file_closer> f(std::fopen(path, "rb"));
   if (!f) {
     why = std::string("cannot be opened: ") + std::strerror(errno);
@@ -316,6 +318,8 @@ bool bag_plausible(const char *path, std::string &why)
     why = "not a ROS bag of version 2.0";
     return false;
   }
+  if (reindexable != nullptr) // from here on, a bag whose layout is broken
+    *reindexable = true;
   if (std::fseek(f.get(), 0, SEEK_END) != 0) {
     why = "cannot seek";
     return false;

@@ -36,10 +36,12 @@ bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 // index position inside the file; and a connection record's data, itself a
 // header that rosbag parses without checking its fields, is parsed here first
 // (at most AF_BAG_HEADER_MAX). False with the first problem in why. Found by
-// test/fuzz/fuzz_bag.c.
+// test/fuzz/fuzz_bag.c. *reindexable (when not null): the file is a bag of
+// version 2.0 whose records or index are broken (cut short, never closed),
+// which `rosbag reindex` may recover, as opposed to no bag at all.
 constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
 constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 28;  // 256 MiB
-bool bag_plausible(const char *path, std::string &why);
+bool bag_plausible(const char *path, std::string &why, bool *reindexable = nullptr);
 
 } // namespace af_shim
 

@@ -1,8 +1,10 @@
 /* analyze.c — `firmness_model analyze`: a recording judged as the node judges
  * it live.
  *
- * Reads the force [N] and the audio (any unit) as raw little-endian float32
- * files, configures the lane from the same YAML files the node loads
+ * Reads the force [N] and the audio (any unit), each a WAV (its rate from
+ * its header; --force-channel/--audio-channel, --force-scale/--audio-scale)
+ * or raw little-endian float32 (--rate-force/--rate-audio), through
+ * recording.h; configures the lane from the same YAML files the node loads
  * (--config, --cultivar, defaulting to the shipped config/station.yaml and
  * config/jonagold.yaml; --set name=value for any row of the parameter table),
  * gives it one apple (--mass, --R2) stamped at the recording's start, and
@@ -15,6 +17,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +27,7 @@
 #include "cli_flags.h"
 #include "json.h"
 #include "lane.h"
+#include "options.h"
 #include "recording.h"
 #include "resonance.h"
 #include "settings.h"
@@ -31,7 +35,7 @@
 #define AF_ANALYZE_CHUNK 1024 /* samples per chunk, as the node's SignalChunks */
 /* --audio-offset: the audio's start within an hour of the force's (the
  * stamps are integer nanoseconds: beyond ~9e9 s they would overflow). */
-#define AF_ANALYZE_OFFSET_MAX_S 3600.0
+#define AF_ANALYZE_OFFSET_MAX_S 3600
 /* Strike rows held at most: a 45-minute recording (AF_RECORDING_MAX_SAMPLES
  * at 50 kHz) struck twice a second has 5400. */
 #define AF_ANALYZE_MAX_STRIKES ((size_t)100000)
@@ -44,8 +48,9 @@
 typedef struct {
   const char *force_path, *audio_path;
   const char *config_path, *cultivar_path;
-  double rate_force_hz, rate_audio_hz;
-  double audio_offset_s; /* audio start time minus force start time [s] */
+  double rate_force_hz, rate_audio_hz;      /* the flags', then the files' [Hz] */
+  af_recording_spec force_spec, audio_spec; /* channel and scale flags */
+  double audio_offset_s;                    /* audio start time minus force start time [s] */
   double mass_kg, r2_m, equatorial_radius_m;
   bool bench;
 } af_analyze_args;
@@ -92,26 +97,103 @@ static bool af_parse_value(const char *flag, const char *text, bool positive, do
     if (positive)
       fprintf(stderr, "firmness_model analyze: %s '%s' must be a finite number > 0\n", flag, text);
     else
-      fprintf(stderr, "firmness_model analyze: %s '%s' must be a number in [-%g, %g] s\n", flag,
+      fprintf(stderr, "firmness_model analyze: %s '%s' must be a number in [-%d, %d] s\n", flag,
               text, AF_ANALYZE_OFFSET_MAX_S, AF_ANALYZE_OFFSET_MAX_S);
     return false;
   }
   return true;
 }
 
-/* A flag that is a row of the parameter table under another name. */
-typedef struct {
-  const char *flag, *row;
-} af_alias;
+/* The defaults the parser starts from: the shipped YAML files, the
+ * recordings' channels and scales as recording.h leaves them; the
+ * recordings and the apple are required (0 / NULL), the rates when a
+ * recording is raw float32. */
+static af_analyze_args af_analyze_args_default(void)
+{
+  af_analyze_args a;
+  memset(&a, 0, sizeof a);
+  a.force_spec = af_recording_spec_default("--rate-force", "--force-channel");
+  a.audio_spec = af_recording_spec_default("--rate-audio", "--audio-channel");
+  a.config_path = AF_CONFIG_DIR "/station.yaml";
+  a.cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
+  return a;
+}
 
-static const af_alias aliases[] = {
-    {"--hammer-mass", "hammer_mass_kg"}, {"--hammer-radius", "hammer_tip_radius_m"},
-    {"--modulus-min", "modulus_min_pa"}, {"--modulus-max", "modulus_max_pa"},
-    {"--E2", "modulus_nominal_pa"},      {"--e", "restitution"},
-    {"--v0", "strike_velocity_m_s"},     {"--snr-threshold", "measure_snr_threshold_db"},
-    {"--nu2", "fruit_poisson"},          {"--density", "density_kg_m3"},
-    {"--yield-ratio", "yield_ratio"},    {"--modulus-factor", "modulus_factor"},
+#define AF_ARG(field) offsetof(af_analyze_args, field)
+#define AF_ROW(flag, value, id)                                                                    \
+  {                                                                                                \
+    flag, value, AF_OPTION_SETTING, 0, id, NULL, NULL                                              \
+  }
+/* Every flag of analyze: its own (files, rates, the apple), then those that
+ * set a row of the parameter table (applied after the files: later =
+ * stronger). The parser knows no other; --help prints each. */
+static const af_option analyze_options[] = {
+    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force_path), -1,
+     "force recording, WAV or raw little-endian float32 [N]", NULL},
+    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio_path), -1,
+     "audio recording, WAV or raw little-endian float32 [the station's audio_unit]", NULL},
+    {"--rate-force", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_force_hz), -1,
+     "force sample rate, > 0, must agree with a WAV header [Hz]",
+     "the WAV header's; required for raw float32"},
+    {"--rate-audio", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_audio_hz), -1,
+     "audio sample rate, > 0, must agree with a WAV header [Hz]",
+     "the WAV header's; required for raw float32"},
+    {"--force-channel", "N", AF_OPTION_NONE, 0, -1,
+     "channel of a multichannel force WAV, 0-based, below the file's channels [-]", "0, the first"},
+    {"--audio-channel", "N", AF_OPTION_NONE, 0, -1,
+     "channel of a multichannel audio WAV, 0-based, below the file's channels [-]", "0, the first"},
+    {"--force-scale", "X", AF_OPTION_NUMBER, AF_ARG(force_spec.scale), -1,
+     "force of a full-scale PCM sample or a float sample 1.0, in (0, " AF_OPTION_STR(
+         AF_RECORDING_SCALE_MAX) "] [N]",
+     NULL},
+    {"--audio-scale", "X", AF_OPTION_NUMBER, AF_ARG(audio_spec.scale), -1,
+     "audio of a full-scale PCM sample or a float sample 1.0, in (0, " AF_OPTION_STR(
+         AF_RECORDING_SCALE_MAX) "] [audio_unit]",
+     NULL},
+    {"--audio-offset", "S", AF_OPTION_NUMBER, AF_ARG(audio_offset_s), -1,
+     "audio start minus force start, within +-" AF_OPTION_STR(AF_ANALYZE_OFFSET_MAX_S) " [s]",
+     "none, the two start together"},
+    {"--mass", "KG", AF_OPTION_NUMBER, AF_ARG(mass_kg), -1, "the apple's mass [kg]", NULL},
+    {"--R2", "M", AF_OPTION_NUMBER, AF_ARG(r2_m), -1,
+     "the apple's radius of curvature under the hammer [m]", NULL},
+    {"--equatorial-radius", "M", AF_OPTION_NUMBER, AF_ARG(equatorial_radius_m), -1,
+     "the apple's equatorial radius [m]", "the sphere of --mass at the cultivar's density"},
+    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config_path), -1,
+     "station parameters (YAML), as the node loads them", NULL},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1,
+     "cultivar parameters (YAML), as the node loads them", NULL},
+    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
+     "CPU time and speed against real time, on stderr", NULL},
+    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
+     "any row of the parameter table, after the files (repeatable)", "the files' values"},
+    {"--profile", "default|paper", AF_OPTION_NONE, 0, -1,
+     "paper: the paper-literal criterion (damping paper, lobe 2, power-half, shear paper)",
+     "the files' values"},
+    AF_ROW("--hammer-mass", "KG", AF_SETTING_HAMMER_MASS_KG),
+    AF_ROW("--hammer-radius", "M", AF_SETTING_HAMMER_TIP_RADIUS_M),
+    AF_ROW("--modulus-min", "PA", AF_SETTING_MODULUS_MIN_PA),
+    AF_ROW("--modulus-max", "PA", AF_SETTING_MODULUS_MAX_PA),
+    AF_ROW("--E2", "PA", AF_SETTING_MODULUS_NOMINAL_PA),
+    AF_ROW("--e", "X", AF_SETTING_RESTITUTION),
+    AF_ROW("--v0", "M/S", AF_SETTING_STRIKE_VELOCITY_M_S),
+    AF_ROW("--snr-threshold", "DB", AF_SETTING_MEASURE_SNR_THRESHOLD_DB),
+    AF_ROW("--nu2", "X", AF_SETTING_FRUIT_POISSON),
+    AF_ROW("--density", "KG/M3", AF_SETTING_DENSITY_KG_M3),
+    AF_ROW("--yield-ratio", "X", AF_SETTING_YIELD_RATIO),
+    AF_ROW("--modulus-factor", "X", AF_SETTING_MODULUS_FACTOR),
 };
+#define AF_N_OPTIONS (sizeof analyze_options / sizeof analyze_options[0])
+
+const af_option *af_analyze_options(size_t *n)
+{
+  *n = AF_N_OPTIONS;
+  return analyze_options;
+}
+
+static const af_option *af_option_of(const char *flag)
+{
+  return af_option_find(analyze_options, AF_N_OPTIONS, flag);
+}
 
 /* "--flag value" as "row=value" into s; false after a message naming both. */
 static bool af_set_row(af_settings *s, const char *flag, const char *row, const char *value)
@@ -143,21 +225,34 @@ static bool af_set_profile(af_settings *s, const char *name)
   return true;
 }
 
-static bool af_is_own_flag(const char *flag)
+/* --set, --profile and the rows of the parameter table: applied to the
+ * settings after the files. */
+static bool af_is_settings_flag(const char *flag)
 {
-  static const char *const own[] = {
-      "--force",      "--audio",        "--config", "--cultivar", "--rate-force",
-      "--rate-audio", "--audio-offset", "--mass",   "--R2",       "--equatorial-radius"};
-  for (size_t k = 0; k < sizeof own / sizeof own[0]; k++)
-    if (strcmp(flag, own[k]) == 0)
-      return true;
-  return false;
+  const af_option *o = af_option_of(flag);
+  return o != NULL && (o->kind == AF_OPTION_SETTING || strcmp(flag, "--set") == 0 ||
+                       strcmp(flag, "--profile") == 0);
+}
+
+/* A channel or scale flag of the force or the audio; false after a message. */
+static bool af_input_flag(const char *flag, const char *value, af_analyze_args *a)
+{
+  char err[AF_ERR_MAX];
+  af_recording_spec *in = strncmp(flag, "--force", 7) == 0 ? &a->force_spec : &a->audio_spec;
+  bool ok = strstr(flag, "-channel")
+                ? af_recording_parse_channel(flag, value, &in->channel, err, sizeof err)
+                : af_recording_parse_scale(flag, value, &in->scale, err, sizeof err);
+  if (!ok)
+    fprintf(stderr, "firmness_model analyze: %s\n", err);
+  return ok;
 }
 
 /* One of analyze's own flags with its value; false after a message. (The
  * settings flags are applied later, after the files: later = stronger.) */
 static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args *a)
 {
+  if (strstr(flag, "-channel") || strstr(flag, "-scale"))
+    return af_input_flag(flag, value, a);
   if (strcmp(flag, "--force") == 0)
     a->force_path = value;
   else if (strcmp(flag, "--audio") == 0)
@@ -183,16 +278,6 @@ static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args
   return true;
 }
 
-static bool af_is_settings_flag(const char *flag)
-{
-  if (strcmp(flag, "--set") == 0 || strcmp(flag, "--profile") == 0)
-    return true;
-  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
-    if (strcmp(flag, aliases[k].flag) == 0)
-      return true;
-  return false;
-}
-
 static bool af_apply_settings_flag(af_settings *s, const char *flag, const char *value)
 {
   if (strcmp(flag, "--set") == 0) {
@@ -204,9 +289,9 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
   }
   if (strcmp(flag, "--profile") == 0)
     return af_set_profile(s, value);
-  for (size_t k = 0; k < sizeof aliases / sizeof aliases[0]; k++)
-    if (strcmp(flag, aliases[k].flag) == 0)
-      return af_set_row(s, flag, aliases[k].row, value);
+  const af_option *o = af_option_of(flag);
+  if (o != NULL && o->kind == AF_OPTION_SETTING)
+    return af_set_row(s, flag, af_setting_def_of((af_setting_id)o->setting)->name, value);
   return false;
 }
 
@@ -214,40 +299,34 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
  * value. */
 static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
-  memset(a, 0, sizeof *a);
-  a->config_path = AF_CONFIG_DIR "/station.yaml";
-  a->cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
+  *a = af_analyze_args_default();
   for (int k = first; k < argc; k++) {
     const char *flag = argv[k];
-    if (strcmp(flag, "--bench") == 0) {
-      a->bench = true;
-      continue;
-    }
-    if (strncmp(flag, "--", 2) != 0) {
-      fprintf(stderr, "firmness_model analyze: unexpected argument '%s' (see --help)\n", flag);
+    const af_option *o = af_option_of(flag);
+    if (o == NULL) {
+      af_options_unknown("firmness_model analyze", analyze_options, AF_N_OPTIONS, flag, NULL);
       return false;
     }
+    if (o->value == NULL) { /* a switch */
+      (void)af_option_store(o, NULL, a);
+      continue;
+    }
     if (k + 1 >= argc) {
-      fprintf(stderr, "firmness_model analyze: %s needs a value\n", flag);
+      af_options_missing("firmness_model analyze", o);
       return false;
     }
     const char *value = argv[++k];
     if (af_is_settings_flag(flag))
       continue;
-    if (!af_is_own_flag(flag)) {
-      fprintf(stderr, "firmness_model analyze: unknown argument '%s' (see --help)\n", flag);
-      return false;
-    }
     if (!af_analyze_flag(flag, value, a))
       return false;
   }
-  const char *missing = !a->force_path      ? "--force FILE"
-                        : !a->audio_path    ? "--audio FILE"
-                        : !a->rate_force_hz ? "--rate-force HZ"
-                        : !a->rate_audio_hz ? "--rate-audio HZ"
-                        : !a->mass_kg       ? "--mass KG (the apple's)"
-                        : !a->r2_m          ? "--R2 M (the apple's)"
-                                            : NULL;
+  /* The rates: a WAV's header gives them (af_analyze_load). */
+  const char *missing = !a->force_path   ? "--force FILE"
+                        : !a->audio_path ? "--audio FILE"
+                        : !a->mass_kg    ? "--mass KG (the apple's)"
+                        : !a->r2_m       ? "--R2 M (the apple's)"
+                                         : NULL;
   if (missing != NULL) {
     fprintf(stderr, "firmness_model analyze: %s is required\n", missing);
     return false;
@@ -259,22 +338,17 @@ static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
 
 /* The settings the node would run with: table defaults, the two files, the
  * recording's rates, the hammer when no file gives it, then the flags. */
-static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
-                                af_settings *s)
+/* Table defaults, the two files, the hammer when no file gives it: what
+ * the flags then change (and what --help shows as their defaults). */
+static bool af_analyze_files(const af_analyze_args *a, af_settings *s)
 {
-  char err[AF_ERR_MAX], rate[64];
+  char err[AF_ERR_MAX];
   af_settings_init(s);
   if (af_settings_load_yaml(s, a->config_path, err, sizeof err) != AF_OK ||
       af_settings_load_yaml(s, a->cultivar_path, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model analyze: %s\n", err);
     return false;
   }
-  snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
-  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
-    return false;
-  snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
-  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
-    return false;
   /* The node reads the hammer from the rig's URDF; this tool cannot, and
    * takes the shipped rig's hammer (config/rig.urdf: 10 g, flat face)
    * unless a file or a flag gives it. */
@@ -284,9 +358,25 @@ static bool af_analyze_settings(int argc, char **argv, int first, const af_analy
   if (!af_settings_present(s, AF_SETTING_HAMMER_TIP_RADIUS_M) &&
       !af_set_row(s, "--hammer-radius", "hammer_tip_radius_m", "0.0"))
     return false;
-  /* Every flag but --bench has a value (af_parse_args checked it). */
+  return true;
+}
+
+static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
+                                af_settings *s)
+{
+  char rate[64];
+  if (!af_analyze_files(a, s))
+    return false;
+  snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
+  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+    return false;
+  snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
+  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
+    return false;
+  /* Every flag but the switches has a value (af_parse_args checked it). */
   for (int k = first; k + 1 < argc; k++) {
-    if (strcmp(argv[k], "--bench") == 0)
+    const af_option *o = af_option_of(argv[k]);
+    if (o != NULL && o->value == NULL)
       continue;
     const char *flag = argv[k], *value = argv[++k];
     if (af_is_settings_flag(flag) && !af_apply_settings_flag(s, flag, value))
@@ -496,23 +586,70 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   return code;
 }
 
+/* Both recordings, WAV or raw (recording.h), and their rates into a. */
+static bool af_analyze_load(af_analyze_args *a, af_recording *force, af_recording *audio)
+{
+  char rerr[AF_ERR_MAX];
+  a->force_spec.rate_hz = a->rate_force_hz;
+  a->audio_spec.rate_hz = a->rate_audio_hz;
+  if (af_recording_load(a->force_path, &a->force_spec, force, &a->rate_force_hz, rerr,
+                        sizeof rerr) != AF_OK) {
+    af_usage("--force %s", rerr, "");
+    return false;
+  }
+  if (af_recording_load(a->audio_path, &a->audio_spec, audio, &a->rate_audio_hz, rerr,
+                        sizeof rerr) != AF_OK) {
+    af_recording_free(force);
+    af_usage("--audio %s", rerr, "");
+    return false;
+  }
+  return true;
+}
+
+/* --help: every flag, the rows' defaults as the shipped files set them. */
+static void af_analyze_help(void)
+{
+  af_analyze_args d = af_analyze_args_default();
+  af_settings s;
+  bool files = af_analyze_files(&d, &s);
+  if (!files)
+    af_settings_init(&s);
+  printf("usage: firmness_model analyze --force FILE --audio FILE --mass KG --R2 M\n"
+         "                              [--rate-force HZ --rate-audio HZ] [flags]\n\n"
+         "A recording judged as the node judges it live: the force and audio files (WAV, or\n"
+         "raw float32 with their rates) through\n"
+         "the station's lane, configured from the node's YAML files, one apple for the whole\n"
+         "recording. Prints one JSON object: the strikes with their StrikeReport figures and\n"
+         "verdict flags, and why there are none when there are none.\n\n"
+         "flags (the parameter rows' defaults: %s):\n",
+         files ? "the parameter table under the default --config and --cultivar"
+               : "the parameter table's, the default files being unreadable");
+  af_options_help(stdout, analyze_options, AF_N_OPTIONS, &d, &s);
+  printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
+}
+
 int af_analyze_main(int argc, char **argv, int first)
 {
+  if (af_options_want_help(argc, argv, first)) {
+    af_analyze_help();
+    return 0;
+  }
   af_analyze_args a;
   af_settings s;
   af_lane_config cfg;
   char err[AF_ERR_MAX];
-  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_settings(argc, argv, first, &a, &s))
-    return AF_CLI_EXIT_USAGE;
-  if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
-    return af_usage("%s%s", err, "");
   af_recording force = {0}, audio = {0};
-  char rerr[AF_ERR_MAX];
-  if (af_recording_read(a.force_path, &force, rerr, sizeof rerr) != AF_OK)
-    return af_usage("--force %s", rerr, "");
-  if (af_recording_read(a.audio_path, &audio, rerr, sizeof rerr) != AF_OK) {
+  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_load(&a, &force, &audio))
+    return AF_CLI_EXIT_USAGE;
+  int code = 0;
+  if (!af_analyze_settings(argc, argv, first, &a, &s))
+    code = AF_CLI_EXIT_USAGE;
+  else if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
+    code = af_usage("%s%s", err, "");
+  if (code != 0) {
     af_recording_free(&force);
-    return af_usage("--audio %s", rerr, "");
+    af_recording_free(&audio);
+    return code;
   }
   /* Nothing to analyze is bad input, not an empty answer. (An empty audio
    * file is allowed: the strikes are then measured without audio, each
@@ -526,7 +663,7 @@ int af_analyze_main(int argc, char **argv, int first)
   double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
-  int code = af_analyze_run(&a, &cfg, &force, &audio);
+  code = af_analyze_run(&a, &cfg, &force, &audio);
   af_recording_free(&force);
   af_recording_free(&audio);
   return code;

@@ -7,6 +7,7 @@
 #include "bench.h"
 
 #include <malloc.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,7 @@
 
 #include "cli_flags.h"
 #include "fastpath.h"
+#include "options.h"
 #include "report.h"
 
 static double now_s(void)
@@ -30,17 +32,57 @@ static double cpu_s(void)
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+#define AF_BENCH_SECONDS_MAX 600 /* [s] */
+
+typedef struct {
+  double seconds; /* CPU time of the four runs together [s] */
+} af_bench_args;
+
+static const af_bench_args bench_defaults = {2.0};
+
+/* The bench's own flag; the model flags are cli_flags.c's. */
+static const af_option bench_options[] = {
+    {"--seconds", "S", AF_OPTION_NUMBER, offsetof(af_bench_args, seconds), -1,
+     "time of the four runs together, in (0, " AF_OPTION_STR(AF_BENCH_SECONDS_MAX) "] [s]", NULL},
+};
+#define N_OPTIONS (sizeof bench_options / sizeof bench_options[0])
+
+const af_option *af_bench_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return bench_options;
+}
+
+static void bench_help(void)
+{
+  printf("usage: firmness_model bench [--seconds S] [model flags]\n\n"
+         "Full model evaluations per second on one core, ODE path and fast path, on this\n"
+         "strike and on 1000 random strikes, and the heap they took.\n\nflags:\n");
+  af_options_help(stdout, bench_options, N_OPTIONS, &bench_defaults, NULL);
+  printf("\nmodel flags (SI units):\n");
+  af_cli_print_flags();
+  printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
+}
+
 static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seconds)
 {
   for (int k = 0; k < n_rest; k++) {
     char *end;
-    if (strcmp(argv[rest[k]], "--seconds") != 0 || k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
-      fprintf(stderr, "firmness_model bench: unknown argument '%s'\n", argv[rest[k]]);
+    const af_option *o = af_option_find(bench_options, N_OPTIONS, argv[rest[k]]);
+    if (o == NULL) {
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model bench", bench_options, N_OPTIONS, argv[rest[k]], names);
+      return false;
+    }
+    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
+      af_options_missing("firmness_model bench", o);
       return false;
     }
     *seconds = strtod(argv[rest[++k]], &end);
-    if (*end != '\0' || !(*seconds > 0.0 && *seconds <= 600.0)) {
-      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, 600]\n", argv[rest[k]]);
+    if (*end != '\0' || !(*seconds > 0.0 && *seconds <= AF_BENCH_SECONDS_MAX)) {
+      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, %d] s\n", argv[rest[k]],
+              AF_BENCH_SECONDS_MAX);
       return false;
     }
   }
@@ -121,7 +163,11 @@ int af_bench_main(int argc, char **argv, int first)
   af_model_result r;
   af_model *m = NULL;
   af_fastpath *f = NULL;
-  double seconds = 2.0;
+  if (af_options_want_help(argc, argv, first)) {
+    bench_help();
+    return 0;
+  }
+  double seconds = bench_defaults.seconds;
   int *rest = malloc((size_t)argc * sizeof *rest);
   int n_rest = 0;
   bool ok = rest && af_cli_parse_model(argc, argv, first, &p, rest, &n_rest) &&

@@ -32,7 +32,8 @@ static const af_cli_flag flags[] = {
     AF_DOUBLE_FLAG("gravity", impact.gravity_m_s2, "gravity along the strike [m/s2]"),
     AF_CHOICE_FLAG("damping", "impact.damping", AF_FLAG_DAMPING,
                    "damping law: paper | exact | hu-guo"),
-    AF_CHOICE_FLAG("lobe", "lobe", AF_FLAG_LOBE, "spectral lobe of the criterion, 1 = main lobe"),
+    AF_CHOICE_FLAG("lobe", "lobe", AF_FLAG_LOBE,
+                   "spectral lobe of the criterion [-], 1 = main lobe"),
     AF_CHOICE_FLAG("band-level", "band_level", AF_FLAG_BAND,
                    "half-power reading: power-half | amplitude-half"),
     AF_CHOICE_FLAG("shear-ratio", "shear_ratio", AF_FLAG_SHEAR,
@@ -172,20 +173,34 @@ bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, in
     const af_cli_flag *f = strncmp(argv[k], "--", 2) == 0 ? af_cli_flag_find(argv[k]) : NULL;
     if (f == NULL) {
       if (rest == NULL) {
-        fprintf(stderr, "firmness_model: unknown argument '%s' (see --help)\n", argv[k]);
+        char names[1024];
+        af_cli_flag_names(names, sizeof names);
+        fprintf(stderr,
+                "firmness_model: unknown flag or subcommand '%s'; accepted: %s, --json, "
+                "or a subcommand first (firmness_model --help: units and defaults)\n",
+                argv[k], names);
         return false;
       }
       rest[(*n_rest)++] = k;
       continue;
     }
     if (k + 1 >= argc) {
-      fprintf(stderr, "firmness_model: --%s needs a value\n", f->name);
+      fprintf(stderr, "firmness_model: --%s needs a value: %s\n", f->name, f->help);
       return false;
     }
     if (!af_cli_flag_set(f, argv[++k], p))
       return false;
   }
   return validate(p);
+}
+
+void af_cli_flag_names(char *buf, size_t len)
+{
+  size_t used = (size_t)snprintf(buf, len, "the model flags");
+  for (size_t k = 0; k < N_FLAGS && used < len; k++)
+    used += (size_t)snprintf(buf + used, len - used, "%s --%s", k ? "," : "", flags[k].name);
+  if (used < len)
+    snprintf(buf + used, len - used, ", --profile");
 }
 
 void af_cli_print_flags(void)
@@ -203,6 +218,15 @@ void af_cli_print_flags(void)
     case AF_FLAG_BAND: snprintf(def, sizeof def, "%s", af_band_level_name(d.band_level)); break;
     case AF_FLAG_SHEAR: snprintf(def, sizeof def, "%s", af_shear_ratio_name(d.shear_ratio)); break;
     }
-    printf("  --%-15s %-52s (default %s)\n", f->name, f->help, def);
+    char flag[64];
+    snprintf(flag, sizeof flag, "--%s %s", f->name,
+             f->kind == AF_FLAG_DOUBLE ? "X"
+             : f->kind == AF_FLAG_LOBE ? "N"
+                                       : "WORD");
+    printf("  %-28s %s (default %s)\n", flag, f->help, def);
   }
+  /* Read by apply_profile before the table's flags. */
+  printf("  %-28s %s\n", "--profile default|paper",
+         "starting values: default = shipped, paper = paper-literal (model.h) "
+         "(default default)");
 }

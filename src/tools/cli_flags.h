@@ -46,7 +46,12 @@ double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p);
 bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
                         int *n_rest);
 
-/* Prints the model flags with units and defaults for --help. */
+/* "the model flags --E2, --nu2, ..., --profile" into buf (truncated to
+ * len), for the line naming what a tool accepts. */
+void af_cli_flag_names(char *buf, size_t len);
+
+/* Prints the model flags (every entry of the table, then --profile) with
+ * units and defaults for --help, on stdout. */
 void af_cli_print_flags(void);
 
 #endif

@@ -12,12 +12,14 @@
 #include "design.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_flags.h"
 #include "fastpath.h"
+#include "options.h"
 #include "plot.h"
 #include "settings.h"
 
@@ -32,6 +34,48 @@ typedef struct {
   const char *cultivar, *plot;
   bool ode;
 } af_design_args;
+
+/* The defaults the parser starts from: the search box of the strike and
+ * the shipped cultivar. */
+static const af_design_args design_defaults = {
+    0.002, 0.05, 0.3, 3.0, 0.0, 0.02, 0.0, 0.025, AF_CONFIG_DIR "/jonagold.yaml", NULL, false};
+
+#define AF_ARG(field) offsetof(af_design_args, field)
+static const af_option design_options[] = {
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1,
+     "the cultivar's YAML: E2, mass, e, nu2, density, yield law", NULL},
+    {"--hammer-mass-range", "A:B", AF_OPTION_RANGE, AF_ARG(m_lo), -1,
+     "hammer masses searched, 0 < A <= B [kg]", NULL},
+    {"--v0-range", "A:B", AF_OPTION_RANGE, AF_ARG(v_lo), -1,
+     "contact velocities searched, 0 < A <= B [m/s]", NULL},
+    {"--tip-radius-range", "A:B", AF_OPTION_RANGE, AF_ARG(tip_lo), -1,
+     "tip radii searched, 0 <= A <= B, A = 0 adds the flat face [m]", NULL},
+    {"--hammer-modulus", "PA", AF_OPTION_NUMBER, AF_ARG(hammer_modulus), -1,
+     "hammer tip modulus, 0 = rigid [Pa]", "rigid"},
+    {"--r2-min", "M", AF_OPTION_NUMBER, AF_ARG(r2_min), -1,
+     "smallest radius of curvature under the hammer of the domain [m]", NULL},
+    {"--plot", "FILE", AF_OPTION_TEXT, AF_ARG(plot), -1,
+     "the feasibility map, FILE.png or FILE.svg", "no map"},
+    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
+     "the reference ODE path instead of the fast path (fastpath.h)", NULL},
+};
+#define N_OPTIONS (sizeof design_options / sizeof design_options[0])
+
+const af_option *af_design_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return design_options;
+}
+
+static void design_help(void)
+{
+  printf("usage: firmness_model design [flags]\n\n"
+         "The strike (hammer mass, contact velocity, tip radius) that makes every apple of\n"
+         "the cultivar's domain reliable with the largest margin, and the paper's optimum on\n"
+         "the same domain.\n\nflags:\n");
+  af_options_help(stdout, design_options, N_OPTIONS, &design_defaults, NULL);
+  printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
+}
 
 typedef struct {
   double margin_db, band_db, damage_db;
@@ -54,19 +98,26 @@ static bool parse_range(const char *flag, const char *text, double *lo, double *
 
 static bool parse_args(int argc, char **argv, int first, af_design_args *a)
 {
-  *a = (af_design_args){0.002, 0.05, 0.3, 3.0, 0.0, 0.02, 0.0, 0.025, NULL, NULL, false};
+  *a = design_defaults;
   for (int k = first; k < argc; k++) {
     const char *f = argv[k];
-    if (strcmp(f, "--ode") == 0) {
-      a->ode = true;
+    const af_option *o = af_option_find(design_options, N_OPTIONS, f);
+    if (o != NULL && o->value == NULL) {
+      (void)af_option_store(o, NULL, a);
       continue;
     }
-    const char *v = k + 1 < argc ? argv[++k] : NULL;
+    if (o == NULL) {
+      af_options_unknown("firmness_model design", design_options, N_OPTIONS, f, NULL);
+      return false;
+    }
+    if (k + 1 >= argc) {
+      af_options_missing("firmness_model design", o);
+      return false;
+    }
+    const char *v = argv[++k];
     char *end = NULL;
-    bool ok = v != NULL;
-    if (!ok)
-      ;
-    else if (strcmp(f, "--cultivar") == 0)
+    bool ok = true;
+    if (strcmp(f, "--cultivar") == 0)
       a->cultivar = v;
     else if (strcmp(f, "--plot") == 0)
       a->plot = v;
@@ -83,8 +134,7 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
     else
       ok = false;
     if (!ok) {
-      fprintf(stderr, "firmness_model design: bad or unknown argument '%s%s%s' (see --help)\n", f,
-              v ? " " : "", v ? v : "");
+      fprintf(stderr, "firmness_model design: %s '%s' is not accepted: %s\n", f, v, o->help);
       return false;
     }
   }
@@ -173,12 +223,16 @@ static void print_strike(const char *what, double m1, double v0, double tip,
 int af_design_main(int argc, char **argv, int first)
 {
   af_design_args a;
+  if (af_options_want_help(argc, argv, first)) {
+    design_help();
+    return 0;
+  }
   if (!parse_args(argc, argv, first, &a))
     return AF_CLI_EXIT_USAGE;
   af_settings s;
   char err[512];
   af_settings_init(&s);
-  const char *cultivar = a.cultivar ? a.cultivar : AF_CONFIG_DIR "/jonagold.yaml";
+  const char *cultivar = a.cultivar;
   if (af_settings_load_yaml(&s, cultivar, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model design: %s\n", err);
     return AF_CLI_EXIT_USAGE;
@@ -320,7 +374,8 @@ int af_design_main(int argc, char **argv, int first)
         af_plot_draw(&t, &panel, 1, 1, err, sizeof err) != AF_OK) {
       fprintf(stderr, "firmness_model design: cannot draw --plot %s\n", a.plot);
       rc = AF_CLI_EXIT_USAGE;
-    }
+    } else
+      af_options_wrote(a.plot);
   }
   af_fastpath_destroy(f);
   af_model_destroy(m);

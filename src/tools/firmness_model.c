@@ -1,11 +1,8 @@
 /* firmness_model — the impact-excitation model from the command line.
  *
  *   firmness_model [model flags] [--json]          one strike
- *   firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE]
- *   firmness_model bench [--seconds S]
- *   firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] [--modulus-max PA]
- *   firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ
- *                          --mass KG --R2 M [--audio-offset S]
+ *   firmness_model SUBCOMMAND [flags]              analyze, design, plot, sweep, bench, paper
+ *   firmness_model [SUBCOMMAND] --help             the flags, units and defaults
  *
  * Bad input exits with code 2 and a one-line message naming the flag. */
 #include <stdbool.h>
@@ -17,36 +14,83 @@
 #include "bench.h"
 #include "cli_flags.h"
 #include "design.h"
+#include "options.h"
 #include "paper.h"
 #include "plot_cmd.h"
 #include "report.h"
 #include "sweep.h"
 
+typedef int af_subcommand_fn(int argc, char **argv, int first);
+
+/* Every subcommand: main dispatches through this table and the usage lists
+ * it, so a subcommand cannot exist without being listed. Each answers
+ * `firmness_model SUB --help` with its flags. */
+typedef const af_option *af_options_fn(size_t *n);
+
+static const struct {
+  const char *name;
+  af_subcommand_fn *main;
+  af_options_fn *options; /* its flag table */
+  bool model_flags;       /* also takes the model flags below */
+  const char *summary;
+} subcommands[] = {
+    {"analyze", af_analyze_main, af_analyze_options, false,
+     "recorded force and audio judged as the node judges them live"},
+    {"design", af_design_main, af_design_options, false,
+     "the strike that makes the cultivar's domain reliable"},
+    {"plot", af_plot_main, af_plot_options, true, "one predicted strike as a figure (PNG or SVG)"},
+    {"sweep", af_sweep_main, af_sweep_options, true, "CSV rows over a range of one model flag"},
+    {"bench", af_bench_main, af_bench_options, true,
+     "model evaluations per second, ODE and fast path"},
+    {"paper", af_paper_main, af_paper_options, false,
+     "the paper's Figs. 2-8 and a verdict on each of its claims"},
+};
+#define N_SUBCOMMANDS (sizeof subcommands / sizeof subcommands[0])
+
+/* A subcommand's flags as "--name VALUE" words, wrapped under its summary. */
+static void print_flag_words(const af_option *table, size_t n, bool model_flags)
+{
+  const int indent = 12, width = 96;
+  int col = printf("%*s", indent, "");
+  for (size_t k = 0; k < n + (model_flags ? 1 : 0); k++) {
+    char word[64];
+    if (k == n)
+      snprintf(word, sizeof word, "[model flags]");
+    else
+      snprintf(word, sizeof word, "%s%s%s", table[k].name, table[k].value ? " " : "",
+               table[k].value ? table[k].value : "");
+    if (col > indent && col + 1 + (int)strlen(word) > width)
+      col = printf("\n%*s", indent, "") - 1;
+    col += printf("%s%s", col > indent ? " " : "", word);
+  }
+  printf("\n");
+}
+
 static void usage(void)
 {
-  printf("usage: firmness_model [--profile default|paper] [model flags] [--json]\n"
-         "       firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] "
-         "[--ode] [model flags]\n"
-         "       firmness_model bench [--seconds S] [model flags]\n"
-         "       firmness_model design [--cultivar FILE] [--hammer-mass-range A:B] "
-         "[--v0-range A:B]\n"
-         "                      [--tip-radius-range A:B] [--hammer-modulus X] [--r2-min M] "
-         "[--plot FILE] [--ode]\n"
-         "       firmness_model paper [--out DIR] [--quick]   (the paper's Figs. 2-8 and "
-         "claims)\n"
-         "       firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA] "
-         "[--modulus-max PA]\n"
-         "       firmness_model analyze --force FILE --audio FILE --rate-force HZ --rate-audio HZ "
-         "--mass KG --R2 M\n"
-         "                      [--audio-offset S] [--modulus-min PA] [--modulus-max PA] [--bench] "
-         "[model flags]\n\n"
-         "Predicts the hammer impact on an apple (Hertz contact with hysteresis damping), its\n"
-         "excitation spectrum, the 0S2 resonance and the subsurface shear, and tells whether\n"
-         "the strike is reliable. Defaults: the paper's optimal strike on the average apple\n"
-         "under the shipped profile (exact damping, lobe 1, amplitude-half, exact shear);\n"
-         "--profile paper: LN damping as printed, lobe 2, power-half, 0.31.\n\n"
-         "model flags (SI units):\n");
+  printf("usage: firmness_model [flags]              one strike (below)\n"
+         "       firmness_model SUBCOMMAND [flags]   (firmness_model SUBCOMMAND --help: its "
+         "flags)\n\n"
+         "subcommands:\n");
+  for (size_t k = 0; k < N_SUBCOMMANDS; k++) {
+    size_t n;
+    const af_option *table = subcommands[k].options(&n);
+    printf("  %-9s %s\n", subcommands[k].name, subcommands[k].summary);
+    print_flag_words(table, n, subcommands[k].model_flags);
+  }
+  printf("\n"
+         "One strike: predicts the hammer impact on an apple (Hertz contact with hysteresis\n"
+         "damping), its excitation spectrum, the 0S2 resonance and the subsurface shear, and\n"
+         "tells whether the strike is reliable. Defaults: the paper's optimal strike on the\n"
+         "average apple under the shipped profile (exact damping, lobe 1, amplitude-half,\n"
+         "exact shear); --profile paper: LN damping as printed, lobe 2, power-half, 0.31.\n"
+         "Files written by any subcommand are told by a line \"wrote FILE\" on stderr.\n"
+         "The other tools: firmness_report BAG (a recorded session as the node judges it),\n"
+         "strike_bag (a bag of synthetic strikes); each answers --help.\n\n"
+         "flags (SI units):\n");
   af_cli_print_flags();
+  printf("  %-28s %s\n  %-28s %s\n", "--json", "the report as JSON instead of text (default off)",
+         "-h, --help", "this help");
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
@@ -111,21 +155,17 @@ int main(int argc, char **argv)
 {
   if (!printable_args(argc, argv))
     return AF_CLI_EXIT_USAGE;
-  if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+  for (size_t k = 0; argc > 1 && k < N_SUBCOMMANDS; k++)
+    if (strcmp(argv[1], subcommands[k].name) == 0)
+      return subcommands[k].main(argc, argv, 2);
+  if (af_options_want_help(argc, argv, 1)) {
     usage();
     return 0;
   }
-  if (argc > 1 && strcmp(argv[1], "sweep") == 0)
-    return af_sweep_main(argc, argv, 2);
-  if (argc > 1 && strcmp(argv[1], "bench") == 0)
-    return af_bench_main(argc, argv, 2);
-  if (argc > 1 && strcmp(argv[1], "plot") == 0)
-    return af_plot_main(argc, argv, 2);
-  if (argc > 1 && strcmp(argv[1], "design") == 0)
-    return af_design_main(argc, argv, 2);
-  if (argc > 1 && strcmp(argv[1], "paper") == 0)
-    return af_paper_main(argc, argv, 2);
-  if (argc > 1 && strcmp(argv[1], "analyze") == 0)
-    return af_analyze_main(argc, argv, 2);
+  /* No argument: the documented default strike (README), and where the
+   * subcommands and flags are told. */
+  if (argc == 1)
+    fprintf(stderr, "firmness_model: the paper's optimal strike on the average apple "
+                    "(firmness_model --help: every subcommand and flag)\n");
   return single(argc, argv);
 }

@@ -17,6 +17,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,6 +27,7 @@
 #include "cli_flags.h"
 #include "impact.h"
 #include "model.h"
+#include "options.h"
 #include "plot.h"
 #include "resonance.h"
 #include "spectrum.h"
@@ -61,12 +63,38 @@ typedef struct {
   bool quick;
 } af_paper;
 
-static int usage(const char *what, const char *arg)
+#define AF_ARG(field) offsetof(af_paper, field)
+static const af_option paper_options[] = {
+    {"--out", "DIR", AF_OPTION_TEXT, AF_ARG(out_dir), -1,
+     "folder of paper.md; the figures go to DIR/paper/ (both made if missing)", NULL},
+    {"--quick", NULL, AF_OPTION_SWITCH, AF_ARG(quick), -1,
+     "coarser sweeps, for tests (every figure and claim still made)", NULL},
+};
+#define N_OPTIONS (sizeof paper_options / sizeof paper_options[0])
+
+const af_option *af_paper_options(size_t *n)
 {
-  fprintf(stderr,
-          "firmness_model paper: %s%s (usage: firmness_model paper [--out DIR] [--quick])\n", what,
-          arg);
-  return AF_CLI_EXIT_USAGE;
+  *n = N_OPTIONS;
+  return paper_options;
+}
+
+/* The defaults the parser starts from. */
+static void paper_defaults(af_paper *w)
+{
+  w->out_dir = "doc";
+  w->quick = false;
+}
+
+static void paper_help(void)
+{
+  static af_paper d;
+  paper_defaults(&d);
+  printf("usage: firmness_model paper [--out DIR] [--quick]\n\n"
+         "The paper's Figs. 2-8 under the paper-literal and the shipped profile (PNG and SVG)\n"
+         "and DIR/paper.md: a verdict on each of its claims, and the designer against its\n"
+         "optimum.\n\nflags:\n");
+  af_options_help(stdout, paper_options, N_OPTIONS, &d, NULL);
+  printf("\nexit status: 0 done, 1 model or output failure, 2 bad input\n");
 }
 
 static af_model_params profile(int k)
@@ -161,6 +189,7 @@ static int draw(const af_paper *w, int fig, int prof, const af_plot_panel *pan, 
       fprintf(stderr, "firmness_model paper: cannot draw %s\n", path);
       return 1;
     }
+    af_options_wrote(path);
   }
   return 0;
 }
@@ -838,6 +867,8 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
     fprintf(stderr, "firmness_model paper: firmness_model design failed\n");
   if (fclose(md) != 0)
     rc = 1;
+  if (rc == 0)
+    af_options_wrote(path);
   return rc;
 }
 
@@ -856,17 +887,25 @@ static int make_dir(const char *dir)
 int af_paper_main(int argc, char **argv, int first)
 {
   static af_paper w;
-  w.out_dir = "doc";
-  w.quick = false;
+  if (af_options_want_help(argc, argv, first)) {
+    paper_help();
+    return 0;
+  }
+  paper_defaults(&w);
   for (int k = first; k < argc; k++) {
-    if (strcmp(argv[k], "--quick") == 0)
-      w.quick = true;
-    else if (strcmp(argv[k], "--out") == 0 && k + 1 < argc && argv[k + 1][0] != '\0')
-      w.out_dir = argv[++k];
-    else if (strcmp(argv[k], "--out") == 0)
-      return usage("--out needs a directory", "");
-    else
-      return usage("unknown argument ", argv[k]);
+    const af_option *o = af_option_find(paper_options, N_OPTIONS, argv[k]);
+    if (o == NULL) {
+      af_options_unknown("firmness_model paper", paper_options, N_OPTIONS, argv[k], NULL);
+      return AF_CLI_EXIT_USAGE;
+    }
+    if (o->value == NULL)
+      (void)af_option_store(o, NULL, &w);
+    else if (k + 1 < argc && argv[k + 1][0] != '\0')
+      (void)af_option_store(o, argv[++k], &w);
+    else {
+      af_options_missing("firmness_model paper", o);
+      return AF_CLI_EXIT_USAGE;
+    }
   }
   af_text(w.fig_dir, sizeof w.fig_dir, "%s/paper", w.out_dir);
   if (make_dir(w.out_dir) || make_dir(w.fig_dir))
@@ -913,7 +952,5 @@ int af_paper_main(int argc, char **argv, int first)
   af_model_destroy(w.model);
   af_impact_destroy(w.impact);
   af_spectrum_destroy(w.spectrum);
-  if (rc == 0)
-    printf("wrote %s/paper.md and %s/fig{2..8}_{paper,default}.{png,svg}\n", w.out_dir, w.fig_dir);
   return rc;
 }

@@ -11,6 +11,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,8 +19,10 @@
 #include "cli_flags.h"
 #include "impact.h"
 #include "model.h"
+#include "options.h"
 #include "plot.h"
 #include "resonance.h"
+#include "settings.h"
 #include "spectrum.h"
 #include "text.h"
 
@@ -38,6 +41,48 @@ typedef struct {
   double modulus_min_pa, modulus_max_pa;
 } af_plot_args;
 
+/* The defaults the parser starts from: the firmness range is the parameter
+ * table's (modulus_min_pa, modulus_max_pa); --out is required. */
+static af_plot_args af_plot_defaults(af_settings *s)
+{
+  af_settings_init(s);
+  af_plot_args a = {NULL, af_settings_number(s, AF_SETTING_MODULUS_MIN_PA),
+                    af_settings_number(s, AF_SETTING_MODULUS_MAX_PA)};
+  return a;
+}
+
+/* plot's own flags; the model flags are cli_flags.c's. */
+static const af_option plot_options[] = {
+    {"--out", "FILE", AF_OPTION_TEXT, offsetof(af_plot_args, out), -1,
+     "the figure, FILE.png or FILE.svg", NULL},
+    {"--modulus-min", "PA", AF_OPTION_SETTING, 0, AF_SETTING_MODULUS_MIN_PA,
+     "softest fruit of the 0S2 range drawn", NULL},
+    {"--modulus-max", "PA", AF_OPTION_SETTING, 0, AF_SETTING_MODULUS_MAX_PA,
+     "firmest fruit of the 0S2 range drawn", NULL},
+};
+#define N_OPTIONS (sizeof plot_options / sizeof plot_options[0])
+
+const af_option *af_plot_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return plot_options;
+}
+
+static void af_plot_help(void)
+{
+  af_settings s;
+  af_plot_args d = af_plot_defaults(&s);
+  printf("usage: firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA]\n"
+         "                           [--modulus-max PA]\n\n"
+         "The predicted strike as a figure: the force pulse; its spectrum with the lobes, the\n"
+         "band and the 0S2 over the firmness range; the shear on the axis against the yield.\n\n"
+         "flags:\n");
+  af_options_help(stdout, plot_options, N_OPTIONS, &d, &s);
+  printf("\nmodel flags (SI units):\n");
+  af_cli_print_flags();
+  printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
+}
+
 static int af_usage(const char *fmt, const char *a, const char *b)
 {
   fprintf(stderr, "firmness_model plot: ");
@@ -46,14 +91,18 @@ static int af_usage(const char *fmt, const char *a, const char *b)
   return AF_CLI_EXIT_USAGE;
 }
 
-static bool af_number(const char *flag, const char *text, double *out)
+/* A modulus flag's value, within its parameter table row's range. */
+static bool af_number(const af_option *o, const char *text, double *out)
 {
   char *end;
+  af_setting_range r;
   errno = 0;
   *out = strtod(text, &end);
-  if (end == text || *end != '\0' || errno == ERANGE || !(*out > 0.0) || !isfinite(*out)) {
-    fprintf(stderr, "firmness_model plot: %s %s is outside the accepted range (0, inf) Pa\n", flag,
-            text);
+  if (end == text || *end != '\0' || errno == ERANGE ||
+      af_setting_range_of((af_setting_id)o->setting, &r) != AF_OK ||
+      !af_setting_range_contains(&r, *out)) {
+    fprintf(stderr, "firmness_model plot: %s %s is outside the accepted range %s\n", o->name, text,
+            af_setting_def_of((af_setting_id)o->setting)->range);
     return false;
   }
   return true;
@@ -61,21 +110,25 @@ static bool af_number(const char *flag, const char *text, double *out)
 
 static int af_plot_parse(char **argv, const int *rest, int n_rest, af_plot_args *a)
 {
-  a->out = NULL;
-  a->modulus_min_pa = 2.0e6; /* config/jonagold.yaml */
-  a->modulus_max_pa = 12.0e6;
+  af_settings s;
+  *a = af_plot_defaults(&s);
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
-    bool known = strcmp(flag, "--out") == 0 || strcmp(flag, "--modulus-min") == 0 ||
-                 strcmp(flag, "--modulus-max") == 0;
-    if (!known)
-      return af_usage("unknown argument '%s' (see firmness_model --help)%s", flag, "");
-    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1)
-      return af_usage("%s needs a value%s", flag, "");
+    const af_option *o = af_option_find(plot_options, N_OPTIONS, flag);
+    if (o == NULL) {
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model plot", plot_options, N_OPTIONS, flag, names);
+      return AF_CLI_EXIT_USAGE;
+    }
+    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
+      af_options_missing("firmness_model plot", o);
+      return AF_CLI_EXIT_USAGE;
+    }
     const char *v = argv[rest[++k]];
     if (strcmp(flag, "--out") == 0)
       a->out = v;
-    else if (!af_number(flag, v,
+    else if (!af_number(o, v,
                         strcmp(flag, "--modulus-min") == 0 ? &a->modulus_min_pa
                                                            : &a->modulus_max_pa))
       return AF_CLI_EXIT_USAGE;
@@ -202,6 +255,7 @@ static int af_draw(const af_plot_args *a, const af_model_params *p, const af_mod
     fprintf(stderr, "firmness_model plot: %s\n", err);
     return 1;
   }
+  af_options_wrote(a->out);
   return 0;
 }
 
@@ -262,6 +316,10 @@ static af_status af_curves_of(const af_model_params *p, const af_model_result *r
 
 int af_plot_main(int argc, char **argv, int first)
 {
+  if (af_options_want_help(argc, argv, first)) {
+    af_plot_help();
+    return 0;
+  }
   af_model_params p;
   int *rest = calloc((size_t)argc + 1, sizeof *rest), n_rest = 0;
   if (!rest)

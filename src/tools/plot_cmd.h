@@ -5,7 +5,14 @@
 #ifndef AF_PLOT_CMD_H
 #define AF_PLOT_CMD_H
 
+#include <stddef.h>
+
+#include "options.h"
+
 /* argv[first..argc). Returns the process exit code (2 for bad input). */
 int af_plot_main(int argc, char **argv, int first);
+
+/* Its flag table (the usage of firmness_model lists it); *n entries. */
+const af_option *af_plot_options(size_t *n);
 
 #endif

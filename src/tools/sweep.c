@@ -4,13 +4,17 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "cli_flags.h"
+#include "options.h"
 #include "report.h"
+
+#define AF_SWEEP_STEPS_MAX 1000000 /* rows */
 
 typedef struct {
   const af_cli_flag *param;
@@ -19,6 +23,43 @@ typedef struct {
   const char *csv_path; /* NULL = stdout */
   bool ode;             /* --ode: the reference ODE path instead of the fast path */
 } af_sweep_args;
+
+/* The defaults the parser starts from (none: every value but --csv and
+ * --ode is required). */
+static const af_sweep_args sweep_defaults = {NULL, 0.0, 0.0, 0, NULL, false};
+
+#define AF_ARG(field) offsetof(af_sweep_args, field)
+/* The sweep's own flags; the model flags are cli_flags.c's. */
+static const af_option sweep_options[] = {
+    {"--param", "NAME", AF_OPTION_NONE, 0, -1,
+     "the model flag stepped, without its -- (a number flag below, or lobe)", NULL},
+    {"--from", "X", AF_OPTION_NUMBER, AF_ARG(from), -1, "first value [the flag's unit]", NULL},
+    {"--to", "X", AF_OPTION_NUMBER, AF_ARG(to), -1, "last value [the flag's unit]", NULL},
+    {"--steps", "N", AF_OPTION_LONG, AF_ARG(steps), -1,
+     "rows, linearly spaced, 1 .. " AF_OPTION_STR(AF_SWEEP_STEPS_MAX) " [-]", NULL},
+    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv_path), -1, "the rows into FILE", "stdout"},
+    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
+     "the reference ODE path instead of the fast path (fastpath.h)", NULL},
+};
+#define N_OPTIONS (sizeof sweep_options / sizeof sweep_options[0])
+
+const af_option *af_sweep_options(size_t *n)
+{
+  *n = N_OPTIONS;
+  return sweep_options;
+}
+
+static void sweep_help(void)
+{
+  printf("usage: firmness_model sweep --param NAME --from X --to Y --steps N [--csv FILE] [--ode]\n"
+         "                            [model flags]\n\n"
+         "One CSV row per value of one model flag (the other flags held), with a progress bar\n"
+         "on stderr when it is a terminal.\n\nflags:\n");
+  af_options_help(stdout, sweep_options, N_OPTIONS, &sweep_defaults, NULL);
+  printf("\nmodel flags (SI units):\n");
+  af_cli_print_flags();
+  printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
+}
 
 static bool parse_double_arg(const char *flag, const char *text, double *out)
 {
@@ -37,16 +78,23 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
 {
   double steps = NAN;
   bool have_from = false, have_to = false;
-  memset(a, 0, sizeof *a);
+  *a = sweep_defaults;
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
-    if (strcmp(flag, "--ode") == 0) {
-      a->ode = true;
+    const af_option *o = af_option_find(sweep_options, N_OPTIONS, flag);
+    if (o == NULL) {
+      char names[1024];
+      af_cli_flag_names(names, sizeof names);
+      af_options_unknown("firmness_model sweep", sweep_options, N_OPTIONS, flag, names);
+      return false;
+    }
+    if (o->value == NULL) {
+      (void)af_option_store(o, NULL, a);
       continue;
     }
     const char *value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1 ? argv[rest[k + 1]] : NULL;
     if (value == NULL) {
-      fprintf(stderr, "firmness_model sweep: unknown argument or missing value '%s'\n", flag);
+      af_options_missing("firmness_model sweep", o);
       return false;
     }
     k++;
@@ -79,9 +127,9 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
     fprintf(stderr, "firmness_model sweep: needs --param NAME --from X --to Y --steps N\n");
     return false;
   }
-  if (steps != floor(steps) || steps < 1 || steps > 1e6) {
-    fprintf(stderr, "firmness_model sweep: --steps %g must be a whole number in 1 .. 1000000\n",
-            steps);
+  if (steps != floor(steps) || steps < 1 || steps > AF_SWEEP_STEPS_MAX) {
+    fprintf(stderr, "firmness_model sweep: --steps %g must be a whole number in 1 .. %d\n", steps,
+            AF_SWEEP_STEPS_MAX);
     return false;
   }
   if (a->param->kind != AF_FLAG_DOUBLE && a->param->kind != AF_FLAG_LOBE) {
@@ -150,6 +198,10 @@ int af_sweep_main(int argc, char **argv, int first)
 {
   af_model_params base;
   af_sweep_args a;
+  if (af_options_want_help(argc, argv, first)) {
+    sweep_help();
+    return 0;
+  }
   int *rest = malloc((size_t)argc * sizeof *rest);
   int n_rest = 0, code;
   if (rest == NULL)
@@ -170,6 +222,7 @@ int af_sweep_main(int argc, char **argv, int first)
   if (a.csv_path && fclose(out) != 0 && code == 0) {
     fprintf(stderr, "firmness_model sweep: error closing %s\n", a.csv_path);
     code = 1;
-  }
+  } else if (a.csv_path && code == 0)
+    af_options_wrote(a.csv_path);
   return code;
 }

@@ -24,8 +24,8 @@ for claim in "Harder" "E2 2–12 MPa" "R2 ≳ 31 mm" "R2 sensitivity" "e below 0
   done
 done
 if grep -q "the paper's optimum: hammer 10.0 g at 1.40 m/s" "$md" && grep -Eq "gives up [0-9]+ of [0-9]+ apples" "$md"; then ok; else bad "no designer comparison"; fi
-expect_usage "unknown argument --frob" paper --frob
-expect_usage "--out needs a directory" paper --out
+expect_usage "unknown flag '--frob'" paper --frob
+expect_usage "--out needs a value: DIR" paper --out
 expect_usage "cannot create" paper --out "$tmp/no/such/dir"
 
 summary test_paper

@@ -11,6 +11,6 @@ expect_usage "cannot write" plot --out "$tmp/no/such/dir/m.png"
 expect_usage "--modulus-min -1" plot --out "$tmp/m.png" --modulus-min -1
 expect_usage "--modulus-max must be above --modulus-min" plot --out "$tmp/m.png" --modulus-max 1e6
 expect_usage "--R2" plot --out "$tmp/m.png" --R2 -1
-expect_usage "unknown argument '--frob'" plot --out "$tmp/m.png" --frob 1
+expect_usage "unknown flag '--frob'" plot --out "$tmp/m.png" --frob 1
 
 summary test_plot
