@@ -36,11 +36,33 @@ done
 rosbag record -q -O "$tmp/out.bag" /lane1/strike_report /lane1/reliability __name:=af_report_record \
   >"$tmp/record.log" 2>&1 &
 pids+=($!)
-sleep 2
+# The recorder must be subscribed to both outputs before the first strike is
+# played (a loaded machine once stopped it before it had subscribed).
+for topic in /lane1/strike_report /lane1/reliability; do
+  for i in $(seq 150); do
+    rostopic info "$topic" 2>/dev/null | sed -n '/Subscribers:/,$p' | grep -q af_report_record && break
+    [ "$i" = 150 ] && { echo "report_vs_node: the recorder never subscribed to $topic" >&2; exit 1; }
+    sleep 0.2
+  done
+done
 echo "report_vs_node: replaying $N strikes at ${RATE}x through the node"
 rosbag play --clock -q --delay=1 --wait-for-subscribers --rate="$RATE" "$tmp/in.bag" >/dev/null
-sleep 3
+sleep 1
+# The node may still be working through the last strikes: stop the recorder
+# once its file has stopped growing for 2 s, then wait for it to close the bag.
+last=-1
+for _ in $(seq 300); do
+  size=$(stat -c %s "$tmp/out.bag.active" 2>/dev/null || echo 0)
+  [ "$size" = "$last" ] && [ "$size" != 0 ] && break
+  last=$size
+  sleep 2
+done
 kill -INT "${pids[1]}" && wait "${pids[1]}" || true
+for i in $(seq 150); do
+  [ -f "$tmp/out.bag" ] && break
+  [ "$i" = 150 ] && { echo "report_vs_node: rosbag record wrote no $tmp/out.bag" >&2; cat "$tmp/record.log" >&2; exit 1; }
+  sleep 0.2
+done
 "$lib/firmness_report" "$tmp/in.bag" --json --bench >"$tmp/report.json"
 /usr/bin/python3 - "$tmp/report.json" "$tmp/out.bag" "$N" <<'PY'
 import json, math, sys
