@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's figures in doc/: the model's default strike
+# Regenerates the figures in doc/: the model's default strike
 # (firmness_model plot) and firmness_report --plots of a 100-strike synthetic
 # bag (strike_bag, seed 7): one strike's figure and the three session figures.
 # Builds first if needed (AF_BUILD_DIR as for scripts/build.sh).

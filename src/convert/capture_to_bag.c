@@ -71,7 +71,7 @@ static const af_option af_c2b_options[] = {
     {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio), -1,
      "audio recording [--audio-unit]: WAV, or raw float32 with --rate-audio", NULL},
     {"--apples", "FILE", AF_OPTION_TEXT, AF_ARG(apples), -1,
-     "apple list CSV (doc/notes/wav.md: one row per apple)", NULL},
+     "apple list CSV (doc/recordings.md: one row per apple)", NULL},
     {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag written", NULL},
     {"--rate-force", "HZ", AF_OPTION_NONE, AF_ARG(rate_force_hz), -1,
      "force sample rate [Hz], in [1000, 1e6]; for a WAV it must equal the header's",

@@ -1181,7 +1181,7 @@ void af_settings_print(FILE *out, unsigned files, af_settings_print_format forma
               d->optional ? d->absent : "", d->optional ? ")" : "");
       continue;
     }
-    /* README: "- **name** (double, 1.4, (0, 10], m/s): help." */
+    /* doc/parameters.md: "- **name** (double, 1.4, (0, 10], m/s): help." */
     bool backticks = d->kind == AF_SETTING_STRING || d->kind == AF_SETTING_CHOICE;
     fprintf(out, "- **%s** (%s, %s%s%s", d->name, kind_word(d->kind), backticks ? "`" : "", def,
             backticks ? "`" : "");

@@ -20,7 +20,7 @@
  * Allocation: the view, its workspaces and the RGB buffer in create. PLplot
  * itself allocates and frees its stream state inside every render (plot.h):
  * the one exception to "nothing allocated after start-up", kept in the loop,
- * out of every callback (README: the live strike picture).
+ * out of every callback (doc/lane.md: the live strike picture).
  * Not thread-safe: the node's one spinning thread. */
 #ifndef AF_NODE_STRIKE_PLOT_H
 #define AF_NODE_STRIKE_PLOT_H

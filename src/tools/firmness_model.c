@@ -162,7 +162,7 @@ int main(int argc, char **argv)
     usage();
     return 0;
   }
-  /* No argument: the documented default strike (README), and where the
+  /* No argument: the documented default strike (README, doc/cli.md), and where the
    * subcommands and flags are told. */
   if (argc == 1)
     fprintf(stderr, "firmness_model: the paper's optimal strike on the average apple "

@@ -821,7 +821,7 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
           "- **shipped default**: exact damping for the asked e, the main lobe, the "
           "amplitude-half (−6 dB) band, τ_max/p0 exact for ν2.\n\n"
           "Both use the shipped yield law τ_y = 0.0414 × 8 MPa × (E2/8 MPa)^0.70 (a calibration "
-          "on the shipped profile; the README, \"The yield law\") and Lamb's 0S2 of a "
+          "on the shipped profile; doc/model.md, \"The yield law\") and Lamb's 0S2 of a "
           "homogeneous sphere (modulus factor 1) where the paper used a finite-element model. "
           "Verdicts: *reproduces*, *reproduces with a different number*, *does not reproduce*.\n\n",
           w->quick ? " --quick" : "");

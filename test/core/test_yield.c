@@ -1,5 +1,5 @@
 /* test_yield.c — the yield law, the measured override, and the shipped
- * calibration's three statements (doc/paper.md, "The yield law"). */
+ * calibration's three statements (doc/model.md, "The yield law"). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
