@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "absent.h"
 #include "advice.h"
 #include "af_tf.h"
 #include "audio_in.h"
@@ -60,6 +61,9 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
+  int64_t clock_start_ns; /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
+  bool absent_logged;     /* the stream-absent warning went to the log */
+  char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
   bool have_band;
@@ -452,6 +456,13 @@ static void diag_task(af_diag_status *d, void *user)
                                 af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
+  if (st->clock_start_ns == 0)
+    st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
+  bool absent = af_absent_warning(force, audio, st->clock_start_ns, now_ns,
+                                  c->lane.stream_absent_warn_s, st->absent, sizeof st->absent);
+  if (absent && !st->absent_logged)
+    af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
+  st->absent_logged |= absent;
   const char *strike_warning = af_measured_warning(st->measured);
   if (!strike_warning)
     strike_warning = af_audio_in_warning(st->audio_in);
@@ -461,6 +472,8 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_summary(d, AF_DIAG_WARN, "stream gaps or bad chunks since the last report");
   else if (force_stale || audio_stale)
     af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
+  else if (absent)
+    af_diag_summary(d, AF_DIAG_WARN, st->absent);
   else if (strike_warning)
     af_diag_summary(d, AF_DIAG_WARN, strike_warning);
   else if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0)
@@ -471,6 +484,7 @@ static void diag_task(af_diag_status *d, void *user)
   publish_status(st, st->last_apple_invalid ? "last apple got no prediction"
                      : new_problems         ? "stream gaps or bad chunks since the last report"
                      : force_stale || audio_stale ? "a stream went silent"
+                     : absent                     ? st->absent
                                                   : strike_warning);
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
@@ -500,6 +514,10 @@ static void diag_task(af_diag_status *d, void *user)
   }
   diag_stream(d, force, force_stale);
   diag_stream(d, audio, audio_stale);
+  if (c->lane.stream_absent_warn_s > 0.0)
+    af_diag_add(d, "stream absent check", "%s", absent ? st->absent : "ok");
+  else
+    af_diag_add(d, "stream absent check", "off (stream_absent_warn_s 0)");
   af_measured_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
   af_live_settings_diag(st->live, d);
