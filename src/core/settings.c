@@ -122,9 +122,9 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
                                      "the force transducer's unit: N, or V from a DAQ (divided by "
                                      "force_sensitivity_v_per_n at the lane's input)"),
     [AF_SETTING_FORCE_SENSITIVITY_V_PER_N] =
-        OPTIONAL_NUM("force_sensitivity_v_per_n", "[1e-4, 10] V/N", false, "none (force_unit N)",
-                     "the transducer's sensitivity with its conditioning; required with "
-                     "force_unit V"),
+        NUM("force_sensitivity_v_per_n", "0.0", "0 or [1e-4, 10] V/N", S,
+            "the transducer's sensitivity with its conditioning; required with force_unit V, "
+            "0 = none (force_unit N)"),
     [AF_SETTING_MARKERS_ENABLED] =
         BOOLEAN("markers_enabled", "true", S, "publish the rviz markers"),
     [AF_SETTING_MARKER_LIFETIME_S] =
@@ -1391,12 +1391,12 @@ static af_status derive_force_unit(const af_settings *s, af_lane_config *c, char
     return AF_EINVAL;
   }
   const bool volts = strcmp(c->force.units[0], "V") == 0;
-  if (volts && !af_settings_present(s, sens)) {
-    say(err, len, "%s is not set: %s = V needs it (a number in %s)", name_of(s, sens).text,
-        name_of(s, unit).text, rows[sens].range);
+  if (volts && num(s, sens) == 0.0) {
+    say(err, len, "%s = 0 (none), but %s = V needs it: a number in %s other than 0",
+        name_of(s, sens).text, name_of(s, unit).text, rows[sens].range);
     return AF_EINVAL;
   }
-  if (!volts && af_settings_present(s, sens)) {
+  if (!volts && num(s, sens) != 0.0) {
     say(err, len, "%s = %g is given but %s = %s (the sensitivity converts volts only)",
         name_of(s, sens).text, num(s, sens), name_of(s, unit).text, c->force.units[0]);
     return AF_EINVAL;
