@@ -64,6 +64,10 @@ struct af_station {
   int64_t clock_start_ns; /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
   bool absent_logged;     /* the stream-absent warning went to the log */
   char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
+  /* The rig's frames, checked once the simulated clock has run AF_TF_WAIT_S
+   * (replay: robot_state_publisher's fixed frames wait for the first /clock). */
+  bool tf_check_deferred;
+  int64_t tf_clock_start_ns; /* the first /clock seen by that check [ns]; 0 = none yet */
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
   bool have_band;
@@ -562,19 +566,53 @@ static af_status subscribe(af_station *st)
 /* Waits up to AF_TF_WAIT_S for the hammer's mount frame in TF (latched
  * /tf_static from robot_state_publisher), so that the first apples find it;
  * without it each apple's prediction says why its strike point is unknown. */
+static void warn_no_rig_frames(af_station *st)
+{
+  af_ros_log(st->ros, AF_LOG_WARN,
+             "the rig's frame '%s' is not in TF after %.0f s (is robot_state_publisher "
+             "running on the rig's URDF?): strike points stay unknown until it is",
+             st->cfg->hammer.mount_frame, AF_TF_WAIT_S);
+}
+
+/* Under simulated time that has not started (replay before rosbag play's
+ * first /clock) the rig's fixed frames cannot be there yet:
+ * robot_state_publisher sends them from a timer on that clock. The check
+ * then waits for the clock (af_station_update) instead of warning falsely. */
 static void wait_for_rig_frames(af_station *st)
 {
   const char *mount = st->cfg->hammer.mount_frame;
   if (!st->cfg->hammer_axis_known)
     return;
+  if (af_time_to_ns(af_ros_now(st->ros)) == 0) {
+    st->tf_check_deferred = true;
+    af_ros_log(st->ros, AF_LOG_DEBUG,
+               "simulated clock not started: the rig's frames are checked %.0f s after it does",
+               AF_TF_WAIT_S);
+    return;
+  }
   for (int k = 0; k < (int)(AF_TF_WAIT_S / 0.1) && !af_tf_frame_known(st->tf, mount); k++)
     if (af_ros_spin_once(st->ros, 0.1) != AF_OK || !af_ros_ok(st->ros))
       return;
   if (!af_tf_frame_known(st->tf, mount))
-    af_ros_log(st->ros, AF_LOG_WARN,
-               "the rig's frame '%s' is not in TF after %.0f s (is robot_state_publisher "
-               "running on the rig's URDF?): strike points stay unknown until it is",
-               mount, AF_TF_WAIT_S);
+    warn_no_rig_frames(st);
+}
+
+/* The deferred check: AF_TF_WAIT_S of the clock after its first tick. */
+static void deferred_rig_frames(af_station *st)
+{
+  int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
+  if (!st->tf_check_deferred || now_ns == 0)
+    return;
+  if (af_tf_frame_known(st->tf, st->cfg->hammer.mount_frame)) {
+    st->tf_check_deferred = false;
+    return;
+  }
+  if (st->tf_clock_start_ns == 0)
+    st->tf_clock_start_ns = now_ns;
+  if ((double)(now_ns - st->tf_clock_start_ns) * 1e-9 >= AF_TF_WAIT_S) {
+    warn_no_rig_frames(st);
+    st->tf_check_deferred = false;
+  }
 }
 
 /* Makes each part in turn; *what names the one that failed. */
@@ -671,6 +709,7 @@ void af_station_destroy(af_station *st)
 
 void af_station_update(af_station *st)
 {
+  deferred_rig_frames(st);
   af_measured_poll(st->measured);
   af_strike_plot_update(st->plot); /* renders outside every callback */
   af_ros_diag_update(st->diag);
