@@ -646,6 +646,7 @@ static void note_start(af_station *st)
 static af_status build(af_station *st, const char **what)
 {
   af_status s;
+  st->clock_start_ns = af_time_to_ns(af_ros_now(st->ros)); /* 0: a simulated clock not started */
   *what = "the diagnostics";
   if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
       (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
