@@ -34,9 +34,9 @@ bool af_absent_warning(const af_stream *force, const af_stream *audio, int64_t s
   refused(audio, why_a, sizeof why_a);
   if (f && a)
     af_text(text, len, "no force and no audio chunk within %.1f s of start%s%s", warn_after_s,
-             why_f, why_a);
+            why_f, why_a);
   else
-    af_text(text, len, "no %s chunk within %.1f s of start%s", f ? "force" : "audio",
-             warn_after_s, f ? why_f : why_a);
+    af_text(text, len, "no %s chunk within %.1f s of start%s", f ? "force" : "audio", warn_after_s,
+            f ? why_f : why_a);
   return true;
 }

@@ -61,8 +61,8 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
-  int64_t clock_start_ns; /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
-  bool absent_logged;     /* the stream-absent warning went to the log */
+  int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
+  bool absent_logged;       /* the stream-absent warning went to the log */
   char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
   /* The rig's frames, checked once the simulated clock has run AF_TF_WAIT_S
    * (replay: robot_state_publisher's fixed frames wait for the first /clock). */

@@ -170,7 +170,7 @@ static void test_lane_input(void)
     volts[k] = (float)(f * SENS_V_PER_N);
     newtons[k] = f;
   }
-  run(1000, newtons, volts);     /* chunks below the conversion block */
+  run(1000, newtons, volts);      /* chunks below the conversion block */
   run(N_SAMPLES, newtons, volts); /* one chunk of ~10 blocks */
   free(newtons);
   free(volts);
