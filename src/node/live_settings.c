@@ -89,14 +89,14 @@ static af_status on_request(const af_rc_value *values, size_t n, bool initial, v
     }
   }
   if (st != AF_OK) {
-    l->refused++;
+    l->refused += !initial;
     af_text(l->last_refusal, sizeof l->last_refusal, "%s", why);
     af_text(err, len, "%s", why);
     af_ros_log(l->ros, AF_LOG_WARN, "reconfigure refused: %s", why);
     return st;
   }
   l->cfg->settings = l->next;
-  l->accepted++;
+  l->accepted += !initial;
   af_text(l->last_change, sizeof l->last_change, "%s", change);
   af_ros_log(l->ros, AF_LOG_INFO, "reconfigured: %s", change);
   return AF_OK;
