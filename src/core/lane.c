@@ -419,6 +419,21 @@ static void on_strike(const af_strike_event *ev, void *user)
   l->count++;
 }
 
+/* An accepted force chunk into the detector, in newtons: as sent, or (a
+ * force in V) converted block by block in the stream's scratch. */
+static void detect(af_lane *l, const af_chunk *c)
+{
+  if (l->force.si == NULL) {
+    (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
+    return;
+  }
+  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
+    size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
+    af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
+    (void)af_strike_write(l->detector, c->first_sample + at, l->force.si, m, on_strike, l);
+  }
+}
+
 af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
                                af_ring_write_info *info)
 {
@@ -431,7 +446,7 @@ af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
   if (v == AF_CHUNK_OK && (info->gap_samples > 0 || info->restarted))
     l->force_gap_ns[l->force_gaps++ % AF_LANE_GAPS] = c->stamp_ns;
   if (v == AF_CHUNK_OK)
-    (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
+    detect(l, c);
   /* The audio may lead the force: what is complete goes now. */
   process(l);
   return v;
@@ -461,7 +476,16 @@ void af_lane_finish(af_lane *l)
 
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
 {
-  return af_strike_prime(l->detector, x, n);
+  if (l->force.si == NULL)
+    return af_strike_prime(l->detector, x, n);
+  /* A recording in V: its copy in N (offline, once per recording). */
+  float *si = malloc((n ? n : 1) * sizeof *si);
+  if (si == NULL)
+    return AF_ENOMEM;
+  af_stream_to_si(l->cfg->force.to_si, x, n, si);
+  af_status s = af_strike_prime(l->detector, si, n);
+  free(si);
+  return s;
 }
 
 af_status af_lane_reconfigured(af_lane *l, const char **what)

@@ -93,7 +93,9 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
                          af_lane **out, const char **what);
 void af_lane_destroy(af_lane *l); /* NULL-safe */
 
-/* A force or an audio chunk. Returns the stream's verdict (a refused chunk
+/* A force or an audio chunk, as sent (a force in V, force_unit, is turned
+ * into newtons here: x / force_sensitivity_v_per_n, for the ring and the
+ * detector alike). Returns the stream's verdict (a refused chunk
  * is counted in the stream and not used); *info (may be NULL) tells of gaps
  * and restarts. A force chunk runs the detector; both then measure what is
  * decided. */
@@ -126,7 +128,8 @@ af_status af_lane_reconfigured(af_lane *l, const char **what);
 void af_lane_finish(af_lane *l);
 
 /* Offline only: the detector's baseline and noise from the whole force
- * recording x[0..n) [N] (af_strike_prime), before it is written from its
+ * recording x[0..n) [N, or V with force_unit V: converted in a copy made
+ * here] (af_strike_prime), before it is written from its
  * first sample, so that a strike a fraction of a millisecond after the start
  * of a triggered capture is measured. Statuses of af_strike_prime. */
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n);

@@ -30,6 +30,8 @@ typedef struct {
   double buffer_s;                 /* ring length [s] */
   size_t capacity_samples;         /* ceil(buffer_s * sample_rate_hz) */
   char units[2][AF_LANE_UNIT_MAX]; /* accepted units ("" = unused slot) */
+  double to_si; /* each sample times this into the ring and the detector: 1 = as sent; a force
+                   in V: 1 / force_sensitivity_v_per_n [N/V] */
 } af_stream_config;
 
 /* The measured strikes: the detector on the force stream, the measurement of
@@ -58,6 +60,8 @@ typedef struct {
   /* --- streams --- */
   af_stream_config force, audio;
   double stream_stale_after_s; /* a stream silent this long is stale [s] */
+  double stream_absent_warn_s; /* warn when a stream sent nothing this long after start; 0 = never
+                                  [s] */
   /* --- measured strikes --- */
   af_measured_config measured;
   /* --- cultivar --- */

@@ -114,6 +114,17 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
             "audio_common: the microphone's value at digital full scale, in audio_unit"),
     [AF_SETTING_STREAM_STALE_AFTER_S] = NUM("stream_stale_after_s", "1.0", "(0, 3600] s", S,
                                             "a stream silent this long is reported stale"),
+    [AF_SETTING_STREAM_ABSENT_WARN_S] =
+        NUM("stream_absent_warn_s", "5.0", "0 or [0.1, 3600] s", S,
+            "/diagnostics warns when a stream has sent no chunk this long after the start "
+            "(0 = never)"),
+    [AF_SETTING_FORCE_UNIT] = CHOICE("force_unit", "N", "N, V", S,
+                                     "the force transducer's unit: N, or V from a DAQ (divided by "
+                                     "force_sensitivity_v_per_n at the lane's input)"),
+    [AF_SETTING_FORCE_SENSITIVITY_V_PER_N] =
+        NUM("force_sensitivity_v_per_n", "0.0", "0 or [1e-4, 10] V/N", S,
+            "the transducer's sensitivity with its conditioning; required with force_unit V, "
+            "0 = none (force_unit N)"),
     [AF_SETTING_MARKERS_ENABLED] =
         BOOLEAN("markers_enabled", "true", S, "publish the rviz markers"),
     [AF_SETTING_MARKER_LIFETIME_S] =
@@ -1369,6 +1380,31 @@ static af_status derive_stream(const af_settings *s, af_setting_id rate, af_sett
   return AF_OK;
 }
 
+/* The force transducer: newtons as sent, or volts from a DAQ turned into
+ * newtons at the lane's input (x [V] / sensitivity [V/N] = x [N]). The
+ * sensitivity goes with volts only: given with N it would be ignored. */
+static af_status derive_force_unit(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
+  const af_setting_id unit = AF_SETTING_FORCE_UNIT, sens = AF_SETTING_FORCE_SENSITIVITY_V_PER_N;
+  if (af_settings_choice(s, unit, c->force.units[0], AF_LANE_UNIT_MAX) != AF_OK) {
+    say(err, len, "%s has no value", name_of(s, unit).text);
+    return AF_EINVAL;
+  }
+  const bool volts = strcmp(c->force.units[0], "V") == 0;
+  if (volts && num(s, sens) == 0.0) {
+    say(err, len, "%s = 0 (none), but %s = V needs it: a number in %s other than 0",
+        name_of(s, sens).text, name_of(s, unit).text, rows[sens].range);
+    return AF_EINVAL;
+  }
+  if (!volts && num(s, sens) != 0.0) {
+    say(err, len, "%s = %g is given but %s = %s (the sensitivity converts volts only)",
+        name_of(s, sens).text, num(s, sens), name_of(s, unit).text, c->force.units[0]);
+    return AF_EINVAL;
+  }
+  c->force.to_si = volts ? 1.0 / num(s, sens) : 1.0;
+  return AF_OK;
+}
+
 static af_status derive_streams(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
   af_status st = derive_stream(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ, AF_SETTING_FORCE_BUFFER_S,
@@ -1378,15 +1414,16 @@ static af_status derive_streams(const af_settings *s, af_lane_config *c, char *e
                        err, len);
   if (st != AF_OK)
     return st;
-  /* The force transducer speaks newtons; the microphone pascals or volts. */
-  snprintf(c->force.units[0], AF_LANE_UNIT_MAX, "N");
+  /* The microphone speaks pascals or volts, as sent. */
   st = af_settings_choice(s, AF_SETTING_AUDIO_UNIT, c->audio.units[0], AF_LANE_UNIT_MAX);
   if (st != AF_OK) {
     say(err, len, "%s has no value", name_of(s, AF_SETTING_AUDIO_UNIT).text);
     return st;
   }
+  c->audio.to_si = 1.0;
   c->stream_stale_after_s = num(s, AF_SETTING_STREAM_STALE_AFTER_S);
-  return AF_OK;
+  c->stream_absent_warn_s = num(s, AF_SETTING_STREAM_ABSENT_WARN_S);
+  return derive_force_unit(s, c, err, len);
 }
 
 /* Smallest power of two >= n (n >= 1); SIZE_MAX / 2 + 1 at most, never a

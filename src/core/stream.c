@@ -3,17 +3,31 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Rates are configured and sent as the same nominal number; this only
  * absorbs a rate that went through a float. */
 #define AF_RATE_RTOL 1e-6
 
+void af_stream_to_si(double to_si, const float *x, size_t n, float *out)
+{
+  for (size_t k = 0; k < n; k++)
+    out[k] = (float)((double)x[k] * to_si);
+}
+
+static bool converts(const af_stream_config *cfg)
+{
+  return cfg->to_si != 1.0 && cfg->to_si != 0.0; /* 0: a config made without a unit */
+}
+
 af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg)
 {
   memset(s, 0, sizeof *s);
   s->name = name;
   s->cfg = cfg;
+  if (converts(cfg) && (s->si = malloc(AF_STREAM_BLOCK * sizeof *s->si)) == NULL)
+    return AF_ENOMEM;
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
 
@@ -21,6 +35,26 @@ void af_stream_fini(af_stream *s)
 {
   af_ring_destroy(s->ring);
   s->ring = NULL;
+  free(s->si);
+  s->si = NULL;
+}
+
+/* The chunk into the ring, converted block by block when the unit is not
+ * the lane's; *w: what the first block's write found (gaps and restarts can
+ * only come before it, the blocks follow each other). */
+static af_status write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *w)
+{
+  if (!converts(s->cfg))
+    return af_ring_write(s->ring, c->x, c->n, c->first_sample, w);
+  for (size_t at = 0; at < c->n || at == 0; at += AF_STREAM_BLOCK) {
+    size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
+    af_ring_write_info block;
+    af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    af_status st = af_ring_write(s->ring, s->si, m, c->first_sample + at, at ? &block : w);
+    if (st != AF_OK || c->n == 0)
+      return st;
+  }
+  return AF_OK;
 }
 
 static bool unit_accepted(const af_stream_config *cfg, const char *unit)
@@ -65,7 +99,7 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
   af_ring_write_info w;
   memset(&w, 0, sizeof w);
   af_chunk_verdict v = check(s, c);
-  if (v == AF_CHUNK_OK && af_ring_write(s->ring, c->x, c->n, c->first_sample, &w) != AF_OK) {
+  if (v == AF_CHUNK_OK && write_ring(s, c, &w) != AF_OK) {
     /* Only an index overflow gets here: first_sample + n past 2^64. */
     s->bad_data++;
     snprintf(s->last_problem, sizeof s->last_problem, "%s chunk: first_sample %llu + %zu overflows",

@@ -35,6 +35,9 @@ extern "C" {
  * at 50 kHz, longer than a strike ever waits; older times map through the
  * oldest anchor kept. */
 #define AF_STREAM_ANCHORS 512
+/* Samples converted at a time when the stream's unit is not the lane's
+ * (cfg->to_si != 1, a force in volts): the scratch made at init. */
+#define AF_STREAM_BLOCK 4096
 
 typedef struct {
   int64_t stamp_ns;      /* time of the chunk's first sample [ns] */
@@ -76,13 +79,20 @@ typedef struct {
   af_stream_anchor anchors[AF_STREAM_ANCHORS];
   size_t anchor_next, anchor_count;
   char frame_id[AF_STREAM_FRAME_MAX];
+  float *si; /* AF_STREAM_BLOCK samples in the lane's unit; NULL when cfg->to_si is 1 */
 } af_stream;
 
-/* Makes the ring (capacity from cfg, which must outlive s). AF_ENOMEM. */
+/* out[k] = x[k] * to_si, k < n: a sample as sent into the lane's unit (a
+ * force in V times 1 / sensitivity [N/V] = N). out may be x. */
+void af_stream_to_si(double to_si, const float *x, size_t n, float *out);
+
+/* Makes the ring (capacity from cfg, which must outlive s) and, when
+ * cfg->to_si is not 1, the conversion scratch. AF_ENOMEM. */
 af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg);
 void af_stream_fini(af_stream *s); /* safe on a zeroed or finished stream */
 
-/* Checks one chunk and buffers it when good; a refused chunk is counted and
+/* Checks one chunk (as sent: its unit, its rate, finite samples) and
+ * buffers it, times cfg->to_si, when good; a refused chunk is counted and
  * described in s->last_problem. *info (may be NULL) tells of gaps and
  * restarts. now_ns: the lane's clock at arrival. No allocation. */
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,

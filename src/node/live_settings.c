@@ -46,12 +46,14 @@ static af_status set_row(af_settings *s, const af_rc_value *v, bool *changed, ch
   return st;
 }
 
-static af_status on_request(const af_rc_value *values, size_t n, void *user, char *err, size_t len)
+static af_status on_request(const af_rc_value *values, size_t n, bool initial, void *user,
+                            char *err, size_t len)
 {
   af_live_settings *l = user;
   char why[AF_WHY_MAX] = "", change[AF_TEXT_MAX] = "";
   bool grades = false, any = false;
-  l->requests++;
+  /* The server's start hands over the node's own values: not a request. */
+  l->requests += !initial;
   l->next = l->cfg->settings;
   af_settings_set_name_prefix(&l->next, "~");
   af_status st = AF_OK;
@@ -70,8 +72,10 @@ static af_status on_request(const af_rc_value *values, size_t n, void *user, cha
       grades |= id == AF_SETTING_GRADE_QUANTITY || id == AF_SETTING_GRADE_CLASSES;
     }
   }
-  if (st == AF_OK && !any)
-    return AF_OK; /* the values in force (the server's start, or a repeat) */
+  if (st == AF_OK && !any) {
+    l->accepted += !initial; /* the values in force again: taken, nothing to remake */
+    return AF_OK;
+  }
   if (st == AF_OK)
     st = af_lane_config_derive(&l->next, &l->derived, why, sizeof why);
   const char *what = "";
@@ -85,14 +89,14 @@ static af_status on_request(const af_rc_value *values, size_t n, void *user, cha
     }
   }
   if (st != AF_OK) {
-    l->refused++;
+    l->refused += !initial;
     af_text(l->last_refusal, sizeof l->last_refusal, "%s", why);
     af_text(err, len, "%s", why);
     af_ros_log(l->ros, AF_LOG_WARN, "reconfigure refused: %s", why);
     return st;
   }
   l->cfg->settings = l->next;
-  l->accepted++;
+  l->accepted += !initial;
   af_text(l->last_change, sizeof l->last_change, "%s", change);
   af_ros_log(l->ros, AF_LOG_INFO, "reconfigured: %s", change);
   return AF_OK;
@@ -102,7 +106,7 @@ void af_live_settings_diag(const af_live_settings *l, af_diag_status *d)
 {
   if (!l)
     return;
-  af_diag_add(d, "reconfigure", "%llu requests: %llu changes accepted, %llu refused", l->requests,
+  af_diag_add(d, "reconfigure", "%llu requests: %llu accepted, %llu refused", l->requests,
               l->accepted, l->refused);
   af_diag_add(d, "reconfigure last change", "%s", l->last_change);
   af_diag_add(d, "reconfigure last refusal", "%s", l->last_refusal);

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "absent.h"
 #include "advice.h"
 #include "af_tf.h"
 #include "audio_in.h"
@@ -60,6 +61,13 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
+  int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
+  bool absent_logged;       /* the stream-absent warning went to the log */
+  char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
+  /* The rig's frames, checked once the simulated clock has run AF_TF_WAIT_S
+   * (replay: robot_state_publisher's fixed frames wait for the first /clock). */
+  bool tf_check_deferred;
+  int64_t tf_clock_start_ns; /* the first /clock seen by that check [ns]; 0 = none yet */
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
   bool have_band;
@@ -452,6 +460,13 @@ static void diag_task(af_diag_status *d, void *user)
                                 af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
+  if (st->clock_start_ns == 0)
+    st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
+  bool absent = af_absent_warning(force, audio, st->clock_start_ns, now_ns,
+                                  c->lane.stream_absent_warn_s, st->absent, sizeof st->absent);
+  if (absent && !st->absent_logged)
+    af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
+  st->absent_logged |= absent;
   const char *strike_warning = af_measured_warning(st->measured);
   if (!strike_warning)
     strike_warning = af_audio_in_warning(st->audio_in);
@@ -461,6 +476,8 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_summary(d, AF_DIAG_WARN, "stream gaps or bad chunks since the last report");
   else if (force_stale || audio_stale)
     af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
+  else if (absent)
+    af_diag_summary(d, AF_DIAG_WARN, st->absent);
   else if (strike_warning)
     af_diag_summary(d, AF_DIAG_WARN, strike_warning);
   else if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0)
@@ -471,6 +488,7 @@ static void diag_task(af_diag_status *d, void *user)
   publish_status(st, st->last_apple_invalid ? "last apple got no prediction"
                      : new_problems         ? "stream gaps or bad chunks since the last report"
                      : force_stale || audio_stale ? "a stream went silent"
+                     : absent                     ? st->absent
                                                   : strike_warning);
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
@@ -500,6 +518,10 @@ static void diag_task(af_diag_status *d, void *user)
   }
   diag_stream(d, force, force_stale);
   diag_stream(d, audio, audio_stale);
+  if (c->lane.stream_absent_warn_s > 0.0)
+    af_diag_add(d, "stream absent check", "%s", absent ? st->absent : "ok");
+  else
+    af_diag_add(d, "stream absent check", "off (stream_absent_warn_s 0)");
   af_measured_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
   af_live_settings_diag(st->live, d);
@@ -544,19 +566,53 @@ static af_status subscribe(af_station *st)
 /* Waits up to AF_TF_WAIT_S for the hammer's mount frame in TF (latched
  * /tf_static from robot_state_publisher), so that the first apples find it;
  * without it each apple's prediction says why its strike point is unknown. */
+static void warn_no_rig_frames(af_station *st)
+{
+  af_ros_log(st->ros, AF_LOG_WARN,
+             "the rig's frame '%s' is not in TF after %.0f s (is robot_state_publisher "
+             "running on the rig's URDF?): strike points stay unknown until it is",
+             st->cfg->hammer.mount_frame, AF_TF_WAIT_S);
+}
+
+/* Under simulated time that has not started (replay before rosbag play's
+ * first /clock) the rig's fixed frames cannot be there yet:
+ * robot_state_publisher sends them from a timer on that clock. The check
+ * then waits for the clock (af_station_update) instead of warning falsely. */
 static void wait_for_rig_frames(af_station *st)
 {
   const char *mount = st->cfg->hammer.mount_frame;
   if (!st->cfg->hammer_axis_known)
     return;
+  if (af_time_to_ns(af_ros_now(st->ros)) == 0) {
+    st->tf_check_deferred = true;
+    af_ros_log(st->ros, AF_LOG_DEBUG,
+               "simulated clock not started: the rig's frames are checked %.0f s after it does",
+               AF_TF_WAIT_S);
+    return;
+  }
   for (int k = 0; k < (int)(AF_TF_WAIT_S / 0.1) && !af_tf_frame_known(st->tf, mount); k++)
     if (af_ros_spin_once(st->ros, 0.1) != AF_OK || !af_ros_ok(st->ros))
       return;
   if (!af_tf_frame_known(st->tf, mount))
-    af_ros_log(st->ros, AF_LOG_WARN,
-               "the rig's frame '%s' is not in TF after %.0f s (is robot_state_publisher "
-               "running on the rig's URDF?): strike points stay unknown until it is",
-               mount, AF_TF_WAIT_S);
+    warn_no_rig_frames(st);
+}
+
+/* The deferred check: AF_TF_WAIT_S of the clock after its first tick. */
+static void deferred_rig_frames(af_station *st)
+{
+  int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
+  if (!st->tf_check_deferred || now_ns == 0)
+    return;
+  if (af_tf_frame_known(st->tf, st->cfg->hammer.mount_frame)) {
+    st->tf_check_deferred = false;
+    return;
+  }
+  if (st->tf_clock_start_ns == 0)
+    st->tf_clock_start_ns = now_ns;
+  if ((double)(now_ns - st->tf_clock_start_ns) * 1e-9 >= AF_TF_WAIT_S) {
+    warn_no_rig_frames(st);
+    st->tf_check_deferred = false;
+  }
 }
 
 /* Makes each part in turn; *what names the one that failed. */
@@ -590,6 +646,7 @@ static void note_start(af_station *st)
 static af_status build(af_station *st, const char **what)
 {
   af_status s;
+  st->clock_start_ns = af_time_to_ns(af_ros_now(st->ros)); /* 0: a simulated clock not started */
   *what = "the diagnostics";
   if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
       (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
@@ -653,6 +710,7 @@ void af_station_destroy(af_station *st)
 
 void af_station_update(af_station *st)
 {
+  deferred_rig_frames(st);
   af_measured_poll(st->measured);
   af_strike_plot_update(st->plot); /* renders outside every callback */
   af_ros_diag_update(st->diag);

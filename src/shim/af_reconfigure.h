@@ -5,9 +5,12 @@
  * af_ros_spin_once; it gets every parameter of the request by name and type
  * and accepts it (AF_OK) or refuses it with one line: the server then
  * answers with the values it last accepted, so a client sees the refusal as
- * its values not taken. The first call (the server's start) carries the
- * values on the parameter server, i.e. the node's own. Conventions of
- * af_ros.h: nothing throws; the server belongs to the af_ros. */
+ * its values not taken. The values come as the client sent them, not
+ * clamped to the description's min and max (dynamic_reconfigure's own server
+ * clamps them in silence): the handler refuses what is out of range. The
+ * first call (initial true: the server's start, not a client's request)
+ * carries the values on the parameter server, i.e. the node's own. Conventions
+ * of af_ros.h: nothing throws; the server belongs to the af_ros. */
 #ifndef AF_RECONFIGURE_SHIM_H
 #define AF_RECONFIGURE_SHIM_H
 
@@ -36,8 +39,8 @@ typedef struct {
   const char *text; /* borrowed for the call */
 } af_rc_value;
 
-typedef af_status (*af_rc_fn)(const af_rc_value *values, size_t n, void *user, char *err,
-                              size_t len);
+typedef af_status (*af_rc_fn)(const af_rc_value *values, size_t n, bool initial, void *user,
+                              char *err, size_t len);
 
 /* Starts the server; fn is called at once with the initial values. AF_OK;
  * AF_EINVAL; AF_EROS. */

@@ -9,9 +9,10 @@ so the two cannot drift. Then, on the running node: a lobe change reaches the
 next apple's ExcitationBand (equal to firmness_model --lobe 2) and ~evaluate;
 a modulus outside [modulus_min_pa, modulus_max_pa] is refused by the same
 cross-check as at start-up (the old value stays, the reason is in
-/diagnostics); a value beyond the table's range is clamped by
-dynamic_reconfigure to the table's end; grade classes change, and a
-malformed spec is refused naming its token."""
+/diagnostics); a value beyond the table's range is refused with the
+table's range (not clamped: the node's server sees the request as sent);
+grade classes change, and a malformed spec is refused naming its token. The
+exact request counts are test_reconfigure_refusals.py's."""
 
 import math
 import os
@@ -150,10 +151,14 @@ class ReconfigureTest(unittest.TestCase):
         self.assertTrue(math.isclose(ans.contact_time, ref['contact_time_s'], rel_tol=1e-8))
         self.client.update_configuration({'modulus_nominal_pa': 8.0e6, 'strike_velocity_m_s': 1.4})
 
-    def test_03_beyond_the_tables_range_is_clamped_to_it(self):
+    def test_03_beyond_the_tables_range_is_refused(self):
         cfg = self.client.update_configuration({'measure_snr_threshold_db': 500.0})
-        self.assertEqual(cfg['measure_snr_threshold_db'], 100.0)  # the table's [-100, 100] dB
-        self.diag_value('reconfigure last change', '~measure_snr_threshold_db = 100')
+        self.assertEqual(cfg['measure_snr_threshold_db'], 15.0)  # unchanged, not clamped to 100
+        self.diag_value('reconfigure last refusal',
+                        '~measure_snr_threshold_db = 500 is outside the accepted range '
+                        '[-100, 100] dB')
+        cfg = self.client.update_configuration({'measure_snr_threshold_db': 12.0})
+        self.assertEqual(cfg['measure_snr_threshold_db'], 12.0)
         cfg = self.client.update_configuration({'measure_snr_threshold_db': 15.0})
         self.assertEqual(cfg['measure_snr_threshold_db'], 15.0)
 
