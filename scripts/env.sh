@@ -69,3 +69,52 @@ af_start_master() {
   echo "roscore on port $1 did not start" >&2
   return 1
 }
+
+# Replays bag $1 through the lane node already running in namespace $3 (on
+# the master of ROS_MASTER_URI, /use_sim_time set) and records the node's
+# StrikeReport and Reliability into $2 (record log beside it). Rate: $4
+# (default 1). The recorder is subscribed before the first message is
+# played, stopped once its bag has not grown for 2 s after the end of the
+# play (the node may still be deciding the last strikes), and waited for
+# until it has closed $2: under SIGINT from a script rosbag's Python wrapper
+# exits at once while its recorder is still closing the bag.
+af_replay_record() {
+  local in=$1 out=$2 ns=$3 rate=${4:-1} topic i size last=-1 rec
+  rosbag record -q -O "$out" "/$ns/strike_report" "/$ns/reliability" __name:=af_replay_record \
+    >"$out.record.log" 2>&1 &
+  rec=$!
+  for topic in "/$ns/strike_report" "/$ns/reliability"; do
+    for i in $(seq 150); do
+      rostopic info "$topic" 2>/dev/null | sed -n '/Subscribers:/,$p' | grep -q af_replay_record && break
+      [ "$i" = 150 ] && { echo "af_replay_record: the recorder never subscribed to $topic" >&2; kill -INT "$rec"; return 1; }
+      sleep 0.2
+    done
+  done
+  rosbag play --clock -q --delay=1 --wait-for-subscribers --rate="$rate" "$in" >/dev/null
+  sleep 1
+  for _ in $(seq 300); do
+    size=$(stat -c %s "$out.active" 2>/dev/null || echo 0)
+    [ "$size" = "$last" ] && [ "$size" != 0 ] && break
+    last=$size
+    sleep 2
+  done
+  kill -INT "$rec" 2>/dev/null || true
+  wait "$rec" 2>/dev/null || true
+  for i in $(seq 150); do
+    [ -f "$out" ] && return 0
+    sleep 0.2
+  done
+  echo "af_replay_record: rosbag record wrote no $out" >&2
+  cat "$out.record.log" >&2
+  return 1
+}
+
+# Waits up to 20 s for node $1 (a full name) to register with the master.
+af_wait_node() {
+  for _ in $(seq 100); do
+    rosnode list 2>/dev/null | grep -qx "$1" && return 0
+    sleep 0.2
+  done
+  echo "node $1 did not come up in 20 s" >&2
+  return 1
+}

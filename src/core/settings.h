@@ -266,7 +266,8 @@ void af_settings_value_text(const af_settings *s, af_setting_id id, char *buf, s
 
 typedef enum {
   AF_SETTINGS_PRINT_TEXT,    /* aligned columns: name, kind, default, range + unit, file, help */
-  AF_SETTINGS_PRINT_MARKDOWN /* doc/parameters.md's form: "- **name** (kind, default, range, unit): help" */
+  AF_SETTINGS_PRINT_MARKDOWN /* doc/parameters.md's form: "- **name** (kind, default, range, unit):
+                                help" */
 } af_settings_print_format;
 
 /* Prints the rows of files (defaults from the table). */

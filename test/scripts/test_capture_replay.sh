@@ -40,65 +40,25 @@ af_start_master "$port" "$tmp/master.log"
 rosparam set /use_sim_time true
 roslaunch acoustic_firmness station.launch ns:=lane1 config:="$tmp/station.yaml" >"$tmp/launch.log" 2>&1 &
 pids+=("$!")
-for _ in $(seq 100); do
-  rosnode list 2>/dev/null | grep -q /lane1/firmness_node && break
-  sleep 0.2
-done
-rosbag record -q -O "$tmp/out.bag" /lane1/strike_report /lane1/reliability __name:=af_capture_record \
-  >"$tmp/record.log" 2>&1 &
-record=$!
-pids+=("$record")
-sleep 2
-rosbag play --clock -q --delay=1 --wait-for-subscribers "$tmp/in.bag" >/dev/null
-sleep 3
-kill -INT "$record" 2>/dev/null || true
-wait "$record" 2>/dev/null || true
+af_wait_node /lane1/firmness_node || fail=1
+af_replay_record "$tmp/in.bag" "$tmp/out.bag" lane1 || fail=1
 stop_all
 af_check_stopped "$port" || fail=1
 
 "$lib/firmness_report" "$tmp/in.bag" --config "$tmp/station.yaml" --json >"$tmp/report.json"
-/usr/bin/python3 - "$tmp/report.json" "$tmp/out.bag" "$tmp/expect.json" <<'PY' || bad "node and firmness_report differ"
-import json, math, sys
-import rosbag
-rep, exp = json.load(open(sys.argv[1])), json.load(open(sys.argv[3]))
-reports, measured = {}, {}
-for topic, m, _ in rosbag.Bag(sys.argv[2]).read_messages():
-    if topic.endswith('strike_report'):
-        reports[m.header.stamp.to_nsec()] = m
-    elif m.source == 'measured':
-        measured[m.header.stamp.to_nsec()] = m
-offline = {o['stamp_ns']: o for o in rep['strikes']}
-fields = (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_N'), ('impulse', 'impulse_Ns'),
-          ('band_low', 'band_low_Hz'), ('band_high', 'band_high_Hz'), ('resonance', 'resonance_Hz'),
-          ('resonance_q', 'resonance_q'), ('snr_db', 'snr_dB'), ('stiffness_factor', 'stiffness_factor'),
-          ('modulus_from_resonance', 'modulus_from_resonance_Pa'), ('fitted_modulus', 'fitted_modulus_Pa'),
-          ('fitted_restitution', 'fitted_restitution'), ('fit_residual', 'fit_residual'))
-bad, worst = [], 0.0
-if not (len(offline) == len(reports) == len(measured) == len(exp['strikes']) == 3):
-    bad.append('counts: report %d, node %d StrikeReports, %d measured Reliabilities, captures %d'
-               % (len(offline), len(reports), len(measured), len(exp['strikes'])))
+/usr/bin/python3 - "$tmp/report.json" "$tmp/out.bag" "$tmp/expect.json" "$AF_ROOT/scripts" <<'PY' || bad "node and firmness_report differ"
+import json, sys
+sys.path.insert(0, sys.argv[4])
+from node_vs_report import compare
+exp = json.load(open(sys.argv[3]))
+offline, bad, worst = compare(sys.argv[1], sys.argv[2], 3)
+if len(exp['strikes']) != 3:
+    bad.append('the captures: %d strikes, expected 3' % len(exp['strikes']))
 for (stamp, o), e in zip(sorted(offline.items()), exp['strikes']):
     start_s = stamp * 1e-9 - 1700000000
     if o['apple_id'] != e['apple_id'] or abs(start_s - e['onset_s']) > 1.0 / exp['rate_hz']:
         bad.append('strike at %d: apple %d, start %.7f s; the captures: apple %d, onset %.7f s'
                    % (stamp, o['apple_id'], start_s, e['apple_id'], e['onset_s']))
-    r, m = reports.get(stamp), measured.get(stamp)
-    if r is None or m is None:
-        bad.append('strike at %d: not in the node output' % stamp)
-        continue
-    if r.apple_id != o['apple_id'] or m.reason != o['reason'] or m.reliable != o['reliable'] \
-            or m.excites_mode != o['excites_mode'] or m.no_damage != o['no_damage']:
-        bad.append('strike at %d: apple/verdict/reason differ' % stamp)
-    for f, key in fields:
-        a, b = getattr(r, f), o[key]
-        if b is None:
-            if not math.isnan(a):
-                bad.append('%s at %d: node %r, report NaN' % (f, stamp, a))
-            continue
-        d = abs(a - b) / max(abs(b), 1e-300)
-        worst = max(worst, d)
-        if d > 1e-9:
-            bad.append('%s at %d: node %r, report %r' % (f, stamp, a, b))
 for stamp, o in sorted(offline.items()):
     print('  apple %d: start %.6f s, peak %.3f N, t_c %.4f ms, 0S2 %.1f Hz, %s'
           % (o['apple_id'], stamp * 1e-9, o['peak_force_N'], o['contact_time_s'] * 1e3,
