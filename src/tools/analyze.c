@@ -617,10 +617,10 @@ static void af_analyze_help(void)
   printf("usage: firmness_model analyze --force FILE --audio FILE --mass KG --R2 M\n"
          "                              [--rate-force HZ --rate-audio HZ] [flags]\n\n"
          "A recording judged as the node judges it live: the force and audio files (WAV, or\n"
-         "raw float32 with their rates) through\n"
-         "the station's lane, configured from the node's YAML files, one apple for the whole\n"
-         "recording. Prints one JSON object: the strikes with their StrikeReport figures and\n"
-         "verdict flags, and why there are none when there are none.\n\n"
+         "raw float32 with their rates) through the station's lane, configured from the\n"
+         "node's YAML files, one apple for the whole recording. Prints one JSON object: the\n"
+         "strikes with their StrikeReport figures and verdict flags, and why there are none\n"
+         "when there are none.\n\n"
          "flags (the parameter rows' defaults: %s):\n",
          files ? "the parameter table under the default --config and --cultivar"
                : "the parameter table's, the default files being unreadable");
