@@ -1,0 +1,274 @@
+/* test_stream.c — one input stream (stream.h) fed hand-built chunk
+ * sequences: gaps and lost samples counted against the hand-summed holes,
+ * restarts, refused chunks (rate, unit, non-finite sample, index overflow)
+ * with their one-line messages, the unit conversion across its blocks
+ * (ring contents against x times to_si), the time <-> index mapping through
+ * the holding chunk against hand-computed stamps, the anchor ring's limit,
+ * and staleness around its threshold. */
+#include <math.h>
+#include <string.h>
+
+#include "af_test.h"
+#include "stream.h"
+
+#define RATE_HZ 50000.0
+#define CHUNK 100
+
+static af_stream_config config(size_t capacity, double to_si)
+{
+  af_stream_config c;
+  memset(&c, 0, sizeof c);
+  c.sample_rate_hz = RATE_HZ;
+  c.buffer_s = (double)capacity / RATE_HZ;
+  c.capacity_samples = capacity;
+  strcpy(c.units[0], "N");
+  strcpy(c.units[1], "V");
+  c.to_si = to_si;
+  return c;
+}
+
+static float samples[3 * 4096 + 7];
+
+/* x[k] = first + k + 0.25: every sample's index readable from its value. */
+static af_chunk chunk(uint64_t first, size_t n, int64_t stamp_ns)
+{
+  for (size_t k = 0; k < n; k++)
+    samples[k] = (float)((double)(first + k) + 0.25);
+  af_chunk c = {stamp_ns, first, RATE_HZ, "N", "hammer", samples, n};
+  return c;
+}
+
+static void test_gaps_and_restarts(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  AF_CHECK(!s.seen && s.chunks == 0);
+  af_ring_write_info w;
+  af_chunk c = chunk(0, CHUNK, 1000);
+  AF_CHECK(af_stream_push(&s, &c, 5, &w) == AF_CHUNK_OK);
+  AF_CHECK(s.seen && s.chunks == 1 && s.last_rx_ns == 5 && strcmp(s.frame_id, "hammer") == 0);
+  AF_CHECK(w.gap_samples == 0 && !w.restarted && s.last_problem[0] == '\0');
+  c = chunk(100, CHUNK, 0);
+  AF_CHECK(af_stream_push(&s, &c, 6, &w) == AF_CHUNK_OK && w.gap_samples == 0);
+  AF_CHECK(s.gaps == 0 && s.lost_samples == 0);
+  /* Holes of 7 and 93 samples: 2 gaps, 100 lost. */
+  c = chunk(207, CHUNK, 0);
+  AF_CHECK(af_stream_push(&s, &c, 7, &w) == AF_CHUNK_OK && w.gap_samples == 7);
+  AF_CHECK(s.gaps == 1 && s.lost_samples == 7);
+  AF_CHECK(strcmp(s.last_problem, "force: 7 samples lost before sample 207") == 0);
+  c = chunk(400, 50, 0);
+  AF_CHECK(af_stream_push(&s, &c, 8, NULL) == AF_CHUNK_OK);
+  AF_CHECK(s.gaps == 2 && s.lost_samples == 100 && s.chunks == 4);
+  /* The hole reads as NaN, the samples around it as sent. */
+  float r[4];
+  AF_CHECK_STATUS(af_ring_read(s.ring, 198, 4, r), AF_OK);
+  AF_CHECK(r[0] == 198.25f && r[1] == 199.25f && isnan(r[2]) && isnan(r[3]));
+  /* One sample of overlap: a restart, not a gap; the anchors are forgotten. */
+  c = chunk(449, 10, 0);
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && w.gap_samples == 0);
+  AF_CHECK(s.restarts == 1 && s.gaps == 2 && s.lost_samples == 100 && s.anchor_count == 1);
+  AF_CHECK(strcmp(s.last_problem, "force: stream restarted at sample 449 (went backwards)") == 0);
+  /* An empty chunk is accepted and counted, with no gap. */
+  c = chunk(459, 0, 0);
+  AF_CHECK(af_stream_push(&s, &c, 10, &w) == AF_CHUNK_OK && w.gap_samples == 0);
+  AF_CHECK(s.chunks == 6 && af_stream_bad_chunks(&s) == 0);
+  af_stream_fini(&s);
+  af_stream_fini(&s); /* twice: safe */
+  af_stream z;
+  memset(&z, 0, sizeof z);
+  af_stream_fini(&z); /* zeroed: safe */
+}
+
+static void test_refused(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  af_chunk c = chunk(0, CHUNK, 0);
+  AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
+
+  c = chunk(100, CHUNK, 0);
+  c.sample_rate_hz = 48000.0;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_RATE);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: sample_rate 48000 Hz, expected "
+                                  "50000 Hz") == 0);
+  c.sample_rate_hz = RATE_HZ * (1.0 + 2e-6); /* beyond the float tolerance */
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_RATE);
+  c.sample_rate_hz = NAN;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_RATE);
+  c.sample_rate_hz = (double)(float)(RATE_HZ / 3.0) * 3.0; /* a rate through a float: fine */
+  c.unit = "mV";
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_UNIT);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: unit 'mV', expected 'N'") == 0);
+  c.unit = NULL;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_UNIT);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: unit '', expected 'N'") == 0);
+  c.unit = "n"; /* units are case-sensitive */
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_UNIT);
+  c.unit = "V"; /* the second accepted unit */
+  samples[42] = NAN;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: sample 42 is nan") == 0);
+  samples[42] = 142.25f;
+  samples[99] = -INFINITY;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: sample 99 is -inf") == 0);
+  /* Index overflow: first_sample + n past 2^64. */
+  c = chunk(0, 10, 0);
+  c.first_sample = UINT64_MAX - 5;
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
+  AF_CHECK(strcmp(s.last_problem, "force chunk: first_sample 18446744073709551610 + 10 "
+                                  "overflows") == 0);
+  /* Refused chunks: counted by kind, nothing else changes. */
+  AF_CHECK(s.bad_rate == 3 && s.bad_unit == 3 && s.bad_data == 3);
+  AF_CHECK(af_stream_bad_chunks(&s) == 9);
+  AF_CHECK(s.chunks == 1 && s.last_rx_ns == 0 && s.anchor_count == 1 && s.gaps == 0);
+  AF_CHECK(af_ring_end(s.ring) == 100);
+  /* The good chunk after them: no gap, it follows sample 99. */
+  c = chunk(100, CHUNK, 0);
+  c.unit = "V";
+  AF_CHECK(af_stream_push(&s, &c, 2, NULL) == AF_CHUNK_OK && s.gaps == 0 && s.chunks == 2);
+  af_stream_fini(&s);
+}
+
+/* A force in volts: 0.5 V/N, so to_si = 2 N/V; chunks longer than the
+ * conversion block (4096) are converted block by block. */
+static void test_conversion(void)
+{
+  float x[5] = {1.0f, -0.5f, 0.0f, 3.0f, 1e-3f}, y[5];
+  af_stream_to_si(2.0, x, 5, y);
+  AF_CHECK(y[0] == 2.0f && y[1] == -1.0f && y[2] == 0.0f && y[3] == 6.0f && y[4] == 2e-3f);
+  af_stream_to_si(0.1, x, 5, x); /* in place */
+  AF_CHECK(x[0] == (float)0.1 && x[3] == (float)(3.0 * 0.1));
+
+  const size_t n = 2 * AF_STREAM_BLOCK + 7, cap = 3 * AF_STREAM_BLOCK;
+  af_stream_config cfg = config(cap, 2.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  AF_CHECK(s.si != NULL);
+  af_chunk c = chunk(1000, n, 0);
+  c.unit = "V";
+  AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
+  /* After a gap of 50 the long chunk reports the gap once (its first block). */
+  af_ring_write_info w;
+  c = chunk(1000 + n + 50, n, 0);
+  c.unit = "V";
+  AF_CHECK(af_stream_push(&s, &c, 1, &w) == AF_CHUNK_OK && w.gap_samples == 50 && !w.restarted);
+  AF_CHECK(s.gaps == 1 && s.lost_samples == 50);
+  static float back[3 * 4096];
+  AF_CHECK_STATUS(af_ring_read(s.ring, 1000 + n + 50, n, back), AF_OK);
+  int exact = 1;
+  for (size_t k = 0; k < n; k++)
+    if (back[k] != (float)(2.0 * ((double)(1000 + n + 50 + k) + 0.25)))
+      exact = 0;
+  AF_CHECK(exact);
+  AF_CHECK(af_ring_end(s.ring) == 1000 + 2 * n + 50);
+  af_stream_fini(&s);
+  AF_CHECK(s.si == NULL && s.ring == NULL);
+
+  /* to_si 1 (or 0, a config without a unit): no scratch, samples as sent. */
+  cfg = config(cap, 0.0);
+  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK(s.si == NULL);
+  c = chunk(0, 10, 0);
+  AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
+  AF_CHECK_STATUS(af_ring_read(s.ring, 3, 1, back), AF_OK);
+  AF_CHECK(back[0] == 3.25f);
+  af_stream_fini(&s);
+}
+
+/* Stamps that drift against the counter: chunk k (100 samples = 2 ms)
+ * stamped at t0 + k 2 ms + k 1 us. Sample i of chunk k is at
+ * stamp_k + (i - 100 k) 20 us. */
+#define T0_NS 1700000000000000000LL
+static int64_t stamp_of_chunk(uint64_t k)
+{
+  return T0_NS + (int64_t)k * 2000000 + (int64_t)k * 1000;
+}
+
+static void test_time_mapping(void)
+{
+  af_stream_config cfg = config(100000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  for (uint64_t k = 0; k < 5; k++) {
+    af_chunk c = chunk(k * CHUNK, CHUNK, stamp_of_chunk(k));
+    AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
+  }
+  /* Sample 250 is 50 samples (1 ms) into chunk 2. */
+  AF_CHECK(af_stream_time_ns(&s, 250.0) == T0_NS + 4002000 + 1000000);
+  AF_CHECK(af_stream_time_ns(&s, 200.0) == T0_NS + 4002000);
+  AF_CHECK(af_stream_time_ns(&s, 199.0) == T0_NS + 2001000 + 99 * 20000);
+  AF_CHECK(af_stream_time_ns(&s, 0.5) == T0_NS + 10000); /* half a sample: 10 us */
+  /* Past the newest chunk: through the newest (chunk 4). */
+  AF_CHECK(af_stream_time_ns(&s, 1000.0) == T0_NS + 8004000 + 600 * 20000);
+  /* Before the oldest: through the oldest (chunk 0), a negative offset. */
+  AF_CHECK(af_stream_time_ns(&s, -50.0) == T0_NS - 1000000);
+  /* The inverse, through the chunk stamped at or before t. */
+  AF_CHECK_ABS(af_stream_index_at(&s, T0_NS + 4002000 + 1000000), 250.0, 1e-9);
+  AF_CHECK_ABS(af_stream_index_at(&s, T0_NS + 4002000), 200.0, 1e-9);
+  /* 1 us before chunk 2's stamp: through chunk 1, 2.001 ms - 1 us after it:
+   * 100 + 2000 us / 20 us = 199.95... (1 us is 0.05 sample) */
+  AF_CHECK_ABS(af_stream_index_at(&s, T0_NS + 4002000 - 1000), 100.0 + 2000.0 / 20.0, 1e-9);
+  AF_CHECK_ABS(af_stream_index_at(&s, T0_NS - 20000), -1.0, 1e-9);
+  /* Round trip through the holding chunk. */
+  for (double i = 0.0; i < 500.0; i += 37.5)
+    AF_CHECK_ABS(af_stream_index_at(&s, af_stream_time_ns(&s, i)), i, 0.5e-9 * RATE_HZ);
+  /* A restart forgets the old anchors: sample 0 is at the new stamp. */
+  af_chunk c = chunk(0, CHUNK, T0_NS + 7000000000LL);
+  AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK && s.restarts == 1);
+  AF_CHECK(af_stream_time_ns(&s, 10.0) == T0_NS + 7000000000LL + 200000);
+  af_stream_fini(&s);
+}
+
+/* 600 chunks: the oldest 88 anchors are dropped, earlier samples map
+ * through chunk 88 (drift 1 us per chunk makes the difference visible). */
+static void test_anchor_limit(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  const uint64_t n_chunks = 600, dropped = n_chunks - AF_STREAM_ANCHORS;
+  for (uint64_t k = 0; k < n_chunks; k++) {
+    af_chunk c = chunk(k * CHUNK, CHUNK, stamp_of_chunk(k));
+    af_stream_push(&s, &c, 0, NULL);
+  }
+  AF_CHECK(s.chunks == n_chunks && s.anchor_count == AF_STREAM_ANCHORS);
+  AF_CHECK(af_stream_time_ns(&s, (double)(dropped * CHUNK + 10)) ==
+           stamp_of_chunk(dropped) + 10 * 20000);
+  /* Sample 0 through chunk 88: stamp_88 - 8800 samples * 20 us. */
+  AF_CHECK(af_stream_time_ns(&s, 0.0) == stamp_of_chunk(dropped) - (int64_t)dropped * 2000000);
+  AF_CHECK(af_stream_time_ns(&s, 0.0) != stamp_of_chunk(0)); /* 88 us of drift lost */
+  AF_CHECK(af_stream_time_ns(&s, 599.0 * CHUNK + 99.0) == stamp_of_chunk(599) + 99 * 20000);
+  af_stream_fini(&s);
+}
+
+static void test_stale(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK(!af_stream_stale(&s, 1000000000000LL, 0.1)); /* never seen: not stale */
+  af_chunk c = chunk(0, CHUNK, 0);
+  af_stream_push(&s, &c, 2000000000LL, NULL);
+  AF_CHECK(!af_stream_stale(&s, 2000000000LL, 0.5));
+  AF_CHECK(!af_stream_stale(&s, 2490000000LL, 0.5));
+  AF_CHECK(af_stream_stale(&s, 2510000000LL, 0.5));
+  /* A refused chunk does not refresh the stream. */
+  c.sample_rate_hz = 1.0;
+  af_stream_push(&s, &c, 3000000000LL, NULL);
+  AF_CHECK(s.last_rx_ns == 2000000000LL && af_stream_stale(&s, 3000000000LL, 0.5));
+  af_stream_fini(&s);
+}
+
+int main(void)
+{
+  test_gaps_and_restarts();
+  test_refused();
+  test_conversion();
+  test_time_mapping();
+  test_anchor_limit();
+  test_stale();
+  return af_test_summary("test_stream");
+}
