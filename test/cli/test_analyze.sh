@@ -5,7 +5,7 @@
 # at 48 kHz: the 0S2 as a decaying sinusoid with a louder mode above the
 # searched range and white noise), written as raw little-endian float32; the
 # JSON checked against that truth; bad input exits 2 naming the flag or file.
-# Also: the two real impact-hammer captures of ../shared/data (a triggered
+# Also: the two real impact-hammer captures of test/data (a triggered
 # acquisition, 0.8 ms of pre-trigger), short pre-triggers on captures made
 # here at 25.6/44.1/48/50 kHz, and "no strike found" said, never silent.
 # Usage: test_analyze.sh /path/to/firmness_model
@@ -227,10 +227,10 @@ json_check "t['lo'] < t['f3'] < t['hi'] and len(d) == 3" "${soft[@]}"
 json_check "all(abs(r['resonance_Hz'] - t['f0']) < 0.005 * t['f0'] for r in d)" "${soft[@]}"
 json_check "all(r['mode']['method'] == 'prior+ratios' and r['mode']['ambiguous'] is False and '0S3' in r['mode']['text'] for r in d)" "${soft[@]}"
 
-# --- real captures (../shared/data/README.md): one strike each, peak within 1 %
+# --- real captures (test/data/README.md): one strike each, peak within 1 %
 # of the sample maximum minus the baseline (the capture's median), contact
 # time within one sample of the width at 2 % of the peak (linear crossings)
-data="$(cd "$(dirname "$0")/../.." && pwd)/../shared/data"
+data="$(cd "$(dirname "$0")/.." && pwd)/data"
 for n in 4 5; do
   cap=(--force "$data/hammer_capture_$n.force.f32" --audio "$data/hammer_capture_$n.response.f32"
     --rate-force 25600 --rate-audio 25600 --mass 0.175 --R2 0.04)

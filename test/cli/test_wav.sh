@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # CLI tests of WAV input to `firmness_model analyze` (src/core/wav.c through
-# src/tools/recording.c): the real impact-hammer capture 5 of ../shared/data
+# src/tools/recording.c): the real impact-hammer capture 5 of test/data
 # (25.6 kHz float32) written as WAV by Debian's python3 (the wave module for
 # integer PCM; IEEE float and WAVE_FORMAT_EXTENSIBLE headers packed by hand
 # in wav_files.py) in every accepted form: 16-bit PCM, 32- and 64-bit float,
@@ -12,7 +12,7 @@
 # Usage: test_wav.sh /path/to/firmness_model
 source "$(dirname "$0")/harness.sh" "$@"
 
-data="$(cd "$(dirname "$0")/../.." && pwd)/../shared/data"
+data="$(cd "$(dirname "$0")/.." && pwd)/data"
 force="$data/hammer_capture_5.force.f32"
 resp="$data/hammer_capture_5.response.f32"
 [ -s "$force" ] && [ -s "$resp" ] || { echo "test_wav: missing $force or $resp" >&2; exit 1; }

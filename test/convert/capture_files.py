@@ -1,5 +1,5 @@
-"""A lab session made of the real impact-hammer captures of ../shared/data,
-for the capture_to_bag tests, written with Debian's python3 alone
+"""A lab session made of the real impact-hammer captures of test/data (a copy
+of ../shared/data), for the capture_to_bag tests, written with Debian's python3 alone
 (independently of the package's WAV reader and bag writer):
 
   force: 0.5 s of capture 4's quiet tail (a lead-in: the station's baseline

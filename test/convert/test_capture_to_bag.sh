@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # capture_to_bag end to end on a lab session made of the real captures of
-# ../shared/data (capture_files.py: 3.5 s at 25.6 kHz, three strikes; force
+# test/data (capture_files.py: 3.5 s at 25.6 kHz, three strikes; force
 # as a 16-bit WAV of python's wave module, audio as a hand-packed float WAV;
 # then raw float32 force and a stereo 16-bit audio WAV), with an apple CSV:
 #  - --help: exit 0, every flag with its default (or "required");
@@ -22,7 +22,7 @@ source "$(dirname "$0")/../cli/harness.sh" "$1"
 REPORT=${2:?path to firmness_report}
 SB=${3:?path to strike_bag}
 here=$(cd "$(dirname "$0")" && pwd)
-data="$here/../../../shared/data"
+data="$here/../data"
 [ -s "$data/hammer_capture_5.force.f32" ] || { echo "test_capture_to_bag: no captures in $data" >&2; exit 1; }
 "$PY" "$here/capture_files.py" "$tmp" "$data" || { echo "test_capture_to_bag: capture_files.py failed" >&2; exit 1; }
 RATES=(--set force_sample_rate_hz=25600 --set audio_sample_rate_hz=25600)

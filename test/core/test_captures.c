@@ -2,7 +2,7 @@
  * that starts a fraction of a millisecond before its strike, measured
  * offline with af_strike_prime.
  *
- *  - The two real impact-hammer captures of ../shared/data/ (README there:
+ *  - The two real impact-hammer captures of test/data/ (README there:
  *    25.6 kHz, strike 20 samples after the start, ~9 samples wide), as they
  *    are (no padding): one strike each, the peak against the largest sample
  *    minus the capture's median, the contact time against the pulse's width
@@ -25,7 +25,7 @@
 #include "af_test.h"
 #include "strike.h"
 
-#define DATA_DIR "../shared/data/"
+#define DATA_DIR "test/data/"
 #define CAPTURE_RATE_HZ 25600.0
 #define CAPTURE_SAMPLES 25600
 #define CHUNK 1024 /* samples per write, as a driver sends them */
@@ -193,7 +193,7 @@ static bool read_capture(const char *name, float *x)
   if (f == NULL) {
     fprintf(stderr,
             "test_captures: FAIL cannot open %s (the real captures are expected in "
-            "../shared/data/ relative to the repository root, the working directory)\n",
+            "test/data/ relative to the repository root, the working directory)\n",
             path);
     return false;
   }

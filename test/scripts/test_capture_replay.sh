@@ -16,7 +16,7 @@ lib="$AF_DEVEL/lib/acoustic_firmness"
 for exe in capture_to_bag firmness_report firmness_node; do
   [ -x "$lib/$exe" ] || { echo "test_capture_replay: $lib/$exe missing (built?)" >&2; exit 1; }
 done
-/usr/bin/python3 "$AF_ROOT/test/convert/capture_files.py" "$tmp" "$AF_ROOT/../shared/data"
+/usr/bin/python3 "$AF_ROOT/test/convert/capture_files.py" "$tmp" "$AF_ROOT/test/data"
 "$lib/capture_to_bag" --force "$tmp/force16.wav" --force-scale 100 --audio "$tmp/audio32.wav" \
   --apples "$tmp/apples.csv" --out "$tmp/in.bag"
 # The station's config with the captures' rates (every other value the shipped one).
