@@ -338,9 +338,15 @@ int af_design_main(int argc, char **argv, int first)
   af_design_eval pe;
   paper.impact.hammer_mass_kg = 0.010, paper.impact.velocity_m_s = 1.4;
   paper.impact.hammer_radius_m = 0.0;
-  if (evaluate_strike(f, m, &a, &paper, dom, &pe, NULL) == AF_OK)
-    print_strike("the paper's optimum", 0.010, 1.4, 0.0, &pe);
   int rc = 0;
+  af_status ps = evaluate_strike(f, m, &a, &paper, dom, &pe, NULL);
+  if (ps == AF_OK) {
+    print_strike("the paper's optimum", 0.010, 1.4, 0.0, &pe);
+  } else { /* said, never left out in silence */
+    fprintf(stderr, "firmness_model design: the paper's optimum could not be evaluated: %s\n",
+            af_strerror(ps));
+    rc = 1;
+  }
   if (a.plot) {
     static double fx[N_GRID * N_GRID], fy[N_GRID * N_GRID], nx_[N_GRID * N_GRID],
         ny_[N_GRID * N_GRID];
