@@ -14,7 +14,19 @@ unset ROS_NAMESPACE
 tmp=$(mktemp -d /tmp/af_script_test.XXXXXX)
 # Logs of every roscore/roslaunch of the test stay in the scratch folder.
 export ROS_HOME=$tmp/ros_home ROS_LOG_DIR=$tmp/ros_home/log
-trap 'rm -rf "$tmp"' EXIT
+# The processes a test starts in the background go into pids; af_stop_all
+# stops them (SIGINT, as Ctrl-C) and the master of af_start_master, and
+# runs on exit too.
+pids=()
+af_stop_all() {
+  local p
+  for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  [ -n "${AF_MASTER_PID:-}" ] && kill "$AF_MASTER_PID" 2>/dev/null && wait "$AF_MASTER_PID" 2>/dev/null
+  pids=()
+  AF_MASTER_PID=""
+}
+trap 'af_stop_all; rm -rf "$tmp"' EXIT
 
 # Prints a TCP port that is free now, in 20000-29999: away from the default
 # master (11311), the demo's and bench's (11345, 11346) and the kernel's

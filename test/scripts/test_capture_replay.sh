@@ -26,23 +26,13 @@ sed -e 's/^force_sample_rate_hz: .*/force_sample_rate_hz: 25600.0/' \
 grep -q '^force_sample_rate_hz: 25600.0' "$tmp/station.yaml" || bad "station.yaml: no force_sample_rate_hz line to set"
 
 port=$(af_free_port)
-pids=()
-stop_all() {
-  local p
-  for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
-  [ -n "${AF_MASTER_PID:-}" ] && kill "$AF_MASTER_PID" 2>/dev/null && wait "$AF_MASTER_PID" 2>/dev/null
-  pids=()
-  AF_MASTER_PID=""
-}
-trap 'stop_all; rm -rf "$tmp"' EXIT
 af_start_master "$port" "$tmp/master.log"
 rosparam set /use_sim_time true
 roslaunch acoustic_firmness station.launch ns:=lane1 config:="$tmp/station.yaml" >"$tmp/launch.log" 2>&1 &
 pids+=("$!")
 af_wait_node /lane1/firmness_node || fail=1
 af_replay_record "$tmp/in.bag" "$tmp/out.bag" lane1 || fail=1
-stop_all
+af_stop_all
 af_check_stopped "$port" || fail=1
 
 "$lib/firmness_report" "$tmp/in.bag" --config "$tmp/station.yaml" --json >"$tmp/report.json"

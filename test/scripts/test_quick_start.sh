@@ -48,16 +48,6 @@ PY
 [ "$fail" -eq 0 ] || exit 1
 
 port=$(af_free_port)
-pids=()
-stop_all() {
-  local p
-  for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
-  [ -n "${AF_MASTER_PID:-}" ] && kill "$AF_MASTER_PID" 2>/dev/null && wait "$AF_MASTER_PID" 2>/dev/null
-  pids=()
-  AF_MASTER_PID=""
-}
-trap 'stop_all; rm -rf "$tmp"' EXIT
 af_start_master "$port" "$tmp/master.log"
 
 # 1. The remap launch file: the node listens where the lab's topics are.
@@ -73,7 +63,7 @@ for topic in $remapped; do
     sleep 0.2
   done
 done
-stop_all
+af_stop_all
 af_check_stopped "$port" || fail=1
 
 # 2. Record a session as the README says, while a strike_bag bag plays the rig.
@@ -95,7 +85,7 @@ sleep 1
 kill -INT "$rec" 2>/dev/null || true
 wait "$rec" 2>/dev/null || true
 for _ in $(seq 150); do [ -f "$tmp/run.bag" ] && break; sleep 0.2; done
-stop_all
+af_stop_all
 af_check_stopped "$port" || fail=1
 [ -f "$tmp/run.bag" ] || { bad "rosbag record wrote no run.bag"; cat "$tmp/record.log" >&2; exit 1; }
 
