@@ -17,7 +17,8 @@
 # commands (default 3600 s). Exits non-zero when either command fails.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-shared=$(cd "$root/../shared" 2>/dev/null && pwd) || {
+# ../shared may be a symbolic link: its target is what is copied in (pwd -P).
+shared=$(cd "$root/../shared" 2>/dev/null && pwd -P) || {
   echo "fresh_check: no ../shared beside $root" >&2
   exit 2
 }
