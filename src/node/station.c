@@ -470,26 +470,22 @@ static void diag_task(af_diag_status *d, void *user)
   const char *strike_warning = af_measured_warning(st->measured);
   if (!strike_warning)
     strike_warning = af_audio_in_warning(st->audio_in);
-  if (st->last_apple_invalid)
-    af_diag_summary(d, AF_DIAG_WARN, "last apple got no prediction");
-  else if (new_problems)
-    af_diag_summary(d, AF_DIAG_WARN, "stream gaps or bad chunks since the last report");
-  else if (force_stale || audio_stale)
-    af_diag_summary(d, AF_DIAG_WARN, "a stream went silent");
-  else if (absent)
-    af_diag_summary(d, AF_DIAG_WARN, st->absent);
-  else if (strike_warning)
-    af_diag_summary(d, AF_DIAG_WARN, strike_warning);
-  else if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0)
-    af_diag_summary(d, AF_DIAG_WARN, "restarted: resuming with the next apple");
-  else
-    af_diag_summary(d, AF_DIAG_OK, "ok");
-  /* The same summary in rviz; NULL = ok. */
-  publish_status(st, st->last_apple_invalid ? "last apple got no prediction"
-                     : new_problems         ? "stream gaps or bad chunks since the last report"
-                     : force_stale || audio_stale ? "a stream went silent"
-                     : absent                     ? st->absent
-                                                  : strike_warning);
+  /* The first problem, in this order of importance; NULL = none. */
+  const char *warning = st->last_apple_invalid ? "last apple got no prediction"
+                        : new_problems         ? "stream gaps or bad chunks since the last report"
+                        : force_stale || audio_stale ? "a stream went silent"
+                        : absent                     ? st->absent
+                                                     : strike_warning;
+  publish_status(st, warning); /* the same summary in rviz */
+  /* A restart is said until the first strike, also beside another warning
+   * (a restarted node often starts on a silent stream). */
+  char summary[sizeof st->absent + 64];
+  if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0) {
+    snprintf(summary, sizeof summary, "%s%srestarted: resuming with the next apple",
+             warning ? warning : "", warning ? "; " : "");
+    warning = summary;
+  }
+  af_diag_summary(d, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
   af_diag_add(d, "hammer mass [kg]", "%g from %s", c->hammer.mass_kg, c->hammer_mass_source);
