@@ -8,6 +8,7 @@
 
 #include "criteria.h"
 #include "impact.h"
+#include "r2_search.h"
 #include "resonance.h"
 #include "settings.h"
 #include "spectrum.h"
@@ -443,64 +444,14 @@ af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_mode
   return AF_OK;
 }
 
-/* As model.c's R2_min search (AF_MODEL_RADIUS_SCAN 24, AF_MODEL_RADIUS_RTOL
- * 1e-4, 80 evaluations), on this path. */
-#define AF_FP_RADIUS_SCAN 24
-#define AF_FP_RADIUS_RTOL 1e-4
-#define AF_FP_SEARCH_BUDGET 80
-
-static af_status reliable_at(af_fastpath *f, const af_model_params *p, double radius_m, bool *ok)
+/* af_fastpath_evaluate as the R2_min search's callback. */
+static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  af_model_params q = *p;
-  af_model_result r;
-  q.impact.strike_radius_m = radius_m;
-  af_status st = af_fastpath_evaluate(f, &q, &r);
-  *ok = st == AF_OK && r.reliable;
-  return st;
+  return af_fastpath_evaluate(ctx, p, r);
 }
 
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
                                         double r_hi_m, double *r_min_m)
 {
-  bool ok;
-  int budget = AF_FP_SEARCH_BUDGET - 1;
-  if (!(r_lo_m > 0.0 && r_hi_m > r_lo_m && isfinite(r_hi_m)))
-    return AF_EINVAL;
-  af_status st = reliable_at(f, p, r_hi_m, &ok);
-  if (st != AF_OK)
-    return st;
-  if (!ok)
-    return AF_ENOROOT;
-  double step = pow(r_lo_m / r_hi_m, 1.0 / (AF_FP_RADIUS_SCAN - 1));
-  double good = r_hi_m, bad = 0.0;
-  for (int k = 1; k < AF_FP_RADIUS_SCAN; k++) {
-    double r = k == AF_FP_RADIUS_SCAN - 1 ? r_lo_m : r_hi_m * pow(step, k);
-    budget--;
-    st = reliable_at(f, p, r, &ok);
-    if (st != AF_OK)
-      return st;
-    if (!ok) {
-      bad = r;
-      break;
-    }
-    good = r;
-  }
-  if (bad == 0.0) {
-    *r_min_m = r_lo_m;
-    return AF_OK;
-  }
-  while (good - bad > AF_FP_RADIUS_RTOL * good) {
-    if (budget-- <= 0)
-      return AF_EBUDGET_SEARCH;
-    double mid = sqrt(good * bad);
-    st = reliable_at(f, p, mid, &ok);
-    if (st != AF_OK)
-      return st;
-    if (ok)
-      good = mid;
-    else
-      bad = mid;
-  }
-  *r_min_m = good;
-  return AF_OK;
+  return af_r2_search(evaluate_fast, f, p, r_lo_m, r_hi_m, r_min_m);
 }

@@ -44,7 +44,7 @@ void af_fastpath_destroy(af_fastpath *f); /* NULL-safe */
  * is the ODE path's sample count, no pulse is written). No allocation. */
 af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r);
 
-/* af_model_min_strike_radius on this path: the same scan and bisection,
+/* af_model_min_strike_radius on this path: the same search (r2_search.h),
  * the same statuses. */
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
                                         double r_hi_m, double *r_min_m);

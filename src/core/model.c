@@ -1,5 +1,5 @@
 /* model.c — one full evaluation of a strike: impact -> spectrum -> lobes ->
- * resonance -> shear -> criteria, and the minimum strike radius. */
+ * resonance -> shear -> criteria; the minimum strike radius through r2_search. */
 #include "model.h"
 
 #include <math.h>
@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "criteria.h"
+#include "r2_search.h"
 #include "resonance.h"
 #include "settings.h"
 
@@ -21,14 +22,6 @@
  * (a heavy, slow hammer on a soft fruit under gravity: more a push than a
  * tap) is still sampled at 1024 points, and the work stays bounded. */
 #define AF_MODEL_SAMPLING_ATTEMPTS 8
-/* R2_min search: scan points over the bracket, then bisection to this
- * relative width. */
-#define AF_MODEL_RADIUS_SCAN 24
-#define AF_MODEL_RADIUS_RTOL 1e-4
-/* Evaluations the whole search may take: the scan's 24 and the bisection
- * between two scan points (about 12 halvings for 0.002 .. 1 m, under 20 for
- * any bracket of doubles), with room to spare: it guards the loop. */
-#define AF_MODEL_SEARCH_BUDGET 80
 /* The shipped yield law (calibration: doc/paper.md, "The yield law"). */
 #define AF_MODEL_YIELD_RATIO 0.0414
 #define AF_MODEL_YIELD_EXPONENT 0.70
@@ -284,61 +277,14 @@ void af_model_reason(const af_model_result *r, unsigned lobe, char *buf, size_t 
                      r->yield_shear_stress_pa, buf, len);
 }
 
-static af_status reliable_at(af_model *m, const af_model_params *p, double radius_m, bool *ok)
+/* af_model_evaluate as the R2_min search's callback. */
+static af_status evaluate_ode(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  af_model_params q = *p;
-  af_model_result r;
-  q.impact.strike_radius_m = radius_m;
-  af_status st = af_model_evaluate(m, &q, &r);
-  *ok = st == AF_OK && r.reliable;
-  return st;
+  return af_model_evaluate(ctx, p, r);
 }
 
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,
                                      double r_hi_m, double *r_min_m)
 {
-  bool ok;
-  int budget = AF_MODEL_SEARCH_BUDGET - 1;
-  if (!(r_lo_m > 0.0 && r_hi_m > r_lo_m && isfinite(r_hi_m)))
-    return AF_EINVAL;
-  af_status st = reliable_at(m, p, r_hi_m, &ok);
-  if (st != AF_OK)
-    return st;
-  if (!ok)
-    return AF_ENOROOT;
-  /* Walk down a geometric scan from r_hi to the first unreliable radius, then
-   * bisect between it and the last reliable one: the criteria need not be
-   * monotonic far below R2_min, only near it. */
-  double step = pow(r_lo_m / r_hi_m, 1.0 / (AF_MODEL_RADIUS_SCAN - 1));
-  double good = r_hi_m, bad = 0.0;
-  for (int k = 1; k < AF_MODEL_RADIUS_SCAN; k++) {
-    double r = k == AF_MODEL_RADIUS_SCAN - 1 ? r_lo_m : r_hi_m * pow(step, k);
-    budget--;
-    st = reliable_at(m, p, r, &ok);
-    if (st != AF_OK)
-      return st;
-    if (!ok) {
-      bad = r;
-      break;
-    }
-    good = r;
-  }
-  if (bad == 0.0) {
-    *r_min_m = r_lo_m;
-    return AF_OK;
-  }
-  while (good - bad > AF_MODEL_RADIUS_RTOL * good) {
-    if (budget-- <= 0)
-      return AF_EBUDGET_SEARCH;
-    double mid = sqrt(good * bad);
-    st = reliable_at(m, p, mid, &ok);
-    if (st != AF_OK)
-      return st;
-    if (ok)
-      good = mid;
-    else
-      bad = mid;
-  }
-  *r_min_m = good;
-  return AF_OK;
+  return af_r2_search(evaluate_ode, m, p, r_lo_m, r_hi_m, r_min_m);
 }

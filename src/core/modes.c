@@ -51,7 +51,7 @@ af_status af_modes_list_band(double f_lo_hz, double f_hi_hz, double sample_rate_
 
 /* ---- arguments ---------------------------------------------------------------- */
 
-static bool af_modes_config_ok(const af_modes_config *c)
+static bool config_ok(const af_modes_config *c)
 {
   return c->ratio_tolerance > 0.0 && c->ratio_tolerance < 0.2 && c->p_heard > 0.0 &&
          c->p_heard < 1.0 && c->random_density > 0.0 && isfinite(c->random_density) &&
@@ -60,7 +60,7 @@ static bool af_modes_config_ok(const af_modes_config *c)
          isfinite(c->loudest_margin_db);
 }
 
-static bool af_modes_input_ok(const af_modes_input *in)
+static bool input_ok(const af_modes_input *in)
 {
   if ((in->peaks == NULL && in->n_peaks > 0) || in->modes == NULL)
     return false;
@@ -101,7 +101,7 @@ typedef struct {
   double base_hz;            /*   ...of the peak at base_hz */
 } af_evidence;
 
-static void af_comb_setup(const af_modes_config *cfg, const af_modes_input *in, af_comb *c)
+static void comb_setup(const af_modes_config *cfg, const af_modes_input *in, af_comb *c)
 {
   const double *r = in->modes->ratio;
   double tol = cfg->ratio_tolerance;
@@ -122,26 +122,25 @@ static void af_comb_setup(const af_modes_config *cfg, const af_modes_input *in, 
   }
 }
 
-static double af_peak_hz(const af_modes_input *in, size_t i)
+static double peak_hz(const af_modes_input *in, size_t i)
 {
   return in->peaks[i].frequency_hz;
 }
 
-static bool af_in_range(const af_modes_input *in, size_t i)
+static bool in_range(const af_modes_input *in, size_t i)
 {
-  double f = af_peak_hz(in, i);
+  double f = peak_hz(in, i);
   return f >= in->f_lo_hz && f <= in->f_hi_hz;
 }
 
 /* The peak other than 'skip' in [lo, hi] nearest (in ln f) to target;
  * AF_MODES_NO_PEAK if none. */
-static size_t af_find_peak(const af_modes_input *in, double lo, double hi, double target,
-                           size_t skip)
+static size_t find_peak(const af_modes_input *in, double lo, double hi, double target, size_t skip)
 {
   size_t best = AF_MODES_NO_PEAK;
   double best_d = INFINITY;
   for (size_t j = 0; j < in->n_peaks; ++j) {
-    double f = af_peak_hz(in, j);
+    double f = peak_hz(in, j);
     if (j == skip || !(f >= lo && f <= hi))
       continue;
     double d = fabs(log(f / target));
@@ -154,17 +153,17 @@ static size_t af_find_peak(const af_modes_input *in, double lo, double hi, doubl
 }
 
 /* Which of the 0S4 and the 1S2 a peak at ratio r to the 0S2 is nearer to. */
-static af_sphere_mode af_group2_mode(const af_modes_input *in, double r)
+static af_sphere_mode group2_mode(const af_modes_input *in, double r)
 {
   const double *m = in->modes->ratio;
   return fabs(log(r / m[AF_MODE_0S4])) <= fabs(log(r / m[AF_MODE_1S2])) ? AF_MODE_0S4 : AF_MODE_1S2;
 }
 
 /* Scores 1-3 of modes.h for the peak i taken as the 0S2. */
-static af_evidence af_evaluate(const af_comb *c, size_t i)
+static af_evidence evidence_as_0s2(const af_comb *c, size_t i)
 {
   const af_modes_input *in = c->in;
-  double f = af_peak_hz(in, i), tol = c->cfg->ratio_tolerance;
+  double f = peak_hz(in, i), tol = c->cfg->ratio_tolerance;
   af_evidence e = {0.0, 0.0, NAN, false, false, AF_MODE_COUNT, NAN};
   if (c->prior) {
     e.z = log(f / in->f_pred_hz) / in->f_pred_rel_sd;
@@ -175,7 +174,7 @@ static af_evidence af_evaluate(const af_comb *c, size_t i)
     /* above: the partner */
     double lo = f * c->r_lo[g] * (1.0 - tol), hi = f * c->r_hi[g] * (1.0 + tol);
     if (lo >= in->band_lo_hz && hi <= in->band_hi_hz) {
-      if (af_find_peak(in, lo, hi, f * centre, i) != AF_MODES_NO_PEAK) {
+      if (find_peak(in, lo, hi, f * centre, i) != AF_MODES_NO_PEAK) {
         e.ratio += c->match[g];
         e.evidence = e.partner = true;
       } else {
@@ -183,14 +182,14 @@ static af_evidence af_evaluate(const af_comb *c, size_t i)
       }
     }
     /* below: this peak as the partner of a lower one */
-    size_t j = af_find_peak(in, f / (c->r_hi[g] * (1.0 + tol)), f / (c->r_lo[g] * (1.0 - tol)),
-                            f / centre, i);
+    size_t j = find_peak(in, f / (c->r_hi[g] * (1.0 + tol)), f / (c->r_lo[g] * (1.0 - tol)),
+                         f / centre, i);
     if (j != AF_MODES_NO_PEAK) {
       e.ratio -= c->match[g];
       e.evidence = true;
       if (e.looks_like == AF_MODE_COUNT) {
-        e.looks_like = g == 0 ? AF_MODE_0S3 : af_group2_mode(in, f / af_peak_hz(in, j));
-        e.base_hz = af_peak_hz(in, j);
+        e.looks_like = g == 0 ? AF_MODE_0S3 : group2_mode(in, f / peak_hz(in, j));
+        e.base_hz = peak_hz(in, j);
       }
     }
   }
@@ -200,7 +199,7 @@ static af_evidence af_evaluate(const af_comb *c, size_t i)
 /* ---- the decision ------------------------------------------------------------- */
 
 /* True when candidate a beats b: higher score, ties to the higher SNR. */
-static bool af_beats(const af_modes_input *in, double score_a, size_t a, double score_b, size_t b)
+static bool beats(const af_modes_input *in, double score_a, size_t a, double score_b, size_t b)
 {
   if (b == AF_MODES_NO_PEAK)
     return true;
@@ -211,7 +210,7 @@ static bool af_beats(const af_modes_input *in, double score_a, size_t a, double 
 
 /* Score of candidate i under the method: prior + ratios, ratios alone
  * (ratios_only), or 0 (LOUDEST: no evidence). */
-static double af_score(const af_evidence *e, af_modes_method method, bool ratios_only)
+static double candidate_score(const af_evidence *e, af_modes_method method, bool ratios_only)
 {
   if (method == AF_MODES_METHOD_LOUDEST)
     return 0.0;
@@ -220,17 +219,18 @@ static double af_score(const af_evidence *e, af_modes_method method, bool ratios
 
 /* The best candidate by score (ratios_only: the comb's scores alone);
  * LOUDEST: by SNR. */
-static size_t af_best(const af_comb *c, af_modes_method method, bool ratios_only, double *score)
+static size_t best_candidate(const af_comb *c, af_modes_method method, bool ratios_only,
+                             double *score)
 {
   const af_modes_input *in = c->in;
   size_t best = AF_MODES_NO_PEAK;
   *score = -INFINITY;
   for (size_t i = 0; i < in->n_peaks; ++i) {
-    if (!af_in_range(in, i))
+    if (!in_range(in, i))
       continue;
-    af_evidence e = af_evaluate(c, i);
-    double s = af_score(&e, method, ratios_only);
-    if (af_beats(in, s, i, *score, best)) {
+    af_evidence e = evidence_as_0s2(c, i);
+    double s = candidate_score(&e, method, ratios_only);
+    if (beats(in, s, i, *score, best)) {
       best = i;
       *score = s;
     }
@@ -238,14 +238,14 @@ static size_t af_best(const af_comb *c, af_modes_method method, bool ratios_only
   return best;
 }
 
-static void af_add_competing(const af_comb *c, af_modes_id *out, size_t i, double score)
+static void add_competing(const af_comb *c, af_modes_id *out, size_t i, double score)
 {
   if (out->n_competing >= AF_MODES_MAX_COMPETING)
     return;
-  af_evidence e = af_evaluate(c, i);
+  af_evidence e = evidence_as_0s2(c, i);
   af_modes_candidate *k = &out->competing[out->n_competing++];
   k->peak = i;
-  k->frequency_hz = af_peak_hz(c->in, i);
+  k->frequency_hz = peak_hz(c->in, i);
   k->score = score;
   k->looks_like = e.looks_like;
   k->base_hz = e.base_hz;
@@ -253,8 +253,8 @@ static void af_add_competing(const af_comb *c, af_modes_id *out, size_t i, doubl
 
 /* The chosen first, then the other candidates 'close' to it (score within the
  * margin, or SNR within the loudest margin for LOUDEST), best first. */
-static void af_name_competitors(const af_comb *c, af_modes_method method, af_modes_id *out,
-                                double best_score)
+static void name_competitors(const af_comb *c, af_modes_method method, af_modes_id *out,
+                             double best_score)
 {
   const af_modes_input *in = c->in;
   bool loudest = method == AF_MODES_METHOD_LOUDEST;
@@ -262,10 +262,10 @@ static void af_name_competitors(const af_comb *c, af_modes_method method, af_mod
   size_t top[AF_MODES_MAX_COMPETING - 1], n_top = 0;
   double key[AF_MODES_MAX_COMPETING - 1];
   for (size_t i = 0; i < in->n_peaks; ++i) {
-    if (!af_in_range(in, i) || i == out->peak)
+    if (!in_range(in, i) || i == out->peak)
       continue;
-    af_evidence e = af_evaluate(c, i);
-    double k = loudest ? in->peaks[i].snr_db : af_score(&e, method, false);
+    af_evidence e = evidence_as_0s2(c, i);
+    double k = loudest ? in->peaks[i].snr_db : candidate_score(&e, method, false);
     bool close = loudest ? best_key - k <= c->cfg->loudest_margin_db
                          : best_key - k < c->cfg->ambiguity_margin;
     if (!close)
@@ -286,21 +286,21 @@ static void af_name_competitors(const af_comb *c, af_modes_method method, af_mod
     if (n_top < AF_MODES_MAX_COMPETING - 1)
       ++n_top;
   }
-  af_add_competing(c, out, out->peak, best_score);
+  add_competing(c, out, out->peak, best_score);
   for (size_t j = 0; j < n_top; ++j)
-    af_add_competing(c, out, top[j], loudest ? 0.0 : key[j]);
+    add_competing(c, out, top[j], loudest ? 0.0 : key[j]);
 }
 
 /* posterior of the chosen: exp(L_best) / (1 + sum exp(L_i)) */
-static double af_confidence(const af_comb *c, af_modes_method method, double best_score)
+static double confidence_of(const af_comb *c, af_modes_method method, double best_score)
 {
   const af_modes_input *in = c->in;
   double top = fmax(0.0, best_score), sum = exp(-top);
   for (size_t i = 0; i < in->n_peaks; ++i) {
-    if (!af_in_range(in, i))
+    if (!in_range(in, i))
       continue;
-    af_evidence e = af_evaluate(c, i);
-    sum += exp(af_score(&e, method, false) - top);
+    af_evidence e = evidence_as_0s2(c, i);
+    sum += exp(candidate_score(&e, method, false) - top);
   }
   return exp(best_score - top) / sum;
 }
@@ -308,7 +308,7 @@ static double af_confidence(const af_comb *c, af_modes_method method, double bes
 /* The modes of the chosen 0S2 heard: the 0S2, then for each other mode the
  * peak nearest its ratio within the tolerance (a peak claimed by both the
  * 0S4 and the 1S2 goes to the nearer), sorted by frequency. */
-static void af_fill_matched(const af_comb *c, af_modes_id *out)
+static void fill_matched(const af_comb *c, af_modes_id *out)
 {
   const af_modes_input *in = c->in;
   double f = out->frequency_hz, tol = c->cfg->ratio_tolerance;
@@ -317,18 +317,18 @@ static void af_fill_matched(const af_comb *c, af_modes_id *out)
     double target = f * in->modes->ratio[m];
     at[m] = m == AF_MODE_0S2
                 ? out->peak
-                : af_find_peak(in, target * (1.0 - tol), target * (1.0 + tol), target, out->peak);
+                : find_peak(in, target * (1.0 - tol), target * (1.0 + tol), target, out->peak);
   }
   if (at[AF_MODE_0S4] != AF_MODES_NO_PEAK && at[AF_MODE_0S4] == at[AF_MODE_1S2]) {
-    af_sphere_mode keep = af_group2_mode(in, af_peak_hz(in, at[AF_MODE_0S4]) / f);
+    af_sphere_mode keep = group2_mode(in, peak_hz(in, at[AF_MODE_0S4]) / f);
     at[keep == AF_MODE_0S4 ? AF_MODE_1S2 : AF_MODE_0S4] = AF_MODES_NO_PEAK;
   }
   out->n_matched = 0;
   for (int m = 0; m < AF_MODE_COUNT; ++m) {
     if (at[m] == AF_MODES_NO_PEAK)
       continue;
-    af_modes_match x = {(af_sphere_mode)m, at[m], af_peak_hz(in, at[m]),
-                        af_peak_hz(in, at[m]) / (f * in->modes->ratio[m]) - 1.0};
+    af_modes_match x = {(af_sphere_mode)m, at[m], peak_hz(in, at[m]),
+                        peak_hz(in, at[m]) / (f * in->modes->ratio[m]) - 1.0};
     size_t k = out->n_matched++;
     for (; k > 0 && out->matched[k - 1].frequency_hz > x.frequency_hz; --k)
       out->matched[k] = out->matched[k - 1];
@@ -336,7 +336,7 @@ static void af_fill_matched(const af_comb *c, af_modes_id *out)
   }
 }
 
-static void af_id_clear(const af_modes_input *in, af_modes_id *out)
+static void id_clear(const af_modes_input *in, af_modes_id *out)
 {
   out->method = AF_MODES_METHOD_NONE;
   out->peak = AF_MODES_NO_PEAK;
@@ -355,21 +355,21 @@ static void af_id_clear(const af_modes_input *in, af_modes_id *out)
 }
 
 /* Candidates in range; whether any of them has ratio evidence. */
-static size_t af_count_candidates(const af_comb *c, bool *evidence)
+static size_t count_candidates(const af_comb *c, bool *evidence)
 {
   size_t n = 0;
   *evidence = false;
   for (size_t i = 0; i < c->in->n_peaks; ++i) {
-    if (!af_in_range(c->in, i))
+    if (!in_range(c->in, i))
       continue;
     ++n;
-    af_evidence e = af_evaluate(c, i);
+    af_evidence e = evidence_as_0s2(c, i);
     *evidence = *evidence || e.evidence;
   }
   return n;
 }
 
-static af_modes_method af_choose_method(bool prior, bool evidence)
+static af_modes_method choose_method(bool prior, bool evidence)
 {
   if (prior)
     return evidence ? AF_MODES_METHOD_PRIOR_RATIOS : AF_MODES_METHOD_PRIOR;
@@ -377,21 +377,21 @@ static af_modes_method af_choose_method(bool prior, bool evidence)
 }
 
 /* The ambiguity rules of modes.h, in order; names the competitors. */
-static void af_judge(const af_comb *c, af_modes_id *out, double best_score)
+static void judge(const af_comb *c, af_modes_id *out, double best_score)
 {
-  af_evidence chosen = af_evaluate(c, out->peak);
+  af_evidence chosen = evidence_as_0s2(c, out->peak);
   out->prior_z = chosen.z;
   out->prior_conflict = c->prior && fabs(chosen.z) > c->cfg->conflict_sigmas;
-  af_name_competitors(c, out->method, out, best_score);
+  name_competitors(c, out->method, out, best_score);
   if (out->n_competing > 1) {
     out->ambiguity =
         out->method == AF_MODES_METHOD_LOUDEST ? AF_MODES_LOUDNESS_TIE : AF_MODES_CLOSE_CALL;
   } else if (out->method == AF_MODES_METHOD_PRIOR_RATIOS) {
     double r_best;
-    size_t j = af_best(c, out->method, true, &r_best);
+    size_t j = best_candidate(c, out->method, true, &r_best);
     if (j != out->peak && r_best - chosen.ratio >= c->cfg->ambiguity_margin) {
       out->ambiguity = AF_MODES_PRIOR_VS_RATIOS;
-      af_add_competing(c, out, j, af_evaluate(c, j).prior + r_best);
+      add_competing(c, out, j, evidence_as_0s2(c, j).prior + r_best);
     }
   }
   if (out->ambiguity == AF_MODES_CLEAR && out->prior_conflict && !chosen.partner)
@@ -403,28 +403,27 @@ static void af_judge(const af_comb *c, af_modes_id *out, double best_score)
 
 af_status af_modes_identify(const af_modes_config *cfg, const af_modes_input *in, af_modes_id *out)
 {
-  if (cfg == NULL || in == NULL || out == NULL || !af_modes_config_ok(cfg) ||
-      !af_modes_input_ok(in))
+  if (cfg == NULL || in == NULL || out == NULL || !config_ok(cfg) || !input_ok(in))
     return AF_EINVAL;
   af_comb c;
-  af_comb_setup(cfg, in, &c);
-  af_id_clear(in, out);
+  comb_setup(cfg, in, &c);
+  id_clear(in, out);
   bool evidence = false;
-  out->n_candidates = af_count_candidates(&c, &evidence);
+  out->n_candidates = count_candidates(&c, &evidence);
   if (out->n_candidates == 0)
     return AF_ENODATA;
-  out->method = af_choose_method(c.prior, evidence);
+  out->method = choose_method(c.prior, evidence);
   double best_score;
-  out->peak = af_best(&c, out->method, false, &best_score);
+  out->peak = best_candidate(&c, out->method, false, &best_score);
   if (out->method == AF_MODES_METHOD_LOUDEST) {
-    /* by SNR: af_best's scores are all 0 and its ties go to the higher SNR */
+    /* by SNR: best_candidate's scores are all 0 and its ties go to the higher SNR */
     out->confidence = 1.0 / (1.0 + (double)out->n_candidates);
   } else {
-    out->confidence = af_confidence(&c, out->method, best_score);
+    out->confidence = confidence_of(&c, out->method, best_score);
   }
-  out->frequency_hz = af_peak_hz(in, out->peak);
-  af_judge(&c, out, best_score);
-  af_fill_matched(&c, out);
+  out->frequency_hz = peak_hz(in, out->peak);
+  judge(&c, out, best_score);
+  fill_matched(&c, out);
   return AF_OK;
 }
 
@@ -435,7 +434,7 @@ typedef struct {
   size_t size, len; /* len: the length the whole text needs so far */
 } af_text;
 
-static void af_text_add(af_text *t, const char *fmt, ...)
+static void text_add(af_text *t, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
@@ -446,24 +445,24 @@ static void af_text_add(af_text *t, const char *fmt, ...)
     t->len += (size_t)n;
 }
 
-static void af_text_candidate(af_text *t, const af_modes_candidate *k)
+static void text_candidate(af_text *t, const af_modes_candidate *k)
 {
-  af_text_add(t, "%.0f Hz", k->frequency_hz);
+  text_add(t, "%.0f Hz", k->frequency_hz);
   if (k->looks_like != AF_MODE_COUNT)
-    af_text_add(t, " (%s of %.0f Hz?)", af_sphere_mode_name(k->looks_like), k->base_hz);
+    text_add(t, " (%s of %.0f Hz?)", af_sphere_mode_name(k->looks_like), k->base_hz);
 }
 
-static void af_text_ambiguous(af_text *t, const af_modes_id *id)
+static void text_ambiguous(af_text *t, const af_modes_id *id)
 {
-  af_text_add(t, "ambiguous 0S2: ");
+  text_add(t, "ambiguous 0S2: ");
   switch (id->ambiguity) {
   case AF_MODES_PRIOR_VS_RATIOS:
-    af_text_add(t, "%.0f Hz (pulse fit) or %.0f Hz (mode ratios)", id->competing[0].frequency_hz,
-                id->competing[1].frequency_hz);
+    text_add(t, "%.0f Hz (pulse fit) or %.0f Hz (mode ratios)", id->competing[0].frequency_hz,
+             id->competing[1].frequency_hz);
     return;
   case AF_MODES_PRIOR_CONFLICT:
-    af_text_add(t, "%.0f Hz, %.1f sigma from the %.0f Hz of the pulse fit, no partner mode",
-                id->frequency_hz, id->prior_z, id->f_pred_hz);
+    text_add(t, "%.0f Hz, %.1f sigma from the %.0f Hz of the pulse fit, no partner mode",
+             id->frequency_hz, id->prior_z, id->f_pred_hz);
     return;
   case AF_MODES_CLEAR:
   case AF_MODES_CLOSE_CALL:
@@ -471,10 +470,10 @@ static void af_text_ambiguous(af_text *t, const af_modes_id *id)
   }
   for (size_t i = 0; i < id->n_competing; ++i) {
     if (i > 0)
-      af_text_add(t, " or ");
-    af_text_candidate(t, &id->competing[i]);
+      text_add(t, " or ");
+    text_candidate(t, &id->competing[i]);
   }
-  af_text_add(t, "; %s", af_modes_method_name(id->method));
+  text_add(t, "; %s", af_modes_method_name(id->method));
 }
 
 size_t af_modes_format(const af_modes_id *id, char *buf, size_t size)
@@ -483,31 +482,31 @@ size_t af_modes_format(const af_modes_id *id, char *buf, size_t size)
   if (t.size > 0)
     buf[0] = '\0';
   if (id == NULL) {
-    af_text_add(&t, "no mode identification");
+    text_add(&t, "no mode identification");
     return t.len;
   }
   if (id->method == AF_MODES_METHOD_NONE) {
-    af_text_add(&t, "no 0S2 candidate in [%.0f, %.0f] Hz", id->f_lo_hz, id->f_hi_hz);
+    text_add(&t, "no 0S2 candidate in [%.0f, %.0f] Hz", id->f_lo_hz, id->f_hi_hz);
     return t.len;
   }
   if (id->ambiguous) {
-    af_text_ambiguous(&t, id);
+    text_ambiguous(&t, id);
     return t.len;
   }
-  af_text_add(&t, "0S2 %.0f Hz (%s", id->frequency_hz, af_modes_method_name(id->method));
+  text_add(&t, "0S2 %.0f Hz (%s", id->frequency_hz, af_modes_method_name(id->method));
   if (id->method == AF_MODES_METHOD_LOUDEST)
-    af_text_add(&t, ", nothing better known");
+    text_add(&t, ", nothing better known");
   const char *sep = ": ";
   for (size_t i = 0; i < id->n_matched; ++i) {
     if (id->matched[i].mode == AF_MODE_0S2)
       continue;
-    af_text_add(&t, "%s%s %.0f Hz", sep, af_sphere_mode_name(id->matched[i].mode),
-                id->matched[i].frequency_hz);
+    text_add(&t, "%s%s %.0f Hz", sep, af_sphere_mode_name(id->matched[i].mode),
+             id->matched[i].frequency_hz);
     sep = ", ";
   }
-  af_text_add(&t, "; confidence %.2f", id->confidence);
+  text_add(&t, "; confidence %.2f", id->confidence);
   if (id->prior_conflict)
-    af_text_add(&t, "; %.1f sigma from the pulse fit's %.0f Hz", id->prior_z, id->f_pred_hz);
-  af_text_add(&t, ")");
+    text_add(&t, "; %.1f sigma from the pulse fit's %.0f Hz", id->prior_z, id->f_pred_hz);
+  text_add(&t, ")");
   return t.len;
 }

@@ -9,6 +9,7 @@
 #include <rosbag/exceptions.h>
 
 #include "convert.hpp"
+#include "errors.hpp"
 
 extern "C" {
 struct af_bag {
@@ -26,35 +27,18 @@ std::string g_bag_error;
 
 void set_bag_error(af_bag *b, const std::string &msg)
 {
-  try {
-    (b != nullptr ? b->last_error : g_bag_error) = msg;
-  } catch (...) {
-    // Out of memory while saving the message: the status still tells.
-  }
+  af_shim::save_error(b != nullptr ? b->last_error : g_bag_error, msg);
 }
 
-// Called inside a catch (...) block, as af_shim::status_from_exception, plus
-// rosbag's own exceptions (file errors) as AF_EIO.
+// Called inside a catch (...) block: af_shim::map_exception, with rosbag's
+// own exceptions (file errors) as AF_EIO and any other as AF_EROS.
 af_status bag_status(af_bag *b) noexcept
 {
-  try {
-    throw;
-  } catch (const rosbag::BagException &e) {
-    set_bag_error(b, e.what());
-    return AF_EIO;
-  } catch (const std::invalid_argument &e) {
-    set_bag_error(b, e.what());
-    return AF_EINVAL;
-  } catch (const std::bad_alloc &) {
-    set_bag_error(b, "out of memory");
-    return AF_ENOMEM;
-  } catch (const std::exception &e) {
-    set_bag_error(b, e.what());
-    return AF_EROS;
-  } catch (...) {
-    set_bag_error(b, "unknown C++ exception");
-    return AF_EROS;
-  }
+  auto record = [b](const std::string &msg) { set_bag_error(b, msg); };
+  return af_shim::map_exception(record, [&](const std::exception &e) {
+    record(e.what());
+    return dynamic_cast<const rosbag::BagException *>(&e) != nullptr ? AF_EIO : AF_EROS;
+  });
 }
 
 template <class C, class M>

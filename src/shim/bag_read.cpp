@@ -12,6 +12,7 @@
 
 #include "af_bag.h"
 #include "convert.hpp"
+#include "errors.hpp"
 #include "wire.hpp"
 
 using namespace acoustic_firmness;
@@ -36,36 +37,22 @@ std::string g_reader_error;
 
 void set_error(af_bag_reader *r, const std::string &msg)
 {
-  try {
-    (r != nullptr ? r->last_error : g_reader_error) = msg;
-  } catch (...) {
-    // Out of memory while saving the message: the status still tells.
-  }
+  af_shim::save_error(r != nullptr ? r->last_error : g_reader_error, msg);
 }
 
+// Called inside a catch (...) block: af_shim::map_exception, with any other
+// std::exception (rosbag's file errors, a message that does not
+// deserialize) as AF_EIO.
 af_status reader_status(af_bag_reader *r) noexcept
 {
-  try {
-    throw;
-  } catch (const rosbag::BagException &e) {
-    set_error(r, e.what());
+  auto record = [r](const std::string &msg) { set_error(r, msg); };
+  return af_shim::map_exception(record, [&](const std::exception &e) {
+    if (dynamic_cast<const ros::serialization::StreamOverrunException *>(&e) != nullptr)
+      record(std::string("message does not deserialize: ") + e.what());
+    else
+      record(e.what());
     return AF_EIO;
-  } catch (const ros::serialization::StreamOverrunException &e) {
-    set_error(r, std::string("message does not deserialize: ") + e.what());
-    return AF_EIO;
-  } catch (const std::invalid_argument &e) {
-    set_error(r, e.what());
-    return AF_EINVAL;
-  } catch (const std::bad_alloc &) {
-    set_error(r, "out of memory");
-    return AF_ENOMEM;
-  } catch (const std::exception &e) {
-    set_error(r, e.what());
-    return AF_EIO;
-  } catch (...) {
-    set_error(r, "unknown C++ exception");
-    return AF_EROS;
-  }
+  });
 }
 
 // The C type of a ROS data type this reader converts; false for any other.

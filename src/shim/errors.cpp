@@ -2,8 +2,7 @@
 // af_ros_last_error.
 #include "ros_handle.hpp"
 
-#include <new>
-#include <stdexcept>
+#include "errors.hpp"
 
 namespace af_shim
 {
@@ -16,36 +15,16 @@ std::string g_orphan_error;
 
 void set_error(const af_ros *r, const std::string &msg)
 {
-  try {
-    if (r != nullptr)
-      r->last_error = msg;
-    else
-      g_orphan_error = msg;
-  } catch (...) {
-    // Out of memory while saving the message: the status still tells.
-  }
+  save_error(r != nullptr ? r->last_error : g_orphan_error, msg);
 }
 
 af_status status_from_exception(const af_ros *r) noexcept
 {
-  try {
-    throw;
-  } catch (const ros::InvalidNameException &e) {
-    set_error(r, e.what());
-    return AF_EINVAL;
-  } catch (const std::invalid_argument &e) {
-    set_error(r, e.what());
-    return AF_EINVAL;
-  } catch (const std::bad_alloc &) {
-    set_error(r, "out of memory");
-    return AF_ENOMEM;
-  } catch (const std::exception &e) {
-    set_error(r, e.what());
-    return AF_EROS;
-  } catch (...) {
-    set_error(r, "unknown C++ exception");
-    return AF_EROS;
-  }
+  auto record = [r](const std::string &msg) { set_error(r, msg); };
+  return map_exception(record, [&](const std::exception &e) {
+    record(e.what());
+    return dynamic_cast<const ros::InvalidNameException *>(&e) != nullptr ? AF_EINVAL : AF_EROS;
+  });
 }
 
 af_status invalid(const af_ros *r, const std::string &msg)
