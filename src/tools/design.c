@@ -334,14 +334,18 @@ int af_design_main(int argc, char **argv, int first)
            feasible, N_GRID * N_GRID, fm_lo * 1e3, fm_hi * 1e3, fv_lo, fv_hi);
   else
     printf("feasible region: none in the searched ranges\n");
+  /* The paper's optimum: af_impact_params_default's strike (the shipped
+   * rig's hammer, from the parameter table). */
+  const af_impact_params opt = af_impact_params_default();
   af_model_params paper = base;
   af_design_eval pe;
-  paper.impact.hammer_mass_kg = 0.010, paper.impact.velocity_m_s = 1.4;
-  paper.impact.hammer_radius_m = 0.0;
+  paper.impact.hammer_mass_kg = opt.hammer_mass_kg, paper.impact.velocity_m_s = opt.velocity_m_s;
+  paper.impact.hammer_radius_m = opt.hammer_radius_m;
   int rc = 0;
   af_status ps = evaluate_strike(f, m, &a, &paper, dom, &pe, NULL);
   if (ps == AF_OK) {
-    print_strike("the paper's optimum", 0.010, 1.4, 0.0, &pe);
+    print_strike("the paper's optimum", opt.hammer_mass_kg, opt.velocity_m_s, opt.hammer_radius_m,
+                 &pe);
   } else { /* said, never left out in silence */
     fprintf(stderr, "firmness_model design: the paper's optimum could not be evaluated: %s\n",
             af_strerror(ps));
@@ -357,15 +361,16 @@ int af_design_main(int argc, char **argv, int first)
       else
         nx_[nn] = map_m[k], ny_[nn++] = map_v[k];
     }
-    double bx = best_m * 1e3, by = best_v, px = 10.0, py = 1.4;
-    char rec_label[96];
+    double bx = best_m * 1e3, by = best_v, px = opt.hammer_mass_kg * 1e3, py = opt.velocity_m_s;
+    char rec_label[96], paper_label[64];
+    snprintf(paper_label, sizeof paper_label, "paper's optimum (%.0f g, %.1f m/s)", px, py);
     snprintf(rec_label, sizeof rec_label, "%s: %.1f g at %.2f m/s",
              best.failed == 0 ? "recommended" : "best compromise", bx, by);
     af_plot_series ser[4] = {
         {"feasible: every apple reliable", fx, fy, nf, AF_PLOT_GREEN, AF_PLOT_POINTS},
         {"not feasible", nx_, ny_, nn, AF_PLOT_LIGHT_RED, AF_PLOT_POINTS},
         {rec_label, &bx, &by, 1, AF_PLOT_BLUE, AF_PLOT_MARKER},
-        {"paper's optimum (10 g, 1.4 m/s)", &px, &py, 1, AF_PLOT_ORANGE, AF_PLOT_MARKER},
+        {paper_label, &px, &py, 1, AF_PLOT_ORANGE, AF_PLOT_MARKER},
     };
     af_plot_panel panel = af_plot_panel_empty();
     panel.title = "Feasibility map of the strike over the cultivar's domain";
