@@ -21,6 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "settings.h"
+
 /* Elastic contact time without gravity in units of (m1^2/(R E*^2 v0))^(1/5):
  * tau_c (15/16)^(2/5), with tau_c = 2 int_0^1 dx / sqrt(1 - x^2.5)
  * = (4/5) B(2/5, 1/2) = 2.9432751843 in units of D/v0. */
@@ -131,11 +133,12 @@ af_status af_damping_law_parse(const char *name, af_damping_law *law)
 af_impact_params af_impact_params_default(void)
 {
   af_impact_params p = {
-      .hammer_mass_kg = 0.010,
+      /* the shipped rig's hammer, said once in the parameter table */
+      .hammer_mass_kg = af_setting_rig_value(AF_SETTING_HAMMER_MASS_KG),
       .velocity_m_s = 1.4,
       .hammer_modulus_pa = 0.0,
       .hammer_poisson = 0.3,
-      .hammer_radius_m = 0.0,
+      .hammer_radius_m = af_setting_rig_value(AF_SETTING_HAMMER_TIP_RADIUS_M),
       .fruit_modulus_pa = 8e6,
       .fruit_poisson = 0.35,
       .strike_radius_m = 0.04,

@@ -50,8 +50,9 @@ typedef struct {
   af_damping_law damping;
 } af_impact_params;
 
-/* The paper's optimal strike on the average apple: 10 g, 1.4 m/s, rigid flat
- * hammer (nu1 0.3 unused while rigid), E2 8 MPa, nu2 0.35, R2 40 mm, e 0.6,
+/* The paper's optimal strike on the average apple: the shipped rig's hammer
+ * (the parameter table's rig values, af_setting_rig_value: 10 g, flat face),
+ * 1.4 m/s, rigid (nu1 0.3 unused while rigid), E2 8 MPa, nu2 0.35, R2 40 mm, e 0.6,
  * g 9.80665, AF_DAMPING_EXACT. */
 af_impact_params af_impact_params_default(void);
 

@@ -28,9 +28,9 @@
   {                                                                                                \
     name, AF_SETTING_WHOLE, def, range, NULL, file, false, false, NULL, 0, help                    \
   }
-#define OPTIONAL_NUM(name, range, zero_is_absent, absent, help)                                    \
+#define OPTIONAL_NUM(name, range, zero_is_absent, absent, rig, help)                               \
   {                                                                                                \
-    name, AF_SETTING_NUMBER, NULL, range, NULL, S, true, zero_is_absent, absent, 0, help           \
+    name, AF_SETTING_NUMBER, NULL, range, NULL, S, true, zero_is_absent, absent, 0, help, rig      \
   }
 #define BOOLEAN(name, def, file, help)                                                             \
   {                                                                                                \
@@ -56,9 +56,11 @@ static const af_setting_def rows[AF_SETTING_COUNT] = {
                                     "path of the rig's URDF; empty = the robot_description "
                                     "parameter of the node's namespace"),
     [AF_SETTING_HAMMER_MASS_KG] = OPTIONAL_NUM("hammer_mass_kg", "[0.0005, 1] kg", true,
-                                               "from the URDF", "overrides the URDF's hammer mass"),
+                                               "from the URDF", "0.010", /* the rig's 10 g head */
+                                               "overrides the URDF's hammer mass"),
     [AF_SETTING_HAMMER_TIP_RADIUS_M] =
         OPTIONAL_NUM("hammer_tip_radius_m", "0 or [0.0005, 0.1] m", false, "from the URDF",
+                     "0.0", /* the rig's flat face */
                      "overrides the URDF's tip radius; 0 = flat face"),
     [AF_SETTING_HAMMER_MODULUS_PA] =
         NUM("hammer_modulus_pa", "0.0", "0 or [1e5, 1e12] Pa", S, "hammer tip modulus; 0 = rigid"),
@@ -388,6 +390,11 @@ bool af_setting_range_contains(const af_setting_range *r, double v)
   if (r->lo_open ? !(v > r->lo) : !(v >= r->lo))
     return false;
   return r->hi_open ? v < r->hi : v <= r->hi;
+}
+
+double af_setting_rig_value(af_setting_id id)
+{
+  return valid_id(id) && rows[id].rig != NULL ? strtod(rows[id].rig, NULL) : NAN;
 }
 
 const char *af_setting_unit(af_setting_id id)
@@ -1030,6 +1037,19 @@ af_status af_settings_check_required(const af_settings *s, unsigned files, char 
 bool af_settings_given(const af_settings *s, af_setting_id id)
 {
   return s != NULL && valid_id(id) && s->given[id];
+}
+
+af_status af_settings_use_rig_hammer(af_settings *s, char *err, size_t len)
+{
+  for (int k = 0; k < AF_SETTING_COUNT; k++) {
+    af_setting_id id = (af_setting_id)k;
+    if (rows[k].rig == NULL || s->present[k])
+      continue;
+    af_status st = af_settings_set_number(s, id, af_setting_rig_value(id), err, len);
+    if (st != AF_OK)
+      return st;
+  }
+  return AF_OK;
 }
 
 bool af_settings_present(const af_settings *s, af_setting_id id)

@@ -170,6 +170,9 @@ typedef struct {
   const char *absent;   /* optional rows: what absence means, e.g. "from the URDF" */
   size_t max_chars;     /* string rows: longest accepted value */
   const char *help;     /* one line */
+  const char *rig;      /* optional hammer rows: the shipped rig's value (config/rig.urdf,
+                           which test_urdf checks against it), what a tool that reads no
+                           URDF takes; NULL otherwise */
 } af_setting_def;
 
 /* A row's accepted interval, parsed from its range text. */
@@ -188,6 +191,9 @@ af_status af_setting_find(const char *name, af_setting_id *id);
 af_status af_setting_range_of(af_setting_id id, af_setting_range *out);
 /* v finite and inside r. */
 bool af_setting_range_contains(const af_setting_range *r, double v);
+/* The shipped rig's value of an optional hammer row (af_setting_def.rig),
+ * e.g. 0.010 for hammer_mass_kg [kg]; NAN for every other row. */
+double af_setting_rig_value(af_setting_id id);
 /* The unit of a row: the end of its range text ("m/s"), "" when none. */
 const char *af_setting_unit(af_setting_id id);
 /* Word k of a choice row into buf (k = 0, 1, ...); AF_EINVAL past the last
@@ -251,6 +257,10 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
 af_status af_settings_check_required(const af_settings *s, unsigned files, char *err, size_t len);
 
 bool af_settings_given(const af_settings *s, af_setting_id id);
+/* For tools that read no URDF (analyze, firmness_report): each hammer row
+ * still absent takes the shipped rig's value (af_setting_rig_value), as if
+ * given. AF_OK; an error (into err) only if a rig value left its range. */
+af_status af_settings_use_rig_hammer(af_settings *s, char *err, size_t len);
 /* Absent optional rows read as not present. */
 bool af_settings_present(const af_settings *s, af_setting_id id);
 /* Number, whole, bool (0/1) or choice (word index); NAN when absent or no row. */

@@ -12,7 +12,7 @@
  * the recorded time processed per wall-clock second. Configured from the
  * node's YAML files (default: the package's config/station.yaml and
  * config/jonagold.yaml) through the one parameter table; the hammer is the
- * shipped rig's (10 g, flat face) unless a file or --set gives it.
+ * shipped rig's (the table's rig values) unless a file or --set gives it.
  *
  * Exit 0; 2 with one line on stderr for bad input (a flag, a file, the bag
  * or its topics); 1 when the report cannot be made. */
@@ -171,12 +171,10 @@ static int af_configure(const af_report_args *a, af_lane_config *cfg)
     return af_bad("--config %s%s", err, "");
   if (af_settings_load_yaml(&s, a->cultivar, err, sizeof err) != AF_OK)
     return af_bad("--cultivar %s%s", err, "");
-  /* The node reads the hammer from the rig's URDF (config/rig.urdf: 10 g,
-   * flat face); a bag does not hold it. */
-  if (!af_settings_present(&s, AF_SETTING_HAMMER_MASS_KG))
-    (void)af_settings_set_arg(&s, "hammer_mass_kg=0.010", err, sizeof err);
-  if (!af_settings_present(&s, AF_SETTING_HAMMER_TIP_RADIUS_M))
-    (void)af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err);
+  /* The node reads the hammer from the rig's URDF; a bag does not hold it:
+   * the shipped rig's (the table's rig values). */
+  if (af_settings_use_rig_hammer(&s, err, sizeof err) != AF_OK)
+    return af_bad("%s%s", err, "");
   for (int k = 0; k < a->n_sets; k++)
     if (af_settings_set_arg(&s, a->sets[k], err, sizeof err) != AF_OK)
       return af_bad("--set %s: %s", a->sets[k], err);

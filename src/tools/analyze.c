@@ -350,14 +350,12 @@ static bool af_analyze_files(const af_analyze_args *a, af_settings *s)
     return false;
   }
   /* The node reads the hammer from the rig's URDF; this tool cannot, and
-   * takes the shipped rig's hammer (config/rig.urdf: 10 g, flat face)
-   * unless a file or a flag gives it. */
-  if (!af_settings_present(s, AF_SETTING_HAMMER_MASS_KG) &&
-      !af_set_row(s, "--hammer-mass", "hammer_mass_kg", "0.010"))
+   * takes the shipped rig's hammer (the table's rig values) unless a file
+   * or a flag gives it. */
+  if (af_settings_use_rig_hammer(s, err, sizeof err) != AF_OK) {
+    fprintf(stderr, "firmness_model analyze: %s\n", err);
     return false;
-  if (!af_settings_present(s, AF_SETTING_HAMMER_TIP_RADIUS_M) &&
-      !af_set_row(s, "--hammer-radius", "hammer_tip_radius_m", "0.0"))
-    return false;
+  }
   return true;
 }
 

@@ -26,14 +26,8 @@
 #define N_E2 6
 #define N_MASS 4
 #define N_R2 3
-#define N_GRID 24
+#define N_GRID AF_DESIGN_GRID
 #define N_TIPS 4
-
-typedef struct {
-  double m_lo, m_hi, v_lo, v_hi, tip_lo, tip_hi, hammer_modulus, r2_min;
-  const char *cultivar, *plot;
-  bool ode;
-} af_design_args;
 
 /* The defaults the parser starts from: the search box of the strike and
  * the shipped cultivar. */
@@ -61,6 +55,11 @@ static const af_option design_options[] = {
 };
 #define N_OPTIONS (sizeof design_options / sizeof design_options[0])
 
+af_design_args af_design_args_default(void)
+{
+  return design_defaults;
+}
+
 const af_option *af_design_options(size_t *n)
 {
   *n = N_OPTIONS;
@@ -76,12 +75,6 @@ static void design_help(void)
   af_options_help(stdout, design_options, N_OPTIONS, &design_defaults, NULL);
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
-
-typedef struct {
-  double margin_db, band_db, damage_db;
-  double e2, mass, r2;
-  int failed; /* apples not reliable */
-} af_design_eval;
 
 static bool parse_range(const char *flag, const char *text, double *lo, double *hi)
 {
@@ -158,17 +151,21 @@ static double band_margin_db(const af_model_params *p, const af_model_result *r)
   return r->excites_mode ? fmax(m, 0.0) : fmin(m, -0.01);
 }
 
+/* The domain's apples under the strike of *base: the worst margin into
+ * *out (its strike fields untouched); the apples given up into lost[*n_lost]
+ * when lost is not NULL. */
 static af_status evaluate_strike(af_fastpath *f, af_model *m, const af_design_args *a,
-                                 const af_model_params *base, const double dom[4],
-                                 af_design_eval *out, FILE *list)
+                                 const af_model_params *base, const af_design_result *dom,
+                                 af_design_strike *out, af_design_lost *lost, int *n_lost)
 {
   out->margin_db = INFINITY;
   out->failed = 0;
   for (int i = 0; i < N_E2; i++)
     for (int j = 0; j < N_MASS; j++) {
       af_model_params p = *base;
-      p.impact.fruit_modulus_pa = dom[0] + (dom[1] - dom[0]) * i / (N_E2 - 1);
-      p.fruit_mass_kg = dom[2] + (dom[3] - dom[2]) * j / (N_MASS - 1);
+      p.impact.fruit_modulus_pa =
+          dom->modulus_min_pa + (dom->modulus_max_pa - dom->modulus_min_pa) * i / (N_E2 - 1);
+      p.fruit_mass_kg = dom->mass_min_kg + (dom->mass_max_kg - dom->mass_min_kg) * j / (N_MASS - 1);
       double r_eq = cbrt(3.0 * p.fruit_mass_kg / (4.0 * M_PI * p.fruit_density_kg_m3));
       double r_lo = fmin(a->r2_min, r_eq);
       for (int k = 0; k < N_R2; k++) {
@@ -182,21 +179,14 @@ static af_status evaluate_strike(af_fastpath *f, af_model *m, const af_design_ar
         double mg = fmin(band, dmg);
         if (!r.reliable) {
           out->failed++;
-          if (list)
-            fprintf(list, "    gives up E2 %5.2f MPa, %3.0f g, R2 %4.1f mm: %s\n",
-                    p.impact.fruit_modulus_pa / 1e6, p.fruit_mass_kg * 1e3,
-                    p.impact.strike_radius_m * 1e3,
-                    band < 0 ? (dmg < 0 ? "outside the band and damaged" : "outside the band")
-                             : "damaged");
+          if (lost)
+            lost[(*n_lost)++] = (af_design_lost){p.impact.fruit_modulus_pa, p.fruit_mass_kg,
+                                                 p.impact.strike_radius_m, band < 0, dmg < 0};
         }
         if (mg < out->margin_db) {
-          *out = (af_design_eval){mg,
-                                  band,
-                                  dmg,
-                                  p.impact.fruit_modulus_pa,
-                                  p.fruit_mass_kg,
-                                  p.impact.strike_radius_m,
-                                  out->failed};
+          out->margin_db = mg, out->band_db = band, out->damage_db = dmg;
+          out->e2_pa = p.impact.fruit_modulus_pa, out->mass_kg = p.fruit_mass_kg;
+          out->r2_m = p.impact.strike_radius_m;
         }
       }
     }
@@ -208,16 +198,231 @@ static double grid_at(double lo, double hi, int k, int n)
   return n == 1 || hi == lo ? lo : lo * pow(hi / lo, (double)k / (n - 1));
 }
 
-static void print_strike(const char *what, double m1, double v0, double tip,
-                         const af_design_eval *e)
+/* base with the strike (m1 [kg], v0 [m/s], tip [m]). */
+static af_model_params with_strike(const af_model_params *base, double m1, double v0, double tip)
 {
-  printf("%s: hammer %.1f g at %.2f m/s, tip %s", what, m1 * 1e3, v0, tip > 0.0 ? "" : "flat");
+  af_model_params p = *base;
+  p.impact.hammer_mass_kg = m1;
+  p.impact.velocity_m_s = v0;
+  p.impact.hammer_radius_m = tip;
+  return p;
+}
+
+/* The cultivar's model parameters and domain into *base and *r; false with
+ * err on a file or value that cannot be used. */
+static bool load_cultivar(const af_design_args *a, af_model_params *base, af_design_result *r,
+                          char *err, size_t len)
+{
+  af_settings s;
+  char why[512];
+  af_settings_init(&s);
+  if (af_settings_load_yaml(&s, a->cultivar, why, sizeof why) != AF_OK) {
+    snprintf(err, len, "%s", why);
+    return false;
+  }
+  *base = af_model_params_default();
+  base->impact.restitution = af_settings_number(&s, AF_SETTING_RESTITUTION);
+  base->impact.fruit_poisson = af_settings_number(&s, AF_SETTING_FRUIT_POISSON);
+  base->impact.hammer_modulus_pa = a->hammer_modulus;
+  base->fruit_density_kg_m3 = af_settings_number(&s, AF_SETTING_DENSITY_KG_M3);
+  base->yield_ratio = af_settings_number(&s, AF_SETTING_YIELD_RATIO);
+  base->yield_exponent = af_settings_number(&s, AF_SETTING_YIELD_EXPONENT);
+  base->yield_reference_modulus_pa = af_settings_number(&s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
+  base->modulus_factor = af_settings_number(&s, AF_SETTING_MODULUS_FACTOR);
+  if (af_yield_points_parse(af_settings_string(&s, AF_SETTING_YIELD_MEASURED),
+                            &base->yield_measured, why, sizeof why) != AF_OK) {
+    snprintf(err, len, "%s: yield_measured: %s", a->cultivar, why);
+    return false;
+  }
+  r->modulus_min_pa = af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA);
+  r->modulus_max_pa = af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA);
+  r->mass_min_kg = af_settings_number(&s, AF_SETTING_MASS_MIN_KG);
+  r->mass_max_kg = af_settings_number(&s, AF_SETTING_MASS_MAX_KG);
+  r->restitution = base->impact.restitution;
+  return true;
+}
+
+/* The grid search: the best strike, the feasibility map, the feasible box. */
+static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
+                        const af_model_params *base, af_design_result *r)
+{
+  double tips[N_TIPS + 1];
+  int n_tips = 0;
+  if (a->tip_lo == 0.0)
+    tips[n_tips++] = 0.0;
+  double t_lo = fmax(a->tip_lo, 0.002);
+  if (a->tip_hi >= t_lo)
+    for (int k = 0; k < N_TIPS; k++)
+      tips[n_tips++] = grid_at(t_lo, a->tip_hi, k, N_TIPS);
+  r->n_tips = n_tips;
+  af_design_strike *best = &r->recommended;
+  *best = (af_design_strike){0};
+  best->margin_db = -INFINITY, best->failed = 1 << 30;
+  r->feasible_cells = 0;
+  r->feasible_m_lo_kg = INFINITY, r->feasible_m_hi_kg = 0;
+  r->feasible_v_lo_m_s = INFINITY, r->feasible_v_hi_m_s = 0;
+  for (int i = 0; i < N_GRID; i++)
+    for (int j = 0; j < N_GRID; j++) {
+      double m1 = grid_at(a->m_lo, a->m_hi, i, N_GRID), v0 = grid_at(a->v_lo, a->v_hi, j, N_GRID);
+      double cell = -INFINITY;
+      for (int t = 0; t < n_tips; t++) {
+        af_model_params p = with_strike(base, m1, v0, tips[t]);
+        af_design_strike e = {.hammer_mass_kg = m1, .velocity_m_s = v0, .tip_radius_m = tips[t]};
+        af_status st = evaluate_strike(f, m, a, &p, r, &e, NULL, NULL);
+        if (st != AF_OK)
+          return st;
+        cell = fmax(cell, e.margin_db);
+        /* Best: all reliable first, then the largest worst margin; without
+         * a feasible strike the fewest apples given up. */
+        if (e.failed < best->failed || (e.failed == best->failed && e.margin_db > best->margin_db))
+          *best = e;
+      }
+      r->map_mass_g[i * N_GRID + j] = m1 * 1e3;
+      r->map_v_m_s[i * N_GRID + j] = v0;
+      r->map_margin_db[i * N_GRID + j] = cell;
+      if (cell >= 0.0) {
+        r->feasible_cells++;
+        r->feasible_m_lo_kg = fmin(r->feasible_m_lo_kg, m1);
+        r->feasible_m_hi_kg = fmax(r->feasible_m_hi_kg, m1);
+        r->feasible_v_lo_m_s = fmin(r->feasible_v_lo_m_s, v0);
+        r->feasible_v_hi_m_s = fmax(r->feasible_v_hi_m_s, v0);
+      }
+    }
+  return AF_OK;
+}
+
+/* After the search: the apples the best compromise gives up (a failure
+ * there leaves the list as far as it got, as the printed list did), and
+ * the paper's optimum: af_impact_params_default's strike (the shipped rig's
+ * hammer, from the parameter table). */
+static void compare(af_fastpath *f, af_model *m, const af_design_args *a,
+                    const af_model_params *base, af_design_result *r)
+{
+  r->n_lost = 0;
+  if (r->recommended.failed > 0) {
+    const af_design_strike *b = &r->recommended;
+    af_model_params p = with_strike(base, b->hammer_mass_kg, b->velocity_m_s, b->tip_radius_m);
+    af_design_strike e;
+    (void)evaluate_strike(f, m, a, &p, r, &e, r->lost, &r->n_lost);
+  }
+  const af_impact_params opt = af_impact_params_default();
+  af_model_params p = with_strike(base, opt.hammer_mass_kg, opt.velocity_m_s, opt.hammer_radius_m);
+  r->paper = (af_design_strike){.hammer_mass_kg = opt.hammer_mass_kg,
+                                .velocity_m_s = opt.velocity_m_s,
+                                .tip_radius_m = opt.hammer_radius_m};
+  r->paper_status = evaluate_strike(f, m, a, &p, r, &r->paper, NULL, NULL);
+}
+
+af_status af_design_run(const af_design_args *a, af_design_result *out, bool *bad_input, char *err,
+                        size_t len)
+{
+  af_model_params base;
+  *bad_input = true;
+  if (!load_cultivar(a, &base, out, err, len))
+    return AF_EINVAL;
+  *bad_input = false;
+  af_fastpath *f = NULL;
+  af_model *m = NULL;
+  if (a->ode ? af_model_create(&m) != AF_OK : af_fastpath_create(&f) != AF_OK) {
+    snprintf(err, len, "cannot create the model");
+    return AF_ENOMEM;
+  }
+  af_status st = search(f, m, a, &base, out);
+  if (st != AF_OK)
+    snprintf(err, len, "the model failed: %s", af_strerror(st));
+  else
+    compare(f, m, a, &base, out);
+  af_fastpath_destroy(f);
+  af_model_destroy(m);
+  return st;
+}
+
+static void print_strike(FILE *out, const char *what, const af_design_strike *e)
+{
+  double tip = e->tip_radius_m;
+  fprintf(out, "%s: hammer %.1f g at %.2f m/s, tip %s", what, e->hammer_mass_kg * 1e3,
+          e->velocity_m_s, tip > 0.0 ? "" : "flat");
   if (tip > 0.0)
-    printf("radius %.1f mm", tip * 1e3);
-  printf("\n  worst apple: E2 %.2f MPa, %.0f g, R2 %.1f mm: band margin %+.2f dB, damage margin "
-         "%+.2f dB (yield / shear %.3f); %d of %d apples not reliable\n",
-         e->e2 / 1e6, e->mass * 1e3, e->r2 * 1e3, e->band_db, e->damage_db,
-         pow(10.0, e->damage_db / 20.0), e->failed, N_E2 * N_MASS * N_R2);
+    fprintf(out, "radius %.1f mm", tip * 1e3);
+  fprintf(out,
+          "\n  worst apple: E2 %.2f MPa, %.0f g, R2 %.1f mm: band margin %+.2f dB, damage margin "
+          "%+.2f dB (yield / shear %.3f); %d of %d apples not reliable\n",
+          e->e2_pa / 1e6, e->mass_kg * 1e3, e->r2_m * 1e3, e->band_db, e->damage_db,
+          pow(10.0, e->damage_db / 20.0), e->failed, AF_DESIGN_APPLES);
+}
+
+void af_design_print(FILE *out, const char *cultivar, const af_design_args *a,
+                     const af_design_result *r)
+{
+  fprintf(out,
+          "cultivar %s: E2 %.1f-%.1f MPa, %.0f-%.0f g, R2 from the equatorial radius down to "
+          "%.1f mm; e %.2f; hammer modulus %s\n",
+          cultivar, r->modulus_min_pa / 1e6, r->modulus_max_pa / 1e6, r->mass_min_kg * 1e3,
+          r->mass_max_kg * 1e3, a->r2_min * 1e3, r->restitution,
+          a->hammer_modulus > 0 ? "given" : "rigid");
+  fprintf(out,
+          "searched: hammer %.1f-%.1f g x v0 %.2f-%.2f m/s (%d x %d, geometric) x %d tips; %d "
+          "apples per strike; %s path\n",
+          a->m_lo * 1e3, a->m_hi * 1e3, a->v_lo, a->v_hi, N_GRID, N_GRID, r->n_tips,
+          AF_DESIGN_APPLES, a->ode ? "ODE" : "fast");
+  print_strike(out,
+               r->recommended.failed == 0 ? "recommended strike"
+                                          : "no feasible strike; best compromise",
+               &r->recommended);
+  for (int k = 0; k < r->n_lost; k++) {
+    const af_design_lost *l = &r->lost[k];
+    fprintf(out, "    gives up E2 %5.2f MPa, %3.0f g, R2 %4.1f mm: %s\n", l->e2_pa / 1e6,
+            l->mass_kg * 1e3, l->r2_m * 1e3,
+            l->outside_band ? (l->damaged ? "outside the band and damaged" : "outside the band")
+                            : "damaged");
+  }
+  if (r->feasible_cells > 0)
+    fprintf(out,
+            "feasible region (best tip per cell): %d of %d cells, hammer %.1f-%.1f g, v0 "
+            "%.2f-%.2f m/s\n",
+            r->feasible_cells, AF_DESIGN_CELLS, r->feasible_m_lo_kg * 1e3,
+            r->feasible_m_hi_kg * 1e3, r->feasible_v_lo_m_s, r->feasible_v_hi_m_s);
+  else
+    fprintf(out, "feasible region: none in the searched ranges\n");
+  if (r->paper_status == AF_OK)
+    print_strike(out, "the paper's optimum", &r->paper);
+}
+
+/* The feasibility map into a->plot; false when it cannot be drawn. */
+static bool draw_map(const af_design_args *a, const af_design_result *r)
+{
+  static double fx[AF_DESIGN_CELLS], fy[AF_DESIGN_CELLS], nx_[AF_DESIGN_CELLS],
+      ny_[AF_DESIGN_CELLS];
+  size_t nf = 0, nn = 0;
+  for (int k = 0; k < AF_DESIGN_CELLS; k++) {
+    if (r->map_margin_db[k] >= 0.0)
+      fx[nf] = r->map_mass_g[k], fy[nf++] = r->map_v_m_s[k];
+    else
+      nx_[nn] = r->map_mass_g[k], ny_[nn++] = r->map_v_m_s[k];
+  }
+  double bx = r->recommended.hammer_mass_kg * 1e3, by = r->recommended.velocity_m_s;
+  double px = r->paper.hammer_mass_kg * 1e3, py = r->paper.velocity_m_s;
+  char rec_label[96], paper_label[64], err[512];
+  snprintf(rec_label, sizeof rec_label, "%s: %.1f g at %.2f m/s",
+           r->recommended.failed == 0 ? "recommended" : "best compromise", bx, by);
+  snprintf(paper_label, sizeof paper_label, "paper's optimum (%.0f g, %.1f m/s)", px, py);
+  af_plot_series ser[4] = {
+      {"feasible: every apple reliable", fx, fy, nf, AF_PLOT_GREEN, AF_PLOT_POINTS},
+      {"not feasible", nx_, ny_, nn, AF_PLOT_LIGHT_RED, AF_PLOT_POINTS},
+      {rec_label, &bx, &by, 1, AF_PLOT_BLUE, AF_PLOT_MARKER},
+      {paper_label, &px, &py, 1, AF_PLOT_ORANGE, AF_PLOT_MARKER},
+  };
+  af_plot_panel panel = af_plot_panel_empty();
+  panel.title = "Feasibility map of the strike over the cultivar's domain";
+  panel.subtitle = "best tip per cell; worst apple's margin >= 0 dB = feasible";
+  panel.x_label = "hammer mass [g]";
+  panel.y_label = "contact velocity v0 [m/s]";
+  panel.series = ser;
+  panel.n_series = 4;
+  panel.legend = AF_PLOT_LEGEND_BELOW;
+  af_plot_target t;
+  return af_plot_target_file(a->plot, 900, 700, &t) == AF_OK &&
+         af_plot_draw(&t, &panel, 1, 1, err, sizeof err) == AF_OK;
 }
 
 int af_design_main(int argc, char **argv, int first)
@@ -229,161 +434,26 @@ int af_design_main(int argc, char **argv, int first)
   }
   if (!parse_args(argc, argv, first, &a))
     return AF_CLI_EXIT_USAGE;
-  af_settings s;
-  char err[512];
-  af_settings_init(&s);
-  const char *cultivar = a.cultivar;
-  if (af_settings_load_yaml(&s, cultivar, err, sizeof err) != AF_OK) {
+  static af_design_result r;
+  char err[1100];
+  bool bad_input = false;
+  if (af_design_run(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model design: %s\n", err);
-    return AF_CLI_EXIT_USAGE;
+    return bad_input ? AF_CLI_EXIT_USAGE : 1;
   }
-  af_model_params base = af_model_params_default();
-  base.impact.restitution = af_settings_number(&s, AF_SETTING_RESTITUTION);
-  base.impact.fruit_poisson = af_settings_number(&s, AF_SETTING_FRUIT_POISSON);
-  base.impact.hammer_modulus_pa = a.hammer_modulus;
-  base.fruit_density_kg_m3 = af_settings_number(&s, AF_SETTING_DENSITY_KG_M3);
-  base.yield_ratio = af_settings_number(&s, AF_SETTING_YIELD_RATIO);
-  base.yield_exponent = af_settings_number(&s, AF_SETTING_YIELD_EXPONENT);
-  base.yield_reference_modulus_pa = af_settings_number(&s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
-  base.modulus_factor = af_settings_number(&s, AF_SETTING_MODULUS_FACTOR);
-  if (af_yield_points_parse(af_settings_string(&s, AF_SETTING_YIELD_MEASURED), &base.yield_measured,
-                            err, sizeof err) != AF_OK) {
-    fprintf(stderr, "firmness_model design: %s: yield_measured: %s\n", cultivar, err);
-    return AF_CLI_EXIT_USAGE;
-  }
-  double dom[4] = {af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA),
-                   af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA),
-                   af_settings_number(&s, AF_SETTING_MASS_MIN_KG),
-                   af_settings_number(&s, AF_SETTING_MASS_MAX_KG)};
-  af_fastpath *f = NULL;
-  af_model *m = NULL;
-  if (a.ode ? af_model_create(&m) != AF_OK : af_fastpath_create(&f) != AF_OK) {
-    fprintf(stderr, "firmness_model design: cannot create the model\n");
-    return 1;
-  }
-  double tips[N_TIPS + 1];
-  int n_tips = 0;
-  if (a.tip_lo == 0.0)
-    tips[n_tips++] = 0.0;
-  double t_lo = fmax(a.tip_lo, 0.002);
-  if (a.tip_hi >= t_lo)
-    for (int k = 0; k < N_TIPS; k++)
-      tips[n_tips++] = grid_at(t_lo, a.tip_hi, k, N_TIPS);
-  static double map_m[N_GRID * N_GRID], map_v[N_GRID * N_GRID], map_margin[N_GRID * N_GRID];
-  af_design_eval best = {-INFINITY, 0, 0, 0, 0, 0, 1 << 30};
-  double best_m = 0, best_v = 0, best_t = 0;
-  int feasible = 0;
-  double fm_lo = INFINITY, fm_hi = 0, fv_lo = INFINITY, fv_hi = 0;
-  af_status st = AF_OK;
-  for (int i = 0; i < N_GRID && st == AF_OK; i++)
-    for (int j = 0; j < N_GRID && st == AF_OK; j++) {
-      double m1 = grid_at(a.m_lo, a.m_hi, i, N_GRID), v0 = grid_at(a.v_lo, a.v_hi, j, N_GRID);
-      double cell = -INFINITY;
-      for (int t = 0; t < n_tips && st == AF_OK; t++) {
-        af_model_params p = base;
-        af_design_eval e;
-        p.impact.hammer_mass_kg = m1;
-        p.impact.velocity_m_s = v0;
-        p.impact.hammer_radius_m = tips[t];
-        st = evaluate_strike(f, m, &a, &p, dom, &e, NULL);
-        if (st != AF_OK)
-          break;
-        cell = fmax(cell, e.margin_db);
-        /* Best: all reliable first, then the largest worst margin; without
-         * a feasible strike the fewest apples given up. */
-        if (e.failed < best.failed || (e.failed == best.failed && e.margin_db > best.margin_db)) {
-          best = e;
-          best_m = m1, best_v = v0, best_t = tips[t];
-        }
-      }
-      map_m[i * N_GRID + j] = m1 * 1e3;
-      map_v[i * N_GRID + j] = v0;
-      map_margin[i * N_GRID + j] = cell;
-      if (cell >= 0.0) {
-        feasible++;
-        fm_lo = fmin(fm_lo, m1), fm_hi = fmax(fm_hi, m1), fv_lo = fmin(fv_lo, v0),
-        fv_hi = fmax(fv_hi, v0);
-      }
-    }
-  if (st != AF_OK) {
-    fprintf(stderr, "firmness_model design: the model failed: %s\n", af_strerror(st));
-    af_fastpath_destroy(f);
-    af_model_destroy(m);
-    return 1;
-  }
-  printf("cultivar %s: E2 %.1f-%.1f MPa, %.0f-%.0f g, R2 from the equatorial radius down to %.1f "
-         "mm; e %.2f; hammer modulus %s\n",
-         cultivar, dom[0] / 1e6, dom[1] / 1e6, dom[2] * 1e3, dom[3] * 1e3, a.r2_min * 1e3,
-         base.impact.restitution, a.hammer_modulus > 0 ? "given" : "rigid");
-  printf("searched: hammer %.1f-%.1f g x v0 %.2f-%.2f m/s (%d x %d, geometric) x %d tips; %d "
-         "apples per strike; %s path\n",
-         a.m_lo * 1e3, a.m_hi * 1e3, a.v_lo, a.v_hi, N_GRID, N_GRID, n_tips, N_E2 * N_MASS * N_R2,
-         a.ode ? "ODE" : "fast");
-  print_strike(best.failed == 0 ? "recommended strike" : "no feasible strike; best compromise",
-               best_m, best_v, best_t, &best);
-  if (best.failed > 0) {
-    af_model_params p = base;
-    af_design_eval e;
-    p.impact.hammer_mass_kg = best_m, p.impact.velocity_m_s = best_v,
-    p.impact.hammer_radius_m = best_t;
-    evaluate_strike(f, m, &a, &p, dom, &e, stdout);
-  }
-  if (feasible > 0)
-    printf("feasible region (best tip per cell): %d of %d cells, hammer %.1f-%.1f g, v0 %.2f-%.2f "
-           "m/s\n",
-           feasible, N_GRID * N_GRID, fm_lo * 1e3, fm_hi * 1e3, fv_lo, fv_hi);
-  else
-    printf("feasible region: none in the searched ranges\n");
-  af_model_params paper = base;
-  af_design_eval pe;
-  paper.impact.hammer_mass_kg = 0.010, paper.impact.velocity_m_s = 1.4;
-  paper.impact.hammer_radius_m = 0.0;
+  af_design_print(stdout, a.cultivar, &a, &r);
   int rc = 0;
-  af_status ps = evaluate_strike(f, m, &a, &paper, dom, &pe, NULL);
-  if (ps == AF_OK) {
-    print_strike("the paper's optimum", 0.010, 1.4, 0.0, &pe);
-  } else { /* said, never left out in silence */
+  if (r.paper_status != AF_OK) { /* said, never left out in silence */
     fprintf(stderr, "firmness_model design: the paper's optimum could not be evaluated: %s\n",
-            af_strerror(ps));
+            af_strerror(r.paper_status));
     rc = 1;
   }
   if (a.plot) {
-    static double fx[N_GRID * N_GRID], fy[N_GRID * N_GRID], nx_[N_GRID * N_GRID],
-        ny_[N_GRID * N_GRID];
-    size_t nf = 0, nn = 0;
-    for (int k = 0; k < N_GRID * N_GRID; k++) {
-      if (map_margin[k] >= 0.0)
-        fx[nf] = map_m[k], fy[nf++] = map_v[k];
-      else
-        nx_[nn] = map_m[k], ny_[nn++] = map_v[k];
-    }
-    double bx = best_m * 1e3, by = best_v, px = 10.0, py = 1.4;
-    char rec_label[96];
-    snprintf(rec_label, sizeof rec_label, "%s: %.1f g at %.2f m/s",
-             best.failed == 0 ? "recommended" : "best compromise", bx, by);
-    af_plot_series ser[4] = {
-        {"feasible: every apple reliable", fx, fy, nf, AF_PLOT_GREEN, AF_PLOT_POINTS},
-        {"not feasible", nx_, ny_, nn, AF_PLOT_LIGHT_RED, AF_PLOT_POINTS},
-        {rec_label, &bx, &by, 1, AF_PLOT_BLUE, AF_PLOT_MARKER},
-        {"paper's optimum (10 g, 1.4 m/s)", &px, &py, 1, AF_PLOT_ORANGE, AF_PLOT_MARKER},
-    };
-    af_plot_panel panel = af_plot_panel_empty();
-    panel.title = "Feasibility map of the strike over the cultivar's domain";
-    panel.subtitle = "best tip per cell; worst apple's margin >= 0 dB = feasible";
-    panel.x_label = "hammer mass [g]";
-    panel.y_label = "contact velocity v0 [m/s]";
-    panel.series = ser;
-    panel.n_series = 4;
-    panel.legend = AF_PLOT_LEGEND_BELOW;
-    af_plot_target t;
-    if (af_plot_target_file(a.plot, 900, 700, &t) != AF_OK ||
-        af_plot_draw(&t, &panel, 1, 1, err, sizeof err) != AF_OK) {
+    if (!draw_map(&a, &r)) {
       fprintf(stderr, "firmness_model design: cannot draw --plot %s\n", a.plot);
       rc = AF_CLI_EXIT_USAGE;
     } else
       af_options_wrote(a.plot);
   }
-  af_fastpath_destroy(f);
-  af_model_destroy(m);
   return rc;
 }

@@ -8,8 +8,8 @@
  *   100 g and 250 g fruit, and the shear against the yield, over E2, R2, e;
  * as DIR/paper/fig<N>_<profile>.png and .svg; then DIR/paper.md: each of the
  * paper's claims with the figure computed here and a verdict per profile,
- * and `firmness_model design` on the shipped cultivar against the paper's
- * optimum (run as a child of this executable, its output quoted).
+ * and the designer (af_design_run, design.h) on the shipped cultivar against
+ * the paper's optimum, its report quoted as `firmness_model design` prints it.
  * Every number in the report is computed by this command. */
 #define _POSIX_C_SOURCE 200809L
 #include "paper.h"
@@ -22,9 +22,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "cli_flags.h"
+#include "design.h"
 #include "impact.h"
 #include "model.h"
 #include "options.h"
@@ -743,57 +743,44 @@ static const af_claim claims[] = {
 };
 #define AF_N_CLAIMS (sizeof claims / sizeof claims[0])
 
-/* Runs `firmness_model design` on the shipped cultivar (this executable as a
- * child) and quotes its output into md; the paper optimum's failures into
- * *given_up / *apples (-1 when not read). */
-static int design_section(FILE *md, const char *cultivar)
+/* The shipped cultivar, in the package's config/ (AF_CONFIG_DIR). */
+#define AF_PAPER_CULTIVAR "jonagold.yaml"
+
+/* The designer (design.h) on the shipped cultivar: its report quoted as
+ * `firmness_model design` prints it (the cultivar shown relative to the
+ * package), then the verdict from the same result. 0, or 1 when the
+ * designer or the paper's optimum fails (said on stderr). */
+static int design_section(FILE *md)
 {
-  char self[512];
-  ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-  if (n <= 0)
+  static af_design_result r;
+  af_design_args a = af_design_args_default();
+  a.cultivar = AF_CONFIG_DIR "/" AF_PAPER_CULTIVAR;
+  const char *shown = "config/" AF_PAPER_CULTIVAR;
+  char err[1100];
+  bool bad_input = false;
+  if (af_design_run(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
+    fprintf(stderr, "firmness_model paper: design: %s\n", err);
     return 1;
-  self[n] = '\0';
-  char cmd[1400];
-  af_text(cmd, sizeof cmd, "'%s' design --cultivar '%s' 2>&1", self, cultivar);
-  FILE *pipe = popen(cmd, "r");
-  if (!pipe)
-    return 1;
-  char line[512], rec[512] = "", opt[512] = "";
-  bool in_opt = false, in_rec = false;
-  fprintf(md, "```\n$ firmness_model design --cultivar config/jonagold.yaml\n");
-  while (fgets(line, sizeof line, pipe)) {
-    fputs(line, md);
-    if (in_opt && strstr(line, "worst apple"))
-      af_text(opt, sizeof opt, "%s", line), in_opt = false;
-    if (in_rec && strstr(line, "worst apple"))
-      af_text(rec, sizeof rec, "%s", line), in_rec = false;
-    if (strncmp(line, "the paper's optimum", 19) == 0)
-      in_opt = true;
-    if (strncmp(line, "recommended strike", 18) == 0 || strncmp(line, "no feasible", 11) == 0)
-      in_rec = true;
   }
-  int rc = pclose(pipe);
+  fprintf(md, "```\n$ firmness_model design --cultivar %s\n", shown);
+  af_design_print(md, shown, &a, &r);
   fprintf(md, "```\n\n");
-  if (rc != 0)
+  if (r.paper_status != AF_OK) {
+    fprintf(stderr,
+            "firmness_model paper: design: the paper's optimum could not be evaluated: %s\n",
+            af_strerror(r.paper_status));
     return 1;
-  int lost = -1, total = -1, lost_rec = -1;
-  const char *s = strstr(opt, "; ");
-  if (s)
-    sscanf(s, "; %d of %d apples", &lost, &total);
-  s = strstr(rec, "; ");
-  if (s)
-    sscanf(s, "; %d of %*d apples", &lost_rec);
-  if (lost < 0 || lost_rec < 0)
-    return 1;
+  }
   fprintf(md,
           "Verdict: on the cultivar's domain (E2 and mass over the YAML's ranges, R2 from the "
-          "equator down to 25 mm) under the shipped profile, the paper's optimum (10 g, 1.4 m/s) "
-          "**gives up %d of %d apples**; the designer's recommendation gives up %d. The paper's "
-          "optimum was derived for the average apple at R2 40 mm; the domain here adds light "
-          "firm apples (0S2 above the main lobe's band) and R2 down to 25 mm (shear over the "
-          "yield), which a lighter, slower hammer handles (shorter pulse, wider band, lower "
+          "equator down to %.0f mm) under the shipped profile, the paper's optimum (%.0f g, %.1f "
+          "m/s) **gives up %d of %d apples**; the designer's recommendation gives up %d. The "
+          "paper's optimum was derived for the average apple at R2 40 mm; the domain here adds "
+          "light firm apples (0S2 above the main lobe's band) and R2 down to %.0f mm (shear over "
+          "the yield), which a lighter, slower hammer handles (shorter pulse, wider band, lower "
           "shear).\n\n",
-          lost, total, lost_rec);
+          a.r2_min * 1e3, r.paper.hammer_mass_kg * 1e3, r.paper.velocity_m_s, r.paper.failed,
+          AF_DESIGN_APPLES, r.recommended.failed, a.r2_min * 1e3);
   return 0;
 }
 
@@ -862,9 +849,7 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
               fig, profile_key[k]);
   }
   fprintf(md, "## The designer against the paper's optimum\n\n");
-  int rc = design_section(md, AF_CONFIG_DIR "/jonagold.yaml");
-  if (rc)
-    fprintf(stderr, "firmness_model paper: firmness_model design failed\n");
+  int rc = design_section(md);
   if (fclose(md) != 0)
     rc = 1;
   if (rc == 0)

@@ -900,9 +900,46 @@ static void test_memory_estimate(void)
   }
 }
 
+/* The shipped rig's hammer, said once in the table (the URDF test checks
+ * config/rig.urdf against it): the two hammer rows carry it, no other row
+ * does; tools that read no URDF fill only what is still absent; the impact
+ * model's default strike uses it. */
+static void test_rig_hammer(void)
+{
+  char err[ERR_MAX];
+  for (int k = 0; k < AF_SETTING_COUNT; k++) {
+    af_setting_id id = (af_setting_id)k;
+    double v = af_setting_rig_value(id);
+    bool hammer = id == AF_SETTING_HAMMER_MASS_KG || id == AF_SETTING_HAMMER_TIP_RADIUS_M;
+    AF_CHECK(hammer ? !isnan(v) : isnan(v));
+    af_setting_range r;
+    if (hammer && af_setting_range_of(id, &r) == AF_OK)
+      AF_CHECK(af_setting_range_contains(&r, v));
+  }
+  AF_CHECK_ABS(af_setting_rig_value(AF_SETTING_HAMMER_MASS_KG), 0.010, 0.0);    /* 10 g head */
+  AF_CHECK_ABS(af_setting_rig_value(AF_SETTING_HAMMER_TIP_RADIUS_M), 0.0, 0.0); /* flat */
+  AF_CHECK(isnan(af_setting_rig_value((af_setting_id)AF_SETTING_COUNT)));
+  af_settings s;
+  af_settings_init(&s);
+  AF_CHECK_STATUS(af_settings_set_arg(&s, "hammer_mass_kg=0.02", err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_settings_use_rig_hammer(&s, err, sizeof err), AF_OK);
+  AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_MASS_KG), 0.02, 0.0); /* kept */
+  AF_CHECK(af_settings_present(&s, AF_SETTING_HAMMER_TIP_RADIUS_M));
+  AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_TIP_RADIUS_M), 0.0, 0.0);
+  af_settings_init(&s);
+  AF_CHECK_STATUS(af_settings_use_rig_hammer(&s, err, sizeof err), AF_OK);
+  AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_MASS_KG), 0.010, 0.0);
+  af_lane_config c;
+  AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
+  af_impact_params d = af_impact_params_default();
+  AF_CHECK_ABS(d.hammer_mass_kg, af_setting_rig_value(AF_SETTING_HAMMER_MASS_KG), 0.0);
+  AF_CHECK_ABS(d.hammer_radius_m, af_setting_rig_value(AF_SETTING_HAMMER_TIP_RADIUS_M), 0.0);
+}
+
 int main(void)
 {
   test_table();
+  test_rig_hammer();
   test_shipped_files();
   test_derive_shipped();
   test_value_errors();
