@@ -22,11 +22,11 @@
 #define C AF_SETTINGS_CULTIVAR
 #define NUM(name, def, range, file, help)                                                          \
   {                                                                                                \
-    name, AF_SETTING_NUMBER, def, range, NULL, file, false, false, NULL, 0, help                   \
+    name, AF_SETTING_NUMBER, def, range, NULL, file, false, false, NULL, 0, help, NULL             \
   }
 #define WHOLE(name, def, range, file, help)                                                        \
   {                                                                                                \
-    name, AF_SETTING_WHOLE, def, range, NULL, file, false, false, NULL, 0, help                    \
+    name, AF_SETTING_WHOLE, def, range, NULL, file, false, false, NULL, 0, help, NULL              \
   }
 #define OPTIONAL_NUM(name, range, zero_is_absent, absent, rig, help)                               \
   {                                                                                                \
@@ -34,15 +34,15 @@
   }
 #define BOOLEAN(name, def, file, help)                                                             \
   {                                                                                                \
-    name, AF_SETTING_BOOL, def, NULL, NULL, file, false, false, NULL, 0, help                      \
+    name, AF_SETTING_BOOL, def, NULL, NULL, file, false, false, NULL, 0, help, NULL                \
   }
 #define STRING(name, def, max_chars, file, help)                                                   \
   {                                                                                                \
-    name, AF_SETTING_STRING, def, NULL, NULL, file, false, false, NULL, max_chars, help            \
+    name, AF_SETTING_STRING, def, NULL, NULL, file, false, false, NULL, max_chars, help, NULL      \
   }
 #define CHOICE(name, def, choices, file, help)                                                     \
   {                                                                                                \
-    name, AF_SETTING_CHOICE, def, NULL, choices, file, false, false, NULL, 0, help                 \
+    name, AF_SETTING_CHOICE, def, NULL, choices, file, false, false, NULL, 0, help, NULL           \
   }
 
 /* Every range and default of the lane. The ranges are sanity bounds of a
