@@ -5,8 +5,8 @@
 # rig (RobotModel), the last apple's markers and its measured line, the
 # diagnostic status over the rig, the last strike's picture (strike_plot)
 # beside the 3D view, and the Displays panel (no warning expected).
-# The test command runs it with 2 strikes (scripts_readme_scripts); rviz, Xvfb
-# and ImageMagick are installed here by setup.sh --rviz.
+# The test command runs it with 2 strikes (scripts_readme_scripts); rviz and
+# Xvfb are installed here by setup.sh --rviz (ImageMagick by setup.sh).
 # Usage: bash scripts/rviz_shot.sh [OUT.png]   (default doc/rviz.png)
 #   AF_RVIZ_STRIKES=N (5) strikes replayed; AF_RVIZ_LOG=DIR keeps the logs there;
 #   AF_RVIZ_PORT=P the master's port (default: a random one in 20000-39999).

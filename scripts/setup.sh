@@ -6,7 +6,7 @@
 # scripts/debian_packages.yaml maps each key to its Debian packages. Beside
 # them, TOOLS: what a minbase system lacks to check out, build and lint (no
 # package.xml key: they are not dependencies of the package itself).
-# --rviz: also the `rviz` key (rviz, Xvfb, ImageMagick) for scripts/rviz_shot.sh.
+# --rviz: also the `rviz` key (rviz, Xvfb) for scripts/rviz_shot.sh.
 # Idempotent: packages already present are left alone. Needs root (or sudo).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
