@@ -127,21 +127,6 @@ static FILE *open_regular(const char *path, uint64_t *size_bytes, af_status *st,
   return f;
 }
 
-af_status af_recording_read(const char *path, af_recording *out, char *err, size_t len)
-{
-  uint64_t size_bytes = 0;
-  af_status s = AF_OK;
-  memset(out, 0, sizeof *out);
-  FILE *f = open_regular(path, &size_bytes, &s, err, len);
-  if (f == NULL)
-    return s;
-  s = read_raw(f, path, size_bytes, out, err, len);
-  fclose(f);
-  if (s != AF_OK)
-    af_recording_free(out);
-  return s;
-}
-
 /* The header's rate and channel count against the flags. */
 static af_status check_wav_flags(const char *path, const af_wav_info *w,
                                  const af_recording_spec *spec, char *err, size_t len)

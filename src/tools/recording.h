@@ -65,9 +65,6 @@ bool af_recording_parse_scale(const char *flag, const char *text, double *out, c
 af_status af_recording_load(const char *path, const af_recording_spec *spec, af_recording *out,
                             double *rate_hz, char *err, size_t len);
 
-/* Raw float32 only (an empty file gives n = 0). AF_EIO, AF_EINVAL (not
- * whole float32 samples, or not a regular file) or AF_ESIZE, as above. */
-af_status af_recording_read(const char *path, af_recording *out, char *err, size_t len);
 void af_recording_free(af_recording *r); /* safe on an empty recording */
 
 #ifdef __cplusplus
