@@ -60,6 +60,76 @@ af_status af_synth_pulse_run(af_impact *w, const af_impact_params *p, double fin
   return AF_OK;
 }
 
+/* d'' [m/s2] and F [N] of the RK4 below. */
+typedef struct {
+  double k, chi, v0, m1, g;
+} rk4_law;
+
+static double rk4_force(const rk4_law *l, double d, double v)
+{
+  return d > 0.0 ? l->k * pow(d, 1.5) * (1.0 + l->chi * v / l->v0) : 0.0;
+}
+
+static double rk4_accel(const rk4_law *l, double d, double v)
+{
+  return l->g - rk4_force(l, d, v) / l->m1;
+}
+
+/* One classical RK4 step of (d, v) by h [s]. */
+static void rk4_step(const rk4_law *l, double h, double *d, double *v)
+{
+  double d0 = *d, v0 = *v;
+  double kd1 = v0, kv1 = rk4_accel(l, d0, v0);
+  double kd2 = v0 + 0.5 * h * kv1, kv2 = rk4_accel(l, d0 + 0.5 * h * kd1, kd2);
+  double kd3 = v0 + 0.5 * h * kv2, kv3 = rk4_accel(l, d0 + 0.5 * h * kd2, kd3);
+  double kd4 = v0 + h * kv3, kv4 = rk4_accel(l, d0 + h * kd3, kd4);
+  *d = d0 + h / 6.0 * (kd1 + 2.0 * kd2 + 2.0 * kd3 + kd4);
+  *v = v0 + h / 6.0 * (kv1 + 2.0 * kv2 + 2.0 * kv3 + kv4);
+}
+
+af_status af_synth_pulse_rk4(const af_impact *w, const af_impact_params *p, double fine_dt_s,
+                             double *buf, size_t cap, af_synth_pulse *out)
+{
+  if (p == NULL || buf == NULL || out == NULL || cap < 2 || !(fine_dt_s > 0.0) ||
+      !(p->hammer_mass_kg > 0.0) || !(p->velocity_m_s > 0.0) || !(p->gravity_m_s2 >= 0.0))
+    return AF_EINVAL;
+  rk4_law l = {af_impact_stiffness(p), 0.0, p->velocity_m_s, p->hammer_mass_kg, p->gravity_m_s2};
+  af_status st = af_impact_chi(w, p->damping, p->restitution, &l.chi);
+  if (st != AF_OK || !(l.k > 0.0) || !isfinite(l.k))
+    return st != AF_OK ? st : AF_EINVAL;
+  af_impact_result *r = &out->res;
+  *r = (af_impact_result){.chi = l.chi, .dt_s = fine_dt_s};
+  double d = 0.0, v = p->velocity_m_s;
+  size_t j = 0;
+  buf[j++] = 0.0;
+  for (;;) {
+    double d_prev = d, v_prev = v;
+    rk4_step(&l, fine_dt_s, &d, &v);
+    if (d <= 0.0) { /* back at the surface within this step */
+      double f = d_prev / (d_prev - d);
+      r->contact_time_s = ((double)(j - 1) + f) * fine_dt_s;
+      r->delivered_restitution = -(v_prev + f * (v - v_prev)) / p->velocity_m_s;
+      break;
+    }
+    if (j == cap)
+      return AF_ESIZE;
+    buf[j] = fmax(rk4_force(&l, d, v), 0.0);
+    if (buf[j] > r->peak_force_n) {
+      r->peak_force_n = buf[j];
+      r->time_of_peak_s = (double)j * fine_dt_s;
+    }
+    r->max_deformation_m = fmax(r->max_deformation_m, d);
+    j++;
+  }
+  r->n_samples = j;
+  out->force_n = buf;
+  out->n = j;
+  out->fine_dt_s = fine_dt_s;
+  out->impulse_n_s = p->hammer_mass_kg * (p->velocity_m_s * (1.0 + r->delivered_restitution) +
+                                          p->gravity_m_s2 * r->contact_time_s);
+  return AF_OK;
+}
+
 double af_synth_pulse_at(const af_synth_pulse *p, double t_s)
 {
   double tc = p->res.contact_time_s;

@@ -66,6 +66,19 @@ typedef struct {
 af_status af_synth_pulse_run(af_impact *w, const af_impact_params *p, double fine_dt_s, double *buf,
                              size_t cap, af_synth_pulse *out);
 
+/* The same pulse from an integrator of its own, so that a test or the demo
+ * does not check the model against itself: classical fixed-step RK4 of
+ * m1 d'' = m1 g - K d^1.5 (1 + chi d'/v0), d(0) = 0, d'(0) = v0 (PHYSICS.md
+ * 1), at fine_dt_s, contact end where d returns to 0 (linear crossing).
+ * Shares only K (af_impact_stiffness) and chi (af_impact_chi, the damping
+ * law's definition) with af_impact_run, not its GSL odeiv2 stepper, events
+ * or peak refinement. out->res: contact_time_s, peak_force_n (largest fine
+ * sample), time_of_peak_s, max_deformation_m, delivered_restitution, chi,
+ * dt_s, n_samples. AF_EINVAL for invalid params or fine_dt_s, AF_ESIZE when
+ * the contact needs more than cap fine samples. */
+af_status af_synth_pulse_rk4(const af_impact *w, const af_impact_params *p, double fine_dt_s,
+                             double *buf, size_t cap, af_synth_pulse *out);
+
 /* F(t) [N]: 0 before contact (t <= 0) and after it (t >= t_c); between the
  * last fine sample and t_c the force falls linearly to 0. */
 double af_synth_pulse_at(const af_synth_pulse *p, double t_s);

@@ -263,11 +263,71 @@ static void test_model_pulse(void)
   af_impact_destroy(w);
 }
 
+/* The independent RK4 pulse: the same closed forms as the model (PHYSICS.md
+ * 3), and the model's own figures within the two integrators' errors. */
+static void test_rk4_pulse(void)
+{
+  af_impact *w = NULL;
+  AF_CHECK_STATUS(af_impact_create(&w), AF_OK);
+  if (w == NULL)
+    return;
+  static double buf[8192], ref[8192];
+  af_synth_pulse p, q;
+  const double h = 20e-6 / 64;
+  af_impact_params ip = af_impact_params_default();
+  ip.restitution = 1.0;
+  ip.gravity_m_s2 = 0.0;
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_OK);
+  AF_CHECK(p.force_n == buf && p.n == p.res.n_samples && p.fine_dt_s == h);
+  AF_CHECK_REL(p.res.contact_time_s, 1.33059e-3, 1e-4);
+  AF_CHECK_REL(p.res.peak_force_n, 38.710, 1e-4);
+  AF_CHECK_REL(p.res.delivered_restitution, 1.0, 1e-6);
+  AF_CHECK_REL(integral_n_s(&p), 0.028, 2e-4);
+  /* Gravity on, e = 1: 1.33217 ms. */
+  ip.gravity_m_s2 = 9.80665;
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_OK);
+  AF_CHECK_REL(p.res.contact_time_s, 1.33217e-3, 1e-4);
+  /* Damped strikes over the cultivar's moduli, both laws: the two
+   * integrators agree on t_c, the peak, e delivered and every sample. */
+  const double moduli_pa[3] = {2e6, 8e6, 12e6};
+  const af_damping_law laws[2] = {AF_DAMPING_EXACT, AF_DAMPING_PAPER};
+  for (int l = 0; l < 2; l++)
+    for (int m = 0; m < 3; m++) {
+      ip = af_impact_params_default();
+      ip.fruit_modulus_pa = moduli_pa[m];
+      ip.damping = laws[l];
+      AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_OK);
+      AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, h, ref, 8192, &q), AF_OK);
+      AF_CHECK_REL(p.res.contact_time_s, q.res.contact_time_s, 1e-6);
+      AF_CHECK_REL(p.res.peak_force_n, q.res.peak_force_n, 1e-5);
+      AF_CHECK_REL(p.res.delivered_restitution, q.res.delivered_restitution, 1e-4);
+      AF_CHECK_REL(p.impulse_n_s, q.impulse_n_s, 1e-5);
+      double worst = 0.0;
+      for (int k = 1; k < 50; k++) {
+        double t = q.res.contact_time_s * k / 50.0;
+        worst = fmax(worst, fabs(af_synth_pulse_at(&p, t) - af_synth_pulse_at(&q, t)));
+      }
+      AF_CHECK(worst < 1e-6 * q.res.peak_force_n);
+    }
+  /* Refusals: too small a buffer, a bad step, a bad hammer, e outside the law. */
+  ip = af_impact_params_default();
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 16, &p), AF_ESIZE);
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, 0.0, buf, 8192, &p), AF_EINVAL);
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, NAN, buf, 8192, &p), AF_EINVAL);
+  ip.hammer_mass_kg = 0.0;
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_EINVAL);
+  ip = af_impact_params_default();
+  ip.restitution = 0.01; /* the exact law is defined from 0.05 */
+  AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_EINVAL);
+  af_impact_destroy(w);
+}
+
 int main(void)
 {
   test_rng();
   test_imperfections();
   test_interpolation();
   test_model_pulse();
+  test_rk4_pulse();
   return af_test_summary("test_synth");
 }
