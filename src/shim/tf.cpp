@@ -10,6 +10,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "ros_handle.hpp"
+#include "rotation.hpp"
 
 extern "C" {
 
@@ -34,18 +35,8 @@ void say(char *why, size_t len, const std::string &text)
 
 void fill(const geometry_msgs::TransformStamped &m, af_transform &out)
 {
-  const double x = m.transform.rotation.x, y = m.transform.rotation.y, z = m.transform.rotation.z,
-               w = m.transform.rotation.w;
-  double *r = out.rotation;
-  r[0] = 1 - 2 * (y * y + z * z);
-  r[1] = 2 * (x * y - z * w);
-  r[2] = 2 * (x * z + y * w);
-  r[3] = 2 * (x * y + z * w);
-  r[4] = 1 - 2 * (x * x + z * z);
-  r[5] = 2 * (y * z - x * w);
-  r[6] = 2 * (x * z - y * w);
-  r[7] = 2 * (y * z + x * w);
-  r[8] = 1 - 2 * (x * x + y * y);
+  const geometry_msgs::Quaternion &q = m.transform.rotation;
+  af_shim::rotation_from_quaternion(q.x, q.y, q.z, q.w, out.rotation);
   out.translation_m[0] = m.transform.translation.x;
   out.translation_m[1] = m.transform.translation.y;
   out.translation_m[2] = m.transform.translation.z;

@@ -15,6 +15,8 @@
 #include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "rotation.hpp"
+
 extern "C" {
 
 struct af_urdf {
@@ -116,16 +118,7 @@ struct Transform {
 
 void rotation_matrix(const urdf::Rotation &q, double r[9])
 {
-  const double x = q.x, y = q.y, z = q.z, w = q.w;
-  r[0] = 1 - 2 * (y * y + z * z);
-  r[1] = 2 * (x * y - z * w);
-  r[2] = 2 * (x * z + y * w);
-  r[3] = 2 * (x * y + z * w);
-  r[4] = 1 - 2 * (x * x + z * z);
-  r[5] = 2 * (y * z - x * w);
-  r[6] = 2 * (x * z - y * w);
-  r[7] = 2 * (y * z + x * w);
-  r[8] = 1 - 2 * (x * x + y * y);
+  af_shim::rotation_from_quaternion(q.x, q.y, q.z, q.w, r);
 }
 
 // f := joint * f, with joint the transform from the parent link to the
