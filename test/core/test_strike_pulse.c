@@ -103,8 +103,9 @@ static void check_pulse(const pulse_spec *p, double impulse_n_s, double duration
   AF_CHECK_REL(m.peak_n, F0_N, 1e-4);
   AF_CHECK_ABS(m.peak_at, START + 0.5 * p->width, 0.05);
   /* Impulse: trapezoids at 50 samples per pulse (relative error about
-   * (pi / 50)^2 / 12 = 0.03 %), feet included: within 0.2 %. */
-  AF_CHECK_REL(m.impulse_n_s, impulse_n_s, 2e-3);
+   * (pi / 50)^2 / 12 = 0.03 %), feet included: within 0.05 % (seen
+   * +0.013 % for the half-sine, -0.007 % for sin^1.5). */
+  AF_CHECK_REL(m.impulse_n_s, impulse_n_s, 5e-4);
   /* Duration: the edge law a1 s^1.5 + a2 s^4 against the pulse's foot
    * (exact for s^1.5; a half-sine's linear foot moves the zeros outwards),
    * in [T (1 + duration_lo), T (1 + duration_hi)]. */
@@ -189,7 +190,7 @@ static void test_clipped(void)
   AF_CHECK(m.clipped);
   double t_s = p.width / RATE_HZ, u1 = asin(c / F0_N) / M_PI;
   double impulse = 2.0 * F0_N * t_s / M_PI * (1.0 - cos(M_PI * u1)) + c * t_s * (1.0 - 2.0 * u1);
-  AF_CHECK_REL(m.impulse_n_s, impulse, 2e-3);
+  AF_CHECK_REL(m.impulse_n_s, impulse, 5e-4); /* seen +0.012 % */
   /* The peak of a quartic through a flat top with kinks at its ends bulges
    * above the top (seen +2.3 %), but cannot restore the lost 100 N: between
    * C and C + 5 %. The flag says not to trust it. */
