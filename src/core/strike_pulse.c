@@ -1,0 +1,625 @@
+/* strike_pulse.c — the measurement of one strike's pulse on a span of raw
+ * force samples (strike_pulse.h): baseline line, contact start and end,
+ * peak, impulse, clipping. Pure: everything comes in through the arguments. */
+#include "strike_pulse.h"
+
+#include <math.h>
+
+/* The peak is the maximum of a least-squares quartic through the samples
+ * above this fraction of the largest (about 30 samples of a 1.4 ms pulse at
+ * 50 kHz): a parabola would need a higher level (fewer samples, more noise)
+ * to keep the bias of the damped pulse's skewed top small; the quartic's
+ * bias here is below 0.1 %. */
+#define AF_STRIKE_PEAK_LEVEL 0.7
+#define AF_STRIKE_PEAK_TERMS 5
+/* Scan step of the peak search [samples] before Newton's polish. */
+#define AF_STRIKE_PEAK_STEP 0.1
+/* Guard between the contact and the baseline windows [samples]: first
+ * pass, around the coarse contact (whose ends sit inside the true ones by a
+ * few samples, more at low SNR), a fixed part plus a fraction of its length;
+ * second pass, around the fitted contact. The coarse guard is also how far
+ * the edge fits reach into the quiet signal. */
+#define AF_STRIKE_GUARD_COARSE 2
+#define AF_STRIKE_GUARD_FRACTION 0.1
+#define AF_STRIKE_GUARD_FITTED 3
+/* Scan step of the edge-zero search [samples], then golden section to
+ * AF_STRIKE_EDGE_TOL [samples]. The profile residual is smooth (C1) in the
+ * zero, so the scan only has to land in the right basin. */
+#define AF_STRIKE_EDGE_STEP 0.5
+#define AF_STRIKE_EDGE_TOL 1e-3
+/* First pass: only places the baseline windows. */
+#define AF_STRIKE_EDGE_TOL_COARSE 5e-2
+/* Terms of the edge law a1 s^1.5 + a2 s^4. A third, s^6.5, follows the
+ * heavily damped tail better noise-free but lets the zero wander by several
+ * samples at 40 dB. */
+#define AF_STRIKE_EDGE_TERMS 2
+/* Largest least-squares system solved (the peak quartic). */
+#define AF_STRIKE_MAX_TERMS 5
+/* Short pulses (strike.h): fewer than this many samples above the level
+ * max(AF_STRIKE_LEVEL_NOISE x noise RMS, AF_STRIKE_LEVEL_FRACTION x peak)
+ * take their edges from that level's interpolated crossings. */
+#define AF_STRIKE_SHORT_SAMPLES 16
+#define AF_STRIKE_LEVEL_NOISE 3.0
+#define AF_STRIKE_LEVEL_FRACTION 0.02
+/* A fitted zero is implausible (the fit failed: too few samples on a steep
+ * edge, a foot that is no power law) when it lies more than
+ * AF_STRIKE_FIT_SLACK [samples] inside its level crossing, or further out
+ * than AF_STRIKE_FIT_GAP of the width between the crossings plus 1 sample
+ * (the default strike's damped fall: 4.5 samples or 6 % beyond its 2 %
+ * crossing). */
+#define AF_STRIKE_FIT_SLACK 0.5
+#define AF_STRIKE_FIT_GAP 0.15
+/* Peak of a pulse too short for the quartic: the maximum of the band-limited
+ * reconstruction, a Hann-windowed sinc of this many taps each side, scanned
+ * over +-1 sample of the largest sample at this step [samples], then golden
+ * section to AF_STRIKE_EDGE_TOL. */
+#define AF_STRIKE_SINC_HALF 16
+#define AF_STRIKE_SINC_STEP 0.05
+/* A baseline window with fewer samples than this is not used. */
+#define AF_STRIKE_MIN_WINDOW 4
+#define AF_STRIKE_PI 3.14159265358979323846
+
+/* Mean and centre of the finite samples of x in [lo, hi) (clipped to
+ * [0, n)); returns their count (fewer than AF_STRIKE_MIN_WINDOW: 0, the
+ * window is not used). */
+static long window_mean(const double *x, long n, long lo, long hi, double *mean, double *centre)
+{
+  double sum = 0.0, at = 0.0;
+  long count = 0;
+  for (long k = lo < 0 ? 0 : lo; k < hi && k < n; k++) {
+    if (isfinite(x[k])) {
+      sum += x[k];
+      at += (double)k;
+      count++;
+    }
+  }
+  if (count < AF_STRIKE_MIN_WINDOW)
+    return 0;
+  *mean = sum / (double)count;
+  *centre = at / (double)count;
+  return count;
+}
+
+/* Replaces the non-finite samples of r by the straight line between their
+ * finite neighbours (the nearest one at the ends; 0 when none is finite). */
+static void fill_holes(double *r, long n)
+{
+  long k = 0;
+  while (k < n) {
+    if (isfinite(r[k])) {
+      k++;
+      continue;
+    }
+    long a = k - 1, b = k;
+    while (b < n && !isfinite(r[b]))
+      b++;
+    double ra = a >= 0 ? r[a] : (b < n ? r[b] : 0.0);
+    double rb = b < n ? r[b] : ra;
+    for (long j = k; j < b; j++)
+      r[j] = a >= 0 && b < n ? ra + (rb - ra) * (double)(j - a) / (double)(b - a) : ra;
+    k = b;
+  }
+}
+
+/* The measurement's view of one event span. */
+typedef struct {
+  const double *x;    /* raw */
+  double *r;          /* baseline removed */
+  long n;             /* span length */
+  long lim;           /* clean signal after the first contact ends before this */
+  long window;        /* baseline window [samples] */
+  double fallback;    /* baseline when no window is usable (the tracker's) */
+  double b0, slope;   /* baseline line b0 + slope k */
+  long before, after; /* samples averaged in the windows before and after */
+} af_span;
+
+/* Baseline line through the windows just before `a` and just after `e`
+ * (the contact's first sample and first sample after it), `guard` samples
+ * away from them; subtracted into s->r. */
+static void remove_baseline(af_span *s, long a, long e, long guard)
+{
+  double m1, c1, m2, c2;
+  long post_hi = e + guard + s->window;
+  if (post_hi > s->lim - guard)
+    post_hi = s->lim - guard;
+  long pre = window_mean(s->x, s->n, a - guard - s->window, a - guard, &m1, &c1);
+  long post = window_mean(s->x, s->n, e + guard, post_hi, &m2, &c2);
+  s->before = pre;
+  s->after = post;
+  if (pre && post && c2 > c1) {
+    s->slope = (m2 - m1) / (c2 - c1);
+    s->b0 = m1 - s->slope * c1;
+  } else {
+    s->slope = 0.0;
+    s->b0 = pre ? m1 : post ? m2 : s->fallback;
+  }
+  for (long k = 0; k < s->n; k++)
+    s->r[k] = s->x[k] - (s->b0 + s->slope * (double)k);
+  fill_holes(s->r, s->n);
+}
+
+static long argmax(const double *r, long lo, long hi)
+{
+  long best = lo;
+  for (long k = lo + 1; k <= hi; k++)
+    if (r[k] > r[best])
+      best = k;
+  return best;
+}
+
+/* Solves the nb x nb symmetric positive system a c = b (Cholesky, in place
+ * on a copy); false when it is not positive definite. */
+static bool solve_spd(double a[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS], const double *b,
+                      size_t nb, double *c)
+{
+  double l[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
+  for (size_t i = 0; i < nb; i++) {
+    for (size_t j = 0; j <= i; j++) {
+      double v = a[i][j];
+      for (size_t k = 0; k < j; k++)
+        v -= l[i][k] * l[j][k];
+      if (i == j) {
+        if (!(v > 1e-12 * a[i][i]))
+          return false;
+        l[i][i] = sqrt(v);
+      } else {
+        l[i][j] = v / l[j][j];
+      }
+    }
+  }
+  double y[AF_STRIKE_MAX_TERMS] = {0};
+  for (size_t i = 0; i < nb; i++) {
+    double v = b[i];
+    for (size_t k = 0; k < i; k++)
+      v -= l[i][k] * y[k];
+    y[i] = v / l[i][i];
+  }
+  for (size_t i = nb; i-- > 0;) {
+    double v = y[i];
+    for (size_t k = i + 1; k < nb; k++)
+      v -= l[k][i] * c[k];
+    c[i] = v / l[i][i];
+  }
+  return true;
+}
+
+/* One edge: samples r[lo..hi], contact on the side `side` of the zero z
+ * (+1: k > z, rising edge; -1: k < z, falling edge). */
+typedef struct {
+  const double *r;
+  long lo, hi;
+  int side;
+  double scale; /* s is measured in units of the window length */
+  double tol;   /* of the zero [samples] */
+} af_edge;
+
+/* Residual sum of squares of the best edge law with its zero at z (the
+ * coefficients eliminated by linear least squares); +inf when singular. */
+static double edge_rss(const af_edge *e, double z)
+{
+  double a[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
+  double b[AF_STRIKE_MAX_TERMS] = {0}, c[AF_STRIKE_MAX_TERMS];
+  double yy = 0.0;
+  for (long k = e->lo; k <= e->hi; k++) {
+    double y = e->r[k];
+    yy += y * y;
+    double s = (double)e->side * ((double)k - z) * e->scale;
+    if (s <= 0.0)
+      continue;
+    double s2 = s * s;
+    const double phi[AF_STRIKE_EDGE_TERMS] = {s * sqrt(s), s2 * s2};
+    for (size_t i = 0; i < AF_STRIKE_EDGE_TERMS; i++) {
+      b[i] += phi[i] * y;
+      for (size_t j = 0; j <= i; j++)
+        a[i][j] += phi[i] * phi[j];
+    }
+  }
+  a[0][1] = a[1][0];
+  if (!solve_spd(a, b, AF_STRIKE_EDGE_TERMS, c))
+    return INFINITY;
+  return yy - (c[0] * b[0] + c[1] * b[1]);
+}
+
+/* Golden-section minimum of edge_rss on [a, b]. */
+static double edge_golden(const af_edge *e, double a, double b)
+{
+  const double g = 0.6180339887498949;
+  double u = b - g * (b - a), v = a + g * (b - a);
+  double fu = edge_rss(e, u), fv = edge_rss(e, v);
+  while (b - a > e->tol) {
+    if (fu < fv) {
+      b = v;
+      v = u;
+      fv = fu;
+      u = b - g * (b - a);
+      fu = edge_rss(e, u);
+    } else {
+      a = u;
+      u = v;
+      fu = fv;
+      v = a + g * (b - a);
+      fv = edge_rss(e, v);
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+/* Zero of the edge law fitted to r[lo..hi], searched in [zlo, zhi]; the
+ * fallback when the window is too short or no fit exists. */
+static double fit_edge(const af_edge *e, double zlo, double zhi, double fallback)
+{
+  if (e->hi - e->lo + 1 < AF_STRIKE_EDGE_TERMS + 2 || !(zhi > zlo))
+    return fallback;
+  double best = NAN, best_rss = INFINITY;
+  long steps = (long)floor((zhi - zlo) / AF_STRIKE_EDGE_STEP);
+  for (long i = 0; i <= steps; i++) {
+    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP, rss = edge_rss(e, z);
+    if (rss < best_rss) {
+      best_rss = rss;
+      best = z;
+    }
+  }
+  if (!isfinite(best_rss))
+    return fallback;
+  double a = fmax(zlo, best - AF_STRIKE_EDGE_STEP), b = fmin(zhi, best + AF_STRIKE_EDGE_STEP);
+  return edge_golden(e, a, b);
+}
+
+/* Contact start: fit from the quiet signal at `outer` up to the last sample
+ * below the rise level before the peak. */
+static double fit_start(const af_span *s, long outer, long ipk, double level, double fallback,
+                        double tol)
+{
+  long lo = outer < 0 ? 0 : outer, hi = ipk;
+  while (hi > lo && s->r[hi] > level)
+    hi--;
+  af_edge e = {.r = s->r, .lo = lo, .hi = hi, .side = 1, .tol = tol};
+  e.scale = 1.0 / (double)(hi - lo + 1);
+  return fit_edge(&e, (double)lo - 1.0, (double)(hi - AF_STRIKE_EDGE_TERMS - 1), fallback);
+}
+
+/* Contact end: fit from the first sample below the fall level after the
+ * peak down to the quiet signal at `outer` (before s->lim). */
+static double fit_end(const af_span *s, long outer, long ipk, double level, double fallback,
+                      double tol)
+{
+  long before_bounce = s->lim - 1 - AF_STRIKE_GUARD_FITTED;
+  long hi = outer < before_bounce ? outer : before_bounce, lo = ipk;
+  if (hi > s->n - 1)
+    hi = s->n - 1;
+  while (lo < hi && s->r[lo] > level)
+    lo++;
+  af_edge e = {.r = s->r, .lo = lo, .hi = hi, .side = -1, .tol = tol};
+  e.scale = 1.0 / (double)(hi - lo + 1);
+  return fit_edge(&e, (double)(lo + AF_STRIKE_EDGE_TERMS + 1), (double)hi + 1.0, fallback);
+}
+
+/* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
+static void poly_eval(const double *c, double u, double *v, double *d1, double *d2)
+{
+  *v = *d1 = *d2 = 0.0;
+  for (int i = AF_STRIKE_PEAK_TERMS - 1; i >= 0; i--) {
+    *d2 = *d2 * u + 2.0 * *d1;
+    *d1 = *d1 * u + *v;
+    *v = *v * u + c[i];
+  }
+}
+
+/* Band-limited reconstruction of r at t [samples]: Hann-windowed sinc over
+ * AF_STRIKE_SINC_HALF samples each side, r taken as 0 outside [0, n) (it is
+ * baseline-removed). Equals r[k] at an integer t = k. */
+static double sinc_at(const double *r, long n, double t)
+{
+  long k0 = (long)floor(t);
+  double sum = 0.0;
+  for (long j = k0 - AF_STRIKE_SINC_HALF + 1; j <= k0 + AF_STRIKE_SINC_HALF; j++) {
+    if (j < 0 || j >= n)
+      continue;
+    double u = t - (double)j;
+    if (fabs(u) < 1e-12) {
+      sum += r[j];
+      continue;
+    }
+    double x = AF_STRIKE_PI * u;
+    sum += r[j] * sin(x) / x * (0.5 + 0.5 * cos(x / AF_STRIKE_SINC_HALF));
+  }
+  return sum;
+}
+
+/* Maximum of sinc_at within +-1 sample of ipk (the largest sample); at
+ * least r[ipk], the reconstruction passing through it. */
+static double sinc_peak(const double *r, long n, long ipk, double *at)
+{
+  double best = r[ipk], tb = (double)ipk;
+  long steps = (long)lround(2.0 / AF_STRIKE_SINC_STEP);
+  for (long i = 0; i <= steps; i++) {
+    double t = (double)ipk - 1.0 + (double)i * AF_STRIKE_SINC_STEP, v = sinc_at(r, n, t);
+    if (v > best) {
+      best = v;
+      tb = t;
+    }
+  }
+  /* golden section for the maximum around the best scanned point */
+  const double g = 0.6180339887498949;
+  double a = tb - AF_STRIKE_SINC_STEP, b = tb + AF_STRIKE_SINC_STEP;
+  double u = b - g * (b - a), v = a + g * (b - a);
+  double fu = sinc_at(r, n, u), fv = sinc_at(r, n, v);
+  while (b - a > AF_STRIKE_EDGE_TOL) {
+    if (fu > fv) {
+      b = v;
+      v = u;
+      fv = fu;
+      u = b - g * (b - a);
+      fu = sinc_at(r, n, u);
+    } else {
+      a = u;
+      u = v;
+      fu = fv;
+      v = a + g * (b - a);
+      fv = sinc_at(r, n, v);
+    }
+  }
+  double tm = 0.5 * (a + b), vm = sinc_at(r, n, tm);
+  if (vm > best) {
+    best = vm;
+    tb = tm;
+  }
+  *at = tb;
+  return best;
+}
+
+/* Maximum of the least-squares quartic through the samples around ipk above
+ * AF_STRIKE_PEAK_LEVEL of r[ipk]; of the band-limited reconstruction when
+ * there are too few for the quartic (a short pulse); the largest sample when
+ * the quartic has no interior maximum. *at receives its position [samples]. */
+static double refine_peak(const double *r, long n, long ipk, double *at)
+{
+  double top = r[ipk], level = AF_STRIKE_PEAK_LEVEL * top;
+  long lo = ipk, hi = ipk;
+  while (lo > 0 && r[lo - 1] > level)
+    lo--;
+  while (hi < n - 1 && r[hi + 1] > level)
+    hi++;
+  *at = (double)ipk;
+  if (hi - lo + 1 < AF_STRIKE_PEAK_TERMS + 2)
+    return sinc_peak(r, n, ipk, at);
+  /* Abscissa u = (k - ipk) / width keeps the normal equations conditioned. */
+  double w = (double)(hi - lo + 1);
+  double m[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
+  double t[AF_STRIKE_MAX_TERMS] = {0}, c[AF_STRIKE_MAX_TERMS];
+  for (long k = lo; k <= hi; k++) {
+    double u = (double)(k - ipk) / w, p = 1.0, pw[AF_STRIKE_PEAK_TERMS];
+    for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++, p *= u)
+      pw[i] = p;
+    for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) {
+      t[i] += r[k] * pw[i];
+      for (int j = 0; j < AF_STRIKE_PEAK_TERMS; j++)
+        m[i][j] += pw[i] * pw[j];
+    }
+  }
+  if (!solve_spd(m, t, AF_STRIKE_PEAK_TERMS, c))
+    return top;
+  double ulo = (double)(lo - ipk) / w, uhi = (double)(hi - ipk) / w, du = AF_STRIKE_PEAK_STEP / w;
+  double best = -INFINITY, ub = 0.0, v, d1, d2;
+  long steps = (long)floor((uhi - ulo) / du);
+  for (long i = 0; i <= steps; i++) {
+    double u = ulo + (double)i * du;
+    poly_eval(c, u, &v, &d1, &d2);
+    if (v > best) {
+      best = v;
+      ub = u;
+    }
+  }
+  double un = ub; /* Newton on the derivative, from the best scanned point */
+  for (int it = 0; it < 8; it++) {
+    poly_eval(c, un, &v, &d1, &d2);
+    double next = un - d1 / d2;
+    if (!(d2 < 0.0) || !(fabs(next - ub) <= du)) /* stay in the scanned basin */
+      break;
+    un = next;
+  }
+  poly_eval(c, un, &v, &d1, &d2);
+  if (v >= best)
+    ub = un;
+  else
+    v = best;
+  *at = (double)ipk + ub * w;
+  return v;
+}
+
+/* Trapezoid integral [N samples] of r over [t0, t1], r taken as 0 at both. */
+static double integral(const double *r, long n, double t0, double t1)
+{
+  long k0 = (long)ceil(t0), k1 = (long)floor(t1);
+  if (k0 < 0)
+    k0 = 0;
+  if (k1 > n - 1)
+    k1 = n - 1;
+  if (k1 < k0)
+    return 0.0; /* no sample inside: a contact shorter than one sample */
+  double sum = 0.5 * r[k0] * ((double)k0 - t0) + 0.5 * r[k1] * (t1 - (double)k1);
+  for (long k = k0; k < k1; k++)
+    sum += 0.5 * (r[k] + r[k + 1]);
+  return sum;
+}
+
+static bool clipped(const double *x, long lo, long hi, double full_scale_n)
+{
+  for (long k = lo; k <= hi; k++)
+    if (fabs(x[k]) >= full_scale_n)
+      return true;
+  return false;
+}
+
+static long clamp_index(long k, long n)
+{
+  return k < 0 ? 0 : k > n - 1 ? n - 1 : k;
+}
+
+/* The crossing of `level` by the band-limited reconstruction of r between
+ * samples k and k + 1, which straddle it (bisection to AF_STRIKE_EDGE_TOL:
+ * the reconstruction passes through both samples, so a crossing exists). */
+static double level_crossing(const double *r, long n, long k, double level)
+{
+  double a = (double)k, b = (double)(k + 1);
+  bool a_below = r[k] <= level;
+  while (b - a > AF_STRIKE_EDGE_TOL) {
+    double m = 0.5 * (a + b);
+    if ((sinc_at(r, n, m) <= level) == a_below)
+      a = m;
+    else
+      b = m;
+  }
+  return 0.5 * (a + b);
+}
+
+/* Crossings of `level` around the largest sample ipk: *t0 between the last
+ * sample at or below it before ipk and the next, *t1 likewise after ipk
+ * (the outermost sample when the span ends above it). Returns the number
+ * of samples above it (0 when r[ipk] is not). */
+static long level_edges(const double *r, long n, long ipk, double level, double *t0, double *t1)
+{
+  if (!(r[ipk] > level))
+    return 0;
+  long lo = ipk, hi = ipk;
+  while (lo > 0 && r[lo - 1] > level)
+    lo--;
+  while (hi < n - 1 && r[hi + 1] > level)
+    hi++;
+  *t0 = lo > 0 ? level_crossing(r, n, lo - 1, level) : (double)lo;
+  *t1 = hi < n - 1 ? level_crossing(r, n, hi, level) : (double)hi;
+  return hi - lo + 1;
+}
+
+/* Result of the two baseline/fit passes, span-relative. */
+typedef struct {
+  double t0, t1, peak_n, peak_at;
+  long cs, ce; /* coarse contact: first sample, first sample after */
+  af_strike_edges start_edge, end_edge;
+  double level_n; /* the level of the crossings */
+} af_fit_out;
+
+/* Coarse contact, then two passes of baseline removal and edge fits. */
+static void measure_span(const af_strike_pulse_input *in, af_span *s, af_fit_out *o)
+{
+  long cs = in->trigger, ce = in->contact_end;
+  while (cs > 0 && s->x[cs - 1] - in->tracker_baseline_n > in->release_n)
+    cs--;
+  if (ce > s->n)
+    ce = s->n;
+  long a = cs, e = ce > cs + 1 ? ce : cs + 1;
+  /* The edge fits reach this far into the quiet signal in both passes: a
+   * shorter reach after a first fit that came early would keep it early. */
+  long reach = AF_STRIKE_GUARD_COARSE + (long)(AF_STRIKE_GUARD_FRACTION * (double)(e - a));
+  long guard = reach;
+  double t0 = (double)a, t1 = (double)e - 1.0, peak_n = 0.0, peak_at = 0.0, level = 0.0;
+  af_strike_edges start_edge = AF_STRIKE_EDGES_FIT, end_edge = AF_STRIKE_EDGES_FIT;
+  for (int pass = 0; pass < 2; pass++) {
+    remove_baseline(s, a, e, guard);
+    long ipk = argmax(s->r, clamp_index(a, s->n), clamp_index(e - 1, s->n));
+    peak_n = refine_peak(s->r, s->n, ipk, &peak_at);
+    level = fmax(AF_STRIKE_LEVEL_NOISE * in->noise_rms_n, AF_STRIKE_LEVEL_FRACTION * peak_n);
+    double l0 = 0.0, l1 = 0.0;
+    long above = level_edges(s->r, s->n, ipk, level, &l0, &l1);
+    bool crossed = above > 0 && l1 > l0;
+    start_edge = end_edge = AF_STRIKE_EDGES_LEVEL;
+    if (crossed && above < AF_STRIKE_SHORT_SAMPLES) {
+      t0 = l0;
+      t1 = l1;
+    } else {
+      double tol = pass == 0 ? AF_STRIKE_EDGE_TOL_COARSE : AF_STRIKE_EDGE_TOL;
+      t0 = fit_start(s, a - reach, ipk, in->rise_fit_level * peak_n, NAN, tol);
+      t1 = fit_end(s, e - 1 + reach, ipk, in->fall_fit_level * peak_n, NAN, tol);
+      /* No fit (too few samples), a fitted zero on the wrong side of its
+       * level crossing or further out than any plausible foot: the fit
+       * failed, the crossing stands (the coarse contact without one). */
+      double out = AF_STRIKE_FIT_GAP * (l1 - l0) + 1.0;
+      if (crossed && !(t0 <= l0 + AF_STRIKE_FIT_SLACK && t0 >= l0 - out)) {
+        t0 = l0;
+      } else {
+        start_edge = AF_STRIKE_EDGES_FIT;
+        t0 = isnan(t0) ? (double)a : t0;
+      }
+      if (crossed && !(t1 >= l1 - AF_STRIKE_FIT_SLACK && t1 <= l1 + out)) {
+        t1 = l1;
+      } else {
+        end_edge = AF_STRIKE_EDGES_FIT;
+        t1 = isnan(t1) ? (double)e - 1.0 : t1;
+      }
+      if (!(t1 > t0))
+        t1 = (double)e - 1.0;
+    }
+    a = (long)floor(t0);
+    e = (long)ceil(t1) + 1;
+    guard = AF_STRIKE_GUARD_FITTED;
+  }
+  *o = (af_fit_out){.t0 = t0,
+                    .t1 = t1,
+                    .peak_n = peak_n,
+                    .peak_at = peak_at,
+                    .cs = cs,
+                    .ce = ce,
+                    .start_edge = start_edge,
+                    .end_edge = end_edge,
+                    .level_n = level};
+}
+
+static bool input_valid(const af_strike_pulse_input *in)
+{
+  return in->x != NULL && in->n >= 1 && in->trigger >= 0 && in->trigger < in->n &&
+         in->clean_end >= 1 && in->clean_end <= in->n && in->window >= 1 &&
+         isfinite(in->tracker_baseline_n) && in->release_n >= 0.0 && in->noise_rms_n >= 0.0 &&
+         in->rise_fit_level > 0.0 && in->rise_fit_level < 1.0 && in->fall_fit_level > 0.0 &&
+         in->fall_fit_level < 1.0 && isfinite(in->sample_rate_hz) && in->sample_rate_hz > 0.0 &&
+         in->full_scale_n > 0.0;
+}
+
+af_status af_strike_pulse_measure(const af_strike_pulse_input *in, double *r, af_strike_pulse *out)
+{
+  if (in == NULL || r == NULL || out == NULL || !input_valid(in))
+    return AF_EINVAL;
+  long n = in->n;
+  af_span s = {.x = in->x,
+               .r = r,
+               .n = n,
+               .lim = in->clean_end,
+               .window = in->window,
+               .fallback = in->tracker_baseline_n};
+  af_fit_out o;
+  measure_span(in, &s, &o);
+  double dt = 1.0 / in->sample_rate_hz;
+  long k0 = clamp_index((long)ceil(o.t0), n), k1 = clamp_index((long)floor(o.t1), n);
+  long c0 = clamp_index(o.cs < k0 ? o.cs : k0, n), c1 = clamp_index(o.ce > k1 ? o.ce : k1, n);
+  *out = (af_strike_pulse){.start = o.t0,
+                           .end = o.t1,
+                           .peak_at = o.peak_at,
+                           .peak_n = o.peak_n,
+                           .contact_time_s = (o.t1 - o.t0) * dt,
+                           .impulse_n_s = integral(r, n, o.t0, o.t1) * dt,
+                           .baseline_n = s.b0,
+                           .baseline_slope_n = s.slope,
+                           .start_edge = o.start_edge,
+                           .end_edge = o.end_edge,
+                           .edge_level_n = o.level_n,
+                           .clipped = clipped(in->x, c0, c1, in->full_scale_n),
+                           .coarse_start = o.cs,
+                           .coarse_end = o.ce,
+                           .first = k0,
+                           .n_samples = k1 >= k0 ? (size_t)(k1 - k0 + 1) : 0,
+                           .baseline_before_samples = (size_t)s.before,
+                           .baseline_after_samples = (size_t)s.after};
+  return AF_OK;
+}
+
+af_status af_strike_measure_band(af_spectrum *s, const af_strike_event *ev, af_band_level level,
+                                 unsigned lobe, af_lobe *band, size_t *lobe_count)
+{
+  if (s == NULL || ev == NULL || band == NULL || ev->pulse_n == NULL)
+    return AF_EINVAL;
+  af_status st = af_spectrum_execute(s, ev->pulse_n, ev->n_samples, ev->dt_s);
+  if (st != AF_OK)
+    return st;
+  if (lobe_count != NULL)
+    *lobe_count = af_spectrum_lobe_count(s);
+  return af_spectrum_lobe(s, lobe, level, band);
+}
