@@ -8,8 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-
 /* Fewest bins a noise band must hold for its median to be a floor. */
 #define AF_RESPONSE_MIN_NOISE_BINS 8
 
