@@ -1,0 +1,366 @@
+/* response_fit.c — the Levenberg-Marquardt fits of the complex spectrum
+ * (GSL multifit_nlinear): one residual loop for both models, the bare pole
+ * pair of stage 2 and the truncated one- or two-pole model of the peak list;
+ * stage 2 itself and its round with one neighbour.
+ *
+ * Stage 2: the DFT of a damped cosine is the pole pair (response_mode.c).
+ * An onset at sample d > 0 adds nothing new: the sum from d is
+ * c z^d / (1 - z u) + conj(...) minus the transform of the d missing samples,
+ * a polynomial in u, smooth across the peak (its width is fs / d). So are the
+ * far modes' skirts and the hum's. Hence
+ *   X_k ~ c / (1 - z u_k) + conj(c) / (1 - conj(z) u_k) + B(x_k),
+ * B a complex quadratic in the bin offset x = (k - k*) / h, fitted on the
+ * complex bins, unweighted (white noise has the same variance in every bin).
+ * c = a (1 - r0) and the data are scaled by 1/|X_k*| so that every parameter
+ * is of order 1 at the start.
+ *
+ * The truncated model (peak list): for m analysed samples a mode sums to
+ * c T(z u) + conj(c) T(conj(z) u), T(a) = (1 - a^m) / (1 - a), so the ripple
+ * the window's cut leaves is no misfit. Both models lay their parameters out
+ * alike: per pole f0 [bins], sigma' [1/s], Re and Im of the scaled
+ * amplitude; then the background's 6. */
+#include "response_private.h"
+
+#include <math.h>
+
+#include <gsl/gsl_errno.h>
+
+/* The complex fit spans this many half-widths (sigma' / 2 pi) each side of
+ * the peak, at least AF_RESPONSE_FIT_MIN_HALF bins: wide enough to pin the
+ * background polynomial, narrow enough for a quadratic to follow it. */
+#define AF_RESPONSE_FIT_HALFWIDTHS 2.5
+#define AF_RESPONSE_FIT_MIN_HALF 4
+/* Levenberg-Marquardt stops (GSL's tests): steps below 1e-8 relative, or
+ * gradient/cost changes at rounding level; 50 iterations are never needed
+ * (typically 5-15). */
+#define AF_RESPONSE_FIT_MAX_ITER 50
+#define AF_RESPONSE_FIT_XTOL 1e-8
+#define AF_RESPONSE_FIT_GTOL 1e-10
+#define AF_RESPONSE_FIT_FTOL 1e-10
+/* The truncated fits stop at steps below 1e-6 relative: 1e-6 of a bin is
+ * far below the noise's scatter, and it halves their iterations. */
+#define AF_RESPONSE_SPLIT_XTOL 1e-6
+/* Iteration cap of the truncated fits: from the stage-1 reading a one-pole
+ * fit takes ~15, a refit ~6; a two-pole fit that has not settled in 25 is
+ * judged where it stands (and usually refused). */
+#define AF_RESPONSE_SPLIT_MAX_ITER 25
+
+const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS] = {17, 33, 49,
+                                                                  2 * AF_RESPONSE_FIT_MAX_HALF + 1};
+
+/* Parameters of a pole and of the background that follows the poles. */
+enum { P_BIN, P_SIGMA, P_ARE, P_AIM, P_POLE, P_BACKGROUND = 6 };
+
+/* ---- the fit's bins and parameters ------------------------------------------ */
+
+size_t af_response_fit_half(const af_response *r, double sigma_windowed)
+{
+  double halfwidth_bins = sigma_windowed / (2.0 * AF_PI * r->bin_hz);
+  double span = ceil(AF_RESPONSE_FIT_HALFWIDTHS * halfwidth_bins);
+  if (!(span > AF_RESPONSE_FIT_MIN_HALF))
+    return AF_RESPONSE_FIT_MIN_HALF;
+  return span > AF_RESPONSE_FIT_MAX_HALF ? AF_RESPONSE_FIT_MAX_HALF : (size_t)span;
+}
+
+void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t *first,
+                            size_t *last)
+{
+  *first = k > half ? k - half : 1;
+  *last = k + half < r->bins - 1 ? k + half : r->bins - 1;
+}
+
+int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
+                         double center, double half, size_t k, double sigma_windowed)
+{
+  r->ctx.data = data;
+  r->ctx.first = first;
+  r->ctx.count = last - first + 1;
+  r->ctx.center = center;
+  r->ctx.half = half;
+  r->ctx.gain = 1.0 / cabs(data[k]);
+  r->ctx.norm = 1.0 - exp(-sigma_windowed / r->cfg.sample_rate_hz);
+  return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
+}
+
+void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
+                          double sigma, double complex c)
+{
+  gsl_vector_set(x0, P_POLE * slot + P_BIN, bin);
+  gsl_vector_set(x0, P_POLE * slot + P_SIGMA, sigma);
+  gsl_vector_set(x0, P_POLE * slot + P_ARE, r->ctx.gain * creal(c) / r->ctx.norm);
+  gsl_vector_set(x0, P_POLE * slot + P_AIM, r->ctx.gain * cimag(c) / r->ctx.norm);
+}
+
+/* Pole j of the parameters p as a mode of the spectrum (its span untouched). */
+static void pole_at(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+{
+  out->bin = gsl_vector_get(p, P_POLE * j + P_BIN);
+  out->sigma_windowed = gsl_vector_get(p, P_POLE * j + P_SIGMA);
+  out->c = r->ctx.norm / r->ctx.gain *
+           (gsl_vector_get(p, P_POLE * j + P_ARE) + I * gsl_vector_get(p, P_POLE * j + P_AIM));
+  out->peak_power = af_response_mode_peak_power(r, out->c, out->sigma_windowed);
+}
+
+/* ---- the models ------------------------------------------------------------ */
+
+/* acc plus the complex quadratic background at bin k from the parameters at
+ * nb on, term by term; its derivatives into d[nb..nb + 6). */
+static double complex background(const af_response *r, const gsl_vector *x, size_t nb, double k,
+                                 double complex acc, double complex *d)
+{
+  double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
+  for (size_t j = 0; j < 3; ++j, xp *= xb) {
+    acc += xp * (gsl_vector_get(x, nb + 2 * j) + I * gsl_vector_get(x, nb + 2 * j + 1));
+    d[nb + 2 * j] = xp;
+    d[nb + 2 * j + 1] = I * xp;
+  }
+  return acc;
+}
+
+/* The pole pair (stage 2) plus the background at bin k, and its derivatives. */
+static double complex pole_pair_eval(const af_response *r, const gsl_vector *x, size_t bin,
+                                     double complex *d)
+{
+  const af_fit_ctx *f = &r->ctx;
+  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
+  double complex u = cexp(-I * 2.0 * AF_PI * k / n_fft);
+  double complex z =
+      cexp(-gsl_vector_get(x, P_SIGMA) / fs + I * 2.0 * AF_PI * gsl_vector_get(x, P_BIN) / n_fft);
+  double complex zc = conj(z);
+  double complex c = f->norm * (gsl_vector_get(x, P_ARE) + I * gsl_vector_get(x, P_AIM));
+  double complex d1 = 1.0 / (1.0 - z * u), d2 = 1.0 / (1.0 - zc * u);
+  double complex bg = background(r, x, P_POLE, k, 0.0, d);
+  /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
+  double complex gz = c * u * d1 * d1, gzc = conj(c) * u * d2 * d2;
+  d[P_BIN] = (gz * z - gzc * zc) * (I * 2.0 * AF_PI / n_fft);
+  d[P_SIGMA] = -(gz * z + gzc * zc) / fs;
+  d[P_ARE] = f->norm * (d1 + d2);
+  d[P_AIM] = f->norm * I * (d1 - d2);
+  return c * d1 + conj(c) * d2 + bg;
+}
+
+/* The powers of z each pole of a truncated fit needs, from the parameters. */
+typedef struct {
+  double complex z, zm, zm1; /* z, z^m, z^(m - 1) */
+  double complex c;          /* complex amplitude */
+} pole_k;
+
+static void truncated_poles(const af_response *r, const gsl_vector *x, pole_k *pc)
+{
+  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
+  for (size_t j = 0; j < r->split_poles; ++j) {
+    const double *q = gsl_vector_const_ptr(x, P_POLE * j);
+    double complex lz = -q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft;
+    pc[j].z = cexp(lz);
+    pc[j].zm = cexp(m * lz);
+    pc[j].zm1 = pc[j].zm / pc[j].z;
+    pc[j].c = r->ctx.norm * (q[P_ARE] + I * q[P_AIM]);
+  }
+}
+
+/* T(a) = (1 - a^m) / (1 - a) = sum_{k < m} a^k and dT/da, from a^m and
+ * a^(m - 1). */
+static double complex trunc_sum(double complex a, double complex am, double complex am1, double m,
+                                double complex *d)
+{
+  double complex inv = complex_recip(1.0 - a);
+  double complex t = (1.0 - am) * inv;
+  *d = (t - m * am1) * inv;
+  return t;
+}
+
+/* The truncated model of r->split_poles poles (constants pc) plus the
+ * background at bin k, and its derivatives. r->phase_um must hold bin k. */
+static double complex truncated_eval(const af_response *r, const pole_k *pc, const gsl_vector *x,
+                                     size_t k, double complex *d)
+{
+  const af_fit_ctx *f = &r->ctx;
+  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
+  double complex u = r->phase_u[k], um = r->phase_um[k], um1 = um * conj(u), model = 0.0;
+  for (size_t j = 0; j < r->split_poles; ++j) {
+    double complex a = pc[j].z * u, ac = conj(pc[j].z) * u, c = pc[j].c, dt, dtc;
+    double complex t = trunc_sum(a, pc[j].zm * um, pc[j].zm1 * um1, m, &dt);
+    double complex tc = trunc_sum(ac, conj(pc[j].zm) * um, conj(pc[j].zm1) * um1, m, &dtc);
+    double complex ga = c * dt * a, gac = conj(c) * dtc * ac;
+    double complex *dj = d + P_POLE * j;
+    model += c * t + conj(c) * tc;
+    dj[P_BIN] = (ga - gac) * (I * 2.0 * AF_PI / n_fft);
+    dj[P_SIGMA] = -(ga + gac) / fs;
+    dj[P_ARE] = f->norm * (t + tc);
+    dj[P_AIM] = f->norm * I * (t - tc);
+  }
+  return background(r, x, P_POLE * r->split_poles, (double)k, model, d);
+}
+
+/* ---- the one residual loop ---------------------------------------------------
+ * Residuals (f) or Jacobian (jac) of the model under way (r->split_poles: 0
+ * the pole pair, else the truncated poles) over the fitted bins, real and
+ * imaginary parts row by row; the rows beyond them stay 0 (a workspace is
+ * sized for the widest fit). GSL_EBADFUNC for a non-finite residual. */
+static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gsl_matrix *jac)
+{
+  double complex d[AF_RESPONSE_SPLIT_PARAMS];
+  pole_k pc[2];
+  size_t p = P_POLE * (r->split_poles > 0 ? r->split_poles : 1) + P_BACKGROUND;
+  if (r->split_poles > 0)
+    truncated_poles(r, x, pc);
+  if (f != NULL)
+    gsl_vector_set_zero(f);
+  else
+    gsl_matrix_set_zero(jac);
+  for (size_t i = 0; i < r->ctx.count; ++i) {
+    size_t k = r->ctx.first + i;
+    double complex model =
+        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, k, d);
+    if (f != NULL) {
+      double complex res = model - r->ctx.gain * r->ctx.data[k];
+      if (!isfinite(creal(res)) || !isfinite(cimag(res)))
+        return GSL_EBADFUNC;
+      gsl_vector_set(f, 2 * i, creal(res));
+      gsl_vector_set(f, 2 * i + 1, cimag(res));
+      continue;
+    }
+    for (size_t j = 0; j < p; ++j) {
+      gsl_matrix_set(jac, 2 * i, j, creal(d[j]));
+      gsl_matrix_set(jac, 2 * i + 1, j, cimag(d[j]));
+    }
+  }
+  return GSL_SUCCESS;
+}
+
+static int fit_f(const gsl_vector *x, void *params, gsl_vector *f)
+{
+  return fit_rows(x, params, f, NULL);
+}
+
+static int fit_df(const gsl_vector *x, void *params, gsl_matrix *jac)
+{
+  return fit_rows(x, params, NULL, jac);
+}
+
+/* Runs the fit of r->ctx (model r->split_poles) from start in w, whose rows
+ * and parameters are given; the driver's status into *status. 0 if the
+ * start cannot be evaluated. */
+static int run(af_response *r, gsl_multifit_nlinear_workspace *w, size_t rows, size_t params,
+               const gsl_vector *start, size_t max_iter, double xtol, int *status)
+{
+  gsl_multifit_nlinear_fdf fdf = {fit_f, fit_df, NULL, rows, params, r, 0, 0, 0};
+  int info = 0;
+  if (gsl_multifit_nlinear_init(start, &fdf, w) != GSL_SUCCESS)
+    return 0;
+  *status = gsl_multifit_nlinear_driver(max_iter, xtol, AF_RESPONSE_FIT_GTOL, AF_RESPONSE_FIT_FTOL,
+                                        NULL, NULL, &info, w);
+  return 1;
+}
+
+/* ---- stage 2 ------------------------------------------------------------------ */
+
+/* Stage 2 on the spectrum x near its local maximum k, from the seed in *pk;
+ * 0 (*pk untouched) if the fit fails or its frequency leaves the peak's top
+ * (it went for a neighbour or the background). */
+static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk)
+{
+  size_t half = af_response_fit_half(r, pk->sigma_windowed), first, last;
+  af_response_fit_around(r, k, half, &first, &last);
+  if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
+    return 0;
+  gsl_vector *p0 = r->fit_start;
+  gsl_vector_set_zero(p0);
+  af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
+  r->split_poles = 0;
+  int status = GSL_FAILURE;
+  if (!run(r, r->fit, AF_RESPONSE_FIT_ROWS, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER,
+           AF_RESPONSE_FIT_XTOL, &status) ||
+      status != GSL_SUCCESS)
+    return 0;
+  af_peak got = *pk;
+  pole_at(r, gsl_multifit_nlinear_position(r->fit), 0, &got);
+  if (!(got.bin >= pk->span_lo && got.bin <= pk->span_hi) || !(got.sigma_windowed > 0.0))
+    return 0;
+  *pk = got;
+  return 1;
+}
+
+/* ---- the truncated fits (peak list) ------------------------------------------ */
+
+int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss)
+{
+  size_t b = 0;
+  while (b + 1 < AF_RESPONSE_SPLIT_BUCKETS && af_response_split_bins[b] < r->ctx.count)
+    ++b;
+  gsl_multifit_nlinear_workspace *w = r->split_fit[poles - 1][b];
+  r->split_poles = poles;
+  r->split_last = w;
+  int st = GSL_FAILURE;
+  if (!run(r, w, 2 * af_response_split_bins[b], P_POLE * poles + P_BACKGROUND, start,
+           AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, &st))
+    return 0;
+  if (st != GSL_SUCCESS && st != GSL_EMAXITER && st != GSL_ENOPROG)
+    return 0;
+  const gsl_vector *res = gsl_multifit_nlinear_residual(w);
+  double sum = 0.0;
+  for (size_t i = 0; i < 2 * r->ctx.count; ++i)
+    sum += gsl_vector_get(res, i) * gsl_vector_get(res, i);
+  *rss = sum;
+  return isfinite(sum);
+}
+
+int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+{
+  double sigma_window =
+      r->cfg.window == AF_RESPONSE_WINDOW_EXPONENTIAL ? 1.0 / r->cfg.window_time_constant_s : 0.0;
+  double first = (double)r->ctx.first, last = first + (double)r->ctx.count - 1.0;
+  af_peak q;
+  pole_at(r, p, j, &q);
+  if (!(q.bin >= first && q.bin <= last) || !(q.sigma_windowed > sigma_window))
+    return 0;
+  q.span_lo = first;
+  q.span_hi = last;
+  *out = q;
+  return 1;
+}
+
+/* ---- one neighbour -------------------------------------------------------------
+ * A mode close enough for its peak to reach into the fit (a weak mode in the
+ * range, a split 0S2, a loud mode just outside) is not smooth there and biases
+ * the quadratic background. It is fitted in turn and taken off: fit the 0S2,
+ * fit the neighbour on the spectrum less the 0S2, fit the 0S2 again on the
+ * spectrum less the neighbour (one round of alternating fits). */
+
+/* work = spec - the mode pk, with its power, over the bins any fit around k
+ * or j can read. */
+static void subtract(af_response *r, const af_peak *pk, size_t k, size_t j)
+{
+  size_t a = k < j ? k : j, b = k < j ? j : k, reach = AF_RESPONSE_FIT_MAX_HALF + 2;
+  size_t lo = a > reach ? a - reach : 0;
+  size_t hi = b + reach < r->bins ? b + reach : r->bins - 1;
+  for (size_t i = lo; i <= hi; ++i) {
+    r->work[i] = r->spec[i] - af_response_pole_pair(r, pk->bin, pk->sigma_windowed, pk->c, i);
+    r->work_power[i] = creal(r->work[i] * conj(r->work[i]));
+  }
+}
+
+/* The mode at the local maximum k, refined as far as the data allow; 1 if
+ * the complex fit (stage 2) holds, 0 for a stage-1 or log-parabola estimate. */
+int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out)
+{
+  if (!af_response_stage1(r, r->power, r->spec, k, out)) {
+    af_response_log_parabola(r, k, out);
+    return 0;
+  }
+  if (!stage2(r, r->spec, k, out))
+    return 0;
+  size_t j;
+  if (!af_response_find_neighbour(r, k, af_response_fit_half(r, out->sigma_windowed), min_power,
+                                  &j))
+    return 1;
+  af_peak nb, again = *out;
+  subtract(r, out, k, j);
+  if (!(r->work_power[j] > r->work_power[j - 1] && r->work_power[j] >= r->work_power[j + 1]) ||
+      !af_response_stage1(r, r->work_power, r->work, j, &nb) || !stage2(r, r->work, j, &nb))
+    return 1;
+  subtract(r, &nb, k, j);
+  if (stage2(r, r->work, k, &again))
+    *out = again;
+  return 1;
+}

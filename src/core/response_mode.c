@@ -1,0 +1,78 @@
+/* response_mode.c — one damped mode's spectrum through the window, in
+ * closed form: the bare pole pair the complex fit models, the mode as the
+ * window holds it (its cut after m samples and its fade-in: what the peak
+ * list subtracts), and the mode's own peak power.
+ *
+ * A real damped cosine c z^n + conj(c z^n), z = exp((-sigma' + i w0) dt),
+ * n >= 0, has the DFT (u = exp(-i w dt))
+ *   X(u) = c / (1 - z u) + conj(c) / (1 - conj(z) u):
+ * the peak and its negative-frequency image, exact under the exponential
+ * window. */
+#include "response_private.h"
+
+#include <math.h>
+
+/* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
+double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
+                                     double complex c, size_t k)
+{
+  double n_fft = (double)r->cfg.fft_size;
+  double complex u = cexp(-I * 2.0 * AF_PI * (double)k / n_fft);
+  double complex z = cexp(-sigma_windowed / r->cfg.sample_rate_hz + I * 2.0 * AF_PI * bin / n_fft);
+  return c / (1.0 - z * u) + conj(c) / (1.0 - conj(z) * u);
+}
+
+/* |X(f0)|^2 of the mode alone through the window, fade-in included (the
+ * fit puts the fade-in into the background): the ringing f_k c z^k sums at
+ * its own frequency to c (1 / (1 - r) - sum_{k < L} (1 - f_k) r^k). */
+double af_response_mode_peak_power(const af_response *r, double complex c, double sigma_windowed)
+{
+  double rr = exp(-sigma_windowed / r->cfg.sample_rate_hz);
+  double sum = 1.0 / (1.0 - rr), rk = 1.0;
+  for (size_t k = 0; k < r->fade_samples; ++k, rk *= rr)
+    sum -= (1.0 - af_response_fade(k, r->fade_samples)) * rk;
+  return creal(c * conj(c)) * sum * sum;
+}
+
+/* The part of sum_k a^k the fade-in removes, F(a) = sum_{k < L} (1 - f_k) a^k
+ * with 1 - f_k = (1 + cos(theta (k + 1/2))) / 2, theta = pi / L, in closed
+ * form (three geometric sums; (a e^{+-i theta})^L = -a^L). With al = a^L,
+ * e = e^{i theta}, h = e^{i theta / 2}, inv_1a = 1 / (1 - a):
+ *   F = (1 - al) / (2 (1 - a)) + (1 + al) / 4 (h / (1 - a e) + conj(h) / (1 - a conj(e))). */
+static double complex fade_sum(const af_response *r, double complex a, double complex al,
+                               double complex inv_1a)
+{
+  if (r->fade_samples == 0)
+    return 0.0;
+  double complex e = r->fade_e, eh = r->fade_eh;
+  return 0.5 * (1.0 - al) * inv_1a +
+         0.25 * (1.0 + al) *
+             (eh * complex_recip(1.0 - a * e) + conj(eh) * complex_recip(1.0 - a * conj(e)));
+}
+
+af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk)
+{
+  double complex lz = -pk->sigma_windowed / r->cfg.sample_rate_hz +
+                      I * 2.0 * AF_PI * pk->bin / (double)r->cfg.fft_size;
+  af_mode_k q = {pk->c, cexp(lz), cexp(r->split_len * lz), cexp((double)r->fade_samples * lz)};
+  return q;
+}
+
+/* The mode q as the window holds it over the m analysed samples, at bin i
+ * (r->phase_um filled there):
+ *   c (T(z u) - F(z u)) + conj,  T(a) = (1 - a^m) / (1 - a),
+ * F the fade-in's part (fade_sum). The fits see the pole alone (the
+ * fade-in and the cut are smooth or small across a peak, taken by the
+ * background), but far from the peak both matter: the cut leaves a ripple of
+ * period fs / m (~ -36 dB at 40 ms), the fade-in a broad term ~ -25 dB of
+ * the peak; a bare pole subtracted would leave them as false peaks beside the
+ * mode and as a raised floor under the weaker modes sought next. */
+double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i)
+{
+  double complex u = r->phase_u[i], um = r->phase_um[i], ul = r->phase_ul[i];
+  double complex a = q->z * u, ac = conj(q->z) * u;
+  double complex inv = complex_recip(1.0 - a), invc = complex_recip(1.0 - ac);
+  double complex t = (1.0 - q->zm * um) * inv - fade_sum(r, a, q->zl * ul, inv);
+  double complex tc = (1.0 - conj(q->zm) * um) * invc - fade_sum(r, ac, conj(q->zl) * ul, invc);
+  return q->c * t + conj(q->c) * tc;
+}

@@ -1,0 +1,98 @@
+/* response_noise.c — the noise floor an SNR is measured against: the mean
+ * periodogram of noise-only segments (the reference) or, without one, the
+ * median of the analysed window's own noise band (response.h: definitions). */
+#include "response_private.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_statistics_double.h>
+
+/* af_response_peaks with a noise reference: each peak's floor is the
+ * reference's mean over f / 1.2 .. 1.2 f (coloured noise changes across a
+ * wide list band; +-20 % holds ~70 bins at 700 Hz). */
+#define AF_RESPONSE_LIST_NOISE_SPAN 1.2
+
+af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
+{
+  if (r == NULL || noise == NULL || n < AF_RESPONSE_MIN_SAMPLES)
+    return AF_EINVAL;
+  if (n > r->cfg.window_samples)
+    return AF_ESIZE;
+  double mean = 0.0, energy = 0.0;
+  af_status s = af_response_mean(noise, n, &mean);
+  if (s != AF_OK)
+    return s;
+  /* the reference does not know the range: every configured harmonic goes */
+  af_response_trend_fit(r, noise, 0, n, r->cfg.hum_hz > 0.0 ? r->cfg.hum_harmonics : 0);
+  af_response_transform(r, noise, n, 0, &energy);
+  /* running mean: one segment's floor over a range of a few hundred Hz
+   * scatters by ~1.5 dB, the mean of m segments by ~1.5/sqrt(m) dB */
+  if (r->noise_segments == 0) /* fresh, or after a clear: no mean to update */
+    memset(r->noise_ref, 0, r->bins * sizeof *r->noise_ref);
+  double weight = 1.0 / (double)(r->noise_segments + 1);
+  for (size_t k = 0; k < r->bins; ++k)
+    r->noise_ref[k] += weight * (r->power[k] / energy - r->noise_ref[k]);
+  r->noise_segments++;
+  return AF_OK;
+}
+
+void af_response_clear_noise(af_response *r)
+{
+  if (r != NULL)
+    r->noise_segments = 0;
+}
+
+/* Mean noise power per bin of the analysed window from the median of its
+ * periodogram over the noise band: for complex Gaussian noise |X_k|^2 is
+ * exponential, median = ln 2 x mean; the median ignores the few peaks. */
+double af_response_band_floor(af_response *r)
+{
+  size_t k_lo, k_hi;
+  af_response_band_bins(r->cfg.noise_band_lo_hz, r->cfg.noise_band_hi_hz, r->bin_hz, r->bins - 1,
+                        &k_lo, &k_hi);
+  /* every zero-padding factor-th bin: the bins between are interpolations
+   * of these, no new information, only more work for the median */
+  size_t stride = r->cfg.fft_size / r->cfg.window_samples, m = 0;
+  for (size_t k = k_lo; k <= k_hi; k += stride)
+    r->scratch[m++] = r->power[k];
+  return gsl_stats_median(r->scratch, 1, m) / log(2.0);
+}
+
+/* Mean noise power per bin from the reference over [f_lo, f_hi], for a
+ * window of energy 'energy'. The mean, not the median: the reference holds
+ * no peaks, and its bins, averaged over segments, are no longer exponential
+ * (the ln 2 of one segment becomes ~0.96 for eight). An empty range takes its
+ * nearest bin. */
+static double reference_floor(const af_response *r, double f_lo_hz, double f_hi_hz, double energy)
+{
+  size_t k_lo, k_hi;
+  af_response_band_bins(f_lo_hz, f_hi_hz, r->bin_hz, r->bins - 1, &k_lo, &k_hi);
+  if (k_hi < k_lo)
+    k_hi = k_lo;
+  double sum = 0.0;
+  for (size_t k = k_lo; k <= k_hi; ++k)
+    sum += r->noise_ref[k];
+  return energy * sum / (double)(k_hi - k_lo + 1);
+}
+
+/* Noise power per bin of the last transform (window energy 'energy'). */
+double af_response_noise_power(af_response *r, double f_lo_hz, double f_hi_hz, double energy,
+                               size_t *segments)
+{
+  *segments = r->noise_segments;
+  if (r->noise_segments > 0)
+    return reference_floor(r, f_lo_hz, f_hi_hz, energy);
+  return af_response_band_floor(r);
+}
+
+/* Noise power per bin at frequency f_hz of the last transform: the
+ * reference's mean over f / AF_RESPONSE_LIST_NOISE_SPAN .. f x it, else the
+ * band floor (band_floor, computed once). */
+double af_response_list_noise(const af_response *r, double f_hz, double band_floor, double energy)
+{
+  if (r->noise_segments == 0)
+    return band_floor;
+  return reference_floor(r, f_hz / AF_RESPONSE_LIST_NOISE_SPAN, f_hz * AF_RESPONSE_LIST_NOISE_SPAN,
+                         energy);
+}

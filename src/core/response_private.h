@@ -1,0 +1,251 @@
+/* response_private.h — what the files of the response module share and no
+ * caller sees: the object's layout, the constants more than one file reads,
+ * the peak record, and the functions one file offers another. Included only
+ * by src/core/response*.c; the API is response.h.
+ *
+ * The files, one job each:
+ *  response.c           the object (create, destroy, configuration), the
+ *                       result record and af_response_analyze;
+ *  response_trend.c     DC and mains-hum trend: least-squares fit, removal;
+ *  response_transform.c onset, window, zero-pad, the FFTW r2c transform;
+ *  response_noise.c     the noise floor: the reference, the band's median;
+ *  response_peaks.c     peak finding and the closed-form stage-1 reading;
+ *  response_mode.c      a mode's spectrum through the window (exact sums);
+ *  response_fit.c       the Levenberg-Marquardt fits (one residual loop for
+ *                       every model), stage 2 and the neighbour's round;
+ *  response_split.c     the peak list's two-pole split and backfit;
+ *  response_list.c      af_response_peaks: the list of a band's modes.
+ *
+ * Static helpers carry no prefix; the functions shared here are
+ * af_response_*, as they are symbols of the library. */
+#ifndef AF_RESPONSE_PRIVATE_H
+#define AF_RESPONSE_PRIVATE_H
+
+#include "response.h"
+
+/* complex.h before fftw3.h: fftw_complex is then the C99 double complex. */
+#include <complex.h>
+#include <fftw3.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_vector.h>
+
+#define AF_PI 3.14159265358979323846
+/* Shortest window or noise segment accepted [samples]: below this neither a
+ * mean nor a spectral peak means anything. */
+#define AF_RESPONSE_MIN_SAMPLES 8
+/* At most this many bins each side of the peak enter a fit (a broad peak on
+ * a fine grid needs no more). */
+#define AF_RESPONSE_FIT_MAX_HALF 32
+/* Parameters of the complex fit: f0 [bins], sigma' [1/s], the mode's complex
+ * amplitude (2) and a complex quadratic background (6). */
+#define AF_RESPONSE_FIT_PARAMS 10
+#define AF_RESPONSE_FIT_ROWS (2 * (2 * AF_RESPONSE_FIT_MAX_HALF + 1))
+/* The peak list's two-pole fit: two modes (4 each) and the background (6). */
+#define AF_RESPONSE_SPLIT_PARAMS 14
+/* Span sizes [bins] the truncated fits have workspaces for; the last is the
+ * widest span, 2 AF_RESPONSE_FIT_MAX_HALF + 1 (defined in response_fit.c). */
+#define AF_RESPONSE_SPLIT_BUCKETS 4
+extern const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS];
+/* Hum removal: at most this many harmonics (response_trend.c). */
+#define AF_RESPONSE_MAX_HUM_HARMONICS 8
+#define AF_RESPONSE_MAX_TERMS (1 + 2 * AF_RESPONSE_MAX_HUM_HARMONICS)
+/* The mode's fitted peak power may exceed the periodogram's top bin by the
+ * grid's scalloping (<= 0.6 dB here) and by a neighbour's skirt cancelling it
+ * in the bin; beyond 1.5 dB it is a pole extrapolated above the data. */
+#define AF_RESPONSE_PEAK_BOUND 1.41
+/* A local maximum is a peak when it stands this far (power ratio, 6 dB)
+ * above its local floor: an isolated mode stands >= 13 dB above its skirt
+ * AF_RESPONSE_FIT_MAX_HALF bins away, a ripple or a hump where skirts
+ * interfere stands 0.5-5 dB. */
+#define AF_RESPONSE_PROMINENCE 4.0
+/* A neighbouring maximum counts as a mode when it stands this far (power
+ * ratio, 3 dB) above the valley between it and the peak. */
+#define AF_RESPONSE_NEIGHBOUR_PROMINENCE 2.0
+/* The weaker pole's peak power is at least this fraction (-20 dB) of the
+ * stronger's: below it, it is a misfit of the stronger (the fade-in, a
+ * neighbour's skirt the quadratic background does not follow) and would not
+ * move the stronger's frequency anyway (two-pole split, peak list). */
+#define AF_RESPONSE_SPLIT_MIN_RATIO 0.01
+
+/* What a fit works on: a complex spectrum, the bins used, the scales. */
+typedef struct {
+  const double complex *data; /* spectrum fitted: the transform, or it less a neighbour */
+  size_t first, count;        /* bins fitted: first .. first + count - 1 */
+  double center;              /* bin of the grid peak */
+  double half;                /* bins per unit of the background's abscissa */
+  double gain;                /* 1 / |X| at the grid peak: data of order 1 */
+  double norm;                /* 1 - r of the seed: amplitude of order 1 */
+} af_fit_ctx;
+
+struct af_response {
+  af_response_config cfg;
+  size_t bins;                         /* fft_size / 2 + 1 */
+  double bin_hz;                       /* sample_rate_hz / fft_size [Hz] */
+  double *in;                          /* fft input, fft_size samples */
+  double complex *spec;                /* fft output, bins values */
+  fftw_plan plan;                      /* r2c, made once */
+  double *window;                      /* window_samples weights */
+  size_t fade_samples;                 /* length of the fade-in [samples] */
+  double *power;                       /* periodogram |X_k|^2 of the last transform */
+  double *noise_ref;                   /* mean reference periodogram per unit window energy */
+  double *scratch;                     /* median workspace (noise band) */
+  double complex *work;                /* spectrum less a fitted mode (near the peak only) */
+  double *work_power;                  /* |work|^2 */
+  double complex *orig;                /* the transform before the peak list took modes off */
+  double complex *phase_u;             /* u_k = exp(-i 2 pi k / N), every bin */
+  double complex *phase_ul;            /* u_k^L, L the fade-in length */
+  double complex *phase_um;            /* u_k^m, m the analysed length of the peak list's call */
+  double split_len;                    /* that m [samples] */
+  double complex fade_e, fade_eh;      /* exp(i theta), exp(i theta / 2), theta = pi / L */
+  size_t noise_segments;               /* segments averaged into noise_ref */
+  gsl_multifit_nlinear_workspace *fit; /* complex peak fit, AF_RESPONSE_FIT_ROWS x PARAMS */
+  gsl_vector *fit_start;               /* its starting point */
+  /* truncated fits of the peak list: [poles - 1][bucket], rows 2 x
+   * af_response_split_bins[bucket], 4 poles + 6 parameters (sized to the span: the
+   * normal equations cost grows with the rows, used or zero) */
+  gsl_multifit_nlinear_workspace *split_fit[2][AF_RESPONSE_SPLIT_BUCKETS];
+  gsl_multifit_nlinear_workspace *split_last; /* the one the last truncated fit ran in */
+  gsl_vector *fit2_start;                     /* their starting point (two poles' room) */
+  size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
+                                         1 or 2 the poles of a truncated fit */
+  af_fit_ctx ctx;                     /* the fit under way */
+  gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
+  gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
+  size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
+};
+
+/* A mode of the spectrum as the refinement sees it, before the window's decay
+ * is taken off. */
+typedef struct {
+  double bin;            /* frequency [bins, fractional] */
+  double sigma_windowed; /* decay rate of the windowed mode [1/s]; NaN if unknown */
+  double complex c;      /* complex amplitude: the ringing is c z^n + conj; NaN if unknown */
+  double peak_power;     /* the mode's |X|^2 at its frequency */
+  double span_lo;        /* bins of the peak's top (stage 1): a refined frequency */
+  double span_hi;        /*   outside them belongs to something else */
+} af_peak;
+
+/* A listed mode as its exact spectrum needs it: c and the powers of z. */
+typedef struct {
+  double complex c, z, zm, zl; /* z^m (m = r->split_len), z^L (the fade-in) */
+} af_mode_k;
+
+/* 1 / b without the C library's careful complex division (b is never near
+ * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
+ * Inline: it sits in the innermost loops of the fits and the subtractions. */
+static inline double complex complex_recip(double complex b)
+{
+  return conj(b) / (creal(b) * creal(b) + cimag(b) * cimag(b));
+}
+
+/* ---- response.c: the result record and the analysis's first steps ---- */
+/* Checks the band and the length, then onset, trend, transform of
+ * audio[0..n): the analysed start into *start, the window energy into
+ * *energy. AF_EINVAL, AF_ESIZE, AF_ENUMERIC as af_response_analyze. */
+af_status af_response_begin(af_response *r, const float *audio, size_t n, double f_lo_hz,
+                            double f_hi_hz, size_t *start, double *energy);
+/* 10 log10(peak / noise) [dB]; +-inf for digital silence. */
+double af_response_snr_db(double peak_power, double noise_power);
+void af_response_result_clear(af_response_result *out, double bin_hz);
+/* Frequency, decay, amplitude of the refined peak into out. */
+void af_response_result_fill(const af_response *r, const af_peak *pk, af_response_result *out);
+/* Refines the local maximum k (af_response_refine, noise: power per bin)
+ * and reads it into out, its SNR from the mode's own peak power bounded by
+ * AF_RESPONSE_PEAK_BOUND times the periodogram (the top bin's power when the
+ * complex fit failed); 1 if the complex fit held. */
+int af_response_read_peak(af_response *r, size_t k, double noise, af_peak *pk,
+                          af_response_result *out);
+
+/* ---- response_trend.c ---- */
+/* Harmonics of the hum to remove for a range starting at f_lo_hz. */
+size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
+/* Least-squares DC + harmonics of x[start..n) into r->trend_coef. */
+void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
+                           size_t harmonics);
+/* dst[k] = x[start + k] less the fitted trend, k < m. */
+void af_response_trend_remove(const af_response *r, const float *x, size_t start, size_t m,
+                              double *dst);
+
+/* ---- response_transform.c ---- */
+/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
+af_status af_response_mean(const float *x, size_t n, double *mean);
+/* First sample whose |x - mean| reaches fraction of the largest. */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction);
+/* The raised-cosine fade-in's weight at sample k of length samples (1 beyond). */
+double af_response_fade(size_t k, size_t length);
+/* Fills r->window and the phase factors (at create). */
+void af_response_fill_window(af_response *r);
+void af_response_fill_phases(af_response *r);
+/* Bins of [lo_hz, hi_hz] on a grid of bin_hz, clipped to 1..last. */
+void af_response_band_bins(double lo_hz, double hi_hz, double bin_hz, size_t last, size_t *k_lo,
+                           size_t *k_hi);
+/* Periodogram of x[start..n), less its fitted trend, into r->power. */
+void af_response_transform(af_response *r, const float *x, size_t n, size_t start,
+                           double *window_energy);
+
+/* ---- response_noise.c ---- */
+/* Mean noise power per bin of the window's own noise band. */
+double af_response_band_floor(af_response *r);
+/* Noise power per bin of the last transform over [f_lo, f_hi] (reference or
+ * band); the reference's segments into *segments. */
+double af_response_noise_power(af_response *r, double f_lo_hz, double f_hi_hz, double energy,
+                               size_t *segments);
+/* The peak list's floor at f_hz (reference near f, else band_floor). */
+double af_response_list_noise(const af_response *r, double f_hz, double band_floor, double energy);
+
+/* ---- response_peaks.c ---- */
+/* The floors a maximum at k rises from on its left and right. */
+void af_response_side_floors(const af_response *r, size_t k, double *left, double *right);
+/* Strongest prominent peak with its top in [f_lo, f_hi]; 0 if none. */
+size_t af_response_find_peak(const af_response *r, double f_lo_hz, double f_hi_hz,
+                             double *best_rise);
+/* Strongest prominent maximum j != k within two fit half-widths of k. */
+int af_response_find_neighbour(const af_response *r, size_t k, size_t half, double min_power,
+                               size_t *j_out);
+/* Stage 1 (the 1/P parabola) at the local maximum k of p (spectrum x). */
+int af_response_stage1(const af_response *r, const double *p, const double complex *x, size_t k,
+                       af_peak *out);
+/* Fallback when stage 1 fails: a three-point parabola on log P. */
+void af_response_log_parabola(const af_response *r, size_t k, af_peak *out);
+
+/* ---- response_mode.c ---- */
+/* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
+double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
+                                     double complex c, size_t k);
+/* |X(f0)|^2 of the mode alone through the window, fade-in included. */
+double af_response_mode_peak_power(const af_response *r, double complex c, double sigma_windowed);
+af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);
+/* The mode q as the window holds it over the m analysed samples, at bin i. */
+double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i);
+
+/* ---- response_fit.c ---- */
+/* Half-width of the fit around a peak of this windowed decay rate [bins]. */
+size_t af_response_fit_half(const af_response *r, double sigma_windowed);
+/* The bins half each side of k, clipped to 1 .. bins - 1. */
+void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t *first,
+                            size_t *last);
+/* r->ctx over data[first..last]: the background's abscissa centred on
+ * center [bins] in units of half [bins], the data scaled by 1 / |data[k]|,
+ * the amplitudes by 1 - exp(-sigma_windowed / fs). 0 if a scale is unusable
+ * (a zero bin, no decay). */
+int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
+                         double center, double half, size_t k, double sigma_windowed);
+/* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
+void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
+                          double sigma, double complex c);
+/* The truncated fit of 'poles' poles from start on r->ctx; rss into *rss. */
+int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss);
+/* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
+int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out);
+/* The mode at the local maximum k, refined as far as the data allow. */
+int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
+
+/* ---- response_split.c ---- */
+/* The truncated reading of the peak at k (one or two poles; 0 none). */
+int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise, af_peak a[2]);
+/* Backfits the n listed modes on r->orig less the others. */
+void af_response_list_backfit(af_response *r, af_response_result *list, af_peak *modes,
+                              const double *noise, size_t n);
+
+#endif

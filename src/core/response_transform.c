@@ -1,0 +1,103 @@
+/* response_transform.c — from the analysed samples to their spectrum: the
+ * onset, the window (exponential after a raised-cosine fade-in), the zero-pad
+ * and the FFTW r2c transform planned once at create (response.h says why
+ * this window). */
+#include "response_private.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
+af_status af_response_mean(const float *x, size_t n, double *mean)
+{
+  double sum = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    if (!isfinite(x[k]))
+      return AF_ENUMERIC;
+    sum += x[k];
+  }
+  *mean = sum / (double)n;
+  return AF_OK;
+}
+
+/* First sample whose |x - mean| reaches fraction of the largest, kept at
+ * least AF_RESPONSE_MIN_SAMPLES from the end; 0 when fraction is 0. Starting
+ * the analysis there makes the ringing start at the window's first sample,
+ * where the exponential window and the model of the fit expect it; a start a
+ * little after the true onset costs only amplitude. */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction)
+{
+  if (!(fraction > 0.0))
+    return 0;
+  double peak = 0.0;
+  for (size_t k = 0; k < n; ++k)
+    peak = fmax(peak, fabs((double)x[k] - mean));
+  size_t k = 0;
+  while (k + AF_RESPONSE_MIN_SAMPLES < n && fabs((double)x[k] - mean) < fraction * peak)
+    ++k;
+  return k;
+}
+
+/* w_k = exp(-k dt / tau_w) (or 1), times a raised-cosine fade-in over the
+ * first fade_in_s. The fade-in removes the step at the first sample, whose
+ * 1/f skirt would otherwise lift the noise band; it touches only the first
+ * samples, whose effect on the spectrum is smooth across a peak (a polynomial
+ * in u, like a late onset) and is taken by the fit's background. */
+double af_response_fade(size_t k, size_t length)
+{
+  return k < length ? 0.5 * (1.0 - cos(AF_PI * ((double)k + 0.5) / (double)length)) : 1.0;
+}
+
+void af_response_fill_window(af_response *r)
+{
+  const af_response_config *c = &r->cfg;
+  double dt_over_tau = 1.0 / (c->sample_rate_hz * c->window_time_constant_s);
+  r->fade_samples = (size_t)floor(c->fade_in_s * c->sample_rate_hz);
+  for (size_t k = 0; k < c->window_samples; ++k) {
+    double w = c->window == AF_RESPONSE_WINDOW_EXPONENTIAL ? exp(-(double)k * dt_over_tau) : 1.0;
+    r->window[k] = w * af_response_fade(k, r->fade_samples);
+  }
+}
+
+/* The phase factors of the peak list's exact mode spectra (u_k, u_k^L) and
+ * the fade-in's constants. */
+void af_response_fill_phases(af_response *r)
+{
+  double n_fft = (double)r->cfg.fft_size, length = (double)r->fade_samples;
+  for (size_t k = 0; k < r->bins; ++k) {
+    double w = -2.0 * AF_PI * (double)k / n_fft;
+    r->phase_u[k] = cexp(I * w);
+    r->phase_ul[k] = cexp(I * w * length);
+  }
+  double theta = r->fade_samples > 0 ? AF_PI / length : 0.0;
+  r->fade_e = cexp(I * theta);
+  r->fade_eh = cexp(0.5 * I * theta);
+}
+
+/* Bins of [lo_hz, hi_hz] on a grid of bin_hz, clipped to 1..last. */
+void af_response_band_bins(double lo_hz, double hi_hz, double bin_hz, size_t last, size_t *k_lo,
+                           size_t *k_hi)
+{
+  double lo = ceil(lo_hz / bin_hz), hi = floor(hi_hz / bin_hz);
+  *k_lo = lo < 1.0 ? 1 : (size_t)lo;
+  *k_hi = hi > (double)last ? last : (size_t)hi;
+}
+
+/* Periodogram of x[start..n), less its fitted trend, into r->power: windowed
+ * from start, zero-padded. The window energy sum w_k^2 into *window_energy. */
+void af_response_transform(af_response *r, const float *x, size_t n, size_t start,
+                           double *window_energy)
+{
+  size_t m = n - start;
+  double energy = 0.0;
+  af_response_trend_remove(r, x, start, m, r->in);
+  for (size_t k = 0; k < m; ++k) {
+    r->in[k] *= r->window[k];
+    energy += r->window[k] * r->window[k];
+  }
+  memset(r->in + m, 0, (r->cfg.fft_size - m) * sizeof *r->in);
+  fftw_execute(r->plan);
+  for (size_t k = 0; k < r->bins; ++k)
+    r->power[k] = creal(r->spec[k] * conj(r->spec[k]));
+  *window_energy = energy;
+}
