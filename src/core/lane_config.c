@@ -480,11 +480,11 @@ static af_status check_memory(const af_settings *s, const af_lane_config *c, cha
       "the lane would allocate about %.0f MiB (rings %.0f: %sforce_buffer_s x "
       "%sforce_sample_rate_hz + %saudio_buffer_s x %saudio_sample_rate_hz; detector and queue "
       "%.0f: %sstrike_* x %sstrike_pending_size; microphone analysis %.0f: "
-      "%smeasure_audio_window_s; pulse fit %.0f: %sstrike_max_contact_s), above the %.0f MiB "
-      "accepted",
+      "%smeasure_audio_window_s x %smeasure_fft_padding; pulse fit %.0f: %sstrike_max_contact_s), "
+      "above the %.0f MiB accepted",
       m.total / mib, m.rings / mib, s->name_prefix, s->name_prefix, s->name_prefix, s->name_prefix,
       m.detector_queue / mib, s->name_prefix, s->name_prefix, m.microphone / mib, s->name_prefix,
-      m.fit_spectrum / mib, s->name_prefix, AF_LANE_MEMORY_MAX_BYTES / mib);
+      s->name_prefix, m.fit_spectrum / mib, s->name_prefix, AF_LANE_MEMORY_MAX_BYTES / mib);
   return AF_EINVAL;
 }
 

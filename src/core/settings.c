@@ -12,8 +12,7 @@
 
 #include "settings_private.h"
 
-/* ---- helpers shared with settings_yaml.c and lane_config.c (settings_private.h)
- * ------------------------------------------------------ */
+/* ---- helpers (the first two shared: settings_private.h) ------------------- */
 
 void af_settings_say(char *err, size_t len, const char *fmt, ...)
 {

@@ -300,6 +300,21 @@ static void test_rows_through_derive(void)
              AF_EINVAL, err,
              "measure_hum_hz = 600 must be below the audio Nyquist frequency 500 Hz "
              "(audio_sample_rate_hz = 1000) (0 = off)");
+  /* 16 x a 0.9 s window at 1 MHz: 2^24 points, above the lane's memory bound (about 2 GiB at
+   * 128 bytes a point), which names the padding */
+  check_line(derive_yaml("audio_sample_rate_hz: 1.0e+6\n"
+                         "audio_buffer_s: 3.0\n"
+                         "measure_audio_window_s: 0.9\n"
+                         "measure_fft_padding: 16\n",
+                         &c, err),
+             AF_EINVAL, err, "measure_audio_window_s x measure_fft_padding; pulse fit");
+  AF_CHECK_STATUS(derive_yaml("audio_sample_rate_hz: 1.0e+6\n"
+                              "audio_buffer_s: 3.0\n"
+                              "measure_audio_window_s: 0.9\n"
+                              "measure_fft_padding: 1\n",
+                              &c, err),
+                  AF_OK);
+  AF_CHECK(r->fft_size == ((size_t)1 << 20)); /* 900000 samples -> 2^20 */
 }
 
 int main(void)
