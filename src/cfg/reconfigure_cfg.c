@@ -120,7 +120,7 @@ int main(int argc, char **argv)
   const af_reconfigure_row *rows = af_reconfigure_rows(&n);
   fprintf(f, "#!/usr/bin/python3\n"
              "# Generated at build time by src/cfg/reconfigure_cfg.c from the parameter table\n"
-             "# (src/core/settings.c) and its reconfigurable rows (src/core/reconfigure.c).\n"
+             "# (src/core/settings_table.c) and its reconfigurable rows (src/core/reconfigure.c).\n"
              "# Do not edit: change the table.\n"
              "PACKAGE = \"acoustic_firmness\"\n"
              "from dynamic_reconfigure.parameter_generator_catkin import *\n"

@@ -21,7 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "settings.h"
+#include "af_defaults.h"
 
 /* Elastic contact time without gravity in units of (m1^2/(R E*^2 v0))^(1/5):
  * tau_c (15/16)^(2/5), with tau_c = 2 int_0^1 dx / sqrt(1 - x^2.5)
@@ -134,16 +134,16 @@ af_impact_params af_impact_params_default(void)
 {
   af_impact_params p = {
       /* the shipped rig's hammer, said once in the parameter table */
-      .hammer_mass_kg = af_setting_rig_value(AF_SETTING_HAMMER_MASS_KG),
-      .velocity_m_s = 1.4,
-      .hammer_modulus_pa = 0.0,
-      .hammer_poisson = 0.3,
-      .hammer_radius_m = af_setting_rig_value(AF_SETTING_HAMMER_TIP_RADIUS_M),
-      .fruit_modulus_pa = 8e6,
-      .fruit_poisson = 0.35,
-      .strike_radius_m = 0.04,
-      .restitution = 0.6,
-      .gravity_m_s2 = 9.80665,
+      .hammer_mass_kg = AF_RIG_HAMMER_MASS_KG,
+      .velocity_m_s = AF_DEFAULT_STRIKE_VELOCITY_M_S,
+      .hammer_modulus_pa = AF_DEFAULT_HAMMER_MODULUS_PA,
+      .hammer_poisson = AF_DEFAULT_HAMMER_POISSON,
+      .hammer_radius_m = AF_RIG_HAMMER_TIP_RADIUS_M,
+      .fruit_modulus_pa = AF_DEFAULT_MODULUS_NOMINAL_PA,
+      .fruit_poisson = AF_DEFAULT_FRUIT_POISSON,
+      .strike_radius_m = 0.04, /* R2 [m]: no row (per apple, from its estimate) */
+      .restitution = AF_DEFAULT_RESTITUTION,
+      .gravity_m_s2 = AF_DEFAULT_GRAVITY_M_S2,
       .damping = AF_DAMPING_EXACT,
   };
   return p;

@@ -88,7 +88,7 @@ typedef struct {
 /* Work budget of one pulse: integration steps, the event searches' included.
  * The default strike takes about 150; a contact that does not end (a hammer
  * resting on the fruit, or parameters far outside the physical ranges of
- * settings.c) stops here within a few milliseconds. */
+ * settings_table.c) stops here within a few milliseconds. */
 #define AF_IMPACT_STEP_BUDGET 20000
 
 /* Runs one impact. When force_n (and/or deformation_m) is not NULL, F(t_k)

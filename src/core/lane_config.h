@@ -76,20 +76,24 @@ typedef struct {
 
 /* Fills *out from the settings s (every row present: the hammer's mass and
  * tip radius too, which the node takes from the URDF unless overridden) and
- * runs every check across parameters: the min < max pairs, the nominal
- * modulus within its range, ring sizes (at most 1e8 samples), the
- * detector's windows and event span (at most 2^24 samples), the audio
- * windows (at least 8 samples, within the audio ring), the memory the lane
- * would take (at most AF_LANE_MEMORY_MAX_BYTES, checked before anything is
- * allocated), trial creates of the strike detector and the measurement, Lamb's 0S2 root, and the
- * model's own check over the corners the lane evaluates (extreme masses, moduli, both ends of the
- * R2 search). Derived: ring capacities ceil(s x rate), the latitude tolerance in rad, the
- * detector's longest event span, the audio and noise windows round(s x rate), the response window
- * (the longer) and FFT size (power of two >= 4 x window), the fit's max samples (>= longest contact
- * + 2); the measurement's unexposed fields keep af_measure_config_default's. Allocates only inside
- * the trial creates (start-up). AF_OK; AF_EINVAL with one line naming the parameters (with s's name
- * prefix), their values and what is accepted; AF_ENOMEM. *out is zeroed first, and holds nothing to
- * free. */
+ * runs every check across parameters: the min < max pairs (the noise band's
+ * too), the nominal modulus within its range, ring sizes (at most 1e8
+ * samples), the detector's windows and event span (at most 2^24 samples),
+ * the audio windows (at least 8 samples, within the audio ring), the hum and
+ * the noise band's low end below the audio Nyquist frequency, the memory the
+ * lane would take (at most AF_LANE_MEMORY_MAX_BYTES, checked before anything
+ * is allocated), trial creates of the strike detector and the measurement,
+ * Lamb's 0S2 root, and the model's own check over the corners the lane
+ * evaluates (extreme masses, moduli, both ends of the R2 search). Derived:
+ * ring capacities ceil(s x rate), the latitude tolerance in rad, the
+ * detector's longest event span, the audio and noise windows round(s x
+ * rate), the response window (the longer) and FFT size (power of two >=
+ * measure_fft_padding x window), its hum and noise band (measure_hum_*,
+ * measure_noise_band_*), the fit's max samples (>= longest contact + 2); the
+ * measurement's unexposed fields keep af_measure_config_default's. Allocates
+ * only inside the trial creates (start-up). AF_OK; AF_EINVAL with one line
+ * naming the parameters (with s's name prefix), their values and what is
+ * accepted; AF_ENOMEM. *out is zeroed first, and holds nothing to free. */
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len);
 
 /* The most one lane may allocate (af_lane_create): af_lane_config_derive

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "af_defaults.h"
 #include "criteria.h"
 #include "resonance.h"
 #include "stress.h"
@@ -61,13 +62,13 @@ af_measure_config af_measure_config_default(void)
 {
   af_measure_config c;
   c.fit = af_fit_config_default();
-  c.fit.fit_velocity = false; /* the rig sets v0 */
+  c.fit.fit_velocity = false; /* the rig sets v0 (measure_fit_velocity's default) */
   c.response = af_response_config_default();
-  c.audio_delay_s = 0.5e-3;
-  c.audio_window_s = 0.040;
-  c.noise_window_s = 0.020;
-  c.noise_guard_s = 0.005;
-  c.range_margin = 0.15;
+  c.audio_delay_s = AF_DEFAULT_MEASURE_AUDIO_DELAY_S;
+  c.audio_window_s = AF_DEFAULT_MEASURE_AUDIO_WINDOW_S;
+  c.noise_window_s = AF_DEFAULT_MEASURE_NOISE_WINDOW_S;
+  c.noise_guard_s = AF_DEFAULT_MEASURE_NOISE_GUARD_S;
+  c.range_margin = AF_DEFAULT_MEASURE_RANGE_MARGIN;
   c.modes = af_modes_config_default();
   c.modulus_prior_rel_sd = 0.10;
   return c;

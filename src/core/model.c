@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "af_defaults.h"
 #include "criteria.h"
 #include "r2_search.h"
 #include "resonance.h"
@@ -22,9 +23,6 @@
  * (a heavy, slow hammer on a soft fruit under gravity: more a push than a
  * tap) is still sampled at 1024 points, and the work stays bounded. */
 #define AF_MODEL_SAMPLING_ATTEMPTS 8
-/* The shipped yield law (calibration: doc/paper.md, "The yield law"). */
-#define AF_MODEL_YIELD_RATIO 0.0414
-#define AF_MODEL_YIELD_EXPONENT 0.70
 
 struct af_model {
   af_impact *impact;
@@ -40,17 +38,17 @@ af_model_params af_model_params_default(void)
 {
   af_model_params p;
   p.impact = af_impact_params_default();
-  p.fruit_mass_kg = 0.175;
-  p.fruit_density_kg_m3 = 840.0;
-  p.modulus_factor = 1.0;
-  p.lobe = 1;
+  p.fruit_mass_kg = 0.175; /* [kg]: no row (per apple, from its estimate) */
+  p.fruit_density_kg_m3 = AF_DEFAULT_DENSITY_KG_M3;
+  p.modulus_factor = AF_DEFAULT_MODULUS_FACTOR;
+  p.lobe = AF_DEFAULT_LOBE;
   p.band_level = AF_BAND_AMPLITUDE_HALF;
   p.shear_ratio = AF_SHEAR_EXACT;
   /* The yield law, calibrated on the shipped profile (doc/paper.md, "The
    * yield law"): tau_y = 0.0414 E_ref (E2/E_ref)^0.70 with E_ref 8 MPa. */
-  p.yield_ratio = AF_MODEL_YIELD_RATIO;
-  p.yield_exponent = AF_MODEL_YIELD_EXPONENT;
-  p.yield_reference_modulus_pa = 8e6;
+  p.yield_ratio = AF_DEFAULT_YIELD_RATIO;
+  p.yield_exponent = AF_DEFAULT_YIELD_EXPONENT;
+  p.yield_reference_modulus_pa = AF_DEFAULT_YIELD_REFERENCE_MODULUS_PA;
   p.yield_measured.n = 0;
   return p;
 }

@@ -37,21 +37,22 @@ af_status af_response_window_parse(const char *name, af_response_window *window)
   return AF_EINVAL;
 }
 
+#include "af_defaults.h" /* the parameter table's defaults (issue 16) */
 af_response_config af_response_config_default(void)
 {
   af_response_config c;
-  c.sample_rate_hz = 48000.0;
+  c.sample_rate_hz = AF_DEFAULT_AUDIO_SAMPLE_RATE_HZ;
   c.window_samples = 4096;
   c.fft_size = 8192;
   c.window = AF_RESPONSE_WINDOW_EXPONENTIAL;
   c.window_time_constant_s = 0.020;
   c.fade_in_s = 0.001;
-  c.hum_hz = 50.0;
-  c.hum_harmonics = 3;
+  c.hum_hz = AF_DEFAULT_MEASURE_HUM_HZ;
+  c.hum_harmonics = AF_DEFAULT_MEASURE_HUM_HARMONICS;
   c.onset_fraction = 0.25;
-  c.snr_threshold_db = 15.0;
-  c.noise_band_lo_hz = 4000.0;
-  c.noise_band_hi_hz = 16000.0;
+  c.snr_threshold_db = AF_DEFAULT_MEASURE_SNR_THRESHOLD_DB;
+  c.noise_band_lo_hz = AF_DEFAULT_MEASURE_NOISE_BAND_LOW_HZ;
+  c.noise_band_hi_hz = AF_DEFAULT_MEASURE_NOISE_BAND_HIGH_HZ;
   return c;
 }
 

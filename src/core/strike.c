@@ -24,20 +24,21 @@
  * [s]: one noisy sample under it in the damped tail is not the end. */
 #define AF_STRIKE_QUIET_S 1e-4
 
+#include "af_defaults.h" /* the parameter table's defaults (issue 16) */
 af_strike_config af_strike_config_default(void)
 {
-  return (af_strike_config){.sample_rate_hz = 50000.0,
-                            .full_scale_n = 500.0,
-                            .threshold_noise_factor = 6.0,
-                            .threshold_min_n = 0.5,
-                            .pre_trigger_s = 2e-3,
-                            .baseline_time_constant_s = 20e-3,
-                            .baseline_window_s = 1e-3,
-                            .double_hit_gap_s = 5e-3,
-                            .max_contact_s = 10e-3,
-                            .post_s = 5e-3,
-                            .rise_fit_level = 0.7,
-                            .fall_fit_level = 0.5};
+  return (af_strike_config){.sample_rate_hz = AF_DEFAULT_FORCE_SAMPLE_RATE_HZ,
+                            .full_scale_n = AF_DEFAULT_STRIKE_FULL_SCALE_N,
+                            .threshold_noise_factor = AF_DEFAULT_STRIKE_THRESHOLD_NOISE_FACTOR,
+                            .threshold_min_n = AF_DEFAULT_STRIKE_THRESHOLD_MIN_N,
+                            .pre_trigger_s = AF_DEFAULT_STRIKE_PRE_TRIGGER_S,
+                            .baseline_time_constant_s = AF_DEFAULT_STRIKE_BASELINE_TIME_CONSTANT_S,
+                            .baseline_window_s = AF_DEFAULT_STRIKE_BASELINE_WINDOW_S,
+                            .double_hit_gap_s = AF_DEFAULT_STRIKE_DOUBLE_HIT_GAP_S,
+                            .max_contact_s = AF_DEFAULT_STRIKE_MAX_CONTACT_S,
+                            .post_s = AF_DEFAULT_STRIKE_POST_S,
+                            .rise_fit_level = AF_DEFAULT_STRIKE_RISE_FIT_LEVEL,
+                            .fall_fit_level = AF_DEFAULT_STRIKE_FALL_FIT_LEVEL};
 }
 
 /* ------------------------------------------------------------------------ */

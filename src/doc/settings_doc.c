@@ -1,5 +1,5 @@
 /* settings_doc — prints the parameter reference of doc/parameters.md from the
- * one parameter table (src/core/settings.c), so that no default, range or
+ * one parameter table (src/core/settings_table.c), so that no default, range or
  * unit of the docs is typed a second time:
  *
  *   settings_doc            the generated part of doc/parameters.md, markdown

@@ -1,0 +1,70 @@
+/* settings_private.h — what the files of the parameter table share and
+ * nothing else includes: the rows (settings_table.c), the one-line message
+ * writer and the name as messages write it (settings.c), the typed value
+ * and its check against a row (settings.c), the YAML 1.1 scalar parser
+ * (settings_yaml.c). The public API is settings.h and lane_config.h.
+ *
+ *   settings_table.c  the rows and their accessors (also built alone into the
+ *                     generators of Station.cfg and af_defaults.h)
+ *   settings.c        the values object: init, set, get, print
+ *   settings_yaml.c   YAML 1.1 scalars and the flat YAML file
+ *   lane_config.c     af_lane_config_derive and the lane's memory bound */
+#ifndef AF_SETTINGS_PRIVATE_H
+#define AF_SETTINGS_PRIVATE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "settings.h"
+
+/* The table, indexed by af_setting_id (settings_table.c). */
+extern const af_setting_def af_setting_rows[AF_SETTING_COUNT];
+
+static inline bool af_setting_valid_id(af_setting_id id)
+{
+  return (int)id >= 0 && id < AF_SETTING_COUNT;
+}
+
+/* "(lo, hi] unit" or "0 or [lo, hi] unit": the interval and where the unit
+ * starts (unit may be NULL); false on a malformed text (settings_table.c). */
+bool af_setting_parse_range(const char *text, af_setting_range *r, const char **unit);
+
+/* vsnprintf into err[len], cut at len - 1 (err may be NULL), control
+ * characters shown as '?' so that the message stays one line (settings.c). */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+void af_settings_say(char *err, size_t len, const char *fmt, ...);
+
+/* The name as messages write it: prefix + name (settings.c). */
+typedef struct {
+  char text[AF_SETTINGS_PREFIX_MAX + 64];
+} af_name;
+af_name af_settings_name_of(const af_settings *s, af_setting_id id);
+
+/* A typed value: what YAML, a flag or a ROS parameter gave. */
+typedef enum { AF_V_NULL, AF_V_BOOL, AF_V_NUMBER, AF_V_STRING } af_vtype;
+
+typedef struct {
+  af_vtype type;
+  double number;
+  bool boolean;
+  const char *text; /* AF_V_STRING */
+  bool quoted;      /* AF_V_STRING from a quoted scalar */
+  bool lenient;     /* a bare string that is a whole C number counts as one (CLI) */
+} af_value;
+
+/* Checks v against row id and stores it into s, or says why not
+ * (settings.c). */
+af_status af_settings_apply(af_settings *s, af_setting_id id, const af_value *v, char *err,
+                            size_t len);
+
+/* Parses the YAML scalar at p into buf[size] (unquoted text) and *v; *rest
+ * is where it ended (after a closing quote, or at a comment / the end for a
+ * plain one). false with *why on a malformed scalar (settings_yaml.c). */
+bool af_settings_parse_scalar(const char *p, char *buf, size_t size, af_value *v, const char **rest,
+                              const char **why);
+/* Nothing but blanks and a comment (settings_yaml.c). */
+bool af_settings_blank_or_comment(const char *p);
+
+#endif

@@ -1,0 +1,381 @@
+/* settings_table.c — the one parameter table: every row of the lane's
+ * parameters (name, kind, default, range with its unit, file, help) and the
+ * row accessors. It needs nothing but the C library, so that the build-time
+ * generators (src/cfg: Station.cfg, af_defaults.h) can be built from it
+ * alone. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lane_config.h" /* AF_LANE_NAME_MAX */
+#include "settings_private.h"
+
+/* ---- the table ------------------------------------------------------------ */
+
+#define S AF_SETTINGS_STATION
+#define C AF_SETTINGS_CULTIVAR
+#define NUM(name, def, range, file, help)                                                          \
+  {                                                                                                \
+    name, AF_SETTING_NUMBER, def, range, NULL, file, false, false, NULL, 0, help, NULL             \
+  }
+#define WHOLE(name, def, range, file, help)                                                        \
+  {                                                                                                \
+    name, AF_SETTING_WHOLE, def, range, NULL, file, false, false, NULL, 0, help, NULL              \
+  }
+#define OPTIONAL_NUM(name, range, zero_is_absent, absent, rig, help)                               \
+  {                                                                                                \
+    name, AF_SETTING_NUMBER, NULL, range, NULL, S, true, zero_is_absent, absent, 0, help, rig      \
+  }
+#define BOOLEAN(name, def, file, help)                                                             \
+  {                                                                                                \
+    name, AF_SETTING_BOOL, def, NULL, NULL, file, false, false, NULL, 0, help, NULL                \
+  }
+#define STRING(name, def, max_chars, file, help)                                                   \
+  {                                                                                                \
+    name, AF_SETTING_STRING, def, NULL, NULL, file, false, false, NULL, max_chars, help, NULL      \
+  }
+#define CHOICE(name, def, choices, file, help)                                                     \
+  {                                                                                                \
+    name, AF_SETTING_CHOICE, def, NULL, choices, file, false, false, NULL, 0, help, NULL           \
+  }
+
+/* Every range and default of the lane. The ranges are sanity bounds of a
+ * real rig and fruit (a value outside is a typo); af_model_params_check
+ * applies the same rows to the model's fields. */
+const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
+    [AF_SETTING_HAMMER_LINK] = STRING("hammer_link", "hammer", AF_LANE_NAME_MAX - 1, S,
+                                      "URDF link of the hammer head (mass, tip geometry; its "
+                                      "parent joint's axis = strike direction)"),
+    [AF_SETTING_URDF_FILE] = STRING("urdf_file", "\"\"", AF_SETTINGS_TEXT_MAX - 1, S,
+                                    "path of the rig's URDF; empty = the robot_description "
+                                    "parameter of the node's namespace"),
+    [AF_SETTING_HAMMER_MASS_KG] = OPTIONAL_NUM("hammer_mass_kg", "[0.0005, 1] kg", true,
+                                               "from the URDF", "0.010", /* the rig's 10 g head */
+                                               "overrides the URDF's hammer mass"),
+    [AF_SETTING_HAMMER_TIP_RADIUS_M] =
+        OPTIONAL_NUM("hammer_tip_radius_m", "0 or [0.0005, 0.1] m", false, "from the URDF",
+                     "0.0", /* the rig's flat face */
+                     "overrides the URDF's tip radius; 0 = flat face"),
+    [AF_SETTING_HAMMER_MODULUS_PA] =
+        NUM("hammer_modulus_pa", "0.0", "0 or [1e5, 1e12] Pa", S, "hammer tip modulus; 0 = rigid"),
+    [AF_SETTING_HAMMER_POISSON] = NUM("hammer_poisson", "0.3", "[0, 0.5)", S,
+                                      "hammer tip Poisson ratio (unused while rigid)"),
+    [AF_SETTING_STRIKE_VELOCITY_M_S] = NUM("strike_velocity_m_s", "1.4", "[0.05, 10] m/s", S,
+                                           "contact velocity (the paper's optimum)"),
+    [AF_SETTING_GRAVITY_M_S2] =
+        NUM("gravity_m_s2", "9.80665", "[0, 20] m/s2", S, "gravity along the strike; 0 = off"),
+    [AF_SETTING_DAMPING_LAW] = CHOICE("damping_law", "exact", "paper, exact, hu-guo", S,
+                                      "damping law chi(e) (PHYSICS.md 2)"),
+    [AF_SETTING_LOBE] =
+        WHOLE("lobe", "1", "[1, 8]", S, "spectral lobe of the criterion (1 = main lobe)"),
+    [AF_SETTING_BAND_LEVEL] = CHOICE("band_level", "amplitude-half", "power-half, amplitude-half",
+                                     S, "half-power reading of the bands (PHYSICS.md 4)"),
+    [AF_SETTING_SHEAR_RATIO] = CHOICE("shear_ratio", "exact", "paper, exact", S,
+                                      "tau_max / p0: paper (0.31) or exact (Hertz, for the "
+                                      "fruit's Poisson ratio)"),
+    [AF_SETTING_LATITUDE_TOLERANCE_DEG] = NUM("latitude_tolerance_deg", "15.0", "[0, 90] deg", S,
+                                              "strike latitudes beyond this are advised to "
+                                              "rotate"),
+    [AF_SETTING_R2_SEARCH_LOW_M] = NUM("r2_search_low_m", "0.002", "[0.0005, 1] m", S,
+                                       "low end of the minimum reliable strike radius search"),
+    [AF_SETTING_R2_SEARCH_HIGH_M] = NUM("r2_search_high_m", "0.5", "[0.0005, 1] m", S,
+                                        "high end of that search, above r2_search_low_m"),
+    [AF_SETTING_STRIKE_RADIUS_MIN_M] = NUM("strike_radius_min_m", "0.002", "[0.0005, 1] m", S,
+                                           "smallest accepted AppleEstimate.strike_radius "
+                                           "(when not 0)"),
+    [AF_SETTING_STRIKE_RADIUS_MAX_M] = NUM("strike_radius_max_m", "0.5", "[0.0005, 1] m", S,
+                                           "largest accepted AppleEstimate.strike_radius, "
+                                           "above strike_radius_min_m"),
+    [AF_SETTING_FORCE_SAMPLE_RATE_HZ] = NUM("force_sample_rate_hz", "50000.0", "[1000, 1e6] Hz", S,
+                                            "force rate; chunks at another rate are refused "
+                                            "and counted"),
+    [AF_SETTING_FORCE_BUFFER_S] = NUM("force_buffer_s", "2.0", "(0, 3600] s", S,
+                                      "force kept in the ring (at most 1e8 samples)"),
+    [AF_SETTING_AUDIO_SAMPLE_RATE_HZ] = NUM("audio_sample_rate_hz", "48000.0", "[1000, 1e6] Hz", S,
+                                            "audio rate; chunks at another rate are refused "
+                                            "and counted"),
+    [AF_SETTING_AUDIO_BUFFER_S] = NUM("audio_buffer_s", "2.0", "(0, 3600] s", S,
+                                      "audio kept in the ring (at most 1e8 samples)"),
+    [AF_SETTING_AUDIO_UNIT] = CHOICE("audio_unit", "Pa", "Pa, V", S,
+                                     "the microphone's unit (the force transducer's is N)"),
+    [AF_SETTING_AUDIO_INPUT] =
+        CHOICE("audio_input", "signal_chunk", "signal_chunk, audio_common", S,
+               "what the audio topic carries: acoustic_firmness/SignalChunk, "
+               "or audio_common_msgs/AudioData(Stamped) with audio_info"),
+    [AF_SETTING_AUDIO_CHANNEL] =
+        WHOLE("audio_channel", "0", "[0, 255]", S,
+              "the channel taken from audio_common frames (0 = the first)"),
+    [AF_SETTING_AUDIO_FULL_SCALE] =
+        NUM("audio_full_scale", "1.0", "[1e-6, 1e6]", S,
+            "audio_common: the microphone's value at digital full scale, in audio_unit"),
+    [AF_SETTING_STREAM_STALE_AFTER_S] = NUM("stream_stale_after_s", "1.0", "(0, 3600] s", S,
+                                            "a stream silent this long is reported stale"),
+    [AF_SETTING_STREAM_ABSENT_WARN_S] =
+        NUM("stream_absent_warn_s", "5.0", "0 or [0.1, 3600] s", S,
+            "/diagnostics warns when a stream has sent no chunk this long after the start "
+            "(0 = never)"),
+    [AF_SETTING_FORCE_UNIT] = CHOICE("force_unit", "N", "N, V", S,
+                                     "the force transducer's unit: N, or V from a DAQ (divided by "
+                                     "force_sensitivity_v_per_n at the lane's input)"),
+    [AF_SETTING_FORCE_SENSITIVITY_V_PER_N] =
+        NUM("force_sensitivity_v_per_n", "0.0", "0 or [1e-4, 10] V/N", S,
+            "the transducer's sensitivity with its conditioning; required with force_unit V, "
+            "0 = none (force_unit N)"),
+    [AF_SETTING_MARKERS_ENABLED] =
+        BOOLEAN("markers_enabled", "true", S, "publish the rviz markers"),
+    [AF_SETTING_MARKER_LIFETIME_S] =
+        NUM("marker_lifetime_s", "0.0", "[0, 3600] s", S, "marker lifetime; 0 = until replaced"),
+    [AF_SETTING_MARKER_STRIKE_DISTANCE_M] =
+        NUM("marker_strike_distance_m", "0.06", "[0, 10] m", S,
+            "hammer link origin to the strike point along the axis (display only)"),
+    [AF_SETTING_MARKER_ARROW_LENGTH_M] =
+        NUM("marker_arrow_length_m", "0.05", "(0, 10] m", S, "hammer and rotation arrows"),
+    [AF_SETTING_STRIKE_PLOT_WIDTH_PX] =
+        WHOLE("strike_plot_width_px", "800", "[320, 2048] px", S,
+              "width of the last strike's picture on ~strike_plot (sensor_msgs/Image, rgb8)"),
+    [AF_SETTING_STRIKE_PLOT_HEIGHT_PX] = WHOLE("strike_plot_height_px", "450", "[240, 2048] px", S,
+                                               "height of the last strike's picture"),
+    [AF_SETTING_STRIKE_FULL_SCALE_N] = NUM("strike_full_scale_n", "500.0", "(0, 1e6] N", S,
+                                           "a raw force sample at or beyond +-this is clipped"),
+    [AF_SETTING_STRIKE_THRESHOLD_NOISE_FACTOR] =
+        NUM("strike_threshold_noise_factor", "6.0", "(0, 1000]", S,
+            "trigger when the force exceeds the baseline by this many noise RMS and by "
+            "strike_threshold_min_n"),
+    [AF_SETTING_STRIKE_THRESHOLD_MIN_N] = NUM("strike_threshold_min_n", "0.5", "[0, 1e6] N", S,
+                                              "least excess over the baseline that triggers"),
+    [AF_SETTING_STRIKE_PRE_TRIGGER_S] = NUM("strike_pre_trigger_s", "0.002", "(0, 1] s", S,
+                                            "history kept before the trigger, above "
+                                            "strike_baseline_window_s"),
+    [AF_SETTING_STRIKE_BASELINE_TIME_CONSTANT_S] =
+        NUM("strike_baseline_time_constant_s", "0.02", "(0, 10] s", S,
+            "idle baseline and noise trackers (also the warm-up)"),
+    [AF_SETTING_STRIKE_BASELINE_WINDOW_S] =
+        NUM("strike_baseline_window_s", "0.001", "(0, 1] s", S,
+            "quiet signal averaged before and after the contact"),
+    [AF_SETTING_STRIKE_DOUBLE_HIT_GAP_S] =
+        NUM("strike_double_hit_gap_s", "0.005", "[0, 1] s", S,
+            "a contact starting this soon after the end is a bounce"),
+    [AF_SETTING_STRIKE_MAX_CONTACT_S] = NUM("strike_max_contact_s", "0.01", "(0, 1] s", S,
+                                            "a longer contact is not a strike (truncated)"),
+    [AF_SETTING_STRIKE_POST_S] = NUM("strike_post_s", "0.005", "(0, 1] s", S,
+                                     "wait after the contact, at least strike_double_hit_gap_s "
+                                     "and above strike_baseline_window_s"),
+    [AF_SETTING_STRIKE_RISE_FIT_LEVEL] = NUM("strike_rise_fit_level", "0.7", "(0, 1)", S,
+                                             "rising-edge fit up to this fraction of the peak"),
+    [AF_SETTING_STRIKE_FALL_FIT_LEVEL] = NUM("strike_fall_fit_level", "0.5", "(0, 1)", S,
+                                             "falling-edge fit from this fraction of the peak"),
+    [AF_SETTING_STRIKE_PENDING_SIZE] =
+        WHOLE("strike_pending_size", "8", "[1, 1000] strikes", S,
+              "strikes waiting for their audio; a full queue measures its oldest without audio"),
+    [AF_SETTING_APPLE_STALE_AFTER_S] =
+        NUM("apple_stale_after_s", "1.0", "(0, 3600] s", S,
+            "a strike is matched to the newest AppleEstimate stamped at most this long before it"),
+    [AF_SETTING_APPLE_WAIT_S] = NUM("apple_wait_s", "0.5", "[0, 10] s", S,
+                                    "how long a strike waits for the AppleEstimate that "
+                                    "belongs to it"),
+    [AF_SETTING_MEASURE_FIT_VELOCITY] = BOOLEAN("measure_fit_velocity", "false", S,
+                                                "fit the contact velocity too (false: the rig "
+                                                "sets it, strike_velocity_m_s)"),
+    [AF_SETTING_MEASURE_AUDIO_DELAY_S] =
+        NUM("measure_audio_delay_s", "0.0005", "[0, 1] s", S,
+            "the analysed audio starts this long after the contact start"),
+    [AF_SETTING_MEASURE_AUDIO_WINDOW_S] =
+        NUM("measure_audio_window_s", "0.04", "(0, 1] s", S, "analysed audio (at least 8 samples)"),
+    [AF_SETTING_MEASURE_NOISE_WINDOW_S] =
+        NUM("measure_noise_window_s", "0.02", "[0, 1] s", S,
+            "audio before the strike, the noise reference (0 = none, else at least 8 samples)"),
+    [AF_SETTING_MEASURE_NOISE_GUARD_S] =
+        NUM("measure_noise_guard_s", "0.005", "[0, 1] s", S,
+            "the noise reference ends this long before the contact start (stamp jitter)"),
+    [AF_SETTING_MEASURE_RANGE_MARGIN] =
+        NUM("measure_range_margin", "0.15", "[0, 1)", S,
+            "relative widening of the model's 0S2 range for the apple's mass"),
+    [AF_SETTING_MEASURE_SNR_THRESHOLD_DB] =
+        NUM("measure_snr_threshold_db", "15.0", "[-100, 100] dB", S,
+            "a peak below this is not a resonance (response.h: 12 dB lets ~0.1 % of noise-only "
+            "windows through, 15 dB none of 2e4)"),
+    [AF_SETTING_MEASURE_HUM_HZ] =
+        NUM("measure_hum_hz", "50.0", "0 or [10, 1000] Hz", S,
+            "mains frequency removed from the audio with its harmonics, below the audio Nyquist "
+            "frequency; 0 = off, 60 for a 60 Hz site"),
+    [AF_SETTING_MEASURE_HUM_HARMONICS] =
+        WHOLE("measure_hum_harmonics", "3", "[0, 8]", S,
+              "multiples of measure_hum_hz removed (1 = the fundamental only), each only when at "
+              "most 0.8 x the lowest expected 0S2 frequency"),
+    [AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ] =
+        NUM("measure_noise_band_low_hz", "4000.0", "[0, 5e5] Hz", S,
+            "low end of the band of the window's own noise floor (used without a noise "
+            "reference), below the audio Nyquist frequency"),
+    [AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ] =
+        NUM("measure_noise_band_high_hz", "16000.0", "[0, 5e5] Hz", S,
+            "high end of that band, above measure_noise_band_low_hz (clipped to Nyquist)"),
+    [AF_SETTING_MEASURE_FFT_PADDING] =
+        WHOLE("measure_fft_padding", "4", "[1, 16]", S,
+              "the audio FFT size is the power of two at least this many times the analysed "
+              "window (zero padding: finer bins)"),
+    [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_LANE_NAME_MAX - 1, C,
+                                   "cultivar name, for the diagnostics"),
+    [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "[1e5, 1e9] Pa", C,
+                                          "E2 of the prediction, within [modulus_min_pa, "
+                                          "modulus_max_pa]"),
+    [AF_SETTING_MODULUS_MIN_PA] =
+        NUM("modulus_min_pa", "2.0e+6", "[1e5, 1e9] Pa", C, "softest fruit expected"),
+    [AF_SETTING_MODULUS_MAX_PA] =
+        NUM("modulus_max_pa", "12.0e+6", "[1e5, 1e9] Pa", C, "firmest fruit expected"),
+    [AF_SETTING_MASS_MIN_KG] =
+        NUM("mass_min_kg", "0.100", "[0.001, 10] kg", C, "lighter AppleEstimates are refused"),
+    [AF_SETTING_MASS_MAX_KG] =
+        NUM("mass_max_kg", "0.250", "[0.001, 10] kg", C, "heavier AppleEstimates are refused"),
+    [AF_SETTING_EQUATORIAL_RADIUS_MIN_M] =
+        NUM("equatorial_radius_min_m", "0.025", "[0.002, 1] m", C,
+            "smallest accepted "
+            "AppleEstimate.equatorial_radius"),
+    [AF_SETTING_EQUATORIAL_RADIUS_MAX_M] =
+        NUM("equatorial_radius_max_m", "0.060", "[0.002, 1] m", C,
+            "largest accepted "
+            "AppleEstimate.equatorial_radius"),
+    [AF_SETTING_ASPECT_RATIO_MIN] = NUM("aspect_ratio_min", "0.5", "[0.1, 10]", C,
+                                        "smallest polar / equatorial semi-axis implied by mass, "
+                                        "density and radius"),
+    [AF_SETTING_ASPECT_RATIO_MAX] =
+        NUM("aspect_ratio_max", "1.5", "[0.1, 10]", C, "largest polar / equatorial semi-axis"),
+    [AF_SETTING_RESTITUTION] = NUM("restitution", "0.6", "[0.01, 1]", C,
+                                   "coefficient of restitution e (the exact damping law needs "
+                                   "e >= 0.05)"),
+    [AF_SETTING_FRUIT_POISSON] =
+        NUM("fruit_poisson", "0.35", "[0, 0.5)", C, "Poisson ratio of the flesh"),
+    [AF_SETTING_DENSITY_KG_M3] =
+        NUM("density_kg_m3", "840.0", "[100, 3000] kg/m3", C, "density of the fruit"),
+    [AF_SETTING_YIELD_RATIO] = NUM("yield_ratio", "0.0414", "[0.001, 1]", C,
+                                   "yield law tau_y = yield_ratio E_ref (E2/E_ref)^p: "
+                                   "tau_y / E2 at E_ref, a calibration (doc/paper.md)"),
+    [AF_SETTING_YIELD_EXPONENT] = NUM("yield_exponent", "0.70", "[0, 3]", C,
+                                      "p of the yield law; 1 = the ratio law tau_y = "
+                                      "yield_ratio E2"),
+    [AF_SETTING_YIELD_REFERENCE_MODULUS_PA] =
+        NUM("yield_reference_modulus_pa", "8.0e+6", "[1e5, 1e9] Pa", C, "E_ref of the yield law"),
+    [AF_SETTING_YIELD_MEASURED] =
+        STRING("yield_measured", "\"\"", AF_SETTINGS_TEXT_MAX - 1, C,
+               "measured yield shear stress \"E2:tau_y, ...\" [Pa], overriding the law; "
+               "\"\" = the law"),
+    [AF_SETTING_MODULUS_FACTOR] = NUM("modulus_factor", "1.0", "[0.1, 10]", C,
+                                      "dynamic / quasi-static modulus for the 0S2 resonance "
+                                      "(a calibration)"),
+    [AF_SETTING_GRADE_QUANTITY] =
+        CHOICE("grade_quantity", "stiffness_factor",
+               "stiffness_factor, modulus_from_resonance, fitted_modulus", C,
+               "what the firmness classes are read on (StrikeReport's figure of that name)"),
+    [AF_SETTING_GRADE_CLASSES] = STRING(
+        "grade_classes", "\"soft | 7.0e+4 | medium | 1.1e+5 | firm | 1.6e+5 | very firm\"", 400, C,
+        "firmness classes, softest first, with the boundary between neighbours in "
+        "grade_quantity's unit (grade.h); \"\" = no grading"),
+};
+
+#undef S
+#undef C
+
+/* ---- rows and ranges ------------------------------------------------------- */
+
+const af_setting_def *af_setting_def_of(af_setting_id id)
+{
+  return af_setting_valid_id(id) ? &af_setting_rows[id] : NULL;
+}
+
+af_status af_setting_find(const char *name, af_setting_id *id)
+{
+  if (name == NULL || id == NULL)
+    return AF_EINVAL;
+  for (int k = 0; k < AF_SETTING_COUNT; k++)
+    if (af_setting_rows[k].name != NULL && strcmp(af_setting_rows[k].name, name) == 0) {
+      *id = (af_setting_id)k;
+      return AF_OK;
+    }
+  return AF_EINVAL;
+}
+
+/* "(lo, hi] unit" or "0 or [lo, hi] unit": the interval and where the unit
+ * starts. */
+bool af_setting_parse_range(const char *text, af_setting_range *r, const char **unit)
+{
+  static const char zero_or[] = "0 or ";
+  r->zero = text != NULL && strncmp(text, zero_or, sizeof zero_or - 1) == 0;
+  if (r->zero)
+    text += sizeof zero_or - 1;
+  if (text == NULL || (text[0] != '(' && text[0] != '['))
+    return false;
+  r->lo_open = text[0] == '(';
+  char *end;
+  r->lo = strtod(text + 1, &end);
+  if (end == text + 1 || *end != ',')
+    return false;
+  const char *p = end + 1;
+  while (*p == ' ')
+    p++;
+  r->hi = strtod(p, &end);
+  if (end == p || (*end != ')' && *end != ']') || isnan(r->lo) || isnan(r->hi) || !(r->lo <= r->hi))
+    return false;
+  r->hi_open = *end == ')';
+  p = end + 1;
+  if (*p == ' ' && p[1] != '\0' && p[1] != ' ')
+    p++;
+  else if (*p != '\0')
+    return false;
+  if (unit)
+    *unit = p;
+  return true;
+}
+
+af_status af_setting_range_of(af_setting_id id, af_setting_range *out)
+{
+  if (!af_setting_valid_id(id) || out == NULL || af_setting_rows[id].range == NULL)
+    return AF_EINVAL;
+  return af_setting_parse_range(af_setting_rows[id].range, out, NULL) ? AF_OK : AF_EINVAL;
+}
+
+bool af_setting_range_contains(const af_setting_range *r, double v)
+{
+  if (r == NULL || !isfinite(v))
+    return false;
+  if (r->zero && v == 0.0)
+    return true;
+  if (r->lo_open ? !(v > r->lo) : !(v >= r->lo))
+    return false;
+  return r->hi_open ? v < r->hi : v <= r->hi;
+}
+
+double af_setting_rig_value(af_setting_id id)
+{
+  return af_setting_valid_id(id) && af_setting_rows[id].rig != NULL
+             ? strtod(af_setting_rows[id].rig, NULL)
+             : NAN;
+}
+
+const char *af_setting_unit(af_setting_id id)
+{
+  af_setting_range r;
+  const char *unit = "";
+  if (af_setting_valid_id(id) && af_setting_rows[id].range != NULL &&
+      af_setting_parse_range(af_setting_rows[id].range, &r, &unit))
+    return unit;
+  return "";
+}
+
+af_status af_setting_choice_word(af_setting_id id, size_t k, char *buf, size_t len)
+{
+  if (!af_setting_valid_id(id) || af_setting_rows[id].kind != AF_SETTING_CHOICE || buf == NULL ||
+      len == 0)
+    return AF_EINVAL;
+  const char *p = af_setting_rows[id].choices;
+  for (size_t i = 0; i < k; i++) {
+    p = strchr(p, ',');
+    if (p == NULL)
+      return AF_EINVAL;
+    p += 2; /* ", " */
+  }
+  size_t n = strcspn(p, ",");
+  if (n >= len)
+    return AF_EINVAL;
+  memcpy(buf, p, n);
+  buf[n] = '\0';
+  return AF_OK;
+}
