@@ -75,7 +75,7 @@ static const char cultivar_preamble[] =
 /* Said in both files, after their own preamble. */
 static const char common_preamble[] =
     "# GENERATED from the one parameter table (src/core/settings.c) by\n"
-    "# af_settings_doc: do not edit; change the table and run `bash scripts/docs.sh`\n"
+    "# af_settings_doc. Do not edit: change the table and run `bash scripts/docs.sh`\n"
     "# (scripts_doc_parameters fails when this file differs). Each comment: the\n"
     "# accepted range and its unit (none: dimensionless) or the accepted words,\n"
     "# then the table's help. Write exponents with a dot and a sign (8.0e+6):\n"
