@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
-# Rewrites the generated part of doc/parameters.md (between the "generated"
-# markers) from the one parameter table, through af_settings_doc of the
-# build (scripts/build.sh first). test/scripts/test_doc_parameters.sh runs it
-# on a copy of the page and fails when the page and the table differ.
-#   bash scripts/docs.sh [PAGE]      (default doc/parameters.md)
+# Rewrites, from the one parameter table, through af_settings_doc of the
+# build (scripts/build.sh first): the generated part of doc/parameters.md
+# (between the "generated" markers), and config/station.yaml and the cultivar
+# template config/jonagold.yaml (whole files). test/scripts/
+# test_doc_parameters.sh runs it on copies and fails when they differ.
+#   bash scripts/docs.sh [PAGE [CONFIG_DIR]]   (default doc/parameters.md, config)
 set -euo pipefail
 # shellcheck disable=SC1091
 source "$(dirname "$0")/env.sh"
 page=${1:-$AF_ROOT/doc/parameters.md}
+config=${2:-$AF_ROOT/config}
 gen=$AF_DEVEL/lib/acoustic_firmness/af_settings_doc
 [ -x "$gen" ] || { echo "docs.sh: $gen not built (bash scripts/build.sh)" >&2; exit 1; }
 /usr/bin/python3 - "$page" <("$gen") <<'PY'
@@ -22,3 +24,8 @@ tail = rest.split(end, 1)[1]
 open(page, 'w', encoding='utf-8').write(head + begin + '\n' + gen.rstrip('\n') + '\n' + end + tail)
 print('docs.sh: %s rewritten from the parameter table' % page)
 PY
+for f in station:station cultivar:jonagold; do
+  "$gen" --yaml "${f%%:*}" >"$config/${f#*:}.yaml.new"
+  mv "$config/${f#*:}.yaml.new" "$config/${f#*:}.yaml"
+  echo "docs.sh: $config/${f#*:}.yaml rewritten from the parameter table"
+done

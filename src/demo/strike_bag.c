@@ -6,24 +6,29 @@
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
  * 1 s lead-in, with a random sub-millisecond offset:
- *  - an apple: E2 uniform in the cultivar's [2, 12] MPa, mass uniform in
- *    [100, 250] g, a sphere of the cultivar's density (840 kg/m3);
- *  - force (50 kHz, N, frame force_transducer): the impact model's pulse
- *    integrated by an RK4 of its own (af_synth_pulse_rk4, at 1/64 of the
- *    sample step, linearly interpolated at the samples; not the GSL
- *    integrator the station's fit inverts, so the demo is no round trip)
- *    for the station's defaults (config/station.yaml, config/jonagold.yaml,
- *    config/rig.urdf: 10 g rigid flat hammer at 1.4 m/s, e 0.6, nu 0.35,
- *    R2 40 mm, gravity, exact damping) on that apple; plus white noise at
- *    40 dB below the smallest peak of the bag, 50 Hz hum, an offset and a
- *    slow drift;
- *  - audio (48 kHz, Pa, frame microphone): the apple's 0S2 mode at Lamb's
- *    frequency (modulus factor 1) ringing from the contact start with
+ * The station, the cultivar and the strike are the parameter table's
+ * defaults (src/core/settings_table.c; what config/station.yaml,
+ * config/jonagold.yaml and config/rig.urdf ship), derived through
+ * af_lane_config_derive as the node derives them:
+ *  - an apple: E2 uniform in the cultivar's [modulus_min_pa,
+ *    modulus_max_pa], mass uniform in [mass_min_kg, mass_max_kg], a sphere
+ *    of the cultivar's density_kg_m3;
+ *  - force (force_sample_rate_hz, N, frame force_transducer): the impact
+ *    model's pulse integrated by an RK4 of its own (af_synth_pulse_rk4, at
+ *    1/64 of the sample step, linearly interpolated at the samples; not the
+ *    GSL integrator the station's fit inverts, so the demo is no round
+ *    trip) for the table's strike (the rig's hammer, strike_velocity_m_s,
+ *    restitution, fruit_poisson, gravity, damping_law; R2 = model.c's
+ *    example apple's) on that apple; plus white noise at 40 dB below the
+ *    smallest peak of the bag, mains hum at the station's measure_hum_hz,
+ *    an offset and a slow drift;
+ *  - audio (audio_sample_rate_hz, Pa, frame microphone): the apple's 0S2
+ *    mode at Lamb's frequency (modulus factor 1) ringing from the contact start with
  *    Q 30, a mode twice as loud at 2.6 kHz (above every apple's 0S2 range:
  *    the support, say) with Q 60, and white noise 30 dB below the 0S2
  *    amplitude;
  *  - an AppleEstimate 0.2 s before the strike (camera_optical_frame,
- *    strike_radius 40 mm, stem axis (1, 0, 0): perpendicular to the rig's
+ *    strike_radius = the model's R2, stem axis (1, 0, 0): perpendicular to the rig's
  *    strike direction, +z of that frame).
  * Topics /NS/force, /NS/audio, /NS/apple (NS default lane1), in 1024-sample
  * SignalChunks whose header stamp is the time of their first sample (bag
@@ -45,6 +50,8 @@
 
 #include "af_bag.h"
 #include "impact.h"
+#include "model_table.h"
+#include "tool_config.h"
 #include "options.h"
 #include "resonance.h"
 #include "synth.h"
@@ -53,8 +60,6 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#define FORCE_RATE_HZ 50000.0
-#define AUDIO_RATE_HZ 48000.0
 #define CHUNK 1024
 #define OVERSAMPLE 64
 #define FINE_CAP 65536 /* 41 ms at dt/64: far beyond the softest apple's contact */
@@ -63,17 +68,16 @@
 #define TAIL_S 0.5
 #define APPLE_LEAD_S 0.2
 
-/* The cultivar (config/jonagold.yaml). */
-#define MODULUS_MIN_PA 2.0e6
-#define MODULUS_MAX_PA 12.0e6
-#define MASS_MIN_KG 0.100
-#define MASS_MAX_KG 0.250
-#define DENSITY_KG_M3 840.0
-#define STRIKE_RADIUS_M 0.04
+/* The station, the cultivar and the strike: the parameter table's defaults
+ * (what config/station.yaml, config/jonagold.yaml and the rig's URDF ship),
+ * derived as the node derives them, so that no figure is typed here. */
+typedef struct {
+  af_lane_config lane;   /* the stream rates, the cultivar's domain and density */
+  af_model_params model; /* the strike; R2 = model.c's example apple's */
+} station;
 
 /* Imperfections. */
 #define FORCE_SNR_DB 40.0
-#define HUM_HZ 50.0
 #define AUDIO_SNR_DB 30.0
 #define MODE_AMPLITUDE_PA 0.2
 #define MODE_Q 30.0
@@ -87,18 +91,21 @@ typedef struct {
   double t_s; /* contact start, from the bag start [s] */
   double modulus_pa, mass_kg, radius_m;
   double resonance_hz, tau_s; /* 0S2 and its amplitude decay time */
-  af_synth_pulse pulse;       /* the RK4 force at FINE_DT_S, in force_n */
+  af_synth_pulse pulse;       /* the RK4 force at fine_dt_s, in force_n */
   double *force_n;            /* owned: pulse.n samples */
 } strike;
 
-static const double FINE_DT_S = 1.0 / (FORCE_RATE_HZ * OVERSAMPLE);
-
-static af_impact_params impact_for(const strike *s)
+/* The model's time step [s]: OVERSAMPLE per force sample. */
+static double fine_dt_s(const station *st)
 {
-  af_impact_params p = af_impact_params_default(); /* 10 g rigid flat, 1.4 m/s, e 0.6, nu 0.35 */
+  return 1.0 / (st->lane.force.sample_rate_hz * OVERSAMPLE);
+}
+
+/* The table's strike (the rig's hammer, velocity, e, nu, damping law) on s. */
+static af_impact_params impact_for(const station *st, const strike *s)
+{
+  af_impact_params p = st->model.impact;
   p.fruit_modulus_pa = s->modulus_pa;
-  p.strike_radius_m = STRIKE_RADIUS_M;
-  p.damping = AF_DAMPING_EXACT;
   return p;
 }
 
@@ -214,10 +221,12 @@ static af_time stamp_of(double t_s)
 }
 
 /* Chunk number k of a stream into c (samples in buf). */
-static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t first,
-                       af_synth_rng *g, double noise_rms, float *buf, af_signal_chunk *c)
+static void make_chunk(const station *st, const strike *s, size_t n_strikes, bool force,
+                       uint64_t first, af_synth_rng *g, double noise_rms, float *buf,
+                       af_signal_chunk *c)
 {
-  const double rate = force ? FORCE_RATE_HZ : AUDIO_RATE_HZ;
+  const double hum_hz = st->lane.measured.measure.response.hum_hz; /* the site's mains [Hz] */
+  const double rate = force ? st->lane.force.sample_rate_hz : st->lane.audio.sample_rate_hz;
   const double two_pi = 2.0 * M_PI;
   memset(c, 0, sizeof *c);
   c->header.stamp = stamp_of((double)first / rate);
@@ -238,7 +247,7 @@ static void make_chunk(const strike *s, size_t n_strikes, bool force, uint64_t f
     double t = (double)(first + k) / rate;
     double x = noise_rms * af_synth_gauss(g);
     if (force)
-      x += 0.5 * noise_rms * sin(two_pi * HUM_HZ * t + 0.3) + 0.4 + 0.01 * t;
+      x += 0.5 * noise_rms * sin(two_pi * hum_hz * t + 0.3) + 0.4 + 0.01 * t;
     for (size_t i = 0; i < n_near; i++) {
       size_t j = near[i];
       double u = t - s[j].t_s;
@@ -263,30 +272,30 @@ static int fail(const char *what, af_status st)
 }
 
 /* Draws the strikes and runs the model for each; *min_peak_n: the smallest peak. */
-static int make_strikes(const args *a, af_impact *w, double *fine, strike *s, size_t n,
-                        double *min_peak_n)
+static int make_strikes(const args *a, const station *st, af_impact *w, double *fine, strike *s,
+                        size_t n, double *min_peak_n)
 {
-  double xi;
-  const af_impact_params nominal = af_impact_params_default();
-  if (af_resonance_lamb_root(nominal.fruit_poisson, &xi) != AF_OK)
-    return fail("Lamb root", AF_ENOROOT);
+  const af_lane_config *c = &st->lane;
+  const af_impact_params nominal = st->model.impact;
+  const double xi = c->resonance_xi, density = st->model.fruit_density_kg_m3;
   af_synth_rng g;
   af_synth_rng_seed(&g, a->seed);
   *min_peak_n = INFINITY;
   for (size_t k = 0; k < n; k++) {
     strike *sk = &s[k];
-    sk->modulus_pa = MODULUS_MIN_PA + (MODULUS_MAX_PA - MODULUS_MIN_PA) * af_synth_uniform(&g);
-    sk->mass_kg = MASS_MIN_KG + (MASS_MAX_KG - MASS_MIN_KG) * af_synth_uniform(&g);
-    sk->radius_m = af_resonance_sphere_radius_m(sk->mass_kg, DENSITY_KG_M3);
+    sk->modulus_pa =
+        c->modulus_min_pa + (c->modulus_max_pa - c->modulus_min_pa) * af_synth_uniform(&g);
+    sk->mass_kg = c->mass_min_kg + (c->mass_max_kg - c->mass_min_kg) * af_synth_uniform(&g);
+    sk->radius_m = af_resonance_sphere_radius_m(sk->mass_kg, density);
     /* sub-sample offsets */
     sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * af_synth_uniform(&g);
-    sk->resonance_hz = af_resonance_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson,
-                                                 DENSITY_KG_M3, sk->mass_kg);
+    sk->resonance_hz =
+        af_resonance_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson, density, sk->mass_kg);
     sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
-    af_impact_params p = impact_for(sk);
-    af_status st = af_synth_pulse_rk4(w, &p, FINE_DT_S, fine, FINE_CAP, &sk->pulse);
-    if (st != AF_OK)
-      return fail("impact model", st);
+    af_impact_params p = impact_for(st, sk);
+    af_status rc = af_synth_pulse_rk4(w, &p, fine_dt_s(st), fine, FINE_CAP, &sk->pulse);
+    if (rc != AF_OK)
+      return fail("impact model", rc);
     sk->force_n = malloc((sk->pulse.n + 1) * sizeof *sk->force_n);
     if (!sk->force_n)
       return fail("pulse", AF_ENOMEM);
@@ -319,9 +328,11 @@ static int write_truth(const char *path, const strike *s, size_t n)
 }
 
 /* The bag: the three streams merged in bag-time order. */
-static int write_bag(const args *a, const strike *s, size_t n, double force_noise,
-                     double audio_noise, const char *truth_path)
+static int write_bag(const args *a, const station *sta, const strike *s, size_t n,
+                     double force_noise, double audio_noise, const char *truth_path)
 {
+  const double force_rate_hz = sta->lane.force.sample_rate_hz;
+  const double audio_rate_hz = sta->lane.audio.sample_rate_hz;
   char topic[3][128]; /* force, audio, apple */
   snprintf(topic[0], sizeof topic[0], "/%s/force", a->ns);
   snprintf(topic[1], sizeof topic[1], "/%s/audio", a->ns);
@@ -338,8 +349,8 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
   af_synth_rng_seed(&ga, a->seed ^ 0x0A0A0A0AULL);
   float buf[CHUNK];
   for (;;) {
-    double tf_s = (double)(next_force + CHUNK) / FORCE_RATE_HZ; /* bag time: the last sample */
-    double ta_s = (double)(next_audio + CHUNK) / AUDIO_RATE_HZ;
+    double tf_s = (double)(next_force + CHUNK) / force_rate_hz; /* bag time: the last sample */
+    double ta_s = (double)(next_audio + CHUNK) / audio_rate_hz;
     double tp_s = next_apple < n ? s[next_apple].t_s - APPLE_LEAD_S : INFINITY;
     bool force_due = tf_s <= duration_s, audio_due = ta_s <= duration_s;
     if (!force_due && !audio_due && next_apple >= n)
@@ -354,17 +365,17 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
       e.apple_id = (uint32_t)(next_apple + 1);
       e.mass_kg = sk->mass_kg;
       e.equatorial_radius_m = sk->radius_m;
-      e.strike_radius_m = STRIKE_RADIUS_M;
+      e.strike_radius_m = sta->model.impact.strike_radius_m;
       e.stem_axis.x = 1.0;
       e.confidence = 0.9;
       st = af_bag_write(bag, topic[2], AF_MSG_APPLE_ESTIMATE, &e, e.header.stamp);
       next_apple++;
     } else if (force_due && (!audio_due || tf_s <= ta_s)) {
-      make_chunk(s, n, true, next_force, &gf, force_noise, buf, &c);
+      make_chunk(sta, s, n, true, next_force, &gf, force_noise, buf, &c);
       st = af_bag_write(bag, topic[0], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(tf_s));
       next_force += CHUNK;
     } else {
-      make_chunk(s, n, false, next_audio, &ga, audio_noise, buf, &c);
+      make_chunk(sta, s, n, false, next_audio, &ga, audio_noise, buf, &c);
       st = af_bag_write(bag, topic[1], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(ta_s));
       next_audio += CHUNK;
     }
@@ -381,8 +392,8 @@ static int write_bag(const args *a, const strike *s, size_t n, double force_nois
   af_options_wrote(a->out);
   printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz, audio %llu at %.0f "
          "Hz), seed %llu -> %s, truth %s\n",
-         n, duration_s, (unsigned long long)next_force, FORCE_RATE_HZ,
-         (unsigned long long)next_audio, AUDIO_RATE_HZ, (unsigned long long)a->seed, a->out,
+         n, duration_s, (unsigned long long)next_force, force_rate_hz,
+         (unsigned long long)next_audio, audio_rate_hz, (unsigned long long)a->seed, a->out,
          truth_path);
   return 0;
 }
@@ -405,6 +416,15 @@ int main(int argc, char **argv)
     size_t stem = len > 4 && strcmp(a.out + len - 4, ".bag") == 0 ? len - 4 : len;
     snprintf(truth_path, sizeof truth_path, "%.*s.truth.csv", (int)stem, a.out);
   }
+  static station sta; /* static: a lane configuration is large for the stack */
+  char err[512];
+  af_settings table;
+  af_settings_init(&table);
+  if (af_lane_config_for_tool(&table, &sta.lane, err, sizeof err) != AF_OK ||
+      af_model_params_from_settings(&table, &sta.model, err, sizeof err) != AF_OK) {
+    fprintf(stderr, "strike_bag: the parameter table's defaults: %s\n", err);
+    return 1;
+  }
   const size_t n = (size_t)a.strikes;
   strike *s = calloc(n, sizeof *s);
   double *fine = calloc(FINE_CAP, sizeof *fine);
@@ -413,11 +433,11 @@ int main(int argc, char **argv)
   if (!s || !fine || af_impact_create(&w) != AF_OK)
     rc = fail("workspace", AF_ENOMEM);
   if (rc == 0)
-    rc = make_strikes(&a, w, fine, s, n, &min_peak_n);
+    rc = make_strikes(&a, &sta, w, fine, s, n, &min_peak_n);
   if (rc == 0)
     rc = write_truth(truth_path, s, n);
   if (rc == 0)
-    rc = write_bag(&a, s, n, af_synth_noise_rms(min_peak_n, FORCE_SNR_DB),
+    rc = write_bag(&a, &sta, s, n, af_synth_noise_rms(min_peak_n, FORCE_SNR_DB),
                    af_synth_noise_rms(MODE_AMPLITUDE_PA, AUDIO_SNR_DB), truth_path);
   for (size_t k = 0; s && k < n; k++)
     free(s[k].force_n);

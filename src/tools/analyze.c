@@ -206,21 +206,25 @@ static bool af_set_row(af_settings *s, const char *flag, const char *row, const 
   return false;
 }
 
-/* --profile paper: the paper-literal criterion settings (model.h). */
+/* --profile paper: the paper-literal criterion settings, af_model_params_paper's
+ * choices (model.h) written as the table's rows. */
 static bool af_set_profile(af_settings *s, const char *name)
 {
-  static const char *const paper[][2] = {{"damping_law", "paper"},
-                                         {"lobe", "2"},
-                                         {"band_level", "power-half"},
-                                         {"shear_ratio", "paper"}};
   if (strcmp(name, "default") == 0)
     return true;
   if (strcmp(name, "paper") != 0) {
     fprintf(stderr, "firmness_model analyze: --profile '%s' is not one of: default, paper\n", name);
     return false;
   }
-  for (size_t k = 0; k < sizeof paper / sizeof paper[0]; k++)
-    if (!af_set_row(s, "--profile", paper[k][0], paper[k][1]))
+  const af_model_params paper = af_model_params_paper();
+  char lobe[16];
+  snprintf(lobe, sizeof lobe, "%u", paper.lobe);
+  const char *const rows[][2] = {{"damping_law", af_damping_law_name(paper.impact.damping)},
+                                 {"lobe", lobe},
+                                 {"band_level", af_band_level_name(paper.band_level)},
+                                 {"shear_ratio", af_shear_ratio_name(paper.shear_ratio)}};
+  for (size_t k = 0; k < sizeof rows / sizeof rows[0]; k++)
+    if (!af_set_row(s, "--profile", rows[k][0], rows[k][1]))
       return false;
   return true;
 }

@@ -17,6 +17,7 @@
 #include "fastpath.h"
 #include "options.h"
 #include "report.h"
+#include "settings.h"
 
 static double now_s(void)
 {
@@ -136,10 +137,17 @@ static void print_run(const char *name, const af_bench_run *b)
          1e6 * b->cpu_s / b->n, b->n, b->cpu_s, b->heap_bytes);
 }
 
-/* Random strikes over the designer's domain, from this strike's profile. */
+/* Random strikes over the designer's domain, from this strike's profile:
+ * the apples of the parameter table's cultivar (modulus and mass ranges). */
 #define AF_BENCH_DOMAIN 1000
 static void domain_strikes(const af_model_params *p, af_model_params *out)
 {
+  af_settings s;
+  af_settings_init(&s);
+  const double e_lo = af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA);
+  const double e_hi = af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA);
+  const double m_lo = af_settings_number(&s, AF_SETTING_MASS_MIN_KG);
+  const double m_hi = af_settings_number(&s, AF_SETTING_MASS_MAX_KG);
   unsigned state = 7u;
   for (int k = 0; k < AF_BENCH_DOMAIN; k++) {
     double u[6];
@@ -150,9 +158,9 @@ static void domain_strikes(const af_model_params *p, af_model_params *out)
     out[k] = *p;
     out[k].impact.hammer_mass_kg = 0.002 + 0.048 * u[0];
     out[k].impact.velocity_m_s = 0.5 + 2.5 * u[1];
-    out[k].impact.fruit_modulus_pa = 2e6 + 10e6 * u[2];
+    out[k].impact.fruit_modulus_pa = e_lo + (e_hi - e_lo) * u[2];
     out[k].impact.strike_radius_m = 0.02 + 0.022 * u[3];
-    out[k].fruit_mass_kg = 0.1 + 0.15 * u[4];
+    out[k].fruit_mass_kg = m_lo + (m_hi - m_lo) * u[4];
     out[k].impact.hammer_radius_m = u[5] < 0.5 ? 0.0 : 0.005 + 0.03 * u[5];
   }
 }

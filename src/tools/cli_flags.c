@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model_table.h"
+
 #define AF_DOUBLE_FLAG(name, field, help)                                                          \
   {                                                                                                \
     name, #field, AF_FLAG_DOUBLE, offsetof(af_model_params, field), help                           \
@@ -121,16 +123,28 @@ double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p)
   return NAN;
 }
 
+/* The starting values: the parameter table's defaults (af_model_params_table:
+ * what the node and firmness_report derive, with model.c's example apple). */
+static bool table_params(af_model_params *p)
+{
+  char err[512];
+  if (af_model_params_table(p, err, sizeof err) == AF_OK)
+    return true;
+  fprintf(stderr, "firmness_model: the parameter table's defaults: %s\n", err);
+  return false;
+}
+
 /* --profile default|paper, looked for first so that later flags override it. */
 static bool apply_profile(int argc, char **argv, int first, af_model_params *p)
 {
-  *p = af_model_params_default();
+  if (!table_params(p))
+    return false;
   for (int k = first; k < argc; k++) {
     if (strcmp(argv[k], "--profile") != 0)
       continue;
     const char *v = k + 1 < argc ? argv[k + 1] : "";
     if (strcmp(v, "paper") == 0)
-      *p = af_model_params_paper();
+      *p = af_model_params_paper_of(p);
     else if (strcmp(v, "default") != 0) {
       fprintf(stderr, "firmness_model: --profile '%s' must be one of: default | paper\n", v);
       return false;
@@ -205,7 +219,9 @@ void af_cli_flag_names(char *buf, size_t len)
 
 void af_cli_print_flags(void)
 {
-  af_model_params d = af_model_params_default();
+  af_model_params d;
+  if (!table_params(&d))
+    return;
   for (size_t k = 0; k < N_FLAGS; k++) {
     const af_cli_flag *f = &flags[k];
     char def[32];

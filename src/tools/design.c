@@ -19,6 +19,7 @@
 
 #include "cli_flags.h"
 #include "fastpath.h"
+#include "model_table.h"
 #include "options.h"
 #include "plot.h"
 #include "settings.h"
@@ -220,20 +221,12 @@ static bool load_cultivar(const af_design_args *a, af_model_params *base, af_des
     snprintf(err, len, "%s", why);
     return false;
   }
-  *base = af_model_params_default();
-  base->impact.restitution = af_settings_number(&s, AF_SETTING_RESTITUTION);
-  base->impact.fruit_poisson = af_settings_number(&s, AF_SETTING_FRUIT_POISSON);
-  base->impact.hammer_modulus_pa = a->hammer_modulus;
-  base->fruit_density_kg_m3 = af_settings_number(&s, AF_SETTING_DENSITY_KG_M3);
-  base->yield_ratio = af_settings_number(&s, AF_SETTING_YIELD_RATIO);
-  base->yield_exponent = af_settings_number(&s, AF_SETTING_YIELD_EXPONENT);
-  base->yield_reference_modulus_pa = af_settings_number(&s, AF_SETTING_YIELD_REFERENCE_MODULUS_PA);
-  base->modulus_factor = af_settings_number(&s, AF_SETTING_MODULUS_FACTOR);
-  if (af_yield_points_parse(af_settings_string(&s, AF_SETTING_YIELD_MEASURED),
-                            &base->yield_measured, why, sizeof why) != AF_OK) {
-    snprintf(err, len, "%s: yield_measured: %s", a->cultivar, why);
+  /* The table's model with the cultivar's rows: what the node derives. */
+  if (af_model_params_from_settings(&s, base, why, sizeof why) != AF_OK) {
+    snprintf(err, len, "%s: %s", a->cultivar, why);
     return false;
   }
+  base->impact.hammer_modulus_pa = a->hammer_modulus;
   r->modulus_min_pa = af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA);
   r->modulus_max_pa = af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA);
   r->mass_min_kg = af_settings_number(&s, AF_SETTING_MASS_MIN_KG);
@@ -293,8 +286,8 @@ static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
 
 /* After the search: the apples the best compromise gives up (a failure
  * there leaves the list as far as it got, as the printed list did), and
- * the paper's optimum: af_impact_params_default's strike (the shipped rig's
- * hammer, from the parameter table). */
+ * the paper's optimum: the parameter table's strike (its velocity, the
+ * shipped rig's hammer), which base holds. */
 static void compare(af_fastpath *f, af_model *m, const af_design_args *a,
                     const af_model_params *base, af_design_result *r)
 {
@@ -305,7 +298,7 @@ static void compare(af_fastpath *f, af_model *m, const af_design_args *a,
     af_design_strike e;
     (void)evaluate_strike(f, m, a, &p, r, &e, r->lost, &r->n_lost);
   }
-  const af_impact_params opt = af_impact_params_default();
+  const af_impact_params opt = base->impact;
   af_model_params p = with_strike(base, opt.hammer_mass_kg, opt.velocity_m_s, opt.hammer_radius_m);
   r->paper = (af_design_strike){.hammer_mass_kg = opt.hammer_mass_kg,
                                 .velocity_m_s = opt.velocity_m_s,

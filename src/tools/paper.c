@@ -27,6 +27,7 @@
 #include "design.h"
 #include "impact.h"
 #include "model.h"
+#include "model_table.h"
 #include "options.h"
 #include "plot.h"
 #include "resonance.h"
@@ -97,9 +98,34 @@ static void paper_help(void)
   printf("\nexit status: 0 done, 1 model or output failure, 2 bad input\n");
 }
 
+/* Profile k: 0 the paper-literal choices, else the shipped one; both on the
+ * parameter table's defaults, derived once (af_model_params_table runs the
+ * lane's checks). The table's defaults always derive (test_settings); were
+ * they not to, there is no figure to draw: exit 1. */
 static af_model_params profile(int k)
 {
-  return k == 0 ? af_model_params_paper() : af_model_params_default();
+  static af_model_params table;
+  static bool derived;
+  if (!derived) {
+    char err[512];
+    if (af_model_params_table(&table, err, sizeof err) != AF_OK) {
+      fprintf(stderr, "firmness_model paper: the parameter table's defaults: %s\n", err);
+      exit(1);
+    }
+    derived = true;
+  }
+  return k == 0 ? af_model_params_paper_of(&table) : table;
+}
+
+/* "<m1> g, <v0> m/s; else E2 <E2> MPa, R2 <R2> mm, e <e>, nu2 <nu2>" (PLplot escapes;
+ * sep between the strike's mass and velocity) from p: the table's figures,
+ * not typed. */
+static void strike_subtitle(char *buf, size_t len, const af_model_params *p, const char *sep)
+{
+  af_text(buf, len, "%g g%s%g m/s; else E#d2#u %g MPa, R#d2#u %g mm, e %g, #gn#d2#u %g",
+          p->impact.hammer_mass_kg * 1e3, sep, p->impact.velocity_m_s,
+          p->impact.fruit_modulus_pa * 1e-6, p->impact.strike_radius_m * 1e3, p->impact.restitution,
+          p->impact.fruit_poisson);
 }
 
 /* 0S2 [Hz] of a fruit of mass_kg under p (its modulus, nu2, density, factor). */
@@ -255,9 +281,9 @@ static int family_figure(af_paper *w, int prof, const af_family *fam)
           fam->property);
   af_text(tb, sizeof tb, "Fig. %d(b) analogue: its spectrum (%s profile)", fam->number,
           profile_title[prof]);
-  af_text(sub, sizeof sub,
-          "10 g, 1.4 m/s; else E#d2#u 8 MPa, R#d2#u 40 mm, e 0.6, #gn#d2#u 0.35; %s damping",
-          af_damping_law_name(p0.impact.damping));
+  char strike_text[160];
+  strike_subtitle(strike_text, sizeof strike_text, &p0, ", ");
+  af_text(sub, sizeof sub, "%s; %s damping", strike_text, af_damping_law_name(p0.impact.damping));
   af_plot_panel pan[2] = {af_plot_panel_empty(), af_plot_panel_empty()};
   pan[0].title = ta;
   pan[0].subtitle = sub;
@@ -338,7 +364,10 @@ static int sweep_figure(af_paper *w, int prof, const af_sweep_fig *sf)
   af_text(tb, sizeof tb, "Fig. %d(b) analogue: %s vs the shear stress", sf->number, sf->property);
   af_plot_panel pan[2] = {af_plot_panel_empty(), af_plot_panel_empty()};
   pan[0].title = ta;
-  pan[0].subtitle = "10 g at 1.4 m/s; else E#d2#u 8 MPa, R#d2#u 40 mm, e 0.6, #gn#d2#u 0.35";
+  char sub[160];
+  const af_model_params nominal = profile(prof);
+  strike_subtitle(sub, sizeof sub, &nominal, " at ");
+  pan[0].subtitle = sub;
   pan[0].x_label = sf->x_label;
   pan[0].y_label = "frequency [Hz]";
   pan[0].series = a;
@@ -793,6 +822,7 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
     fprintf(stderr, "firmness_model paper: cannot write %s: %s\n", path, strerror(errno));
     return 1;
   }
+  const af_model_params t = profile(1); /* the table's figures, printed not typed */
   fprintf(md,
           "# The paper reproduced\n\n"
           "Written by `firmness_model paper%s` (src/tools/paper.c); every number below is "
@@ -800,18 +830,22 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
           "--out doc`.\n\n"
           "Paper: Chen & De Baerdemaeker, *Influence of the apple properties on reliability of "
           "impact excitation in frequency measurements of apples*. The strike is the paper's "
-          "optimum (10 g flat rigid hammer at 1.4 m/s) on the average apple (8 MPa, 175 g, R2 "
-          "40 mm, e 0.6, ν2 0.35, 840 kg/m³) unless a claim varies something. Two profiles "
+          "optimum (%g g flat rigid hammer at %g m/s) on the average apple (%g MPa, %g g, R2 "
+          "%g mm, e %g, ν2 %g, %g kg/m³) unless a claim varies something. Two profiles "
           "(PHYSICS.md §7):\n\n"
           "- **paper-literal** (`--profile paper`): Lankarani–Nikravesh damping as printed, the "
           "second lobe, the power-half (−3 dB) band, τ_max = 0.31 p0;\n"
           "- **shipped default**: exact damping for the asked e, the main lobe, the "
           "amplitude-half (−6 dB) band, τ_max/p0 exact for ν2.\n\n"
-          "Both use the shipped yield law τ_y = 0.0414 × 8 MPa × (E2/8 MPa)^0.70 (a calibration "
+          "Both use the shipped yield law τ_y = %g × %g MPa × (E2/%g MPa)^%.2f (a calibration "
           "on the shipped profile; doc/model.md, \"The yield law\") and Lamb's 0S2 of a "
           "homogeneous sphere (modulus factor 1) where the paper used a finite-element model. "
           "Verdicts: *reproduces*, *reproduces with a different number*, *does not reproduce*.\n\n",
-          w->quick ? " --quick" : "");
+          w->quick ? " --quick" : "", t.impact.hammer_mass_kg * 1e3, t.impact.velocity_m_s,
+          t.impact.fruit_modulus_pa * 1e-6, t.fruit_mass_kg * 1e3, t.impact.strike_radius_m * 1e3,
+          t.impact.restitution, t.impact.fruit_poisson, t.fruit_density_kg_m3, t.yield_ratio,
+          t.yield_reference_modulus_pa * 1e-6, t.yield_reference_modulus_pa * 1e-6,
+          t.yield_exponent);
   fprintf(
       md,
       "## Verdicts at a glance\n\n| claim | paper-literal | shipped default |\n|---|---|---|\n");

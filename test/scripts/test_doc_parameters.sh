@@ -5,7 +5,9 @@
 # every parameter's kind, default, range, unit and help, so that the docs
 # cannot drift from the table. Also checks the table side: every row of
 # config/station.yaml and config/jonagold.yaml is in the generated list.
-# Fix a failure with `bash scripts/docs.sh`. Registered in ctest as
+# And both YAML files are exactly what af_settings_doc --yaml writes from
+# the table (every default, range, unit and help), so that a number typed in
+# a YAML file fails here. Fix a failure with `bash scripts/docs.sh`. Registered in ctest as
 # scripts_doc_parameters.
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
@@ -17,7 +19,21 @@ grep -qxF "$end" "$page" || bad "doc/parameters.md: no line '$end'"
 sed -n "\\|^$begin\$|,\\|^$end\$|p" "$page" | sed '1d;$d' >"$tmp/page"
 # The page as scripts/docs.sh would write it, from the table, on a copy.
 cp "$page" "$tmp/parameters.md"
-bash "$AF_ROOT/scripts/docs.sh" "$tmp/parameters.md" || bad "scripts/docs.sh failed"
+mkdir "$tmp/config"
+bash "$AF_ROOT/scripts/docs.sh" "$tmp/parameters.md" "$tmp/config" >/dev/null || bad "scripts/docs.sh failed"
+for yaml in station jonagold; do
+  if ! diff -u "$AF_ROOT/config/$yaml.yaml" "$tmp/config/$yaml.yaml" >"$tmp/diff"; then
+    head -40 "$tmp/diff" >&2
+    bad "config/$yaml.yaml differs from the parameter table (bash scripts/docs.sh rewrites it)"
+  fi
+  # Valid YAML 1.1 (PyYAML, as rosparam reads it), no number read as text (8.0e6).
+  /usr/bin/python3 -c 'import re, sys, yaml
+d = yaml.safe_load(open(sys.argv[1], encoding="utf-8"))
+assert isinstance(d, dict) and len(d) > 10, "not a mapping of the keys"
+for k, v in d.items():
+    assert not (isinstance(v, str) and re.fullmatch(r"[-+]?[0-9.]+([eE][-+]?[0-9]+)?", v)), k' \
+    "$AF_ROOT/config/$yaml.yaml" || bad "config/$yaml.yaml is not YAML 1.1 with its numbers as numbers"
+done
 if ! diff -u "$page" "$tmp/parameters.md" >"$tmp/diff"; then
   head -40 "$tmp/diff" >&2
   bad "doc/parameters.md differs from the parameter table (bash scripts/docs.sh rewrites it)"
