@@ -7,7 +7,7 @@
 # rates) on a master of our own (a free port), the node's StrikeReport and
 # measured Reliability recorded; firmness_report on the same bag and config
 # must give the same strikes: three, on apples 11, 12, 13, the same contact
-# starts, verdicts, reasons and every figure within 1e-9 relative; and the
+# starts, verdicts, reasons, grades and every figure the same double; and the
 # contact starts within one sample of the onsets python finds in the captures.
 # No process of ours may outlive the test. Registered as scripts_capture_replay.
 set -euo pipefail
