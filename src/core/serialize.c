@@ -2,6 +2,8 @@
 #include "serialize.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "json.h"
 #include "verdict.h"
@@ -180,10 +182,15 @@ static void flag_names(FILE *out, uint32_t flags, const char *sep)
     }
 }
 
-/* Shortest text that reads back as the same double: %.17g always does. */
-static void real(FILE *out, double x)
+void af_serialize_real(FILE *out, double x)
 {
-  fprintf(out, "%.17g", x);
+  char text[32];
+  for (int digits = 15; digits <= 17; digits++) {
+    snprintf(text, sizeof text, "%.*g", digits, x);
+    if (digits == 17 || strtod(text, NULL) == x)
+      break;
+  }
+  fputs(text, out);
 }
 
 void af_serialize_json_members(FILE *out, const af_serial_strike *s, const char *sep)
@@ -194,7 +201,7 @@ void af_serialize_json_members(FILE *out, const af_serial_strike *s, const char 
     switch (fields[k].kind) {
     case AF_SERIAL_REAL:
       if (isfinite(v.real))
-        real(out, v.real);
+        af_serialize_real(out, v.real);
       else
         fputs("null", out);
       break;
@@ -240,7 +247,7 @@ void af_serialize_csv_row(FILE *out, const af_serial_strike *s)
     switch (fields[k].kind) {
     case AF_SERIAL_REAL:
       if (isfinite(v.real))
-        real(out, v.real);
+        af_serialize_real(out, v.real);
       break;
     case AF_SERIAL_INT: fprintf(out, "%lld", v.integer); break;
     case AF_SERIAL_BOOL: fputc(v.boolean ? '1' : '0', out); break;

@@ -8,9 +8,10 @@
  * (scripts/node_vs_report.py). A field no message carries is report-only and
  * carries its unit in its name (`stamp_ns`, `mode_confidence`).
  *
- * One precision: every real at %.17g, which gives back the same double when
- * read (round trip), so that the node's messages and a report can be
- * compared to the last bit. A figure not measured (NaN, or infinite) is
+ * One precision: every real in the fewest of 15, 16 or 17 significant
+ * digits (%.*g) that read back as the same double (17 always do), so that
+ * the node's messages and a report can be compared to the last bit, and 0.2
+ * is written 0.2. A figure not measured (NaN, or infinite) is
  * JSON null and an empty CSV cell; text is a JSON string, and a CSV cell in
  * double quotes with its quotes doubled (RFC 4180); booleans are true/false
  * in JSON and 1/0 in CSV; the verdict's flags are a JSON array of names and
@@ -51,7 +52,7 @@ typedef struct {
 af_serial_strike af_serial_of_lane(const af_lane_strike *s);
 
 typedef enum {
-  AF_SERIAL_REAL, /* double, %.17g; null / empty when not finite */
+  AF_SERIAL_REAL, /* double, af_serialize_real; null / empty when not finite */
   AF_SERIAL_INT,  /* integer */
   AF_SERIAL_BOOL, /* true/false; 1/0 in CSV */
   AF_SERIAL_TEXT, /* string */
@@ -77,6 +78,10 @@ const af_serial_field *af_serial_fields(size_t *n);
 void af_serialize_json_members(FILE *out, const af_serial_strike *s, const char *sep);
 /* {members} on one line, without a line end. */
 void af_serialize_json(FILE *out, const af_serial_strike *s);
+
+/* x in the fewest significant digits (15 to 17, %g) that strtod reads back
+ * as x: the one format of every real (finite x; the callers write NaN). */
+void af_serialize_real(FILE *out, double x);
 
 /* The CSV header cells (the table's names), comma separated, no line end. */
 void af_serialize_csv_header(FILE *out);

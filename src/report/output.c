@@ -156,7 +156,10 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
 static void af_json_num(FILE *out, const char *key, double v)
 {
   fprintf(out, "\"%s\": ", key);
-  af_json_double(out, v, 17);
+  if (isfinite(v))
+    af_serialize_real(out, v); /* the strike's own format */
+  else
+    fputs("null", out);
   fputs(", ", out);
 }
 
@@ -264,7 +267,7 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
 static void af_csv_num(FILE *out, double v, bool last)
 {
   if (isfinite(v))
-    fprintf(out, "%.17g", v);
+    af_serialize_real(out, v);
   fputc(last ? '\n' : ',', out);
 }
 

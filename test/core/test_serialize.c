@@ -5,7 +5,8 @@
  * here; keys and columns are the table's names in order, the header has as
  * many cells as a row, a NaN is null in JSON and an empty cell in CSV, text
  * with quotes, a backslash and a control character comes back unchanged,
- * reals come back as the same double (strtod of the text), and every field
+ * reals come back as the same double (strtod of the text) in the fewest
+ * digits that do, and every field
  * the table says a message carries is a field of that message's .msg file
  * (read from msg/). */
 #include <ctype.h>
@@ -327,6 +328,10 @@ static void test_json(void)
   AF_CHECK((x = find(m, n, "grade_reason")) && x->is_string && x->text[0] == '\0');
   AF_CHECK((x = find(m, n, "mode_method")) && strcmp(x->text, "loudest in range") == 0);
   AF_CHECK((x = find(m, n, "frame_id")) && strcmp(x->text, "force_link") == 0);
+  /* The shortest of 15-17 digits that reads back: 0.2 as written, 0.1 + 0.2 needs 17. */
+  AF_CHECK((x = find(m, n, "mode_confidence")) && strcmp(x->raw, "0.2") == 0);
+  AF_CHECK((x = find(m, n, "peak_force")) && strcmp(x->raw, "0.30000000000000004") == 0);
+  AF_CHECK((x = find(m, n, "fitted_restitution")) && strcmp(x->raw, "0.6") == 0);
 }
 
 static void test_csv(void)
