@@ -5,7 +5,8 @@
 # AF_REPLAY_RATE = 5) on a master of our own (port AF_REPORT_PORT = 11346),
 # the node's StrikeReport and measured Reliability messages are recorded, and
 # firmness_report --json of the same bag must give the same strikes, apple
-# ids, verdicts and reasons, and every figure within 1e-9 relative.
+# ids, verdicts, reasons and grades, and every figure the same double (every
+# field of both messages under its own name in the report, serialize.h).
 #   bash scripts/report_vs_node.sh [N] [SEED]
 # Exit 0 when they agree. The strikes rostest does the same on 100 strikes.
 set -euo pipefail

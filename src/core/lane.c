@@ -346,6 +346,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
   merge_verdict(&o->report, lane_v);
+  af_grade_strike(&l->cfg->grade, &o->report, &o->grade); /* after the lane's flags */
   o->start_ns = p->start_ns;
   memcpy(o->frame_id, p->frame_id, sizeof o->frame_id);
   o->apple_id = a ? a->apple.apple_id : 0;

@@ -1,7 +1,7 @@
 /* lane.h — one station lane, everything but ROS: the force and audio
  * streams, the strike detector, the queue of strikes waiting for their audio
  * and their apple, the match of a strike to its apple, the audio window, the
- * per-apple prediction and the measured verdict.
+ * per-apple prediction, the measured verdict and the strike's firmness grade.
  *
  * The node (src/node) converts messages into af_chunk / af_apple and
  * publishes what the lane calls back with; the desk tools (firmness_model
@@ -58,7 +58,8 @@ extern "C" {
 
 #define AF_LANE_TEXT_MAX 256
 
-/* One measured strike, as passed to the callback (borrowed for the call). */
+/* One measured strike, the whole result, as passed to the callback (borrowed
+ * for the call; serialize.h writes it). */
 typedef struct {
   int64_t start_ns;                   /* contact start [ns] */
   char frame_id[AF_STREAM_FRAME_MAX]; /* the force chunk's */
@@ -68,7 +69,9 @@ typedef struct {
   bool with_audio;                    /* an audio window was analysed */
   af_measure_report report;           /* figures; report.verdict holds every flag (the
                                          lane's too), report.reason its words */
-  const af_strike_event *event;       /* the detector's event (pulse included) */
+  af_grade grade; /* the firmness grade of report (grade.h) by the configuration's grade:
+                     what the StrikeReport carries and the desk tools print */
+  const af_strike_event *event; /* the detector's event (pulse included) */
 } af_lane_strike;
 
 typedef void af_lane_strike_fn(const af_lane_strike *s, void *user);

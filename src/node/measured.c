@@ -109,15 +109,13 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->lost_samples = q->lost_samples;
 }
 
-/* The strike's firmness class (src/core/grade.h), counted for the diagnostics. */
-static void grade_report(af_measured *m, const af_measure_report *q, af_strike_report *r)
+/* The strike's firmness class, graded by the lane (lane.h), counted for the diagnostics. */
+static void grade_report(af_measured *m, const af_grade *g, af_strike_report *r)
 {
-  af_grade g;
-  af_grade_strike(&m->cfg->lane.grade, q, &g);
-  r->grade_index = (uint8_t)g.index;
-  af_text(r->grade, sizeof r->grade, "%s", g.name);
-  af_text(r->grade_reason, sizeof r->grade_reason, "%s", g.reason);
-  m->graded[g.index <= AF_GRADE_CLASSES_MAX ? g.index : 0]++;
+  r->grade_index = (uint8_t)g->index;
+  af_text(r->grade, sizeof r->grade, "%s", g->name);
+  af_text(r->grade_reason, sizeof r->grade_reason, "%s", g->reason);
+  m->graded[g->index <= AF_GRADE_CLASSES_MAX ? g->index : 0]++;
 }
 
 static void grade_diag(const af_measured *m, af_diag_status *d)
@@ -182,7 +180,7 @@ static void on_lane_strike(const af_lane_strike *s, void *user)
   af_text(r->header.frame_id, sizeof r->header.frame_id, "%s", s->frame_id);
   r->apple_id = s->apple_id;
   report_from_measure(q, r);
-  grade_report(m, q, r);
+  grade_report(m, &s->grade, r);
   rel->header = r->header;
   rel->apple_id = s->apple_id;
   af_text(rel->source, sizeof rel->source, "measured");

@@ -1,6 +1,7 @@
 /* output.c — text, JSON and CSV of a session (see output.h). */
 #include "json.h"
 #include "output.h"
+#include "serialize.h"
 
 #include <inttypes.h>
 #include <math.h>
@@ -155,24 +156,23 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
 static void af_json_num(FILE *out, const char *key, double v)
 {
   fprintf(out, "\"%s\": ", key);
-  af_json_double(out, v, 17);
+  if (isfinite(v))
+    af_serialize_real(out, v); /* the strike's own format */
+  else
+    fputs("null", out);
   fputs(", ", out);
 }
 
-static void af_json_bool(FILE *out, const char *key, bool v)
-{
-  fprintf(out, "\"%s\": %s, ", key, v ? "true" : "false");
-}
-
+/* The strike's fields (serialize.h), then what the station knew of its apple. */
 static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
 {
-  const af_measure_report *q = &r->report;
-  fprintf(out, "    {\"stamp_ns\": %" PRId64 ", \"apple_id\": %" PRIu32 ", ", r->start_ns,
-          r->apple_id);
+  const af_serial_strike v = af_session_serial(r);
+  fputs("    {", out);
+  af_serialize_json_members(out, &v, ", ");
   if (r->has_apple)
-    fprintf(out, "\"apple_stamp_ns\": %" PRId64 ", ", r->apple_stamp_ns);
+    fprintf(out, ", \"apple_stamp_ns\": %" PRId64 ", ", r->apple_stamp_ns);
   else
-    fputs("\"apple_stamp_ns\": null, ", out);
+    fputs(", \"apple_stamp_ns\": null, ", out);
   af_json_num(out, "mass_kg", r->mass_kg);
   fputs("\"predicted\": ", out);
   if (r->predicted) {
@@ -182,40 +182,9 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
     af_json_num(out, "resonance_Hz", r->predicted_resonance_hz);
     fprintf(out, "\"reliable\": %s, \"reason\": ", r->predicted_reliable ? "true" : "false");
     af_json_string(out, r->predicted_reason);
-    fputs("}, ", out);
+    fputc('}', out);
   } else
-    fputs("null, ", out);
-  af_json_num(out, "contact_time_s", q->contact_time_s);
-  af_json_num(out, "peak_force_N", q->peak_force_n);
-  af_json_num(out, "impulse_Ns", q->impulse_n_s);
-  af_json_num(out, "band_low_Hz", q->band_low_hz);
-  af_json_num(out, "band_high_Hz", q->band_high_hz);
-  af_json_num(out, "resonance_Hz", q->resonance_hz);
-  af_json_num(out, "resonance_q", q->resonance_q);
-  af_json_num(out, "snr_dB", q->snr_db);
-  af_json_num(out, "stiffness_factor", q->stiffness_factor);
-  af_json_num(out, "modulus_from_resonance_Pa", q->modulus_from_resonance_pa);
-  af_json_num(out, "fitted_modulus_Pa", q->fitted_modulus_pa);
-  af_json_num(out, "fitted_restitution", q->fitted_restitution);
-  af_json_num(out, "fit_residual", q->fit_residual);
-  af_json_num(out, "max_shear_stress_Pa", q->max_shear_stress_pa);
-  af_json_num(out, "yield_shear_stress_Pa", q->yield_shear_stress_pa);
-  af_json_bool(out, "double_hit", q->double_hit);
-  af_json_bool(out, "clipped", q->clipped);
-  fprintf(out, "\"lost_samples\": %" PRIu32 ", ", q->lost_samples);
-  af_json_bool(out, "with_audio", r->with_audio);
-  af_json_bool(out, "excites_mode", q->excites_mode);
-  af_json_bool(out, "no_damage", q->no_damage);
-  af_json_bool(out, "reliable", q->reliable);
-  fputs("\"flags\": ", out);
-  af_json_flags(out, q->verdict.flags);
-  fputs(", ", out);
-  fputs("\"reason\": ", out);
-  af_json_string(out, q->reason);
-  fprintf(out, ", \"grade_index\": %u, \"grade\": ", r->grade.index);
-  af_json_string(out, r->grade.name);
-  fputs(", \"grade_reason\": ", out);
-  af_json_string(out, r->grade.reason);
+    fputs("null", out);
   fprintf(out, "}%s\n", last ? "" : ",");
 }
 
@@ -298,63 +267,28 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
 static void af_csv_num(FILE *out, double v, bool last)
 {
   if (isfinite(v))
-    fprintf(out, "%.17g", v);
+    af_serialize_real(out, v);
   fputc(last ? '\n' : ',', out);
-}
-
-/* Text in double quotes, its quotes doubled (RFC 4180). */
-static void af_csv_text(FILE *out, const char *text)
-{
-  fputc('"', out);
-  for (const char *c = text; *c; c++) {
-    if (*c == '"')
-      fputc('"', out);
-    fputc(*c, out);
-  }
-  fputc('"', out);
 }
 
 void af_output_csv(FILE *out, const af_session *s)
 {
-  fputs("apple_id,contact_start_s,apple_stamp_s,mass_kg,predicted_band_low_hz,"
-        "predicted_band_high_hz,predicted_resonance_hz,predicted_reliable,contact_time_s,"
-        "peak_force_n,impulse_n_s,band_low_hz,band_high_hz,resonance_hz,resonance_q,snr_db,"
-        "stiffness_factor,modulus_from_resonance_pa,fitted_modulus_pa,fitted_restitution,"
-        "fit_residual,max_shear_stress_pa,yield_shear_stress_pa,double_hit,clipped,"
-        "lost_samples,with_audio,excites_mode,no_damage,reliable,flags,reason,grade_index,grade,"
-        "grade_reason\n",
+  af_serialize_csv_header(out);
+  fputs(",apple_stamp_ns,mass_kg,predicted_band_low_hz,predicted_band_high_hz,"
+        "predicted_resonance_hz,predicted_reliable\n",
         out);
   for (size_t k = 0; k < s->n_strikes; k++) {
     const af_session_strike *r = &s->strikes[k];
-    const af_measure_report *q = &r->report;
-    fprintf(out, "%" PRIu32 ",%.9f,", r->apple_id, (double)r->start_ns * 1e-9);
+    const af_serial_strike v = af_session_serial(r);
+    af_serialize_csv_row(out, &v);
+    fputc(',', out);
     if (r->has_apple)
-      fprintf(out, "%.9f", (double)r->apple_stamp_ns * 1e-9);
+      fprintf(out, "%" PRId64, r->apple_stamp_ns);
     fputc(',', out);
     af_csv_num(out, r->mass_kg, false);
     af_csv_num(out, r->predicted_band_low_hz, false);
     af_csv_num(out, r->predicted_band_high_hz, false);
     af_csv_num(out, r->predicted_resonance_hz, false);
-    fprintf(out, "%s,", r->predicted ? (r->predicted_reliable ? "1" : "0") : "");
-    const double v[] = {q->contact_time_s,       q->peak_force_n,
-                        q->impulse_n_s,          q->band_low_hz,
-                        q->band_high_hz,         q->resonance_hz,
-                        q->resonance_q,          q->snr_db,
-                        q->stiffness_factor,     q->modulus_from_resonance_pa,
-                        q->fitted_modulus_pa,    q->fitted_restitution,
-                        q->fit_residual,         q->max_shear_stress_pa,
-                        q->yield_shear_stress_pa};
-    for (size_t j = 0; j < sizeof v / sizeof v[0]; j++)
-      af_csv_num(out, v[j], false);
-    fprintf(out, "%d,%d,%" PRIu32 ",%d,%d,%d,%d,", q->double_hit, q->clipped, q->lost_samples,
-            r->with_audio, q->excites_mode, q->no_damage, q->reliable);
-    af_flag_names(out, q->verdict.flags, "|");
-    fputc(',', out);
-    af_csv_text(out, q->reason);
-    fprintf(out, ",%u,", r->grade.index);
-    af_csv_text(out, r->grade.name);
-    fputc(',', out);
-    af_csv_text(out, r->grade.reason);
-    fputc('\n', out);
+    fprintf(out, "%s\n", r->predicted ? (r->predicted_reliable ? "1" : "0") : "");
   }
 }

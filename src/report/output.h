@@ -1,7 +1,9 @@
 /* output.h — what firmness_report prints: a table per apple and the summary
- * as text, the same as one JSON document (every StrikeReport figure at
- * %.17g, so that it can be compared with the node's messages to the last
- * bit), and one CSV row per strike. Keys and columns carry their units. */
+ * as text, the same as one JSON document, and one CSV row per strike. A
+ * strike's fields are written by the core serializer (serialize.h: the
+ * StrikeReport's names, every real at %.17g, so that it can be compared with
+ * the node's messages to the last bit), followed by the apple's own
+ * (apple_stamp_ns, mass_kg, the prediction). */
 #ifndef AF_REPORT_OUTPUT_H
 #define AF_REPORT_OUTPUT_H
 

@@ -68,6 +68,7 @@ static void af_on_strike(const af_lane_strike *ls, void *user)
   af_session_strike *r = &s->strikes[s->n_strikes++];
   memset(r, 0, sizeof *r);
   r->start_ns = ls->start_ns;
+  memcpy(r->frame_id, ls->frame_id, sizeof r->frame_id);
   r->apple_id = ls->apple_id;
   r->has_apple = ls->apple != NULL;
   r->mass_kg = NAN;
@@ -89,12 +90,19 @@ static void af_on_strike(const af_lane_strike *ls, void *user)
   }
   r->with_audio = ls->with_audio;
   r->report = ls->report;
-  af_grade_strike(&c->o->cfg->grade, &r->report, &r->grade); /* as the node (measured.c) */
+  r->grade = ls->grade;
   af_session_apple *a = ls->apple_id ? af_find_apple(s, ls->apple_id) : NULL;
   if (a)
     a->strikes++;
   if (c->o->on_strike)
     c->o->on_strike(ls, c->lane, c->o->user);
+}
+
+af_serial_strike af_session_serial(const af_session_strike *r)
+{
+  af_serial_strike v = {r->start_ns,   r->frame_id, r->apple_id,
+                        r->with_audio, &r->report,  &r->grade};
+  return v;
 }
 
 static bool af_add_apple(af_session_ctx *c, const af_apple *a, const af_prediction *pr)

@@ -30,6 +30,7 @@
 
 #include "grade.h"
 #include "lane.h"
+#include "serialize.h"
 
 #define AF_SESSION_OK 0
 #define AF_SESSION_FAILED 1    /* the lane could not be made, out of memory */
@@ -40,9 +41,10 @@
 
 /* One measured strike and what the station knew of its apple. */
 typedef struct {
-  int64_t start_ns;  /* contact start [ns] (the StrikeReport's stamp) */
-  uint32_t apple_id; /* 0 = no apple matched */
-  bool has_apple;    /* an estimate matched (apple_* are its) */
+  int64_t start_ns;                   /* contact start [ns] (the StrikeReport's stamp) */
+  char frame_id[AF_STREAM_FRAME_MAX]; /* the force chunk's (the StrikeReport's) */
+  uint32_t apple_id;                  /* 0 = no apple matched */
+  bool has_apple;                     /* an estimate matched (apple_* are its) */
   int64_t apple_stamp_ns;
   double mass_kg;
   bool predicted; /* the apple's prediction ran (predicted_* are its) */
@@ -52,9 +54,12 @@ typedef struct {
   bool with_audio;          /* an audio window was analysed */
   double modulus_factor;    /* the apple's (dynamic / quasi-static), to suggest a new one */
   af_measure_report report; /* the StrikeReport figures and the measured verdict */
-  af_grade grade; /* its firmness class from the cultivar's grade_quantity and grade_classes
-                     (grade.h), as the node's StrikeReport grade_index, grade, grade_reason */
+  af_grade grade;           /* its firmness class, as the lane graded it (lane.h): the node's
+                               StrikeReport grade_index, grade, grade_reason */
 } af_session_strike;
+
+/* The view of r that serialize.h writes (borrowed: valid while r is). */
+af_serial_strike af_session_serial(const af_session_strike *r);
 
 /* One AppleEstimate and its prediction. */
 typedef struct {

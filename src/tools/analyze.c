@@ -10,8 +10,9 @@
  * gives it one apple (--mass, --R2) stamped at the recording's start, and
  * feeds both recordings to the core lane (src/core/lane.h) in 1024-sample
  * chunks in time order, as the node receives SignalChunks. Prints one JSON
- * object: the strikes with their StrikeReport figures and verdict flags, and
- * why there are none when there are none. */
+ * object: the strikes, each the lane's whole result written by the core
+ * serializer (serialize.h: the StrikeReport's names, stamp_ns from the
+ * recording's start, %.17g), and why there are none when there are none. */
 #define _POSIX_C_SOURCE 200809L
 #include "analyze.h"
 
@@ -26,6 +27,7 @@
 
 #include "cli_flags.h"
 #include "json.h"
+#include "serialize.h"
 #include "lane.h"
 #include "options.h"
 #include "recording.h"
@@ -55,15 +57,10 @@ typedef struct {
   bool bench;
 } af_analyze_args;
 
+/* The callback's context: the lane's strike results (their borrowed pointers
+ * cleared), stored in a buffer sized at start-up. */
 typedef struct {
-  double contact_start_s;
-  uint32_t apple_id;
-  af_measure_report r;
-} af_analyze_row;
-
-/* The callback's context: the rows, stored in a buffer sized at start-up. */
-typedef struct {
-  af_analyze_row *rows;
+  af_lane_strike *rows;
   size_t n_rows, cap_rows, dropped;
 } af_analyze_ctx;
 
@@ -396,62 +393,19 @@ static void af_on_strike(const af_lane_strike *s, void *user)
     c->dropped++;
     return;
   }
-  af_analyze_row *row = &c->rows[c->n_rows++];
-  row->contact_start_s = (double)s->start_ns * 1e-9;
-  row->apple_id = s->apple_id;
-  row->r = s->report;
+  af_lane_strike *row = &c->rows[c->n_rows++];
+  *row = *s;
+  row->apple = NULL, row->prediction = NULL, row->event = NULL; /* the lane's, for the call */
 }
 
 /* ---- output ------------------------------------------------------------------ */
 
-static void af_json_number(FILE *out, const char *key, double v)
+/* One strike: every field of the serializer (serialize.h), one per line. */
+static void af_json_row(FILE *out, const af_lane_strike *row, bool last)
 {
-  fprintf(out, "      \"%s\": ", key);
-  af_json_double(out, v, 10);
-  fputs(",\n", out);
-}
-
-static void af_json_bool(FILE *out, const char *key, bool v)
-{
-  fprintf(out, "      \"%s\": %s,\n", key, v ? "true" : "false");
-}
-
-static void af_json_row(FILE *out, const af_analyze_row *row, bool last)
-{
-  const af_measure_report *r = &row->r;
-  fputs("    {\n", out);
-  fprintf(out, "      \"apple_id\": %u,\n", row->apple_id);
-  af_json_number(out, "contact_start_s", row->contact_start_s);
-  af_json_number(out, "contact_time_s", r->contact_time_s);
-  af_json_number(out, "peak_force_N", r->peak_force_n);
-  af_json_number(out, "impulse_Ns", r->impulse_n_s);
-  af_json_number(out, "band_low_Hz", r->band_low_hz);
-  af_json_number(out, "band_high_Hz", r->band_high_hz);
-  af_json_number(out, "resonance_Hz", r->resonance_hz);
-  af_json_number(out, "resonance_q", r->resonance_q);
-  af_json_number(out, "snr_dB", r->snr_db);
-  af_json_number(out, "stiffness_factor", r->stiffness_factor);
-  af_json_number(out, "modulus_from_resonance_Pa", r->modulus_from_resonance_pa);
-  af_json_number(out, "fitted_modulus_Pa", r->fitted_modulus_pa);
-  af_json_number(out, "fitted_restitution", r->fitted_restitution);
-  af_json_number(out, "fit_residual", r->fit_residual);
-  af_json_bool(out, "double_hit", r->double_hit);
-  af_json_bool(out, "clipped", r->clipped);
-  fprintf(out, "      \"lost_samples\": %lu,\n", (unsigned long)r->lost_samples);
-  af_json_bool(out, "excites_mode", r->excites_mode);
-  af_json_bool(out, "no_damage", r->no_damage);
-  af_json_bool(out, "reliable", r->reliable);
-  fputs("      \"flags\": ", out);
-  af_json_flags(out, r->verdict.flags);
-  fputs(",\n", out);
-  fprintf(out, "      \"mode\": {\"method\": \"%s\", \"confidence\": %.4g, \"ambiguous\": %s, ",
-          af_modes_method_name(r->modes.method), r->modes.confidence,
-          r->modes.ambiguous ? "true" : "false");
-  fputs("\"text\": ", out);
-  af_json_string(out, r->modes_text);
-  fputs("},\n", out);
-  fputs("      \"reason\": ", out);
-  af_json_string(out, r->reason);
+  const af_serial_strike v = af_serial_of_lane(row);
+  fputs("    {\n      ", out);
+  af_serialize_json_members(out, &v, ",\n      ");
   fprintf(out, "\n    }%s\n", last ? "" : ",");
 }
 

@@ -35,6 +35,7 @@ typedef struct {
   uint32_t apple_id[MAX_STRIKES];
   bool with_audio[MAX_STRIKES];
   af_measure_report r[MAX_STRIKES];
+  af_grade g[MAX_STRIKES]; /* the lane's grade of each */
 } reports;
 
 static void on_strike(const af_lane_strike *s, void *user)
@@ -45,6 +46,7 @@ static void on_strike(const af_lane_strike *s, void *user)
   out->start_ns[out->n] = s->start_ns;
   out->apple_id[out->n] = s->apple_id;
   out->with_audio[out->n] = s->with_audio;
+  out->g[out->n] = s->grade;
   out->r[out->n++] = s->report;
 }
 
@@ -201,7 +203,8 @@ static void test_waits_for_its_own_apple(void)
 {
   const double strikes[] = {0.5, 1.5};
   session s = make_session(strikes, 2);
-  af_lane_config cfg = config(NULL, 0);
+  const char *sets[] = {"grade_quantity=stiffness_factor", "grade_classes=lo | 1e5 | hi"};
+  af_lane_config cfg = config(sets, 2);
   reports out;
   af_lane *l = make_lane(&cfg, &out);
   /* Apple 2 is stamped 1.3 s (before its strike at 1.5 s) but arrives at
@@ -213,8 +216,16 @@ static void test_waits_for_its_own_apple(void)
   AF_CHECK(out.apple_id[0] == 1 && out.apple_id[1] == 2);
   AF_CHECK(!(out.r[1].verdict.flags & AF_VERDICT_APPLE_DOUBTFUL));
   AF_CHECK(af_lane_get_stats(l)->late_apples == 0);
-  printf("own apple after a 0.3 s late estimate: strikes on apples %u, %u\n", out.apple_id[0],
-         out.apple_id[1]);
+  /* The lane grades each strike: a reliable one by its stiffness factor against the
+   * boundary 1e5 given here (the class above on the boundary). */
+  for (size_t k = 0; k < out.n; k++) {
+    const unsigned want = !out.r[k].reliable ? 0 : out.r[k].stiffness_factor < 1e5 ? 1 : 2;
+    AF_CHECK(out.g[k].index == want);
+    AF_CHECK(strcmp(out.g[k].name, want == 0 ? "ungraded" : want == 1 ? "lo" : "hi") == 0);
+    AF_CHECK(out.r[k].reliable == (out.g[k].reason[0] == '\0'));
+  }
+  printf("own apple after a 0.3 s late estimate: strikes on apples %u, %u, grades %s, %s\n",
+         out.apple_id[0], out.apple_id[1], out.g[0].name, out.g[1].name);
   af_lane_destroy(l);
   free_session(&s);
 }
@@ -239,6 +250,10 @@ static void test_doubtful_and_late(void)
   AF_CHECK(strstr(out.r[1].reason, "doubtful apple match (apple 1: already struck") != NULL);
   AF_CHECK(af_lane_get_stats(l)->late_apples == 1);
   AF_CHECK(af_lane_get_stats(l)->doubtful == 1);
+  /* Graded after the lane's own flags: the doubtful match alone leaves it ungraded. */
+  AF_CHECK(out.g[1].index == 0 && strcmp(out.g[1].name, "ungraded") == 0);
+  AF_CHECK(strncmp(out.g[1].reason, "not reliable: ", 14) == 0 &&
+           strstr(out.g[1].reason, "doubtful apple match") != NULL);
   printf("doubtful: %s\nlate: %s\n", out.r[1].reason, af_lane_get_stats(l)->last_late_apple);
   af_lane_destroy(l);
   free_session(&s);
@@ -267,6 +282,10 @@ static void test_doubtful_after_lost_samples(void)
   AF_CHECK(!out.r[0].reliable);
   AF_CHECK(strstr(out.r[0].reason, "force samples were lost") != NULL);
   AF_CHECK(af_lane_get_stats(l)->doubtful == 1);
+  /* Graded after the lane's own flags: the doubtful match alone leaves it ungraded. */
+  AF_CHECK(out.g[0].index == 0 && strcmp(out.g[0].name, "ungraded") == 0);
+  AF_CHECK(strncmp(out.g[0].reason, "not reliable: ", 14) == 0 &&
+           strstr(out.g[0].reason, "doubtful apple match") != NULL);
   printf("doubtful after lost samples: %s\n", out.r[0].reason);
   af_lane_destroy(l);
   free_session(&s);

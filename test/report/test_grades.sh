@@ -21,8 +21,8 @@ cat >"$tmp/check.py" <<'EOF'
 import bisect, csv, json, math, re, sys
 csv_path, json_path, text_path, quantity, classes = sys.argv[1:6]
 column = {'stiffness_factor': 'stiffness_factor',
-          'modulus_from_resonance': 'modulus_from_resonance_pa',
-          'fitted_modulus': 'fitted_modulus_pa'}[quantity]
+          'modulus_from_resonance': 'modulus_from_resonance',
+          'fitted_modulus': 'fitted_modulus'}[quantity]
 tokens = [t.strip() for t in classes.split('|')]
 names, bounds = tokens[0::2], [float(t) for t in tokens[1::2]]
 assert len(names) == len(bounds) + 1, tokens
@@ -45,9 +45,9 @@ for r, j in zip(rows, rep):
     assert set(flags) <= known, flags
     reliable = r['reliable'] == '1'
     assert reliable == (flags == []), (aid, r['reliable'], flags)
-    f0, lo, hi = float(r['resonance_hz']), float(r['band_low_hz']), float(r['band_high_hz'])
+    f0, lo, hi = float(r['resonance']), float(r['band_low']), float(r['band_high'])
     assert ('outside_band' in flags) == (not lo <= f0 <= hi), (aid, f0, lo, hi, flags)
-    assert ('damage' in flags) == (float(r['max_shear_stress_pa']) >= float(r['yield_shear_stress_pa'])), (aid, flags)
+    assert ('damage' in flags) == (float(r['max_shear_stress']) >= float(r['yield_shear_stress'])), (aid, flags)
     for name in ('double_hit', 'clipped'):
         assert (name in flags) == (r[name] == '1'), (aid, name, flags)
     assert ('lost_samples' in flags) == (int(r['lost_samples']) > 0), (aid, flags)

@@ -1,0 +1,262 @@
+/* serialize.c — a measured strike as JSON and CSV from one table (see serialize.h). */
+#include "serialize.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "json.h"
+#include "verdict.h"
+
+#define SR "StrikeReport"
+#define REL "Reliability"
+
+/* The fields in the order written. Their values: value_of, by the same index. */
+typedef enum {
+  F_STAMP_NS,
+  F_FRAME_ID,
+  F_APPLE_ID,
+  F_WITH_AUDIO,
+  F_CONTACT_TIME,
+  F_PEAK_FORCE,
+  F_IMPULSE,
+  F_BAND_LOW,
+  F_BAND_HIGH,
+  F_RESONANCE,
+  F_RESONANCE_Q,
+  F_SNR_DB,
+  F_STIFFNESS_FACTOR,
+  F_MODULUS_FROM_RESONANCE,
+  F_FITTED_MODULUS,
+  F_FITTED_RESTITUTION,
+  F_FIT_RESIDUAL,
+  F_DOUBLE_HIT,
+  F_CLIPPED,
+  F_LOST_SAMPLES,
+  F_GRADE_INDEX,
+  F_GRADE,
+  F_GRADE_REASON,
+  F_EXCITES_MODE,
+  F_NO_DAMAGE,
+  F_RELIABLE,
+  F_MAX_SHEAR_STRESS,
+  F_YIELD_SHEAR_STRESS,
+  F_REASON,
+  F_FLAGS,
+  F_MODE_METHOD,
+  F_MODE_CONFIDENCE,
+  F_MODE_AMBIGUOUS,
+  F_MODE_TEXT,
+  F_COUNT
+} field_id;
+
+static const af_serial_field fields[F_COUNT] = {
+    [F_STAMP_NS] = {"stamp_ns", AF_SERIAL_INT, "ns", SR, "contact start (header.stamp)"},
+    [F_FRAME_ID] = {"frame_id", AF_SERIAL_TEXT, "", SR, "the force chunk's (header.frame_id)"},
+    [F_APPLE_ID] = {"apple_id", AF_SERIAL_INT, "-", SR, "the matched apple; 0 = none"},
+    [F_WITH_AUDIO] = {"with_audio", AF_SERIAL_BOOL, "-", NULL, "an audio window was analysed"},
+    [F_CONTACT_TIME] = {"contact_time", AF_SERIAL_REAL, "s", SR,
+                        "contact time of the fitted impact model (the detector's when the fit "
+                        "fails)"},
+    [F_PEAK_FORCE] = {"peak_force", AF_SERIAL_REAL, "N", SR, "peak force, baseline removed"},
+    [F_IMPULSE] = {"impulse", AF_SERIAL_REAL, "N s", SR, "force integrated over the contact"},
+    [F_BAND_LOW] = {"band_low", AF_SERIAL_REAL, "Hz", SR,
+                    "half-power band of the configured lobe of the pulse, low edge"},
+    [F_BAND_HIGH] = {"band_high", AF_SERIAL_REAL, "Hz", SR, "the same band, high edge"},
+    [F_RESONANCE] = {"resonance", AF_SERIAL_REAL, "Hz", SR, "0S2 frequency found in the audio"},
+    [F_RESONANCE_Q] = {"resonance_q", AF_SERIAL_REAL, "-", SR, "its quality factor"},
+    [F_SNR_DB] = {"snr_db", AF_SERIAL_REAL, "dB", SR, "its peak over the noise per bin"},
+    [F_STIFFNESS_FACTOR] = {"stiffness_factor", AF_SERIAL_REAL, "Hz^2 kg^(2/3)", SR,
+                            "resonance^2 mass^(2/3)"},
+    [F_MODULUS_FROM_RESONANCE] = {"modulus_from_resonance", AF_SERIAL_REAL, "Pa", SR,
+                                  "E2 from the 0S2 (Lamb), divided by the modulus factor"},
+    [F_FITTED_MODULUS] = {"fitted_modulus", AF_SERIAL_REAL, "Pa", SR,
+                          "E2 of the impact model fitted to the pulse"},
+    [F_FITTED_RESTITUTION] = {"fitted_restitution", AF_SERIAL_REAL, "-", SR,
+                              "coefficient of restitution of that fit"},
+    [F_FIT_RESIDUAL] = {"fit_residual", AF_SERIAL_REAL, "-", SR,
+                        "RMS residual of the fit / peak force"},
+    [F_DOUBLE_HIT] = {"double_hit", AF_SERIAL_BOOL, "-", SR, "the hammer bounced"},
+    [F_CLIPPED] = {"clipped", AF_SERIAL_BOOL, "-", SR, "a force sample reached full scale"},
+    [F_LOST_SAMPLES] = {"lost_samples", AF_SERIAL_INT, "samples", SR,
+                        "force samples missing around the strike"},
+    [F_GRADE_INDEX] = {"grade_index", AF_SERIAL_INT, "-", SR,
+                       "firmness class 1..N, softest first; 0 = ungraded"},
+    [F_GRADE] = {"grade", AF_SERIAL_TEXT, "", SR, "the class name, or \"ungraded\""},
+    [F_GRADE_REASON] = {"grade_reason", AF_SERIAL_TEXT, "", SR, "why ungraded; \"\" when graded"},
+    [F_EXCITES_MODE] = {"excites_mode", AF_SERIAL_BOOL, "-", REL,
+                        "the resonance lies in the measured band"},
+    [F_NO_DAMAGE] = {"no_damage", AF_SERIAL_BOOL, "-", REL,
+                     "max shear stress below the yield shear stress"},
+    [F_RELIABLE] = {"reliable", AF_SERIAL_BOOL, "-", REL, "both, and a clean strike"},
+    [F_MAX_SHEAR_STRESS] = {"max_shear_stress", AF_SERIAL_REAL, "Pa", REL,
+                            "tau_max from the peak force and the fitted E2"},
+    [F_YIELD_SHEAR_STRESS] = {"yield_shear_stress", AF_SERIAL_REAL, "Pa", REL,
+                              "yield shear stress of the fitted E2"},
+    [F_REASON] = {"reason", AF_SERIAL_TEXT, "", REL, "why not reliable; \"\" when reliable"},
+    [F_FLAGS] = {"flags", AF_SERIAL_FLAGS, "", NULL, "the verdict's flags (verdict.h)"},
+    [F_MODE_METHOD] = {"mode_method", AF_SERIAL_TEXT, "", NULL,
+                       "how the 0S2 was identified among the peaks (modes.h)"},
+    [F_MODE_CONFIDENCE] = {"mode_confidence", AF_SERIAL_REAL, "-", NULL,
+                           "confidence of that identification, [0, 1]"},
+    [F_MODE_AMBIGUOUS] = {"mode_ambiguous", AF_SERIAL_BOOL, "-", NULL,
+                          "another peak could be the 0S2"},
+    [F_MODE_TEXT] = {"mode_text", AF_SERIAL_TEXT, "", NULL,
+                     "the identification in words; \"\" when none ran"},
+};
+
+typedef struct {
+  double real;
+  long long integer;
+  bool boolean;
+  const char *text;
+  uint32_t flags;
+} value;
+
+static value value_of(const af_serial_strike *s, field_id id)
+{
+  const af_measure_report *r = s->report;
+  value v = {NAN, 0, false, "", 0};
+  switch (id) {
+  case F_STAMP_NS: v.integer = s->stamp_ns; break;
+  case F_FRAME_ID: v.text = s->frame_id; break;
+  case F_APPLE_ID: v.integer = s->apple_id; break;
+  case F_WITH_AUDIO: v.boolean = s->with_audio; break;
+  case F_CONTACT_TIME: v.real = r->contact_time_s; break;
+  case F_PEAK_FORCE: v.real = r->peak_force_n; break;
+  case F_IMPULSE: v.real = r->impulse_n_s; break;
+  case F_BAND_LOW: v.real = r->band_low_hz; break;
+  case F_BAND_HIGH: v.real = r->band_high_hz; break;
+  case F_RESONANCE: v.real = r->resonance_hz; break;
+  case F_RESONANCE_Q: v.real = r->resonance_q; break;
+  case F_SNR_DB: v.real = r->snr_db; break;
+  case F_STIFFNESS_FACTOR: v.real = r->stiffness_factor; break;
+  case F_MODULUS_FROM_RESONANCE: v.real = r->modulus_from_resonance_pa; break;
+  case F_FITTED_MODULUS: v.real = r->fitted_modulus_pa; break;
+  case F_FITTED_RESTITUTION: v.real = r->fitted_restitution; break;
+  case F_FIT_RESIDUAL: v.real = r->fit_residual; break;
+  case F_DOUBLE_HIT: v.boolean = r->double_hit; break;
+  case F_CLIPPED: v.boolean = r->clipped; break;
+  case F_LOST_SAMPLES: v.integer = r->lost_samples; break;
+  case F_GRADE_INDEX: v.integer = s->grade->index; break;
+  case F_GRADE: v.text = s->grade->name; break;
+  case F_GRADE_REASON: v.text = s->grade->reason; break;
+  case F_EXCITES_MODE: v.boolean = r->excites_mode; break;
+  case F_NO_DAMAGE: v.boolean = r->no_damage; break;
+  case F_RELIABLE: v.boolean = r->reliable; break;
+  case F_MAX_SHEAR_STRESS: v.real = r->max_shear_stress_pa; break;
+  case F_YIELD_SHEAR_STRESS: v.real = r->yield_shear_stress_pa; break;
+  case F_REASON: v.text = r->reason; break;
+  case F_FLAGS: v.flags = r->verdict.flags; break;
+  case F_MODE_METHOD: v.text = af_modes_method_name(r->modes.method); break;
+  case F_MODE_CONFIDENCE: v.real = r->modes.confidence; break;
+  case F_MODE_AMBIGUOUS: v.boolean = r->modes.ambiguous; break;
+  case F_MODE_TEXT: v.text = r->modes_text; break;
+  case F_COUNT: break;
+  }
+  return v;
+}
+
+af_serial_strike af_serial_of_lane(const af_lane_strike *s)
+{
+  af_serial_strike v = {s->start_ns,   s->frame_id, s->apple_id,
+                        s->with_audio, &s->report,  &s->grade};
+  return v;
+}
+
+const af_serial_field *af_serial_fields(size_t *n)
+{
+  if (n)
+    *n = F_COUNT;
+  return fields;
+}
+
+/* The names of the set flags in flag order, separated by sep. */
+static void flag_names(FILE *out, uint32_t flags, const char *sep)
+{
+  const char *between = "";
+  for (uint32_t bit = 1; bit != 0; bit <<= 1)
+    if (flags & bit) {
+      fprintf(out, "%s%s", between, af_verdict_flag_name((af_verdict_flag)bit));
+      between = sep;
+    }
+}
+
+void af_serialize_real(FILE *out, double x)
+{
+  char text[32];
+  for (int digits = 15; digits <= 17; digits++) {
+    snprintf(text, sizeof text, "%.*g", digits, x);
+    if (digits == 17 || strtod(text, NULL) == x)
+      break;
+  }
+  fputs(text, out);
+}
+
+void af_serialize_json_members(FILE *out, const af_serial_strike *s, const char *sep)
+{
+  for (int k = 0; k < F_COUNT; k++) {
+    const value v = value_of(s, (field_id)k);
+    fprintf(out, "%s\"%s\": ", k ? sep : "", fields[k].name);
+    switch (fields[k].kind) {
+    case AF_SERIAL_REAL:
+      if (isfinite(v.real))
+        af_serialize_real(out, v.real);
+      else
+        fputs("null", out);
+      break;
+    case AF_SERIAL_INT: fprintf(out, "%lld", v.integer); break;
+    case AF_SERIAL_BOOL: fputs(v.boolean ? "true" : "false", out); break;
+    case AF_SERIAL_TEXT: af_json_string(out, v.text ? v.text : ""); break;
+    case AF_SERIAL_FLAGS: af_json_flags(out, v.flags); break;
+    }
+  }
+}
+
+void af_serialize_json(FILE *out, const af_serial_strike *s)
+{
+  fputc('{', out);
+  af_serialize_json_members(out, s, ", ");
+  fputc('}', out);
+}
+
+void af_serialize_csv_header(FILE *out)
+{
+  for (int k = 0; k < F_COUNT; k++)
+    fprintf(out, "%s%s", k ? "," : "", fields[k].name);
+}
+
+/* Text in double quotes, its quotes doubled (RFC 4180). */
+static void csv_text(FILE *out, const char *text)
+{
+  fputc('"', out);
+  for (const char *c = text; *c; c++) {
+    if (*c == '"')
+      fputc('"', out);
+    fputc(*c, out);
+  }
+  fputc('"', out);
+}
+
+void af_serialize_csv_row(FILE *out, const af_serial_strike *s)
+{
+  for (int k = 0; k < F_COUNT; k++) {
+    const value v = value_of(s, (field_id)k);
+    if (k)
+      fputc(',', out);
+    switch (fields[k].kind) {
+    case AF_SERIAL_REAL:
+      if (isfinite(v.real))
+        af_serialize_real(out, v.real);
+      break;
+    case AF_SERIAL_INT: fprintf(out, "%lld", v.integer); break;
+    case AF_SERIAL_BOOL: fputc(v.boolean ? '1' : '0', out); break;
+    case AF_SERIAL_TEXT: csv_text(out, v.text ? v.text : ""); break;
+    case AF_SERIAL_FLAGS:
+      fputc('"', out);
+      flag_names(out, v.flags, "|");
+      fputc('"', out);
+      break;
+    }
+  }
+}
