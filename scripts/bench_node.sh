@@ -138,7 +138,7 @@ with lock:
     chunks_, reports_, diag_ = list(chunks), list(reports), dict(diag)
 lat = []
 for m, t_rx in reports_:
-    # The window's last sample, by the node's rule (measured.h): the first
+    # The window's last sample, by the node's rule (lane_io.h): the first
     # sample at or after start + delay, then round(window * rate) samples.
     first0, _, stamp0, rate, _ = chunks_[0]
     i0 = math.ceil(first0 + (m.header.stamp.to_sec() + delay - stamp0) * rate - 1e-6)

@@ -52,7 +52,7 @@ static int write_row(FILE *f, const af_reconfigure_row *r)
 {
   const af_setting_def *d = af_setting_def_of(r->id);
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   fprintf(f, "%s.add(\"%s\", ", r->group, d->name);
   switch (d->kind) {
   case AF_SETTING_NUMBER:

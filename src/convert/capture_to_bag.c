@@ -52,7 +52,7 @@ typedef struct {
   long chunk;                          /* samples per SignalChunk */
 } af_c2b_args;
 
-static af_c2b_args af_c2b_args_default(void)
+static af_c2b_args c2b_args_default(void)
 {
   af_c2b_args a;
   memset(&a, 0, sizeof a);
@@ -101,9 +101,9 @@ static const af_option af_c2b_options[] = {
 };
 #define AF_C2B_N_OPTIONS (sizeof af_c2b_options / sizeof af_c2b_options[0])
 
-static void af_c2b_usage(FILE *out)
+static void c2b_usage(FILE *out)
 {
-  af_c2b_args d = af_c2b_args_default();
+  af_c2b_args d = c2b_args_default();
   fprintf(out, "usage: capture_to_bag --force FILE --audio FILE --apples FILE.csv --out FILE.bag "
                "[flags]\n\n"
                "Writes a lab's force and audio recordings and its apple list as the bag\n"
@@ -121,7 +121,7 @@ static void af_c2b_usage(FILE *out)
                "exit status: 0 done, 1 failure, 2 bad input\n");
 }
 
-static int af_c2b_bad(const char *msg)
+static int c2b_bad(const char *msg)
 {
   fprintf(stderr, "capture_to_bag: %s\n", msg);
   return AF_C2B_EXIT_USAGE;
@@ -129,8 +129,8 @@ static int af_c2b_bad(const char *msg)
 
 /* text as a number in [lo, hi] (lo excluded when lo_open) into *out; false
  * after one line naming flag, text and the range. */
-static bool af_c2b_number(const char *flag, const char *text, double lo, double hi, bool lo_open,
-                          const char *unit, double *out)
+static bool c2b_number(const char *flag, const char *text, double lo, double hi, bool lo_open,
+                       const char *unit, double *out)
 {
   char *end, msg[AF_C2B_ERR_MAX];
   errno = 0;
@@ -140,12 +140,12 @@ static bool af_c2b_number(const char *flag, const char *text, double lo, double 
     return true;
   snprintf(msg, sizeof msg, "%s '%s' must be a number in %c%g, %g] %s", flag, text,
            lo_open ? '(' : '[', lo, hi, unit);
-  (void)af_c2b_bad(msg);
+  (void)c2b_bad(msg);
   return false;
 }
 
 /* A whole number in [lo, hi], written in digits. */
-static bool af_c2b_whole(const char *flag, const char *text, double lo, double hi, double *out)
+static bool c2b_whole(const char *flag, const char *text, double lo, double hi, double *out)
 {
   char msg[AF_C2B_ERR_MAX];
   errno = 0;
@@ -154,12 +154,12 @@ static bool af_c2b_whole(const char *flag, const char *text, double lo, double h
       *out >= lo && *out <= hi)
     return true;
   snprintf(msg, sizeof msg, "%s '%s' must be a whole number in [%.0f, %.0f]", flag, text, lo, hi);
-  (void)af_c2b_bad(msg);
+  (void)c2b_bad(msg);
   return false;
 }
 
 /* One flag's value into a. */
-static bool af_c2b_value(af_c2b_args *a, const af_option *o, const char *v)
+static bool c2b_value(af_c2b_args *a, const af_option *o, const char *v)
 {
   char err[AF_C2B_ERR_MAX / 2];
   const char *f = o->name;
@@ -167,47 +167,47 @@ static bool af_c2b_value(af_c2b_args *a, const af_option *o, const char *v)
   if (o->kind == AF_OPTION_TEXT)
     return af_option_store(o, v, a);
   if (strcmp(f, "--rate-force") == 0 || strcmp(f, "--rate-audio") == 0)
-    return af_c2b_number(f, v, 1000.0, 1e6, false, "Hz",
-                         f[7] == 'f' ? &a->rate_force_hz : &a->rate_audio_hz);
+    return c2b_number(f, v, 1000.0, 1e6, false, "Hz",
+                      f[7] == 'f' ? &a->rate_force_hz : &a->rate_audio_hz);
   if (strcmp(f, "--force-channel") == 0 || strcmp(f, "--audio-channel") == 0) {
     bool ok = af_recording_parse_channel(f, v, f[2] == 'f' ? &a->force_channel : &a->audio_channel,
                                          err, sizeof err);
-    return ok || af_c2b_bad(err) == 0;
+    return ok || c2b_bad(err) == 0;
   }
   if (strcmp(f, "--force-scale") == 0 || strcmp(f, "--audio-scale") == 0) {
     bool ok = af_recording_parse_scale(f, v, f[2] == 'f' ? &a->force_scale : &a->audio_scale, err,
                                        sizeof err);
-    return ok || af_c2b_bad(err) == 0;
+    return ok || c2b_bad(err) == 0;
   }
   if (strcmp(f, "--audio-unit") == 0) {
     af_settings s;
     char arg[AF_C2B_ERR_MAX];
-    af_settings_init(&s);
+    af_settings_reset(&s);
     snprintf(arg, sizeof arg, "audio_unit=%s", v);
     if (af_settings_set_arg(&s, arg, err, sizeof err) != AF_OK) {
       snprintf(arg, sizeof arg, "--audio-unit: %s", err);
-      return af_c2b_bad(arg) == 0;
+      return c2b_bad(arg) == 0;
     }
     a->audio_unit = v;
     return true;
   }
   if (strcmp(f, "--audio-offset") == 0)
-    return af_c2b_number(f, v, -AF_C2B_OFFSET_MAX_S, AF_C2B_OFFSET_MAX_S, false, "s",
-                         &a->audio_offset_s);
+    return c2b_number(f, v, -AF_C2B_OFFSET_MAX_S, AF_C2B_OFFSET_MAX_S, false, "s",
+                      &a->audio_offset_s);
   if (strcmp(f, "--start") == 0) {
-    if (!af_c2b_whole(f, v, 1.0, AF_C2B_START_MAX_S - 1.0, &x))
+    if (!c2b_whole(f, v, 1.0, AF_C2B_START_MAX_S - 1.0, &x))
       return false;
     a->start_s = (uint64_t)x;
     return true;
   }
-  if (!af_c2b_whole(f, v, AF_C2B_CHUNK_MIN, AF_C2B_CHUNK_MAX, &x)) /* --chunk */
+  if (!c2b_whole(f, v, AF_C2B_CHUNK_MIN, AF_C2B_CHUNK_MAX, &x)) /* --chunk */
     return false;
   a->chunk = (long)x;
   return true;
 }
 
 /* The required flags, and a namespace the topics can be made of. */
-static int af_c2b_required(const af_c2b_args *a)
+static int c2b_required(const af_c2b_args *a)
 {
   const char *names[] = {"--force", "--audio", "--apples", "--out"};
   const char *values[] = {a->force, a->audio, a->apples, a->out};
@@ -215,7 +215,7 @@ static int af_c2b_required(const af_c2b_args *a)
   for (size_t k = 0; k < 4; k++)
     if (values[k] == NULL || values[k][0] == '\0') {
       snprintf(msg, sizeof msg, "%s is required (capture_to_bag --help)", names[k]);
-      return af_c2b_bad(msg);
+      return c2b_bad(msg);
     }
   size_t n = strlen(a->ns);
   if (n == 0 || n > 64 ||
@@ -226,14 +226,14 @@ static int af_c2b_required(const af_c2b_args *a)
              "--ns '%.80s' must be a namespace of letters, digits, _ and inner / "
              "(1 to 64 characters)",
              a->ns);
-    return af_c2b_bad(msg);
+    return c2b_bad(msg);
   }
   return 0;
 }
 
-static int af_c2b_parse(int argc, char **argv, af_c2b_args *a)
+static int c2b_parse(int argc, char **argv, af_c2b_args *a)
 {
-  *a = af_c2b_args_default();
+  *a = c2b_args_default();
   for (int k = 1; k < argc; k++) {
     const af_option *o = af_option_find(af_c2b_options, AF_C2B_N_OPTIONS, argv[k]);
     if (o == NULL) {
@@ -244,10 +244,10 @@ static int af_c2b_parse(int argc, char **argv, af_c2b_args *a)
       af_options_missing("capture_to_bag", o);
       return AF_C2B_EXIT_USAGE;
     }
-    if (!af_c2b_value(a, o, argv[++k]))
+    if (!c2b_value(a, o, argv[++k]))
       return AF_C2B_EXIT_USAGE;
   }
-  return af_c2b_required(a);
+  return c2b_required(a);
 }
 
 /* ---- the recordings ------------------------------------------------------------ */
@@ -263,8 +263,8 @@ typedef struct {
 } af_c2b_stream;
 
 /* Loads one recording; 0, or the exit status after one line. */
-static int af_c2b_load(const char *path, const char *what, double rate_flag_hz, long channel,
-                       double scale, af_c2b_stream *st)
+static int c2b_load(const char *path, const char *what, double rate_flag_hz, long channel,
+                    double scale, af_c2b_stream *st)
 {
   char err[AF_C2B_ERR_MAX], msg[AF_C2B_ERR_MAX + 64];
   af_recording_spec spec =
@@ -276,19 +276,19 @@ static int af_c2b_load(const char *path, const char *what, double rate_flag_hz, 
   af_status s = af_recording_load(path, &spec, &st->rec, &st->rate_hz, err, sizeof err);
   if (s != AF_OK) {
     snprintf(msg, sizeof msg, "--%s %s", what, err);
-    return af_c2b_bad(msg);
+    return c2b_bad(msg);
   }
   if (st->rec.n == 0 || !(st->rate_hz >= 1000.0 && st->rate_hz <= 1e6)) {
     snprintf(msg, sizeof msg, "--%s %s: %s", what, path,
              st->rec.n == 0 ? "holds no samples" : "its rate is outside [1000, 1e6] Hz");
-    return af_c2b_bad(msg);
+    return c2b_bad(msg);
   }
   return 0;
 }
 
 /* ---- writing ---------------------------------------------------------------------- */
 
-static af_time af_c2b_time(uint64_t start_s, int64_t rel_ns)
+static af_time c2b_time(uint64_t start_s, int64_t rel_ns)
 {
   int64_t abs_ns = (int64_t)start_s * 1000000000LL + rel_ns;
   af_time t = {(uint32_t)(abs_ns / 1000000000LL), (uint32_t)(abs_ns % 1000000000LL)};
@@ -296,48 +296,48 @@ static af_time af_c2b_time(uint64_t start_s, int64_t rel_ns)
 }
 
 /* Time of sample k of st from the force's first sample [ns]. */
-static int64_t af_c2b_sample_ns(const af_c2b_stream *st, size_t k)
+static int64_t c2b_sample_ns(const af_c2b_stream *st, size_t k)
 {
   return st->offset_ns + (int64_t)llround((double)k / st->rate_hz * 1e9);
 }
 
-static size_t af_c2b_chunk_len(const af_c2b_stream *st, size_t chunk)
+static size_t c2b_chunk_len(const af_c2b_stream *st, size_t chunk)
 {
   size_t left = st->rec.n - st->next;
   return left < chunk ? left : chunk;
 }
 
 /* Bag time of st's next chunk (the sample after its last) [ns]; INT64_MAX at the end. */
-static int64_t af_c2b_due_ns(const af_c2b_stream *st, size_t chunk)
+static int64_t c2b_due_ns(const af_c2b_stream *st, size_t chunk)
 {
   if (st->next >= st->rec.n)
     return INT64_MAX;
-  return af_c2b_sample_ns(st, st->next + af_c2b_chunk_len(st, chunk));
+  return c2b_sample_ns(st, st->next + c2b_chunk_len(st, chunk));
 }
 
-static af_status af_c2b_write_chunk(af_bag *bag, af_c2b_stream *st, const af_c2b_args *a)
+static af_status c2b_write_chunk(af_bag *bag, af_c2b_stream *st, const af_c2b_args *a)
 {
   af_signal_chunk c;
   memset(&c, 0, sizeof c);
-  size_t n = af_c2b_chunk_len(st, (size_t)a->chunk);
-  c.header.stamp = af_c2b_time(a->start_s, af_c2b_sample_ns(st, st->next));
+  size_t n = c2b_chunk_len(st, (size_t)a->chunk);
+  c.header.stamp = c2b_time(a->start_s, c2b_sample_ns(st, st->next));
   snprintf(c.header.frame_id, sizeof c.header.frame_id, "%s", st->frame);
   c.first_sample = st->next;
   c.sample_rate_hz = st->rate_hz;
   snprintf(c.unit, sizeof c.unit, "%s", st->unit);
   c.data = st->rec.x + st->next;
   c.n = n;
-  af_time at = af_c2b_time(a->start_s, af_c2b_due_ns(st, (size_t)a->chunk));
+  af_time at = c2b_time(a->start_s, c2b_due_ns(st, (size_t)a->chunk));
   st->next += n;
   return af_bag_write(bag, st->topic, AF_MSG_SIGNAL_CHUNK, &c, at);
 }
 
-static af_status af_c2b_write_apple(af_bag *bag, const char *topic, const af_csv_apple *p,
-                                    const af_c2b_args *a)
+static af_status c2b_write_apple(af_bag *bag, const char *topic, const af_csv_apple *p,
+                                 const af_c2b_args *a)
 {
   af_apple_estimate e;
   memset(&e, 0, sizeof e);
-  e.header.stamp = af_c2b_time(a->start_s, (int64_t)llround(p->stamp_s * 1e9));
+  e.header.stamp = c2b_time(a->start_s, (int64_t)llround(p->stamp_s * 1e9));
   snprintf(e.header.frame_id, sizeof e.header.frame_id, "camera_optical_frame");
   e.apple_id = p->apple_id;
   e.mass_kg = p->mass_kg;
@@ -352,27 +352,27 @@ static af_status af_c2b_write_apple(af_bag *bag, const char *topic, const af_csv
 
 /* The three streams merged in bag-time order (apple, then force, then
  * audio at equal times, as strike_bag). */
-static af_status af_c2b_merge(af_bag *bag, af_c2b_stream *s, const af_csv_apple *apples,
-                              size_t n_apples, const char *apple_topic, const af_c2b_args *a)
+static af_status c2b_merge(af_bag *bag, af_c2b_stream *s, const af_csv_apple *apples,
+                           size_t n_apples, const char *apple_topic, const af_c2b_args *a)
 {
   size_t next_apple = 0;
   af_status st = AF_OK;
   while (st == AF_OK) {
-    int64_t tf = af_c2b_due_ns(&s[0], (size_t)a->chunk);
-    int64_t ta = af_c2b_due_ns(&s[1], (size_t)a->chunk);
+    int64_t tf = c2b_due_ns(&s[0], (size_t)a->chunk);
+    int64_t ta = c2b_due_ns(&s[1], (size_t)a->chunk);
     int64_t tp = next_apple < n_apples ? llround(apples[next_apple].stamp_s * 1e9) : INT64_MAX;
     if (tf == INT64_MAX && ta == INT64_MAX && tp == INT64_MAX)
       break;
     if (tp <= tf && tp <= ta)
-      st = af_c2b_write_apple(bag, apple_topic, &apples[next_apple++], a);
+      st = c2b_write_apple(bag, apple_topic, &apples[next_apple++], a);
     else
-      st = af_c2b_write_chunk(bag, &s[tf <= ta ? 0 : 1], a);
+      st = c2b_write_chunk(bag, &s[tf <= ta ? 0 : 1], a);
   }
   return st;
 }
 
-static int af_c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_apple *apples,
-                        size_t n_apples)
+static int c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_apple *apples,
+                     size_t n_apples)
 {
   char apple_topic[128];
   snprintf(s[0].topic, sizeof s[0].topic, "/%s/force", a->ns);
@@ -385,7 +385,7 @@ static int af_c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_app
             af_bag_last_error(NULL));
     return st == AF_EIO ? AF_C2B_EXIT_USAGE : 1;
   }
-  st = af_c2b_merge(bag, s, apples, n_apples, apple_topic, a);
+  st = c2b_merge(bag, s, apples, n_apples, apple_topic, a);
   if (st != AF_OK) {
     fprintf(stderr, "capture_to_bag: writing %s: %s (%s)\n", a->out, af_strerror(st),
             af_bag_last_error(bag));
@@ -400,10 +400,10 @@ static int af_c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_app
 }
 
 /* What the station must be told to read the bag, when not its defaults. */
-static void af_c2b_station_note(const af_c2b_args *a, const af_c2b_stream *s)
+static void c2b_station_note(const af_c2b_args *a, const af_c2b_stream *s)
 {
   af_settings d;
-  af_settings_init(&d);
+  af_settings_reset(&d);
   double f_hz = af_settings_number(&d, AF_SETTING_FORCE_SAMPLE_RATE_HZ);
   double a_hz = af_settings_number(&d, AF_SETTING_AUDIO_SAMPLE_RATE_HZ);
   char unit[16] = "";
@@ -418,19 +418,18 @@ static void af_c2b_station_note(const af_c2b_args *a, const af_c2b_stream *s)
          a->audio_unit);
 }
 
-static int af_c2b_run(const af_c2b_args *a, af_c2b_stream *s)
+static int c2b_run(const af_c2b_args *a, af_c2b_stream *s)
 {
-  int rc =
-      af_c2b_load(a->force, "force", a->rate_force_hz, a->force_channel, a->force_scale, &s[0]);
+  int rc = c2b_load(a->force, "force", a->rate_force_hz, a->force_channel, a->force_scale, &s[0]);
   if (rc == 0)
-    rc = af_c2b_load(a->audio, "audio", a->rate_audio_hz, a->audio_channel, a->audio_scale, &s[1]);
+    rc = c2b_load(a->audio, "audio", a->rate_audio_hz, a->audio_channel, a->audio_scale, &s[1]);
   if (rc != 0)
     return rc;
   s[0].frame = "force_transducer", s[0].unit = "N";
   s[1].frame = "microphone", s[1].unit = a->audio_unit;
   s[1].offset_ns = (int64_t)llround(a->audio_offset_s * 1e9);
   if (s[1].offset_ns < -(int64_t)a->start_s * 1000000000LL + 1)
-    return af_c2b_bad("--audio-offset: the audio would start before 1970 (raise --start)");
+    return c2b_bad("--audio-offset: the audio would start before 1970 (raise --start)");
   const double force_s = (double)s[0].rec.n / s[0].rate_hz;
   af_csv_apple *apples = NULL;
   size_t n_apples = 0;
@@ -438,15 +437,15 @@ static int af_c2b_run(const af_c2b_args *a, af_c2b_stream *s)
   if (af_apple_csv_read(a->apples, 0.0, force_s, &apples, &n_apples, err, sizeof err) != AF_OK) {
     char msg[AF_C2B_ERR_MAX + 16];
     snprintf(msg, sizeof msg, "--apples %s", err);
-    return af_c2b_bad(msg);
+    return c2b_bad(msg);
   }
-  rc = af_c2b_write(a, s, apples, n_apples);
+  rc = c2b_write(a, s, apples, n_apples);
   if (rc == 0) {
     printf("capture_to_bag: %zu apples; force %zu samples at %.17g Hz (%.3f s), audio %zu at "
            "%.17g Hz from %+.6f s; chunks of %ld on /%s/force, /%s/audio, /%s/apple\n",
            n_apples, s[0].rec.n, s[0].rate_hz, force_s, s[1].rec.n, s[1].rate_hz, a->audio_offset_s,
            a->chunk, a->ns, a->ns, a->ns);
-    af_c2b_station_note(a, s);
+    c2b_station_note(a, s);
     af_options_wrote(a->out);
   }
   free(apples);
@@ -456,17 +455,17 @@ static int af_c2b_run(const af_c2b_args *a, af_c2b_stream *s)
 int main(int argc, char **argv)
 {
   if (af_options_want_help(argc, argv, 1)) {
-    af_c2b_usage(stdout);
+    c2b_usage(stdout);
     return 0;
   }
   af_c2b_args a;
-  int rc = af_c2b_parse(argc, argv, &a);
+  int rc = c2b_parse(argc, argv, &a);
   if (rc != 0)
     return rc;
   af_c2b_stream s[2];
   memset(s, 0, sizeof s);
-  rc = af_c2b_run(&a, s);
-  af_recording_free(&s[0].rec);
-  af_recording_free(&s[1].rec);
+  rc = c2b_run(&a, s);
+  af_recording_destroy(&s[0].rec);
+  af_recording_destroy(&s[1].rec);
   return rc;
 }

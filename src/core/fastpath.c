@@ -9,7 +9,7 @@
 #include "criteria.h"
 #include "impact.h"
 #include "r2_search.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 #include "spectrum.h"
 #include "stress.h"
@@ -89,7 +89,7 @@ static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, d
   ip.gravity_m_s2 = gamma * ip.velocity_m_s * ip.velocity_m_s / d;
   double dt = af_impact_hertz_contact_time_s(&ip) / AF_FP_SAMPLES_PER_PULSE;
   af_impact_result res;
-  af_status st = af_impact_run(imp, &ip, dt, force, defo, AF_FP_MAX_SAMPLES, &res);
+  af_status st = af_impact_execute(imp, &ip, dt, force, defo, AF_FP_MAX_SAMPLES, &res);
   if (st == AF_OK)
     st = af_spectrum_execute(spec, force, res.n_samples, res.dt_s);
   double p0 = 0.0;
@@ -172,8 +172,8 @@ af_status af_fastpath_create(af_fastpath **out)
   f->q = malloc(nodes * NQ * sizeof *f->q);
   f->n_lobes = malloc(nodes * sizeof *f->n_lobes);
   f->mag = malloc(nodes * AF_FP_NPHI * sizeof *f->mag);
-  af_shear_cache_init(&f->shear);
-  af_lamb_cache_init(&f->xi);
+  af_shear_cache_reset(&f->shear);
+  af_lamb_cache_reset(&f->xi);
   af_status st = f->q && f->n_lobes && f->mag ? AF_OK : AF_ENOMEM;
   if (st == AF_OK)
     st = af_model_create(&f->ode);
@@ -305,7 +305,7 @@ static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af
 static af_status fallback(af_fastpath *f, const af_model_params *p, af_model_result *r)
 {
   f->fallbacks++;
-  return af_model_evaluate(f->ode, p, r);
+  return af_model_execute(f->ode, p, r);
 }
 
 /* af_model_params_check's numeric rows, with the ranges parsed once: the
@@ -347,7 +347,7 @@ static bool quick_check(const af_fastpath *f, const af_model_params *p)
          p->yield_measured.n <= AF_YIELD_MAX_POINTS;
 }
 
-af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r)
+af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r)
 {
   const af_impact_params *ip = &p->impact;
   double chi = f->chi, xi, ratio;
@@ -366,7 +366,7 @@ af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_mode
     f->chi_law = ip->damping;
   }
   if (st == AF_OK)
-    st = af_resonance_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi);
+    st = af_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi);
   if (st == AF_OK)
     st = af_stress_shear_ratio_cached(&f->shear, p->shear_ratio, ip->fruit_poisson, &ratio);
   if (st != AF_OK)
@@ -377,9 +377,8 @@ af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_mode
   double d = pow(1.25 * m1 * v0 * v0 / k, 0.4);
   double t = d / v0, f0 = m1 * v0 * v0 / d;
   double gamma = ip->gravity_m_s2 * d / (v0 * v0);
-  double res_hz =
-      af_resonance_frequency_hz(xi, p->modulus_factor * ip->fruit_modulus_pa, ip->fruit_poisson,
-                                p->fruit_density_kg_m3, p->fruit_mass_kg);
+  double res_hz = af_lamb_frequency_hz(xi, p->modulus_factor * ip->fruit_modulus_pa,
+                                       ip->fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
   af_fp_weights a, b, c;
   if (!weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &a) ||
       !weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) ||
@@ -444,10 +443,10 @@ af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_mode
   return AF_OK;
 }
 
-/* af_fastpath_evaluate as the R2_min search's callback. */
+/* af_fastpath_execute as the R2_min search's callback. */
 static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_fastpath_evaluate(ctx, p, r);
+  return af_fastpath_execute(ctx, p, r);
 }
 
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,

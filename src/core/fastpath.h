@@ -8,7 +8,7 @@
  * time with T, force with F0, frequency with 1/T, |X| with F0 T, the centre
  * pressure with F0 / (R D). af_fastpath_create runs the ODE path once per
  * node of a (chi, gamma) grid and keeps the normalised figures and |X| on a
- * frequency grid; af_fastpath_evaluate interpolates them (bicubic in chi and
+ * frequency grid; af_fastpath_execute interpolates them (bicubic in chi and
  * gamma, cubic in frequency) and scales them back. The resonance and the
  * shear ratio are closed forms or cached.
  *
@@ -17,7 +17,7 @@
  * the interpolation stencil (damping fills a null in), whose selected band
  * edge is clipped to its lobe at some nodes of the stencil and not at
  * others, or whose selected band edges disagree between two cubic stencils
- * by more than 3e-4 is evaluated by af_model_evaluate, counted as a
+ * by more than 3e-4 is evaluated by af_model_execute, counted as a
  * fallback.
  * Accuracy: test/core/test_fastpath.c (within 0.1 % of the ODE path).
  */
@@ -40,9 +40,9 @@ typedef struct af_fastpath af_fastpath;
 af_status af_fastpath_create(af_fastpath **out);
 void af_fastpath_destroy(af_fastpath *f); /* NULL-safe */
 
-/* As af_model_evaluate (same checks, same result fields; impact.n_samples
+/* As af_model_execute (same checks, same result fields; impact.n_samples
  * is the ODE path's sample count, no pulse is written). No allocation. */
-af_status af_fastpath_evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r);
+af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r);
 
 /* af_model_min_strike_radius on this path: the same search (r2_search.h),
  * the same statuses. */

@@ -15,7 +15,7 @@
  * apple can overshoot into a long, heavily damped model (e at its bound)
  * that explains only part of the window — a false minimum. The start is
  * therefore first matched to the pulse by the model's scaling laws
- * (af_fit_match): one model run, and no false minimum in 300 random apples
+ * (fit_match): one model run, and no false minimum in 300 random apples
  * with v0 free (noise-free, 40 dB, 30 dB; 9-11 without it), where geodesic
  * acceleration also avoided it but cost about 20 % more model runs. At
  * 20 dB about 1 % still end at e's bound, as AF_ENOCONV.
@@ -85,7 +85,7 @@ struct af_fit {
   double *base_slope_n_s;                         /* its time derivative [N/s] */
   double probe_contact_time_s[AF_FIT_MAX_PARAMS]; /* at x + step e_j, last Jacobian */
 
-  /* The problem of the current af_fit_pulse call. */
+  /* The problem of the current af_fit_execute call. */
   af_impact_params start; /* damping overridden by cfg */
   const double *pulse_n;
   size_t n;
@@ -122,19 +122,19 @@ af_fit_config af_fit_config_default(void)
   return c;
 }
 
-static bool af_positive(double v)
+static bool is_positive(double v)
 {
   return isfinite(v) && v > 0.0;
 }
 
-static bool af_fit_config_valid(const af_fit_config *c)
+static bool fit_config_valid(const af_fit_config *c)
 {
   /* the model buffer's size in bytes must not overflow */
   const size_t limit = SIZE_MAX / 16 / AF_FIT_MODEL_SPAN / AF_FIT_MAX_OVERSAMPLE;
   return c->max_samples >= AF_FIT_MIN_SAMPLES && c->max_samples <= limit && c->oversample >= 1 &&
          c->oversample <= AF_FIT_MAX_OVERSAMPLE && c->max_iterations >= 1 &&
-         af_positive(c->step_tol) && af_positive(c->gradient_tol) &&
-         af_positive(c->max_relative_residual) && isfinite(c->window_margin) &&
+         is_positive(c->step_tol) && is_positive(c->gradient_tol) &&
+         is_positive(c->max_relative_residual) && isfinite(c->window_margin) &&
          c->window_margin >= 0.0 &&
          (c->damping == AF_DAMPING_PAPER || c->damping == AF_DAMPING_EXACT ||
           c->damping == AF_DAMPING_HU_GUO);
@@ -142,35 +142,35 @@ static bool af_fit_config_valid(const af_fit_config *c)
 
 /* ---- parameters --------------------------------------------------------- */
 
-static double af_logistic(double x)
+static double logistic(double x)
 {
   return 1.0 / (1.0 + exp(-x));
 }
 
-static double af_restitution_of(double x)
+static double restitution_of(double x)
 {
-  return AF_FIT_RESTITUTION_MIN + (1.0 - AF_FIT_RESTITUTION_MIN) * af_logistic(x);
+  return AF_FIT_RESTITUTION_MIN + (1.0 - AF_FIT_RESTITUTION_MIN) * logistic(x);
 }
 
 /* de/dx, for the standard error. */
-static double af_restitution_slope(double x)
+static double restitution_slope(double x)
 {
-  double s = af_logistic(x);
+  double s = logistic(x);
   return (1.0 - AF_FIT_RESTITUTION_MIN) * s * (1.0 - s);
 }
 
-static double af_restitution_to_x(double e)
+static double restitution_to_x(double e)
 {
   double s = (e - AF_FIT_RESTITUTION_MIN) / (1.0 - AF_FIT_RESTITUTION_MIN);
   return log(s / (1.0 - s));
 }
 
 /* The model parameters and contact start at the scaled point x. */
-static void af_fit_unpack(const af_fit *w, const double *x, af_impact_params *p, double *t0_s)
+static void fit_unpack(const af_fit *w, const double *x, af_impact_params *p, double *t0_s)
 {
   *p = w->start;
   p->fruit_modulus_pa = w->start.fruit_modulus_pa * exp(x[AF_IX_MODULUS]);
-  p->restitution = af_restitution_of(x[AF_IX_RESTITUTION]);
+  p->restitution = restitution_of(x[AF_IX_RESTITUTION]);
   if (w->ix_velocity != AF_IX_NONE)
     p->velocity_m_s = w->start.velocity_m_s * exp(x[w->ix_velocity]);
   *t0_s = w->t0_start_s;
@@ -188,8 +188,8 @@ static void af_fit_unpack(const af_fit *w, const double *x, af_impact_params *p,
  * whenever the contact end crossed a grid point and the last sample (then
  * ~0) dropped out, which corrupted forward-difference columns; this way the
  * model is continuous in the parameters. */
-static void af_fit_interp(const double *g, size_t n_g, double h_s, double tau_s, double *value,
-                          double *slope)
+static void fit_interp(const double *g, size_t n_g, double h_s, double tau_s, double *value,
+                       double *slope)
 {
   *value = 0.0;
   *slope = 0.0;
@@ -215,19 +215,19 @@ static void af_fit_interp(const double *g, size_t n_g, double h_s, double tau_s,
 }
 
 /* One impact run at x into buf (every h). */
-static af_status af_fit_model(af_fit *w, const double *x, double *buf, af_impact_result *res,
-                              double *t0_s)
+static af_status fit_model(af_fit *w, const double *x, double *buf, af_impact_result *res,
+                           double *t0_s)
 {
   af_impact_params p;
-  af_fit_unpack(w, x, &p, t0_s);
+  fit_unpack(w, x, &p, t0_s);
   w->model_runs++;
-  return af_impact_run(w->impact, &p, w->h_s, buf, NULL, w->model_cap, res);
+  return af_impact_execute(w->impact, &p, w->h_s, buf, NULL, w->model_cap, res);
 }
 
 /* Makes x the base point: the model and its values and slopes at the data
  * times. Reuses the last run when x has not moved (GSL asks for J right
  * after f at the same point). */
-static af_status af_fit_base(af_fit *w, const gsl_vector *xv)
+static af_status fit_base(af_fit *w, const gsl_vector *xv)
 {
   double x[AF_FIT_MAX_PARAMS] = {0};
   for (size_t i = 0; i < w->n_params; i++)
@@ -237,23 +237,23 @@ static af_status af_fit_base(af_fit *w, const gsl_vector *xv)
   memcpy(w->base_x, x, w->n_params * sizeof x[0]);
   w->base_valid = true;
   double t0_s;
-  af_status st = af_fit_model(w, x, w->model_n, &w->base_res, &t0_s);
+  af_status st = fit_model(w, x, w->model_n, &w->base_res, &t0_s);
   w->base_failed = st != AF_OK;
   if (st != AF_OK)
     return st;
   for (size_t k = 0; k < w->n; k++)
-    af_fit_interp(w->model_n, w->base_res.n_samples, w->h_s, (double)k * w->dt_s - t0_s,
-                  &w->base_at_n[k], &w->base_slope_n_s[k]);
+    fit_interp(w->model_n, w->base_res.n_samples, w->h_s, (double)k * w->dt_s - t0_s,
+               &w->base_at_n[k], &w->base_slope_n_s[k]);
   return AF_OK;
 }
 
 /* ---- GSL callbacks ------------------------------------------------------ */
 
-static int af_fit_f(const gsl_vector *x, void *params, gsl_vector *f)
+static int fit_f(const gsl_vector *x, void *params, gsl_vector *f)
 {
   af_fit *w = params;
   gsl_vector_set_zero(f);
-  if (af_fit_base(w, x) != AF_OK) {
+  if (fit_base(w, x) != AF_OK) {
     double r = AF_FIT_PENALTY / sqrt((double)w->n);
     for (size_t k = 0; k < w->n; k++)
       gsl_vector_set(f, k, r);
@@ -265,35 +265,35 @@ static int af_fit_f(const gsl_vector *x, void *params, gsl_vector *f)
 }
 
 /* Column j of J by a forward difference of whole model runs. */
-static int af_fit_column_fd(af_fit *w, const gsl_vector *x, size_t j, gsl_matrix *J)
+static int fit_column_fd(af_fit *w, const gsl_vector *x, size_t j, gsl_matrix *J)
 {
   double xp[AF_FIT_MAX_PARAMS] = {0}, t0_s;
   for (size_t i = 0; i < w->n_params; i++)
     xp[i] = gsl_vector_get(x, i);
   xp[j] += AF_FIT_FD_STEP;
   af_impact_result res;
-  if (af_fit_model(w, xp, w->probe_n, &res, &t0_s) != AF_OK)
+  if (fit_model(w, xp, w->probe_n, &res, &t0_s) != AF_OK)
     return GSL_EFAILED;
   w->probe_contact_time_s[j] = res.contact_time_s;
   for (size_t k = 0; k < w->n; k++) {
     double v, s;
-    af_fit_interp(w->probe_n, res.n_samples, w->h_s, (double)k * w->dt_s - t0_s, &v, &s);
+    fit_interp(w->probe_n, res.n_samples, w->h_s, (double)k * w->dt_s - t0_s, &v, &s);
     gsl_matrix_set(J, k, j, w->scale * (v - w->base_at_n[k]) / AF_FIT_FD_STEP);
   }
   return GSL_SUCCESS;
 }
 
-static int af_fit_df(const gsl_vector *x, void *params, gsl_matrix *J)
+static int fit_df(const gsl_vector *x, void *params, gsl_matrix *J)
 {
   af_fit *w = params;
   gsl_matrix_set_zero(J);
-  if (af_fit_base(w, x) != AF_OK)
+  if (fit_base(w, x) != AF_OK)
     return GSL_EFAILED;
   for (size_t j = 0; j < w->n_params; j++) {
     w->probe_contact_time_s[j] = w->base_res.contact_time_s; /* t0 leaves t_c alone */
     if (j == w->ix_time)
       continue;
-    int rc = af_fit_column_fd(w, x, j, J);
+    int rc = fit_column_fd(w, x, j, J);
     if (rc != GSL_SUCCESS)
       return rc;
   }
@@ -305,7 +305,7 @@ static int af_fit_df(const gsl_vector *x, void *params, gsl_matrix *J)
 
 /* ---- workspace ---------------------------------------------------------- */
 
-static af_status af_fit_alloc_gsl(af_fit *w)
+static af_status fit_alloc_gsl(af_fit *w)
 {
   gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
   par.trs = w->cfg.accelerate ? gsl_multifit_nlinear_trs_lmaccel : gsl_multifit_nlinear_trs_lm;
@@ -317,7 +317,7 @@ static af_status af_fit_alloc_gsl(af_fit *w)
   return w->nls && w->x_start && w->x_prev && w->normal ? AF_OK : AF_ENOMEM;
 }
 
-static af_status af_fit_alloc_buffers(af_fit *w)
+static af_status fit_alloc_buffers(af_fit *w)
 {
   w->model_cap = AF_FIT_MODEL_SPAN * w->cfg.max_samples * w->cfg.oversample + 1;
   w->model_n = malloc(w->model_cap * sizeof *w->model_n);
@@ -332,7 +332,7 @@ af_status af_fit_create(const af_fit_config *cfg, af_fit **out)
   if (out == NULL)
     return AF_EINVAL;
   *out = NULL;
-  if (cfg == NULL || !af_fit_config_valid(cfg))
+  if (cfg == NULL || !fit_config_valid(cfg))
     return AF_EINVAL;
   af_status_init();
   af_fit *w = calloc(1, sizeof *w);
@@ -342,21 +342,17 @@ af_status af_fit_create(const af_fit_config *cfg, af_fit **out)
   w->n_params = 2;
   w->ix_velocity = cfg->fit_velocity ? w->n_params++ : AF_IX_NONE;
   w->ix_time = cfg->fit_time_offset ? w->n_params++ : AF_IX_NONE;
-  af_status st = af_fit_alloc_gsl(w);
+  af_status st = fit_alloc_gsl(w);
   if (st == AF_OK)
-    st = af_fit_alloc_buffers(w);
+    st = fit_alloc_buffers(w);
   if (st == AF_OK)
     st = af_impact_create(&w->impact);
   if (st != AF_OK) {
     af_fit_destroy(w);
     return st;
   }
-  w->fdf = (gsl_multifit_nlinear_fdf){.f = af_fit_f,
-                                      .df = af_fit_df,
-                                      .fvv = NULL,
-                                      .n = cfg->max_samples,
-                                      .p = w->n_params,
-                                      .params = w};
+  w->fdf = (gsl_multifit_nlinear_fdf){
+      .f = fit_f, .df = fit_df, .fvv = NULL, .n = cfg->max_samples, .p = w->n_params, .params = w};
   *out = w;
   return AF_OK;
 }
@@ -379,14 +375,14 @@ void af_fit_destroy(af_fit *w)
 
 /* ---- one fit ------------------------------------------------------------ */
 
-static af_status af_fit_check(const af_fit *w, const af_impact_params *start, const double *pulse_n,
-                              size_t n, double dt_s, double t0_s)
+static af_status fit_check(const af_fit *w, const af_impact_params *start, const double *pulse_n,
+                           size_t n, double dt_s, double t0_s)
 {
   if (w == NULL || start == NULL || pulse_n == NULL || n < AF_FIT_MIN_SAMPLES ||
-      !af_positive(dt_s) || !isfinite(t0_s))
+      !is_positive(dt_s) || !isfinite(t0_s))
     return AF_EINVAL;
   if (!(start->restitution > AF_FIT_RESTITUTION_MIN && start->restitution < 1.0) ||
-      !af_positive(start->fruit_modulus_pa) || !af_positive(start->velocity_m_s))
+      !is_positive(start->fruit_modulus_pa) || !is_positive(start->velocity_m_s))
     return AF_EINVAL;
   if (n > w->cfg.max_samples)
     return AF_ESIZE;
@@ -398,8 +394,8 @@ static af_status af_fit_check(const af_fit *w, const af_impact_params *start, co
 
 /* Takes in the problem; AF_ENODATA when the pulse has no positive peak or
  * no positive impulse. */
-static af_status af_fit_setup(af_fit *w, const af_impact_params *start, const double *pulse_n,
-                              size_t n, double dt_s, double t0_s)
+static af_status fit_setup(af_fit *w, const af_impact_params *start, const double *pulse_n,
+                           size_t n, double dt_s, double t0_s)
 {
   w->start = *start;
   w->start.damping = w->cfg.damping;
@@ -424,7 +420,7 @@ static af_status af_fit_setup(af_fit *w, const af_impact_params *start, const do
 /* E2 giving the effective modulus e_star_pa with the start's hammer and
  * Poisson ratios (1/E* = (1 - nu2^2)/E2 + (1 - nu1^2)/E1); NAN when the
  * hammer alone is softer than that. */
-static double af_fit_modulus_for(const af_impact_params *p, double e_star_pa)
+static double fit_modulus_for(const af_impact_params *p, double e_star_pa)
 {
   double fruit_compliance = 1.0 / e_star_pa;
   if (p->hammer_modulus_pa > 0.0)
@@ -439,7 +435,7 @@ static double af_fit_modulus_for(const af_impact_params *p, double e_star_pa)
  * m1 v0 (1 + e) ~ v0, peak ~ E*^0.4 v0^1.2, width = impulse / peak ~
  * E*^-0.4 v0^-0.2. e stays: its effect on the impulse is taken for v0's. The
  * changes are clamped: this is a start, not an estimate. */
-static void af_fit_match(af_fit *w)
+static void fit_match(af_fit *w)
 {
   double impulse_model = 0.0, impulse_data = 0.0;
   for (size_t j = 0; j < w->base_res.n_samples; j++)
@@ -459,8 +455,8 @@ static void af_fit_match(af_fit *w)
   }
   l_modulus = fmax(-AF_FIT_MATCH_MAX_LN_MODULUS, fmin(AF_FIT_MATCH_MAX_LN_MODULUS, l_modulus));
   double e2 =
-      af_fit_modulus_for(&w->start, af_impact_effective_modulus_pa(&w->start) * exp(l_modulus));
-  if (!af_positive(e2))
+      fit_modulus_for(&w->start, af_impact_effective_modulus_pa(&w->start) * exp(l_modulus));
+  if (!is_positive(e2))
     return;
   gsl_vector_set(w->x_start, AF_IX_MODULUS, log(e2 / w->start.fruit_modulus_pa));
   if (w->ix_velocity != AF_IX_NONE)
@@ -470,16 +466,16 @@ static void af_fit_match(af_fit *w)
 /* The start point: e as logit, every other scaled parameter 0, then matched
  * to the pulse. The start model must run: its failure is the caller's
  * parameters' fault (or the buffer's size). */
-static af_status af_fit_start(af_fit *w)
+static af_status fit_start(af_fit *w)
 {
   gsl_vector_set_zero(w->x_start);
-  gsl_vector_set(w->x_start, AF_IX_RESTITUTION, af_restitution_to_x(w->start.restitution));
-  af_status st = af_fit_base(w, w->x_start);
+  gsl_vector_set(w->x_start, AF_IX_RESTITUTION, restitution_to_x(w->start.restitution));
+  af_status st = fit_base(w, w->x_start);
   if (st != AF_OK)
     return st == AF_ESIZE || st == AF_EINVAL ? st : AF_ENUMERIC;
   if (w->cfg.match_start) {
-    af_fit_match(w);
-    st = af_fit_base(w, w->x_start);
+    fit_match(w);
+    st = fit_base(w, w->x_start);
     if (st != AF_OK)
       return st == AF_ESIZE ? st : AF_ENUMERIC;
   }
@@ -490,8 +486,8 @@ static af_status af_fit_start(af_fit *w)
 /* The convergence test, a pure function of the last step dx, the Jacobian J
  * and the residual r at the new point: every |dx_i| <= step_tol, or every
  * column of J within gradient_tol (as a cosine) of orthogonal to r. */
-static bool af_fit_converged(const gsl_vector *dx, const gsl_matrix *J, const gsl_vector *r,
-                             double step_tol, double gradient_tol)
+static bool fit_converged(const gsl_vector *dx, const gsl_matrix *J, const gsl_vector *r,
+                          double step_tol, double gradient_tol)
 {
   bool small_step = true;
   for (size_t i = 0; i < dx->size; i++)
@@ -512,7 +508,7 @@ static bool af_fit_converged(const gsl_vector *dx, const gsl_matrix *J, const gs
 }
 
 /* The caller-owned iteration loop. */
-static af_status af_fit_iterate(af_fit *w)
+static af_status fit_iterate(af_fit *w)
 {
   for (size_t i = 0; i < w->cfg.max_iterations; i++) {
     gsl_vector_memcpy(w->x_prev, gsl_multifit_nlinear_position(w->nls));
@@ -526,9 +522,8 @@ static af_status af_fit_iterate(af_fit *w)
       return AF_ENOCONV;
     gsl_vector *dx = w->x_prev; /* reused: the step, up to its sign */
     gsl_vector_sub(dx, gsl_multifit_nlinear_position(w->nls));
-    if (af_fit_converged(dx, gsl_multifit_nlinear_jac(w->nls),
-                         gsl_multifit_nlinear_residual(w->nls), w->cfg.step_tol,
-                         w->cfg.gradient_tol))
+    if (fit_converged(dx, gsl_multifit_nlinear_jac(w->nls), gsl_multifit_nlinear_residual(w->nls),
+                      w->cfg.step_tol, w->cfg.gradient_tol))
       return AF_OK;
   }
   return AF_EBUDGET_FIT_ITER;
@@ -540,7 +535,7 @@ static af_status af_fit_iterate(af_fit *w)
  * the p x p normal matrix is inverted here instead, by Cholesky after
  * scaling its columns to unit norm (the condition number that squaring J
  * costs is then only that of the parameter correlations). */
-static af_status af_fit_covariance(af_fit *w)
+static af_status fit_covariance(af_fit *w)
 {
   const gsl_matrix *J = gsl_multifit_nlinear_jac(w->nls);
   const gsl_vector *r = gsl_multifit_nlinear_residual(w->nls);
@@ -569,7 +564,7 @@ static af_status af_fit_covariance(af_fit *w)
 
 /* Standard error of the fitted model's contact time, to first order:
  * sqrt(g^T C g) with g_j = dt_c/dx_j from the last Jacobian's runs. */
-static double af_fit_contact_time_se(const af_fit *w)
+static double fit_contact_time_se(const af_fit *w)
 {
   double g[AF_FIT_MAX_PARAMS] = {0}, var = 0.0;
   for (size_t j = 0; j < w->n_params; j++)
@@ -582,19 +577,19 @@ static double af_fit_contact_time_se(const af_fit *w)
 
 /* Fills out from the final point; the status says whether the standard
  * errors could be computed. */
-static af_status af_fit_report(af_fit *w, af_fit_result *out)
+static af_status fit_report(af_fit *w, af_fit_result *out)
 {
   const gsl_vector *xv = gsl_multifit_nlinear_position(w->nls);
   double x[AF_FIT_MAX_PARAMS] = {0};
   for (size_t i = 0; i < w->n_params; i++)
     x[i] = gsl_vector_get(xv, i);
   af_impact_params p;
-  af_fit_unpack(w, x, &p, &out->time_offset_s);
+  fit_unpack(w, x, &p, &out->time_offset_s);
   out->modulus_pa = p.fruit_modulus_pa;
   out->restitution = p.restitution;
   out->velocity_m_s = p.velocity_m_s;
   out->iterations = gsl_multifit_nlinear_niter(w->nls);
-  if (af_fit_base(w, xv) != AF_OK) /* reruns only if the last run was a rejected trial */
+  if (fit_base(w, xv) != AF_OK) /* reruns only if the last run was a rejected trial */
     return AF_ENUMERIC;
   out->contact_time_s = w->base_res.contact_time_s;
   out->peak_force_n = w->base_res.peak_force_n;
@@ -604,28 +599,28 @@ static af_status af_fit_report(af_fit *w, af_fit_result *out)
   out->residual_rms_n = sqrt(ss / (double)w->n);
   out->relative_residual = out->residual_rms_n / w->peak_n;
 
-  af_status st = af_fit_covariance(w);
+  af_status st = fit_covariance(w);
   if (st != AF_OK)
     return st;
   double se[AF_FIT_MAX_PARAMS] = {0};
   for (size_t j = 0; j < w->n_params; j++)
     se[j] = sqrt(gsl_matrix_get(w->normal, j, j));
-  out->contact_time_se_s = af_fit_contact_time_se(w);
+  out->contact_time_se_s = fit_contact_time_se(w);
   out->modulus_se_pa = p.fruit_modulus_pa * se[AF_IX_MODULUS];
-  out->restitution_se = af_restitution_slope(x[AF_IX_RESTITUTION]) * se[AF_IX_RESTITUTION];
+  out->restitution_se = restitution_slope(x[AF_IX_RESTITUTION]) * se[AF_IX_RESTITUTION];
   out->velocity_se_m_s = w->ix_velocity == AF_IX_NONE ? 0.0 : p.velocity_m_s * se[w->ix_velocity];
   out->time_offset_se_s = w->ix_time == AF_IX_NONE ? 0.0 : w->dt_s * se[w->ix_time];
   return AF_OK;
 }
 
-static af_status af_fit_finish(af_fit_result *out, af_status st, const af_fit *w)
+static af_status fit_finish(af_fit_result *out, af_status st, const af_fit *w)
 {
   out->model_runs = w != NULL ? w->model_runs : 0;
   out->status = st;
   return st;
 }
 
-static void af_fit_result_clear(af_fit_result *out)
+static void fit_result_clear(af_fit_result *out)
 {
   *out = (af_fit_result){.modulus_pa = NAN,
                          .modulus_se_pa = NAN,
@@ -649,7 +644,7 @@ static void af_fit_result_clear(af_fit_result *out)
  * length. With few samples, noise alone is fitted closely by a pulse that
  * starts long before the window and lasts 100 times longer: only the second
  * test sees it. */
-static bool af_fit_explains(const af_fit *w, const af_fit_result *r)
+static bool fit_explains(const af_fit *w, const af_fit_result *r)
 {
   double length_s = (double)w->n * w->dt_s, margin_s = w->cfg.window_margin * length_s;
   return r->relative_residual <= w->cfg.max_relative_residual &&
@@ -657,27 +652,27 @@ static bool af_fit_explains(const af_fit *w, const af_fit_result *r)
          r->time_offset_s + r->contact_time_s <= length_s + margin_s;
 }
 
-af_status af_fit_pulse(af_fit *w, const af_impact_params *start, const double *pulse_n, size_t n,
-                       double dt_s, double t0_s, af_fit_result *out)
+af_status af_fit_execute(af_fit *w, const af_impact_params *start, const double *pulse_n, size_t n,
+                         double dt_s, double t0_s, af_fit_result *out)
 {
   if (out == NULL)
     return AF_EINVAL;
-  af_fit_result_clear(out);
-  af_status st = af_fit_check(w, start, pulse_n, n, dt_s, t0_s);
+  fit_result_clear(out);
+  af_status st = fit_check(w, start, pulse_n, n, dt_s, t0_s);
   if (st != AF_OK)
-    return af_fit_finish(out, st, NULL);
-  st = af_fit_setup(w, start, pulse_n, n, dt_s, t0_s);
+    return fit_finish(out, st, NULL);
+  st = fit_setup(w, start, pulse_n, n, dt_s, t0_s);
   if (st == AF_OK)
-    st = af_fit_start(w);
+    st = fit_start(w);
   if (st != AF_OK)
-    return af_fit_finish(out, st, w);
-  af_status fit_st = af_fit_iterate(w);
-  af_status report_st = af_fit_report(w, out);
+    return fit_finish(out, st, w);
+  af_status fit_st = fit_iterate(w);
+  af_status report_st = fit_report(w, out);
   /* Most telling first: a pulse the model cannot explain is no strike,
    * whether or not the search converged on it (NaN: no final model). */
-  if (!isnan(out->relative_residual) && !af_fit_explains(w, out))
+  if (!isnan(out->relative_residual) && !fit_explains(w, out))
     st = AF_ENODATA;
   else
     st = fit_st != AF_OK ? fit_st : report_st;
-  return af_fit_finish(out, st, w);
+  return fit_finish(out, st, w);
 }

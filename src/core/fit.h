@@ -6,7 +6,7 @@
  * the rig does not measure them, the contact velocity v0 and the contact
  * start t0) by nonlinear least squares on the samples:
  *     r_k = F_model(k dt - t0; E2, e, v0) - pulse_k,   k = 0 .. n-1,
- * with F_model the force of af_impact_run (0 before contact and after t_c).
+ * with F_model the force of af_impact_execute (0 before contact and after t_c).
  * Every other parameter (hammer mass, radii, Poisson ratios, gravity) is
  * taken as known from the start parameters.
  *
@@ -22,7 +22,7 @@
  * physical parameter) and analytically for t0. Cost: about 30 impact runs
  * per fit with v0 free, 17 with v0 measured (see af_fit_result.model_runs).
  * Conventions of status.h: all memory in af_fit_create, none in
- * af_fit_pulse; one af_fit per thread.
+ * af_fit_execute; one af_fit per thread.
  *
  * Identifiability: E2, e and v0 are strongly correlated through the pulse's
  * amplitude, width and asymmetry. At 40 dB SNR (50 kHz, R2 40 mm) the
@@ -142,8 +142,8 @@ typedef struct {
  * the model checks), out holds the last estimate; otherwise its values are
  * NaN.
  * No allocation. */
-af_status af_fit_pulse(af_fit *f, const af_impact_params *start, const double *pulse_n, size_t n,
-                       double dt_s, double t0_s, af_fit_result *out);
+af_status af_fit_execute(af_fit *f, const af_impact_params *start, const double *pulse_n, size_t n,
+                         double dt_s, double t0_s, af_fit_result *out);
 
 #ifdef __cplusplus
 }

@@ -193,7 +193,7 @@ double af_impact_hertz_contact_time_s(const af_impact_params *p)
  * w' = chi gamma - chi (5/4) x^1.5 w and so cannot cross 0 from above (the
  * delivered restitution stays below 1/chi); it guards round-off only. Out of
  * contact (x <= 0) the hammer flies free. */
-static double af_force(double x, double u, double chi)
+static double hertz_force(double x, double u, double chi)
 {
   if (x <= 0.0)
     return 0.0;
@@ -201,32 +201,32 @@ static double af_force(double x, double u, double chi)
   return w > 0.0 ? 1.25 * x * sqrt(x) * w : 0.0;
 }
 
-static int af_rhs(double t, const double y[], double dydt[], void *params)
+static int ode_rhs(double t, const double y[], double dydt[], void *params)
 {
   (void)t;
   const af_rhs_params *p = params;
   if (!isfinite(y[0]) || !isfinite(y[1]))
     return GSL_EBADFUNC; /* stops the integration at once: AF_ENUMERIC */
   dydt[0] = y[1];
-  dydt[1] = p->gamma - af_force(y[0], y[1], p->chi);
+  dydt[1] = p->gamma - hertz_force(y[0], y[1], p->chi);
   return GSL_SUCCESS;
 }
 
-static double af_accel(const af_rhs_params *p, const af_state *s)
+static double accel(const af_rhs_params *p, const af_state *s)
 {
-  return p->gamma - af_force(s->x, s->u, p->chi);
+  return p->gamma - hertz_force(s->x, s->u, p->chi);
 }
 
 /* dF/dtau / F0 (the force-peak event) and its derivative, using u' = a and
  * a' = -dF/dtau. Zero out of contact. */
-static void af_force_rate(const af_rhs_params *p, const af_state *s, double *g, double *dg)
+static void force_rate(const af_rhs_params *p, const af_state *s, double *g, double *dg)
 {
   if (s->x <= 0.0) {
     *g = 0.0;
     *dg = -INFINITY; /* the rate falls to 0 like -sqrt(x) as contact ends */
     return;
   }
-  double rx = sqrt(s->x), w = 1.0 + p->chi * s->u, a = af_accel(p, s);
+  double rx = sqrt(s->x), w = 1.0 + p->chi * s->u, a = accel(p, s);
   *g = 1.25 * (1.5 * rx * s->u * w + s->x * rx * p->chi * a);
   *dg = 1.25 * (0.75 * s->u * s->u * w / rx + 1.5 * rx * a * (w + 2.0 * p->chi * s->u) -
                 s->x * rx * p->chi * *g);
@@ -235,8 +235,8 @@ static void af_force_rate(const af_rhs_params *p, const af_state *s, double *g, 
 typedef enum { AF_EVENT_CONTACT_END, AF_EVENT_MAX_DEFORMATION, AF_EVENT_FORCE_PEAK } af_event;
 
 /* The event function (each crosses from + to -) and its tau-derivative. */
-static void af_event_eval(const af_rhs_params *p, af_event ev, const af_state *s, double *f,
-                          double *df)
+static void event_eval(const af_rhs_params *p, af_event ev, const af_state *s, double *f,
+                       double *df)
 {
   switch (ev) {
   case AF_EVENT_CONTACT_END:
@@ -245,13 +245,13 @@ static void af_event_eval(const af_rhs_params *p, af_event ev, const af_state *s
     return;
   case AF_EVENT_MAX_DEFORMATION:
     *f = s->u;
-    *df = af_accel(p, s);
+    *df = accel(p, s);
     return;
-  case AF_EVENT_FORCE_PEAK: af_force_rate(p, s, f, df); return;
+  case AF_EVENT_FORCE_PEAK: force_rate(p, s, f, df); return;
   }
 }
 
-static af_status af_gsl_status(int gsl_status)
+static af_status status_from_gsl(int gsl_status)
 {
   if (gsl_status == GSL_SUCCESS)
     return AF_OK;
@@ -261,7 +261,7 @@ static af_status af_gsl_status(int gsl_status)
 /* One accepted adaptive step from s; *h is the trial step in, the next
  * suggested step out, capped at AF_H_MAX so the interpolant between steps
  * stays accurate. */
-static af_status af_step(af_impact *w, af_state *s, double *h)
+static af_status ode_step(af_impact *w, af_state *s, double *h)
 {
   double y[2] = {s->x, s->u};
   double t = s->t;
@@ -271,7 +271,7 @@ static af_status af_step(af_impact *w, af_state *s, double *h)
   *h = fmin(*h, AF_H_MAX);
   int rc = gsl_odeiv2_evolve_apply(w->evolve, w->control, w->step, &w->sys, &t, AF_TAU_LIMIT, h, y);
   if (rc != GSL_SUCCESS)
-    return af_gsl_status(rc);
+    return status_from_gsl(rc);
   if (!isfinite(y[0]) || !isfinite(y[1]))
     return AF_ENUMERIC;
   s->t = t;
@@ -284,7 +284,7 @@ static af_status af_step(af_impact *w, af_state *s, double *h)
  * step, since t lies inside an interval the controller already accepted.
  * evolve keeps the derivative at the end of its last step for the next one
  * (GSL 2.7), so it is reset on leaving and rejoining the main trajectory. */
-static af_status af_state_at(af_impact *w, const af_state *from, double t, af_state *out)
+static af_status state_at(af_impact *w, const af_state *from, double t, af_state *out)
 {
   *out = *from;
   double h = t - from->t;
@@ -301,13 +301,13 @@ static af_status af_state_at(af_impact *w, const af_state *from, double t, af_st
   }
   gsl_odeiv2_evolve_reset(w->evolve);
   if (rc != GSL_SUCCESS)
-    return af_gsl_status(rc);
+    return status_from_gsl(rc);
   return isfinite(out->x) && isfinite(out->u) ? AF_OK : AF_ENUMERIC;
 }
 
 /* Cubic Hermite value and slope on s in [0, 1] from end values f0, f1 and
  * end slopes m0, m1 (already multiplied by the interval length). */
-static void af_hermite(double f0, double m0, double f1, double m1, double s, double *p, double *dp)
+static void hermite(double f0, double m0, double f1, double m1, double s, double *p, double *dp)
 {
   double s2 = s * s, s3 = s2 * s;
   *p =
@@ -319,14 +319,14 @@ static void af_hermite(double f0, double m0, double f1, double m1, double s, dou
 /* A first guess in (0, 1) for the root of the cubic Hermite interpolant,
  * f0 > 0 >= f1: Newton safeguarded by bisection. The midpoint when a slope
  * is not finite (the force rate at the contact end). */
-static double af_hermite_root(double f0, double m0, double f1, double m1)
+static double hermite_root(double f0, double m0, double f1, double m1)
 {
   if (!isfinite(m0) || !isfinite(m1))
     return 0.5;
   double lo = 0.0, hi = 1.0, s = f0 / (f0 - f1);
   for (int i = 0; i < 20; i++) {
     double p, dp;
-    af_hermite(f0, m0, f1, m1, s, &p, &dp);
+    hermite(f0, m0, f1, m1, s, &p, &dp);
     if (p > 0.0)
       lo = s;
     else
@@ -346,21 +346,21 @@ static double af_hermite_root(double f0, double m0, double f1, double m1)
  * first guess from the Hermite interpolant). *root is the integrated state
  * at the last trial, within AF_EVENT_TOL of the event; the caller applies
  * the final Newton correction analytically. */
-static af_status af_locate(af_impact *w, af_event ev, const af_state *a, const af_state *b,
-                           af_state *root)
+static af_status locate(af_impact *w, af_event ev, const af_state *a, const af_state *b,
+                        af_state *root)
 {
   const af_rhs_params *p = &w->rhs;
   double fa, dfa, fb, dfb, len = b->t - a->t;
-  af_event_eval(p, ev, a, &fa, &dfa);
-  af_event_eval(p, ev, b, &fb, &dfb);
+  event_eval(p, ev, a, &fa, &dfa);
+  event_eval(p, ev, b, &fb, &dfb);
   double lo = a->t, hi = b->t;
-  double t = a->t + len * af_hermite_root(fa, dfa * len, fb, dfb * len);
+  double t = a->t + len * hermite_root(fa, dfa * len, fb, dfb * len);
   for (int i = 0; i < AF_EVENT_ITER; i++) {
-    af_status st = af_state_at(w, a, t, root);
+    af_status st = state_at(w, a, t, root);
     if (st != AF_OK)
       return st;
     double f, df;
-    af_event_eval(p, ev, root, &f, &df);
+    event_eval(p, ev, root, &f, &df);
     if (f > 0.0)
       lo = t;
     else
@@ -381,7 +381,7 @@ static af_status af_locate(af_impact *w, af_event ev, const af_state *a, const a
 
 /* Quintic Hermite on s in [0, 1]; c = {f0, f0', f0'', f1, f1', f1''} with the
  * derivatives already scaled by the interval length (and its square). */
-static double af_quintic(const double c[6], double s)
+static double quintic_fit(const double c[6], double s)
 {
   double s2 = s * s, s3 = s2 * s, s4 = s3 * s, s5 = s4 * s;
   return c[0] * (1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5) +
@@ -394,26 +394,26 @@ static double af_quintic(const double c[6], double s)
  * interpolants of x and u across the step, whose ends carry x, u, u' and u''
  * = -dF/dtau exactly: sixth-order accurate, so the sampling step never
  * constrains the integration step. AF_ESIZE when a sample falls beyond cap. */
-static af_status af_sink_fill(const af_sink *k, const af_rhs_params *p, const af_state *a,
-                              const af_state *b, size_t *next)
+static af_status sink_fill(const af_sink *k, const af_rhs_params *p, const af_state *a,
+                           const af_state *b, size_t *next)
 {
   double len = b->t - a->t;
   double t = (double)*next * k->dtau;
   if (t > b->t)
     return AF_OK;
   double ga, dga, gb, dgb;
-  af_force_rate(p, a, &ga, &dga);
-  af_force_rate(p, b, &gb, &dgb);
-  double aa = af_accel(p, a), ab = af_accel(p, b), l2 = len * len;
+  force_rate(p, a, &ga, &dga);
+  force_rate(p, b, &gb, &dgb);
+  double aa = accel(p, a), ab = accel(p, b), l2 = len * len;
   const double cx[6] = {a->x, a->u * len, aa * l2, b->x, b->u * len, ab * l2};
   const double cu[6] = {a->u, aa * len, -ga * l2, b->u, ab * len, -gb * l2};
   for (; t <= b->t; t = (double)*next * k->dtau) {
     if (*next >= k->cap)
       return AF_ESIZE;
     double s = (t - a->t) / len;
-    double x = af_quintic(cx, s), u = af_quintic(cu, s);
+    double x = quintic_fit(cx, s), u = quintic_fit(cu, s);
     if (k->force_n != NULL)
-      k->force_n[*next] = k->force_scale_n * af_force(x, u, p->chi);
+      k->force_n[*next] = k->force_scale_n * hertz_force(x, u, p->chi);
     if (k->deformation_m != NULL)
       k->deformation_m[*next] = k->length_scale_m * (x > 0.0 ? x : 0.0);
     ++*next;
@@ -424,30 +424,29 @@ static af_status af_sink_fill(const af_sink *k, const af_rhs_params *p, const af
 /* Refines the extrema whose events cross inside (a, b): the deformation
  * maximum where u = 0 and the force peak where dF/dtau = 0. A pulse has one
  * of each; should rounding produce more, the largest wins. */
-static af_status af_refine_extrema(af_impact *w, const af_state *a, const af_state *b,
-                                   af_pulse *out)
+static af_status refine_extrema(af_impact *w, const af_state *a, const af_state *b, af_pulse *out)
 {
   const af_rhs_params *p = &w->rhs;
   af_state s;
   double f, df;
   if (a->u > 0.0 && b->u <= 0.0) {
-    af_status st = af_locate(w, AF_EVENT_MAX_DEFORMATION, a, b, &s);
+    af_status st = locate(w, AF_EVENT_MAX_DEFORMATION, a, b, &s);
     if (st != AF_OK)
       return st;
-    af_event_eval(p, AF_EVENT_MAX_DEFORMATION, &s, &f, &df);
+    event_eval(p, AF_EVENT_MAX_DEFORMATION, &s, &f, &df);
     out->x_max = fmax(out->x_max, s.x - 0.5 * f * f / df); /* x'' = u' < 0 at the top */
   }
   double ga, gb;
-  af_event_eval(p, AF_EVENT_FORCE_PEAK, a, &ga, &df);
-  af_event_eval(p, AF_EVENT_FORCE_PEAK, b, &gb, &df);
+  event_eval(p, AF_EVENT_FORCE_PEAK, a, &ga, &df);
+  event_eval(p, AF_EVENT_FORCE_PEAK, b, &gb, &df);
   /* The force rate is 0 at contact but the first step (AF_H_START) is far
    * shorter than the rise, so ga > 0 holds from the second interval on. */
   if (ga > 0.0 && (gb <= 0.0 || b->x <= 0.0)) {
-    af_status st = af_locate(w, AF_EVENT_FORCE_PEAK, a, b, &s);
+    af_status st = locate(w, AF_EVENT_FORCE_PEAK, a, b, &s);
     if (st != AF_OK)
       return st;
-    af_event_eval(p, AF_EVENT_FORCE_PEAK, &s, &f, &df);
-    double peak = af_force(s.x, s.u, p->chi) - 0.5 * f * f / df;
+    event_eval(p, AF_EVENT_FORCE_PEAK, &s, &f, &df);
+    double peak = hertz_force(s.x, s.u, p->chi) - 0.5 * f * f / df;
     if (peak > out->f_peak) {
       out->f_peak = peak;
       out->tau_peak = s.t - f / df;
@@ -457,20 +456,20 @@ static af_status af_refine_extrema(af_impact *w, const af_state *a, const af_sta
 }
 
 /* The contact end in (a, b), a in contact, b not: tau_c and u there. */
-static af_status af_contact_end(af_impact *w, const af_state *a, const af_state *b, af_state *end)
+static af_status contact_end(af_impact *w, const af_state *a, const af_state *b, af_state *end)
 {
   af_state s;
-  af_status st = af_locate(w, AF_EVENT_CONTACT_END, a, b, &s);
+  af_status st = locate(w, AF_EVENT_CONTACT_END, a, b, &s);
   if (st != AF_OK)
     return st;
   double dt = -s.x / s.u; /* last Newton step, error ~ gamma dt^2 */
   end->t = s.t + dt;
   end->x = 0.0;
-  end->u = s.u + af_accel(&w->rhs, &s) * dt;
+  end->u = s.u + accel(&w->rhs, &s) * dt;
   return AF_OK;
 }
 
-static void af_reset(af_impact *w, double chi, double gamma)
+static void reset_state(af_impact *w, double chi, double gamma)
 {
   w->rhs.chi = chi;
   w->rhs.gamma = gamma;
@@ -481,12 +480,12 @@ static void af_reset(af_impact *w, double chi, double gamma)
 /* Integrates one pulse from contact to separation with free adaptive steps,
  * samples it on tau_k = k sink->dtau and locates the contact end and the
  * extrema inside the step where each happens. */
-static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_sink *sink,
-                              af_pulse *out)
+static af_status pulse_run(af_impact *w, double chi, double gamma, const af_sink *sink,
+                           af_pulse *out)
 {
   if (sink->cap == 0)
     return AF_ESIZE;
-  af_reset(w, chi, gamma);
+  reset_state(w, chi, gamma);
   w->steps_left = AF_IMPACT_STEP_BUDGET;
   memset(out, 0, sizeof *out);
   af_state prev = {0.0, 0.0, 1.0}, cur;
@@ -499,7 +498,7 @@ static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_s
   af_status st = AF_OK;
   while (st == AF_OK) {
     cur = prev;
-    st = af_step(w, &cur, &h);
+    st = ode_step(w, &cur, &h);
     if (st != AF_OK)
       return st;
     if (cur.t >= AF_TAU_LIMIT)
@@ -507,13 +506,13 @@ static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_s
     bool ended = cur.x <= 0.0;
     if (ended) {
       af_state past = cur; /* free flight, just beyond the contact end */
-      st = af_contact_end(w, &prev, &past, &cur);
+      st = contact_end(w, &prev, &past, &cur);
       if (st != AF_OK)
         return st;
     }
-    st = af_refine_extrema(w, &prev, &cur, out);
+    st = refine_extrema(w, &prev, &cur, out);
     if (st == AF_OK)
-      st = af_sink_fill(sink, &w->rhs, &prev, &cur, &next);
+      st = sink_fill(sink, &w->rhs, &prev, &cur, &next);
     if (ended && st == AF_OK) {
       out->tau_c = cur.t;
       out->u_c = cur.u;
@@ -528,28 +527,28 @@ static af_status af_pulse_run(af_impact *w, double chi, double gamma, const af_s
 /* ---- exact damping law ------------------------------------------------- */
 
 /* Restitution delivered by chi without gravity (universal, PHYSICS.md 2). */
-static af_status af_delivered(af_impact *w, double chi, double *e)
+static af_status delivered_of(af_impact *w, double chi, double *e)
 {
   /* One sample (at contact): only the events matter here. */
   af_sink sink = {.dtau = 2.0 * AF_TAU_LIMIT, .cap = 1};
   af_pulse pulse;
-  af_status st = af_pulse_run(w, chi, 0.0, &sink, &pulse);
+  af_status st = pulse_run(w, chi, 0.0, &sink, &pulse);
   if (st == AF_OK)
     *e = -pulse.u_c;
   return st;
 }
 
 /* chi delivering e (0 < e < 1) without gravity. The answer lies between 0.70
- * (e = 0.05) and 1 (e -> 1) times Hu-Guo's, and below 1/e (see af_force:
+ * (e = 0.05) and 1 (e -> 1) times Hu-Guo's, and below 1/e (see hertz_force:
  * chi e -> 1 as e -> 0), so [0.5 Hu-Guo, min(1.5 Hu-Guo, 1/e)] brackets it;
  * the 1e-6 margin keeps the upper end strictly beyond the root. */
-static af_status af_exact_chi_solve(af_impact *w, double e, double *chi)
+static af_status exact_chi_solve(af_impact *w, double e, double *chi)
 {
   double lo = 0.5 * 1.5 * (1.0 - e) / e, hi = fmin(3.0 * lo, (1.0 + 1e-6) / e);
   double flo, fhi;
-  af_status st = af_delivered(w, lo, &flo);
+  af_status st = delivered_of(w, lo, &flo);
   if (st == AF_OK)
-    st = af_delivered(w, hi, &fhi);
+    st = delivered_of(w, hi, &fhi);
   if (st != AF_OK)
     return st;
   flo -= e;
@@ -560,7 +559,7 @@ static af_status af_exact_chi_solve(af_impact *w, double e, double *chi)
   int side = 0;
   for (int i = 0; i < 100; i++) {
     double c = (lo * fhi - hi * flo) / (fhi - flo), fc;
-    st = af_delivered(w, c, &fc);
+    st = delivered_of(w, c, &fc);
     if (st != AF_OK)
       return st;
     fc -= e;
@@ -586,11 +585,11 @@ static af_status af_exact_chi_solve(af_impact *w, double e, double *chi)
   return AF_EBUDGET_ROOT_ITER;
 }
 
-static af_status af_exact_table(af_impact *w)
+static af_status exact_table(af_impact *w)
 {
   for (int i = 0; i < AF_EXACT_N - 1; i++) {
     double e = AF_EXACT_E_MIN + AF_EXACT_STEP * i, chi;
-    af_status st = af_exact_chi_solve(w, e, &chi);
+    af_status st = exact_chi_solve(w, e, &chi);
     if (st != AF_OK)
       return st;
     w->exact_e[i] = e;
@@ -621,8 +620,8 @@ af_status af_impact_create(af_impact **out)
     af_impact_destroy(w);
     return AF_ENOMEM;
   }
-  w->sys = (gsl_odeiv2_system){af_rhs, NULL, 2, &w->rhs};
-  af_status st = af_exact_table(w);
+  w->sys = (gsl_odeiv2_system){ode_rhs, NULL, 2, &w->rhs};
+  af_status st = exact_table(w);
   if (st != AF_OK) {
     af_impact_destroy(w);
     return st;
@@ -660,30 +659,30 @@ af_status af_impact_chi(const af_impact *w, af_damping_law law, double e, double
 
 /* ---- one run ------------------------------------------------------------ */
 
-static bool af_in(double v, double lo, double hi, bool lo_open, bool hi_open)
+static bool in_range(double v, double lo, double hi, bool lo_open, bool hi_open)
 {
   return isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
 }
 
-static bool af_params_valid(const af_impact_params *p)
+static bool params_valid(const af_impact_params *p)
 {
-  return af_in(p->hammer_mass_kg, 0.0, INFINITY, true, true) &&
-         af_in(p->velocity_m_s, 0.0, INFINITY, true, true) &&
-         af_in(p->hammer_modulus_pa, 0.0, INFINITY, false, true) &&
-         af_in(p->hammer_poisson, 0.0, 0.5, false, true) &&
-         af_in(p->hammer_radius_m, 0.0, INFINITY, false, true) &&
-         af_in(p->fruit_modulus_pa, 0.0, INFINITY, true, true) &&
-         af_in(p->fruit_poisson, 0.0, 0.5, false, true) &&
-         af_in(p->strike_radius_m, 0.0, INFINITY, true, true) &&
-         af_in(p->restitution, 0.0, 1.0, true, false) &&
-         af_in(p->gravity_m_s2, 0.0, INFINITY, false, true);
+  return in_range(p->hammer_mass_kg, 0.0, INFINITY, true, true) &&
+         in_range(p->velocity_m_s, 0.0, INFINITY, true, true) &&
+         in_range(p->hammer_modulus_pa, 0.0, INFINITY, false, true) &&
+         in_range(p->hammer_poisson, 0.0, 0.5, false, true) &&
+         in_range(p->hammer_radius_m, 0.0, INFINITY, false, true) &&
+         in_range(p->fruit_modulus_pa, 0.0, INFINITY, true, true) &&
+         in_range(p->fruit_poisson, 0.0, 0.5, false, true) &&
+         in_range(p->strike_radius_m, 0.0, INFINITY, true, true) &&
+         in_range(p->restitution, 0.0, 1.0, true, false) &&
+         in_range(p->gravity_m_s2, 0.0, INFINITY, false, true);
 }
 
-af_status af_impact_run(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
-                        double *deformation_m, size_t cap, af_impact_result *res)
+af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
+                            double *deformation_m, size_t cap, af_impact_result *res)
 {
-  if (w == NULL || p == NULL || res == NULL || !af_params_valid(p) ||
-      !af_in(dt_s, 0.0, INFINITY, true, true))
+  if (w == NULL || p == NULL || res == NULL || !params_valid(p) ||
+      !in_range(dt_s, 0.0, INFINITY, true, true))
     return AF_EINVAL;
   double chi;
   af_status st = af_impact_chi(w, p->damping, p->restitution, &chi);
@@ -701,7 +700,7 @@ af_status af_impact_run(af_impact *w, const af_impact_params *p, double dt_s, do
   if (!isfinite(sink.dtau) || !isfinite(sink.force_scale_n) || !(sink.dtau > 0.0))
     return AF_ENUMERIC;
   af_pulse pulse;
-  st = af_pulse_run(w, chi, p->gravity_m_s2 * d_scale / (v0 * v0), &sink, &pulse);
+  st = pulse_run(w, chi, p->gravity_m_s2 * d_scale / (v0 * v0), &sink, &pulse);
   if (st != AF_OK)
     return st;
   *res = (af_impact_result){.contact_time_s = pulse.tau_c * t_scale,

@@ -99,8 +99,8 @@ typedef struct {
  * or 1000 elastic time scales D/v0 of contact,
  * AF_EBUDGET_ROOT_ITER when an event search runs out of iterations. No
  * allocation. */
-af_status af_impact_run(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
-                        double *deformation_m, size_t cap, af_impact_result *res);
+af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
+                            double *deformation_m, size_t cap, af_impact_result *res);
 
 #ifdef __cplusplus
 }

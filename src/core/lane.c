@@ -127,7 +127,7 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   s->late_after = late_after;
   s->used = true;
   s->apple = *a;
-  af_status st = af_prediction_run(l->model, l->cfg, a, &s->prediction);
+  af_status st = af_prediction_execute(l->model, l->cfg, a, &s->prediction);
   l->stats.apples++;
   l->stats.apples_refused += st != AF_OK;
   if (!l->any_apple || a->stamp_ns > l->newest_apple_ns)
@@ -226,16 +226,16 @@ static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a
   af_status st = AF_EINVAL;
   if (pr && pr->valid) {
     af_measure_apple apple = {pr->params, l->cfg->modulus_min_pa, l->cfg->modulus_max_pa};
-    st = af_measure_strike(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL, n_audio,
-                           n_noise ? l->noise_buf : NULL, n_noise, r);
+    st = af_measure_execute(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL, n_audio,
+                            n_noise ? l->noise_buf : NULL, n_noise, r);
     if (st != AF_OK) {
       l->stats.measure_errors++;
       lane_v->flags |= AF_VERDICT_MEASURE_FAILED;
       lane_v->measure_status = st;
     }
   }
-  if (st != AF_OK && af_measure_pulse(l->measure, &p->ev, l->cfg->model.band_level,
-                                      l->cfg->model.lobe, r) != AF_OK)
+  if (st != AF_OK && af_measure_execute_pulse(l->measure, &p->ev, l->cfg->model.band_level,
+                                              l->cfg->model.lobe, r) != AF_OK)
     l->stats.measure_errors++;
 }
 
@@ -534,10 +534,10 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   l->user = user;
   af_status s;
   *what = "the force stream";
-  if ((s = af_stream_init(&l->force, "force", &cfg->force)) != AF_OK)
+  if ((s = af_stream_create(&l->force, "force", &cfg->force)) != AF_OK)
     goto fail;
   *what = "the audio stream";
-  if ((s = af_stream_init(&l->audio, "audio", &cfg->audio)) != AF_OK)
+  if ((s = af_stream_create(&l->audio, "audio", &cfg->audio)) != AF_OK)
     goto fail;
   *what = "the strike detector";
   if ((s = af_strike_create(&l->mc->strike, &l->detector)) != AF_OK)
@@ -576,8 +576,8 @@ void af_lane_destroy(af_lane *l)
 {
   if (!l)
     return;
-  af_stream_fini(&l->force);
-  af_stream_fini(&l->audio);
+  af_stream_destroy(&l->force);
+  af_stream_destroy(&l->audio);
   af_strike_destroy(l->detector);
   af_measure_destroy(l->measure);
   af_model_destroy(l->model);

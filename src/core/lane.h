@@ -28,7 +28,7 @@
  *          newest estimate stamped at or before its contact start and at most
  *          apple_stale_after_s before it.
  *       A full queue measures its oldest strike at once, with what there is.
- *   apple ──> af_prediction_run (prediction.h) and a short history of
+ *   apple ──> af_prediction_execute (prediction.h) and a short history of
  *       predictions, so that a late strike still finds its own apple.
  *
  * A doubtful match is never silent: an apple that already has a strike gets

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "resonance.h"
+#include "lamb.h"
 #include "settings_private.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
@@ -163,7 +163,7 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
   for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++)
     if (check_order(s, pairs[k][0], pairs[k][1], err, len) != AF_OK)
       return AF_EINVAL;
-  if (af_resonance_lamb_root(i->fruit_poisson, &c->resonance_xi) != AF_OK) {
+  if (af_lamb_root(i->fruit_poisson, &c->resonance_xi) != AF_OK) {
     af_settings_say(err, len, "%s = %g: no 0S2 root of Lamb's equation found",
                     af_settings_name_of(s, AF_SETTING_FRUIT_POISSON).text, i->fruit_poisson);
     return AF_EINVAL;

@@ -10,7 +10,7 @@
 
 #include "af_defaults.h"
 #include "criteria.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "stress.h"
 #include "text.h"
 
@@ -41,16 +41,16 @@ struct af_measure {
   af_lamb_cache xi;
   af_shear_cache shear;
   af_sphere_modes_cache sphere; /* the Lamb ratios of the 0S2's neighbours, per nu */
-  af_response_result peaks[AF_RESPONSE_MAX_PEAKS]; /* af_response_peaks' list */
+  af_response_result peaks[AF_RESPONSE_MAX_PEAKS]; /* af_response_execute_peaks' list */
 };
 
 /* What the steps of one strike found, for the criteria and the reason. */
 typedef struct {
   af_status band_status; /* af_strike_measure_band */
   af_lobe band;
-  af_status fit_status;   /* af_fit_pulse */
+  af_status fit_status;   /* af_fit_execute */
   double fit_residual;    /* relative residual, NaN when the fit did not run */
-  af_status audio_status; /* af_response_analyze; AF_ENODATA also for no audio */
+  af_status audio_status; /* af_response_execute; AF_ENODATA also for no audio */
   size_t n_audio;
   double f_lo_hz, f_hi_hz; /* searched 0S2 range */
   af_status judge_status;  /* Lamb root or shear ratio failed (a bad Poisson ratio) */
@@ -74,19 +74,19 @@ af_measure_config af_measure_config_default(void)
   return c;
 }
 
-static bool af_finite_nonneg(double v)
+static bool finite_nonneg(double v)
 {
   return isfinite(v) && v >= 0.0;
 }
 
 /* Checks the fields measure.c owns; the fit and response configurations are
  * checked by their own create. Sets the window lengths in samples. */
-static af_status af_measure_check(const af_measure_config *c, size_t *window_n, size_t *noise_n)
+static af_status measure_check(const af_measure_config *c, size_t *window_n, size_t *noise_n)
 {
   double rate = c->response.sample_rate_hz;
-  if (!(isfinite(rate) && rate > 0.0) || !af_finite_nonneg(c->audio_delay_s) ||
+  if (!(isfinite(rate) && rate > 0.0) || !finite_nonneg(c->audio_delay_s) ||
       !(isfinite(c->audio_window_s) && c->audio_window_s > 0.0) ||
-      !af_finite_nonneg(c->noise_window_s) || !af_finite_nonneg(c->noise_guard_s) ||
+      !finite_nonneg(c->noise_window_s) || !finite_nonneg(c->noise_guard_s) ||
       !(c->range_margin >= 0.0 && c->range_margin < 1.0) ||
       !(isfinite(c->modulus_prior_rel_sd) && c->modulus_prior_rel_sd > 0.0))
     return AF_EINVAL;
@@ -101,7 +101,7 @@ static af_status af_measure_check(const af_measure_config *c, size_t *window_n, 
 
 /* The spectrum for pulses up to the fit's longest (at least the model's
  * 1024 samples); an absurd length is left to af_spectrum_create to refuse. */
-static af_status af_measure_spectrum_create(size_t fit_max_samples, af_spectrum **out)
+static af_status measure_spectrum_create(size_t fit_max_samples, af_spectrum **out)
 {
   af_spectrum_config sc = af_spectrum_config_default();
   sc.max_samples =
@@ -119,7 +119,7 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   if (out == NULL)
     return AF_EINVAL;
   *out = NULL;
-  if (cfg == NULL || af_measure_check(cfg, &window_n, &noise_n) != AF_OK)
+  if (cfg == NULL || measure_check(cfg, &window_n, &noise_n) != AF_OK)
     return AF_EINVAL;
   af_status_init();
   af_measure *m = calloc(1, sizeof *m);
@@ -128,12 +128,12 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   m->cfg = *cfg;
   m->window_samples = window_n;
   m->noise_samples = noise_n;
-  af_lamb_cache_init(&m->xi);
-  af_shear_cache_init(&m->shear);
-  af_sphere_modes_cache_init(&m->sphere);
+  af_lamb_cache_reset(&m->xi);
+  af_shear_cache_reset(&m->shear);
+  af_sphere_modes_cache_reset(&m->sphere);
   af_status st = af_fit_create(&cfg->fit, &m->fit);
   if (st == AF_OK)
-    st = af_measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
+    st = measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
   if (st == AF_OK)
     st = af_response_create(&cfg->response, &m->response);
   if (st != AF_OK) {
@@ -165,24 +165,24 @@ af_status af_measure_prepare(af_measure *m, const af_model_params *p)
   if (m == NULL || p == NULL)
     return AF_EINVAL;
   af_sphere_modes modes;
-  af_status st = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
+  af_status st = af_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (st == AF_OK)
     st = af_stress_shear_ratio_cached(&m->shear, p->shear_ratio, p->impact.fruit_poisson, &ratio);
   if (st == AF_OK)
-    st = af_resonance_sphere_modes_cached(&m->sphere, p->impact.fruit_poisson, &modes);
+    st = af_lamb_sphere_modes_cached(&m->sphere, p->impact.fruit_poisson, &modes);
   return st;
 }
 
 /* ---- the steps of one strike ---------------------------------------------- */
 
-static bool af_apple_valid(const af_measure_apple *a)
+static bool apple_valid(const af_measure_apple *a)
 {
   return af_model_params_check(&a->model, NULL) == AF_OK && isfinite(a->modulus_max_pa) &&
          a->modulus_min_pa > 0.0 && a->modulus_max_pa > a->modulus_min_pa;
 }
 
 /* Every figure NaN, the detector's copied: a part that fails leaves NaN. */
-static void af_report_start(const af_strike_event *ev, unsigned lobe, af_measure_report *out)
+static void report_start(const af_strike_event *ev, unsigned lobe, af_measure_report *out)
 {
   memset(out, 0, sizeof *out);
   out->contact_time_s = ev->contact_time_s;
@@ -204,8 +204,8 @@ static void af_report_start(const af_strike_event *ev, unsigned lobe, af_measure
 }
 
 /* The band of the configured lobe, by the code path of the model's spectrum. */
-static void af_step_band(af_measure *m, const af_strike_event *ev, af_band_level level,
-                         unsigned lobe, af_measure_report *out, af_measure_steps *s)
+static void step_band(af_measure *m, const af_strike_event *ev, af_band_level level, unsigned lobe,
+                      af_measure_report *out, af_measure_steps *s)
 {
   s->band_status = af_strike_measure_band(m->spectrum, ev, level, lobe, &s->band, NULL);
   if (s->band_status != AF_OK)
@@ -217,15 +217,15 @@ static void af_step_band(af_measure *m, const af_strike_event *ev, af_band_level
 /* E2 and e (v0 when configured free, t0) from the prediction's nominal
  * apple. The start's e must lie inside the fit's open range: an elastic
  * (e = 1) prediction starts just below it. */
-static void af_step_fit(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
-                        af_measure_report *out, af_measure_steps *s)
+static void step_fit(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
+                     af_measure_report *out, af_measure_steps *s)
 {
   af_impact_params start = apple->model.impact;
   af_fit_result r;
   start.restitution = fmin(fmax(start.restitution, 2.0 * AF_FIT_RESTITUTION_MIN), 0.95);
   s->fit_status = ev->pulse_n == NULL ? AF_EINVAL
-                                      : af_fit_pulse(m->fit, &start, ev->pulse_n, ev->n_samples,
-                                                     ev->dt_s, ev->pulse_t0_s, &r);
+                                      : af_fit_execute(m->fit, &start, ev->pulse_n, ev->n_samples,
+                                                       ev->dt_s, ev->pulse_t0_s, &r);
   s->fit_residual =
       s->fit_status == AF_EINVAL || s->fit_status == AF_ESIZE ? NAN : r.relative_residual;
   out->fit_residual = s->fit_residual;
@@ -243,15 +243,15 @@ static void af_step_fit(af_measure *m, const af_strike_event *ev, const af_measu
 
 /* The model's 0S2 over the cultivar's firmness range for this apple's mass,
  * widened by the margin, kept below the audio's Nyquist frequency. */
-static void af_resonance_range(const af_measure *m, const af_measure_apple *apple, double xi,
-                               double *f_lo_hz, double *f_hi_hz)
+static void lamb_range(const af_measure *m, const af_measure_apple *apple, double xi,
+                       double *f_lo_hz, double *f_hi_hz)
 {
   const af_model_params *p = &apple->model;
   double nu = p->impact.fruit_poisson, margin = m->cfg.range_margin;
-  double lo = af_resonance_frequency_hz(xi, p->modulus_factor * apple->modulus_min_pa, nu,
-                                        p->fruit_density_kg_m3, p->fruit_mass_kg);
-  double hi = af_resonance_frequency_hz(xi, p->modulus_factor * apple->modulus_max_pa, nu,
-                                        p->fruit_density_kg_m3, p->fruit_mass_kg);
+  double lo = af_lamb_frequency_hz(xi, p->modulus_factor * apple->modulus_min_pa, nu,
+                                   p->fruit_density_kg_m3, p->fruit_mass_kg);
+  double hi = af_lamb_frequency_hz(xi, p->modulus_factor * apple->modulus_max_pa, nu,
+                                   p->fruit_density_kg_m3, p->fruit_mass_kg);
   *f_lo_hz = lo * (1.0 - margin);
   *f_hi_hz =
       fmin(hi * (1.0 + margin), 0.5 * AF_MEASURE_NYQUIST_FRACTION * m->cfg.response.sample_rate_hz);
@@ -262,7 +262,7 @@ static void af_resonance_range(const af_measure *m, const af_measure_apple *appl
  * station, and a changed noise environment shows at once. Its last
  * noise_samples samples, those nearest the strike; too short or non-finite:
  * the window's own noise band instead. */
-static void af_set_noise(af_measure *m, const float *noise, size_t n_noise)
+static void set_noise(af_measure *m, const float *noise, size_t n_noise)
 {
   af_response_clear_noise(m->response);
   if (noise == NULL || n_noise < AF_MEASURE_MIN_AUDIO || m->noise_samples < AF_MEASURE_MIN_AUDIO)
@@ -273,36 +273,34 @@ static void af_set_noise(af_measure *m, const float *noise, size_t n_noise)
 
 /* The 0S2 predicted from the fitted E2 [Hz], the prior of the mode
  * identification; NaN when the fit failed. */
-static double af_predicted_0s2_hz(const af_measure_apple *apple, const af_measure_report *out,
-                                  double xi)
+static double predicted_0s2_hz(const af_measure_apple *apple, const af_measure_report *out,
+                               double xi)
 {
   const af_model_params *p = &apple->model;
   if (!isfinite(out->fitted_modulus_pa))
     return NAN;
-  return af_resonance_frequency_hz(xi, p->modulus_factor * out->fitted_modulus_pa,
-                                   p->impact.fruit_poisson, p->fruit_density_kg_m3,
-                                   p->fruit_mass_kg);
+  return af_lamb_frequency_hz(xi, p->modulus_factor * out->fitted_modulus_pa,
+                              p->impact.fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
 }
 
 /* Lists the damped peaks around the 0S2 range and identifies the 0S2 among
- * them (modes.h); the status of af_step_audio's old single-peak reading:
+ * them (modes.h); the status of step_audio's old single-peak reading:
  * AF_OK (an identification, ambiguous or not), AF_ENODATA (no candidate
  * cleared the SNR threshold: out->snr_db the best rejected one's), or the
  * response's error. */
-static af_status af_identify(af_measure *m, const af_measure_apple *apple, const float *audio,
-                             size_t n, double xi, af_measure_report *out, af_measure_steps *s)
+static af_status identify(af_measure *m, const af_measure_apple *apple, const float *audio,
+                          size_t n, double xi, af_measure_report *out, af_measure_steps *s)
 {
   af_sphere_modes modes;
   double band_lo, band_hi;
   size_t n_peaks = 0;
-  af_status st =
-      af_resonance_sphere_modes_cached(&m->sphere, apple->model.impact.fruit_poisson, &modes);
+  af_status st = af_lamb_sphere_modes_cached(&m->sphere, apple->model.impact.fruit_poisson, &modes);
   if (st == AF_OK)
     st = af_modes_list_band(s->f_lo_hz, s->f_hi_hz, m->cfg.response.sample_rate_hz, &band_lo,
                             &band_hi);
   if (st == AF_OK)
-    st = af_response_peaks(m->response, audio, n, band_lo, band_hi, m->peaks, AF_RESPONSE_MAX_PEAKS,
-                           &n_peaks);
+    st = af_response_execute_peaks(m->response, audio, n, band_lo, band_hi, m->peaks,
+                                   AF_RESPONSE_MAX_PEAKS, &n_peaks);
   if (st == AF_ENODATA)
     out->snr_db = m->peaks[0].snr_db; /* the best rejected candidate's */
   if (st != AF_OK)
@@ -318,10 +316,10 @@ static af_status af_identify(af_measure *m, const af_measure_apple *apple, const
                              .f_lo_hz = s->f_lo_hz,
                              .f_hi_hz = s->f_hi_hz,
                              .modes = &modes,
-                             .f_pred_hz = af_predicted_0s2_hz(apple, out, xi),
+                             .f_pred_hz = predicted_0s2_hz(apple, out, xi),
                              .f_pred_rel_sd =
                                  0.5 * sqrt((isfinite(se) ? se * se : 0.0) + cal * cal)};
-  st = af_modes_identify(&m->cfg.modes, &in, &out->modes);
+  st = af_modes_execute(&m->cfg.modes, &in, &out->modes);
   af_modes_format(&out->modes, out->modes_text, sizeof out->modes_text);
   if (st == AF_ENODATA) { /* peaks, none in the 0S2 range: the best in range is none */
     out->snr_db = -INFINITY;
@@ -335,39 +333,38 @@ static af_status af_identify(af_measure *m, const af_measure_apple *apple, const
 /* The 0S2 among the microphone's peaks; stiffness factor and the modulus,
  * divided by the modulus factor so that it compares with the quasi-static E2
  * of the contact and of the fit. */
-static void af_step_audio(af_measure *m, const af_measure_apple *apple, const float *audio,
-                          size_t n_audio, const float *noise, size_t n_noise,
-                          af_measure_report *out, af_measure_steps *s)
+static void step_audio(af_measure *m, const af_measure_apple *apple, const float *audio,
+                       size_t n_audio, const float *noise, size_t n_noise, af_measure_report *out,
+                       af_measure_steps *s)
 {
   const af_model_params *p = &apple->model;
   double xi;
   s->n_audio = audio == NULL ? 0 : n_audio;
   s->audio_status = AF_ENODATA;
-  s->judge_status = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
+  s->judge_status = af_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (s->judge_status != AF_OK || s->n_audio < AF_MEASURE_MIN_AUDIO)
     return;
-  af_resonance_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
-  af_set_noise(m, noise, n_noise);
+  lamb_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
+  set_noise(m, noise, n_noise);
   size_t n = s->n_audio < m->window_samples ? s->n_audio : m->window_samples;
-  s->audio_status = af_identify(m, apple, audio, n, xi, out, s);
+  s->audio_status = identify(m, apple, audio, n, xi, out, s);
   if (s->audio_status != AF_OK)
     return;
   const af_response_result *r = &m->peaks[out->modes.peak];
   out->resonance_hz = r->frequency_hz;
   out->resonance_q = r->q;
   out->snr_db = r->snr_db;
-  out->stiffness_factor = af_resonance_stiffness_factor(r->frequency_hz, p->fruit_mass_kg);
-  out->modulus_from_resonance_pa =
-      af_resonance_modulus_pa(xi, r->frequency_hz, p->impact.fruit_poisson, p->fruit_density_kg_m3,
-                              p->fruit_mass_kg) /
-      p->modulus_factor;
+  out->stiffness_factor = af_lamb_stiffness_factor(r->frequency_hz, p->fruit_mass_kg);
+  out->modulus_from_resonance_pa = af_lamb_modulus_pa(xi, r->frequency_hz, p->impact.fruit_poisson,
+                                                      p->fruit_density_kg_m3, p->fruit_mass_kg) /
+                                   p->modulus_factor;
 }
 
 /* tau_max from the measured peak force through the elastic Hertz contact
  * radius with the fitted E2 (the deformation is not measured), against the
  * yield stress of the fitted E2. */
-static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_measure_report *out,
-                           af_measure_steps *s)
+static void step_stress(af_measure *m, const af_measure_apple *apple, af_measure_report *out,
+                        af_measure_steps *s)
 {
   const af_model_params *p = &apple->model;
   double ratio;
@@ -392,7 +389,7 @@ static void af_step_stress(af_measure *m, const af_measure_apple *apple, af_meas
 /* ---- verdict ------------------------------------------------------------------ */
 
 /* The flags that make a strike unclean, whatever the criteria say. */
-static void af_verdict_clean(const af_strike_event *ev, const af_measure_steps *s, af_verdict *v)
+static void verdict_clean(const af_strike_event *ev, const af_measure_steps *s, af_verdict *v)
 {
   v->flags |= (ev->double_hit ? AF_VERDICT_DOUBLE_HIT : 0u) |
               (ev->clipped ? AF_VERDICT_CLIPPED : 0u) |
@@ -411,8 +408,8 @@ static void af_verdict_clean(const af_strike_event *ev, const af_measure_steps *
     v->flags |= AF_VERDICT_POISSON;
 }
 
-static void af_verdict_audio(const af_measure *m, const af_measure_steps *s,
-                             const af_measure_report *out, af_verdict *v)
+static void verdict_audio(const af_measure *m, const af_measure_steps *s,
+                          const af_measure_report *out, af_verdict *v)
 {
   v->audio_status = s->audio_status;
   v->snr_db = out->snr_db;
@@ -434,7 +431,7 @@ static void af_verdict_audio(const af_measure *m, const af_measure_steps *s,
 }
 
 /* Two peaks could be the 0S2: the strike cannot say which (modes.h). */
-static void af_verdict_modes(const af_measure_report *out, af_verdict *v)
+static void verdict_modes(const af_measure_report *out, af_verdict *v)
 {
   if (!out->modes.ambiguous)
     return;
@@ -444,8 +441,8 @@ static void af_verdict_modes(const af_measure_report *out, af_verdict *v)
 
 /* The criteria on what was measured. A criterion that could not be judged
  * (no resonance, no fitted E2) is already flagged above. */
-static void af_verdict_criteria(const af_measure_apple *apple, const af_measure_steps *s,
-                                const af_measure_report *out, af_verdict *v)
+static void verdict_criteria(const af_measure_apple *apple, const af_measure_steps *s,
+                             const af_measure_report *out, af_verdict *v)
 {
   v->lobe = apple->model.lobe;
   if (s->band_status == AF_ENOLOBE)
@@ -464,47 +461,47 @@ static void af_verdict_criteria(const af_measure_apple *apple, const af_measure_
   }
 }
 
-static void af_verdict_judge(const af_measure *m, const af_strike_event *ev,
-                             const af_measure_apple *apple, const af_measure_steps *s,
-                             af_measure_report *out)
+static void verdict_judge(const af_measure *m, const af_strike_event *ev,
+                          const af_measure_apple *apple, const af_measure_steps *s,
+                          af_measure_report *out)
 {
   af_verdict *v = &out->verdict;
   out->excites_mode =
       af_criteria_excites_mode(s->band_status == AF_OK ? &s->band : NULL, out->resonance_hz);
   out->no_damage = isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
                    af_criteria_no_damage(out->max_shear_stress_pa, out->yield_shear_stress_pa);
-  af_verdict_clean(ev, s, v);
-  af_verdict_audio(m, s, out, v);
-  af_verdict_modes(out, v);
-  af_verdict_criteria(apple, s, out, v);
+  verdict_clean(ev, s, v);
+  verdict_audio(m, s, out, v);
+  verdict_modes(out, v);
+  verdict_criteria(apple, s, out, v);
   out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
   af_verdict_format(v, out->reason, sizeof out->reason);
 }
 
-af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
-                            const float *audio, size_t n_audio, const float *noise, size_t n_noise,
-                            af_measure_report *out)
+af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
+                             const af_measure_apple *apple, const float *audio, size_t n_audio,
+                             const float *noise, size_t n_noise, af_measure_report *out)
 {
   if (m == NULL || ev == NULL || apple == NULL || out == NULL || (audio == NULL && n_audio > 0) ||
-      !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !af_apple_valid(apple))
+      !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !apple_valid(apple))
     return AF_EINVAL;
   af_measure_steps s = {.band_status = AF_OK, .fit_residual = NAN, .f_lo_hz = NAN, .f_hi_hz = NAN};
-  af_report_start(ev, apple->model.lobe, out);
-  af_step_band(m, ev, apple->model.band_level, apple->model.lobe, out, &s);
-  af_step_fit(m, ev, apple, out, &s);
-  af_step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
-  af_step_stress(m, apple, out, &s);
-  af_verdict_judge(m, ev, apple, &s, out);
+  report_start(ev, apple->model.lobe, out);
+  step_band(m, ev, apple->model.band_level, apple->model.lobe, out, &s);
+  step_fit(m, ev, apple, out, &s);
+  step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
+  step_stress(m, apple, out, &s);
+  verdict_judge(m, ev, apple, &s, out);
   return AF_OK;
 }
 
-af_status af_measure_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
-                           unsigned lobe, af_measure_report *out)
+af_status af_measure_execute_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
+                                   unsigned lobe, af_measure_report *out)
 {
   if (m == NULL || ev == NULL || out == NULL || !(isfinite(ev->dt_s) && ev->dt_s > 0.0))
     return AF_EINVAL;
   af_measure_steps s = {.band_status = AF_OK};
-  af_report_start(ev, lobe, out);
-  af_step_band(m, ev, level, lobe, out, &s);
+  report_start(ev, lobe, out);
+  step_band(m, ev, level, lobe, out, &s);
   return AF_OK;
 }

@@ -8,9 +8,9 @@
  *               ──> inverse fit of E2, e (v0, t0) (fit.h), started from the
  *                   model's prediction for the matched apple
  *   audio window ─> the damped peaks over a band around the model's 0S2
- *                   range for this apple's mass (resonance.h over
+ *                   range for this apple's mass (lamb.h over
  *                   [modulus_min, modulus_max], widened by a margin;
- *                   af_response_peaks), and which of them is the 0S2
+ *                   af_response_execute_peaks), and which of them is the 0S2
  *                   (modes.h: the 0S2 predicted from the fitted E2, the Lamb
  *                   ratios of its neighbours, the peaks present); Q, SNR;
  *                   stiffness factor and the modulus through Lamb's relation
@@ -22,7 +22,7 @@
  *                   strike (no double hit, clipping, lost samples, failed fit,
  *                   or resonance below the SNR threshold), with the reason.
  *
- * Create once (all workspaces), then af_measure_strike per strike: no
+ * Create once (all workspaces), then af_measure_execute per strike: no
  * allocation per strike. Used by the node and by `firmness_model analyze`. */
 #ifndef AF_MEASURE_H
 #define AF_MEASURE_H
@@ -110,8 +110,8 @@ const af_measure_config *af_measure_get_config(const af_measure *m);
  * figures and flags and the measured band of lobe at level; every
  * apple-dependent figure NaN, reliable false, reason "" (the caller knows
  * why there is no apple). AF_EINVAL for a NULL argument or a bad dt. */
-af_status af_measure_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
-                           unsigned lobe, af_measure_report *out);
+af_status af_measure_execute_pulse(af_measure *m, const af_strike_event *ev, af_band_level level,
+                                   unsigned lobe, af_measure_report *out);
 
 /* Solves the Poisson-ratio caches (Lamb's xi, tau_max/p0) for these settings
  * ahead of the first strike: their GSL solvers allocate, and no strike may.
@@ -128,9 +128,9 @@ af_status af_measure_prepare(af_measure *m, const af_model_params *p);
  * argument is invalid (AF_EINVAL). Returns AF_OK when every figure was
  * measured; a failed part (fit, resonance) is reported in out->reason with
  * reliable false, and the call still returns AF_OK. */
-af_status af_measure_strike(af_measure *m, const af_strike_event *ev, const af_measure_apple *apple,
-                            const float *audio, size_t n_audio, const float *noise, size_t n_noise,
-                            af_measure_report *out);
+af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
+                             const af_measure_apple *apple, const float *audio, size_t n_audio,
+                             const float *noise, size_t n_noise, af_measure_report *out);
 
 #ifdef __cplusplus
 }

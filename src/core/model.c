@@ -9,7 +9,7 @@
 #include "af_defaults.h"
 #include "criteria.h"
 #include "r2_search.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 
 /* Pulse sampling: the closed-form elastic contact time divided into this many
@@ -77,7 +77,7 @@ typedef struct {
  * restitution range, (0, 1], is that of the closed-form laws. */
 #define AF_MODEL_EXACT_E_MIN 0.05
 
-static void af_model_refuse(af_param_error *err, const char *field, double value, const char *range)
+static void model_refuse(af_param_error *err, const char *field, double value, const char *range)
 {
   if (err) {
     err->field = field;
@@ -123,30 +123,30 @@ af_status af_model_params_check(const af_model_params *p, af_param_error *err)
     const af_field_check *f = &fields[k];
     af_setting_range r;
     if (af_setting_range_of(f->row, &r) != AF_OK || !af_setting_range_contains(&r, f->value)) {
-      af_model_refuse(err, f->field, f->value, af_setting_def_of(f->row)->range);
+      model_refuse(err, f->field, f->value, af_setting_def_of(f->row)->range);
       return AF_EINVAL;
     }
     if (f->row == AF_SETTING_RESTITUTION && i->damping == AF_DAMPING_EXACT &&
         !(f->value >= AF_MODEL_EXACT_E_MIN)) {
-      af_model_refuse(err, f->field, f->value, "[0.05, 1] with the exact damping law");
+      model_refuse(err, f->field, f->value, "[0.05, 1] with the exact damping law");
       return AF_EINVAL;
     }
   }
   /* The choices: the enums' own ranges, named with the table's words. */
   if (!((double)i->damping >= AF_DAMPING_PAPER && (double)i->damping <= AF_DAMPING_HU_GUO)) {
-    af_model_refuse(err, "impact.damping", (double)i->damping,
-                    af_setting_def_of(AF_SETTING_DAMPING_LAW)->choices);
+    model_refuse(err, "impact.damping", (double)i->damping,
+                 af_setting_def_of(AF_SETTING_DAMPING_LAW)->choices);
     return AF_EINVAL;
   }
   if (!((double)p->band_level >= AF_BAND_POWER_HALF &&
         (double)p->band_level <= AF_BAND_AMPLITUDE_HALF)) {
-    af_model_refuse(err, "band_level", (double)p->band_level,
-                    af_setting_def_of(AF_SETTING_BAND_LEVEL)->choices);
+    model_refuse(err, "band_level", (double)p->band_level,
+                 af_setting_def_of(AF_SETTING_BAND_LEVEL)->choices);
     return AF_EINVAL;
   }
   if (!((double)p->shear_ratio >= AF_SHEAR_PAPER && (double)p->shear_ratio <= AF_SHEAR_EXACT)) {
-    af_model_refuse(err, "shear_ratio", (double)p->shear_ratio,
-                    af_setting_def_of(AF_SETTING_SHEAR_RATIO)->choices);
+    model_refuse(err, "shear_ratio", (double)p->shear_ratio,
+                 af_setting_def_of(AF_SETTING_SHEAR_RATIO)->choices);
     return AF_EINVAL;
   }
   return AF_OK;
@@ -165,8 +165,8 @@ af_status af_model_create(af_model **out)
   sc.max_lobes = AF_MODEL_MAX_LOBES;
   m->force_n = malloc(AF_MODEL_MAX_SAMPLES * sizeof *m->force_n);
   m->deformation_m = malloc(AF_MODEL_MAX_SAMPLES * sizeof *m->deformation_m);
-  af_lamb_cache_init(&m->xi);
-  af_shear_cache_init(&m->shear);
+  af_lamb_cache_reset(&m->xi);
+  af_shear_cache_reset(&m->shear);
   if (m->force_n == NULL || m->deformation_m == NULL) {
     af_model_destroy(m);
     return AF_ENOMEM;
@@ -202,8 +202,8 @@ static af_status run_impact(af_model *m, const af_impact_params *ip, af_impact_r
   af_status st = AF_ESIZE;
   for (int attempt = 0; attempt < AF_MODEL_SAMPLING_ATTEMPTS && st == AF_ESIZE;
        attempt++, dt_s *= 2.0)
-    st =
-        af_impact_run(m->impact, ip, dt_s, m->force_n, m->deformation_m, AF_MODEL_MAX_SAMPLES, res);
+    st = af_impact_execute(m->impact, ip, dt_s, m->force_n, m->deformation_m, AF_MODEL_MAX_SAMPLES,
+                           res);
   return st;
 }
 
@@ -241,7 +241,7 @@ static af_status stress_figures(af_model *m, const af_model_params *p, af_model_
   return AF_OK;
 }
 
-af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_result *r)
+af_status af_model_execute(af_model *m, const af_model_params *p, af_model_result *r)
 {
   double xi;
   af_status st = af_model_params_check(p, NULL);
@@ -252,7 +252,7 @@ af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_resu
   if (st == AF_OK)
     st = spectrum_figures(m, p, r);
   if (st == AF_OK)
-    st = af_resonance_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
+    st = af_lamb_root_cached(&m->xi, p->impact.fruit_poisson, &xi);
   if (st == AF_OK)
     st = stress_figures(m, p, r);
   if (st != AF_OK)
@@ -260,8 +260,8 @@ af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_resu
   /* The modulus factor maps the quasi-static E2 of the contact to the dynamic
    * modulus that sets the vibration (PHYSICS.md 5). */
   r->resonance_hz =
-      af_resonance_frequency_hz(xi, p->modulus_factor * p->impact.fruit_modulus_pa,
-                                p->impact.fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
+      af_lamb_frequency_hz(xi, p->modulus_factor * p->impact.fruit_modulus_pa,
+                           p->impact.fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
   r->excitation_at_resonance_db = af_spectrum_level_db(m->spectrum, r->resonance_hz);
   r->excites_mode = af_criteria_excites_mode(r->band_found ? &r->band : NULL, r->resonance_hz);
   r->no_damage = af_criteria_no_damage(r->max_shear_stress_pa, r->yield_shear_stress_pa);
@@ -275,10 +275,10 @@ void af_model_reason(const af_model_result *r, unsigned lobe, char *buf, size_t 
                      r->yield_shear_stress_pa, buf, len);
 }
 
-/* af_model_evaluate as the R2_min search's callback. */
+/* af_model_execute as the R2_min search's callback. */
 static af_status evaluate_ode(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_model_evaluate(ctx, p, r);
+  return af_model_execute(ctx, p, r);
 }
 
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,

@@ -81,13 +81,13 @@ af_status af_model_create(af_model **out); /* allocates everything */
 void af_model_destroy(af_model *m);        /* NULL-safe */
 
 /* Evaluates p. No allocation. AF_EINVAL for invalid p (see check). */
-af_status af_model_evaluate(af_model *m, const af_model_params *p, af_model_result *r);
+af_status af_model_execute(af_model *m, const af_model_params *p, af_model_result *r);
 
 /* Smallest strike radius R2 [m] in [r_lo_m, r_hi_m] above which the strike is
  * reliable (root-found on the criteria over R2, all else as in p): the paper's
  * "31 mm". AF_ENOROOT when not reliable even at r_hi_m; *r_min_m = r_lo_m when
  * reliable down to r_lo_m; AF_EBUDGET_SEARCH after 80 evaluations
- * (a guard: about 36 suffice for any bracket); any status of af_model_evaluate. */
+ * (a guard: about 36 suffice for any bracket); any status of af_model_execute. */
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,
                                      double r_hi_m, double *r_min_m);
 

@@ -20,7 +20,7 @@ af_status af_model_params_from_settings(const af_settings *s, af_model_params *o
 af_status af_model_params_table(af_model_params *out, char *err, size_t len)
 {
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   return af_model_params_from_settings(&s, out, err, len);
 }
 

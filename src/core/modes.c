@@ -401,7 +401,7 @@ static void judge(const af_comb *c, af_modes_id *out, double best_score)
     out->n_competing = 0;
 }
 
-af_status af_modes_identify(const af_modes_config *cfg, const af_modes_input *in, af_modes_id *out)
+af_status af_modes_execute(const af_modes_config *cfg, const af_modes_input *in, af_modes_id *out)
 {
   if (cfg == NULL || in == NULL || out == NULL || !config_ok(cfg) || !input_ok(in))
     return AF_EINVAL;

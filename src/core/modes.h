@@ -1,7 +1,7 @@
 /* modes.h — which microphone peak is the apple's 0S2.
  *
  * A struck fruit rings in several spheroidal modes whose frequencies stand in
- * fixed ratios to the 0S2 (resonance.h: 0S3 1.49x, 0S4 1.92x, 1S2 1.94x at
+ * fixed ratios to the 0S2 (lamb.h: 0S3 1.49x, 0S4 1.92x, 1S2 1.94x at
  * nu 0.35, whatever the size and modulus). The microphone may hear the 0S3
  * louder than the 0S2, and for soft or heavy fruit the 0S3 (even the
  * 0S4/1S2) lies inside the cultivar's 0S2 search range [f_lo, f_hi]: the
@@ -11,21 +11,21 @@
  *  - the prior: the 0S2 predicted from the modulus fitted to the force pulse,
  *    f_pred, with its relative uncertainty (NaN when the fit failed);
  *  - the comb: the other peaks that stand at the Lamb ratios of a candidate;
- *  - the peaks actually present (af_response_peaks over a band wider than
+ *  - the peaks actually present (af_response_execute_peaks over a band wider than
  *    the range: af_modes_list_band).
  * Pure functions: no allocation, no state, thread-safe.
  *
  * Use, per strike (nothing allocates; the ratios are solved once per nu):
- *   af_resonance_sphere_modes_cached(&cache, nu, &modes);        at prepare
+ *   af_lamb_sphere_modes_cached(&cache, nu, &modes);        at prepare
  *   af_modes_list_band(f_lo, f_hi, fs, &band_lo, &band_hi);
- *   af_response_peaks(resp, audio, n, band_lo, band_hi, peaks,
+ *   af_response_execute_peaks(resp, audio, n, band_lo, band_hi, peaks,
  *                     AF_RESPONSE_MAX_PEAKS, &n_peaks);           AF_ENODATA: none
- *   f_pred = the fit held ? af_resonance_frequency_hz(xi, modulus_factor E2,
+ *   f_pred = the fit held ? af_lamb_frequency_hz(xi, modulus_factor E2,
  *                                                     nu, rho, m) : NaN;
  *   s = 0.5 sqrt((E2_se / E2)^2 + s_cal^2)    (f ~ sqrt(E); s_cal the relative
  *        uncertainty of the pulse's E2 as a predictor of the dynamic modulus,
  *        e.g. 0.10: the fitted E2 within 20 % at 2 sigma)
- *   af_modes_identify(&cfg, &in, &id);  the resonance is peaks[id.peak]
+ *   af_modes_execute(&cfg, &in, &id);  the resonance is peaks[id.peak]
  *   (AF_OK), unreliable when id.ambiguous; af_modes_format for the reason.
  *
  * ---- decision rules ---------------------------------------------------------
@@ -64,7 +64,7 @@
  *    relation below, for any candidate);
  *  - PRIOR: a prior, no ratio evidence;
  *  - RATIOS: no prior (the fit failed), ratio evidence;
- *  - LOUDEST: neither: the highest-SNR candidate, af_response_analyze's old
+ *  - LOUDEST: neither: the highest-SNR candidate, af_response_execute's old
  *    reading, kept only where nothing better is known.
  * Choice: the highest L (ties: the higher SNR); LOUDEST: the highest SNR.
  *
@@ -100,7 +100,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "resonance.h"
+#include "lamb.h"
 #include "response.h"
 #include "status.h"
 
@@ -139,11 +139,11 @@ af_status af_modes_list_band(double f_lo_hz, double f_hi_hz, double sample_rate_
                              double *band_lo_hz, double *band_hi_hz);
 
 typedef struct {
-  const af_response_result *peaks; /* listed peaks (af_response_peaks), any order */
+  const af_response_result *peaks; /* listed peaks (af_response_execute_peaks), any order */
   size_t n_peaks;                  /*   their count; 0 allowed */
   double band_lo_hz, band_hi_hz;   /* the band they were listed over [Hz] */
   double f_lo_hz, f_hi_hz;         /* the 0S2 search range, inside the band [Hz] */
-  const af_sphere_modes *modes;    /* ratios for the apple's nu (resonance.h) */
+  const af_sphere_modes *modes;    /* ratios for the apple's nu (lamb.h) */
   double f_pred_hz;                /* 0S2 predicted from the fitted modulus [Hz]; NaN: none */
   double f_pred_rel_sd;            /* relative standard uncertainty of f_pred (ln f), > 0 */
 } af_modes_input;
@@ -213,7 +213,7 @@ typedef struct {
  *              prior whose f_pred_rel_sd is not finite and > 0 (*out untouched).
  * Peaks with a non-finite frequency are ignored. No allocation; at most a
  * few hundred operations for AF_RESPONSE_MAX_PEAKS peaks. */
-af_status af_modes_identify(const af_modes_config *cfg, const af_modes_input *in, af_modes_id *out);
+af_status af_modes_execute(const af_modes_config *cfg, const af_modes_input *in, af_modes_id *out);
 
 /* One short line for a reason text or a log, e.g.
  *   "0S2 612 Hz (prior+ratios: 0S3 913 Hz, 0S4 1172 Hz; confidence 0.98)"

@@ -108,7 +108,7 @@ static void setting_line(FILE *out, const char *flag, const af_option *o, const 
   char value[AF_SETTINGS_TEXT_MAX];
   af_settings fallback;
   if (s == NULL) {
-    af_settings_init(&fallback);
+    af_settings_reset(&fallback);
     s = &fallback;
   }
   af_settings_value_text(s, (af_setting_id)o->setting, value, sizeof value);

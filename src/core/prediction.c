@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "resonance.h"
+#include "lamb.h"
 #include "text.h"
 
 /* One field of an apple estimate and its accepted range. */
@@ -98,8 +98,8 @@ static void verdict(const af_apple *a, af_prediction *out)
     af_text(out->reason, sizeof out->reason, "%s", model_reason);
 }
 
-af_status af_prediction_run(af_model *model, const af_lane_config *cfg, const af_apple *a,
-                            af_prediction *out)
+af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
+                                af_prediction *out)
 {
   memset(out, 0, sizeof *out);
   if (!apple_valid(cfg, a, out))
@@ -108,7 +108,7 @@ af_status af_prediction_run(af_model *model, const af_lane_config *cfg, const af
   out->params = cfg->model;
   out->params.fruit_mass_kg = a->mass_kg;
   out->params.impact.strike_radius_m = out->geo.strike_radius_m;
-  af_status s = af_model_evaluate(model, &out->params, &out->result);
+  af_status s = af_model_execute(model, &out->params, &out->result);
   if (s != AF_OK) {
     af_text(out->why, sizeof out->why, "model evaluation failed: %s", af_strerror(s));
     return s;
@@ -122,11 +122,11 @@ af_status af_prediction_run(af_model *model, const af_lane_config *cfg, const af
   const af_model_params *p = &out->params;
   /* 0S2 grows with the modulus: the firmness range maps onto its ends. */
   out->resonance_low_hz =
-      af_resonance_frequency_hz(cfg->resonance_xi, p->modulus_factor * cfg->modulus_min_pa,
-                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
+      af_lamb_frequency_hz(cfg->resonance_xi, p->modulus_factor * cfg->modulus_min_pa,
+                           p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
   out->resonance_high_hz =
-      af_resonance_frequency_hz(cfg->resonance_xi, p->modulus_factor * cfg->modulus_max_pa,
-                                p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
+      af_lamb_frequency_hz(cfg->resonance_xi, p->modulus_factor * cfg->modulus_max_pa,
+                           p->impact.fruit_poisson, p->fruit_density_kg_m3, a->mass_kg);
   verdict(a, out);
   out->valid = true;
   return AF_OK;

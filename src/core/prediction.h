@@ -57,8 +57,8 @@ typedef struct {
  * model with model (its workspace; no allocation). Always fills *out.
  * AF_OK: out->valid; AF_EINVAL: the apple was refused (out->why); a model
  * status when the evaluation failed (out->why says so). */
-af_status af_prediction_run(af_model *model, const af_lane_config *cfg, const af_apple *a,
-                            af_prediction *out);
+af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
+                                af_prediction *out);
 
 #ifdef __cplusplus
 }

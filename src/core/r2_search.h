@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-/* One evaluation of p into r (as af_model_evaluate); ctx is the caller's
+/* One evaluation of p into r (as af_model_execute); ctx is the caller's
  * workspace (an af_model, an af_fastpath). */
 typedef af_status (*af_r2_evaluate_fn)(void *ctx, const af_model_params *p, af_model_result *r);
 

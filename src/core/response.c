@@ -1,6 +1,6 @@
 /* response.c — the 0S2 of a struck apple's ringing: the analysis object
  * (configuration, create, destroy), the result record and the one-peak
- * analysis af_response_analyze (see response.h for the method and the
+ * analysis af_response_execute (see response.h for the method and the
  * definitions; response_private.h for the file that does each step). */
 #include "response_private.h"
 
@@ -282,7 +282,7 @@ int af_response_read_peak(af_response *r, size_t k, double noise, af_peak *pk,
   return fitted;
 }
 
-af_status af_response_analyze(af_response *r, const float *audio, size_t n, double f_lo_hz,
+af_status af_response_execute(af_response *r, const float *audio, size_t n, double f_lo_hz,
                               double f_hi_hz, af_response_result *out)
 {
   if (r == NULL || audio == NULL || out == NULL || n < AF_RESPONSE_MIN_SAMPLES)

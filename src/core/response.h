@@ -70,15 +70,15 @@
  *  - amplitude [audio units]: initial amplitude A of the mode's ringing at the
  *    first analysed sample (onset_index).
  *
- * Several modes at once: af_response_peaks lists every damped mode of a band
+ * Several modes at once: af_response_execute_peaks lists every damped mode of a band
  * from one analysis (subtracting each before seeking the next, two poles
  * for a blend), for modes.h to decide which is the 0S2.
  *
- * From frequency to firmness (resonance.h, not repeated here): with the
+ * From frequency to firmness (lamb.h, not repeated here): with the
  * apple's mass m [kg], the stiffness factor is
- * S = af_resonance_stiffness_factor(frequency_hz, m) = f^2 m^(2/3), and the
- * dynamic modulus E = af_resonance_modulus_pa(xi, frequency_hz, nu, rho, m)
- * with xi from af_resonance_lamb_root(nu), computed once per nu. As S and E go
+ * S = af_lamb_stiffness_factor(frequency_hz, m) = f^2 m^(2/3), and the
+ * dynamic modulus E = af_lamb_modulus_pa(xi, frequency_hz, nu, rho, m)
+ * with xi from af_lamb_root(nu), computed once per nu. As S and E go
  * as f^2, a relative frequency error e makes 2e on both.
  */
 #ifndef AF_RESPONSE_H
@@ -185,16 +185,16 @@ typedef struct {
  *  AF_ESIZE    n > window_samples; AF_ENUMERIC for a non-finite sample.
  * No allocation; ~140 us at the defaults (median; p99 200 us). r holds the
  * buffers: one analysis at a time per r. */
-af_status af_response_analyze(af_response *r, const float *audio, size_t n, double f_lo_hz,
+af_status af_response_execute(af_response *r, const float *audio, size_t n, double f_lo_hz,
                               double f_hi_hz, af_response_result *out);
 
-/* Most peaks af_response_peaks lists per call: the apple's few audible
+/* Most peaks af_response_execute_peaks lists per call: the apple's few audible
  * modes (0S2, 0S3, 0S4/1S2), the support's and the hammer's, with room to
  * spare. */
 #define AF_RESPONSE_MAX_PEAKS 16
 
 /* Lists the damped modes of audio[0..n) in [f_lo_hz, f_hi_hz] from ONE
- * analysis (onset, DC and hum, window, transform as af_response_analyze;
+ * analysis (onset, DC and hum, window, transform as af_response_execute;
  * the hum harmonics removed are those <= 0.8 f_lo_hz): for mode
  * identification (modes.h), over a band wider than the 0S2 range
  * (af_modes_list_band). The modes are taken strongest first, each read and
@@ -202,7 +202,7 @@ af_status af_response_analyze(af_response *r, const float *audio, size_t n, doub
  *  - candidate: the strongest local maximum with its top bin in the band
  *    standing 6 dB above its floor on one side and 3 dB on the other (two
  *    modes ~10 % apart fill the valley between them to 4-5 dB below either,
- *    which af_response_analyze's 6 dB on both sides refuses; the ripples and
+ *    which af_response_execute's 6 dB on both sides refuses; the ripples and
  *    humps that rule keeps out belong to a stronger mode, already
  *    subtracted), whose top bin could still clear snr_threshold_db;
  *  - reading: a fit of one pole (plus a quadratic background) whose model
@@ -211,7 +211,7 @@ af_status af_response_analyze(af_response *r, const float *audio, size_t n, doub
  *    one peak for two modes, which one pole reads between them), accepted
  *    when they cut the residual 10x, to the noise, both decay, both clear
  *    the threshold and the weaker is within 20 dB of the stronger; where
- *    neither holds, af_response_analyze's refinement (one neighbour);
+ *    neither holds, af_response_execute's refinement (one neighbour);
  *  - listed when it decays (Q finite), clears snr_threshold_db, lies in the
  *    band, repeats no listed mode (within a bin, or within two half-widths
  *    and 20 dB below it: what a subtraction leaves), and stands within
@@ -230,9 +230,9 @@ af_status af_response_analyze(af_response *r, const float *audio, size_t n, doub
  *    (if more qualify, those of highest SNR); each record as
  *    af_response_result for that mode (onset_index, bin_width_hz and
  *    noise_segments the same in all).
- * The readings differ from af_response_analyze's for the same peak by its
+ * The readings differ from af_response_execute's for the same peak by its
  * neighbours' share (the list takes them off; at 30 dB, within ~0.1 % on a
- * clean apple's modes) and the SNR by the floor (af_response_analyze takes
+ * clean apple's modes) and the SNR by the floor (af_response_execute takes
  * the reference's mean over its whole range).
  * Returns
  *  AF_OK       at least one mode listed;
@@ -245,12 +245,12 @@ af_status af_response_analyze(af_response *r, const float *audio, size_t n, doub
  *  AF_ESIZE    n > window_samples; AF_ENUMERIC for a non-finite sample.
  * No allocation (the buffers and the fits' workspaces are taken at create;
  * the list lives on the stack). ~1.4 ms median, p99 ~6 ms at the defaults
- * for a 40 ms window of an apple's comb (10x af_response_analyze: a dozen
- * small fits). The same buffers as af_response_analyze: one call at a time
+ * for a 40 ms window of an apple's comb (10x af_response_execute: a dozen
+ * small fits). The same buffers as af_response_execute: one call at a time
  * per r. */
-af_status af_response_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
-                            double f_hi_hz, af_response_result *peaks, size_t max_peaks,
-                            size_t *n_peaks);
+af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
+                                    double f_hi_hz, af_response_result *peaks, size_t max_peaks,
+                                    size_t *n_peaks);
 
 #ifdef __cplusplus
 }

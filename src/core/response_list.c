@@ -1,6 +1,6 @@
-/* response_list.c — af_response_peaks: the damped modes of a band from one
+/* response_list.c — af_response_execute_peaks: the damped modes of a band from one
  * analysis, strongest first, each read (one pole, two for a blend, or
- * af_response_analyze's refinement), judged as af_response_analyze judges
+ * af_response_execute's refinement), judged as af_response_execute judges
  * its peak, and subtracted exactly as the window holds it before the next is
  * sought; at the end backfitted (response_split.c), sorted by frequency. */
 #include "response_private.h"
@@ -11,8 +11,8 @@
 /* ---- peak list ---------------------------------------------------------------
  * The modes of one transform, strongest first (response.h has the rules):
  * each candidate is read by a fit that models the window exactly (one pole,
- * or two for a blend; af_response_analyze's refinement where neither
- * holds), judged as af_response_analyze judges its peak, and subtracted
+ * or two for a blend; af_response_execute's refinement where neither
+ * holds), judged as af_response_execute judges its peak, and subtracted
  * before the next is sought: a weaker mode beside a louder one (a 0S2 at
  * 0.67x a 0S3 2.5x louder) may stand only ~5 dB above the valley that their
  * two skirts fill, and stands clear once the louder one is gone. All found,
@@ -38,7 +38,7 @@ static int is_excluded(const size_t *excluded, size_t n_excluded, size_t k)
  * AF_RESPONSE_PROMINENCE (6 dB) above its floor on one side and
  * AF_RESPONSE_NEIGHBOUR_PROMINENCE (3 dB) on the other: two modes ~10 %
  * apart fill the valley between them with their skirts to 4-5 dB below
- * either, which af_response_analyze's 6 dB on both sides refuses; the
+ * either, which af_response_execute's 6 dB on both sides refuses; the
  * ripples and humps that rule keeps out belong to a stronger mode, taken
  * off (exactly, with its ripple) before they are looked at. Not excluded,
  * and whose top bin could still clear the threshold (a peak's reported
@@ -71,7 +71,7 @@ static size_t list_candidate(const af_response *r, size_t k_lo, size_t k_hi, dou
   return best;
 }
 
-/* Refines the maximum k and judges it as af_response_analyze does: 1 if it
+/* Refines the maximum k and judges it as af_response_execute does: 1 if it
  * is a damped mode within [f_lo, f_hi] clearing the SNR threshold. *out and
  * *pk are filled in any case (the best rejected one is reported). */
 static int list_refine(af_response *r, size_t k, double noise, double f_lo_hz, double f_hi_hz,
@@ -164,9 +164,9 @@ static int list_add(af_response_result *list, af_peak *modes, size_t *n,
   return 1;
 }
 
-af_status af_response_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
-                            double f_hi_hz, af_response_result *peaks, size_t max_peaks,
-                            size_t *n_peaks)
+af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
+                                    double f_hi_hz, af_response_result *peaks, size_t max_peaks,
+                                    size_t *n_peaks)
 {
   if (r == NULL || audio == NULL || peaks == NULL || n_peaks == NULL || max_peaks == 0 ||
       n < AF_RESPONSE_MIN_SAMPLES)
@@ -210,7 +210,7 @@ af_status af_response_peaks(af_response *r, const float *audio, size_t n, double
       break;
     /* the truncated fits from the stage-1 reading (one pole, or two for a
      * blend or a close neighbour); where neither holds, the one-pole
-     * refinement of af_response_analyze with its neighbour */
+     * refinement of af_response_execute with its neighbour */
     af_peak seed, pk, two[2];
     res = base;
     int got = af_response_stage1(r, r->power, r->spec, k, &seed)

@@ -8,7 +8,7 @@
 
 #include <gsl/gsl_statistics_double.h>
 
-/* af_response_peaks with a noise reference: each peak's floor is the
+/* af_response_execute_peaks with a noise reference: each peak's floor is the
  * reference's mean over f / 1.2 .. 1.2 f (coloured noise changes across a
  * wide list band; +-20 % holds ~70 bins at 700 Hz). */
 #define AF_RESPONSE_LIST_NOISE_SPAN 1.2

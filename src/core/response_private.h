@@ -5,7 +5,7 @@
  *
  * The files, one job each:
  *  response.c           the object (create, destroy, configuration), the
- *                       result record and af_response_analyze;
+ *                       result record and af_response_execute;
  *  response_trend.c     DC and mains-hum trend: least-squares fit, removal;
  *  response_transform.c onset, window, zero-pad, the FFTW r2c transform;
  *  response_noise.c     the noise floor: the reference, the band's median;
@@ -14,7 +14,7 @@
  *  response_fit.c       the Levenberg-Marquardt fits (one residual loop for
  *                       every model), stage 2 and the neighbour's round;
  *  response_split.c     the peak list's two-pole split and backfit;
- *  response_list.c      af_response_peaks: the list of a band's modes.
+ *  response_list.c      af_response_execute_peaks: the list of a band's modes.
  *
  * Static helpers carry no prefix; the functions shared here are
  * af_response_*, as they are symbols of the library. */
@@ -142,7 +142,7 @@ static inline double complex complex_recip(double complex b)
 /* ---- response.c: the result record and the analysis's first steps ---- */
 /* Checks the band and the length, then onset, trend, transform of
  * audio[0..n): the analysed start into *start, the window energy into
- * *energy. AF_EINVAL, AF_ESIZE, AF_ENUMERIC as af_response_analyze. */
+ * *energy. AF_EINVAL, AF_ESIZE, AF_ENUMERIC as af_response_execute. */
 af_status af_response_begin(af_response *r, const float *audio, size_t n, double f_lo_hz,
                             double f_hi_hz, size_t *start, double *energy);
 /* 10 log10(peak / noise) [dB]; +-inf for digital silence. */

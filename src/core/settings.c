@@ -216,7 +216,7 @@ static af_status check_args(const af_settings *s, af_setting_id id, char *err, s
     af_settings_say(err, len, "settings: s is NULL");
     return AF_EINVAL;
   }
-  if (!af_setting_valid_id(id)) {
+  if (!setting_valid_id(id)) {
     af_settings_say(err, len, "unknown parameter #%d", (int)id);
     return AF_EINVAL;
   }
@@ -253,7 +253,7 @@ static af_status set_default(af_settings *s, af_setting_id id)
   return af_settings_set_text(s, d->name, d->def, err, sizeof err);
 }
 
-void af_settings_init(af_settings *s)
+void af_settings_reset(af_settings *s)
 {
   if (s == NULL)
     return;
@@ -355,7 +355,7 @@ af_status af_settings_check_required(const af_settings *s, unsigned files, char 
 
 bool af_settings_given(const af_settings *s, af_setting_id id)
 {
-  return s != NULL && af_setting_valid_id(id) && s->given[id];
+  return s != NULL && setting_valid_id(id) && s->given[id];
 }
 
 af_status af_settings_use_rig_hammer(af_settings *s, char *err, size_t len)
@@ -373,7 +373,7 @@ af_status af_settings_use_rig_hammer(af_settings *s, char *err, size_t len)
 
 bool af_settings_present(const af_settings *s, af_setting_id id)
 {
-  return s != NULL && af_setting_valid_id(id) && s->present[id];
+  return s != NULL && setting_valid_id(id) && s->present[id];
 }
 
 double af_settings_number(const af_settings *s, af_setting_id id)
@@ -391,7 +391,7 @@ bool af_settings_bool(const af_settings *s, af_setting_id id)
 
 const char *af_settings_string(const af_settings *s, af_setting_id id)
 {
-  if (s == NULL || !af_setting_valid_id(id) || af_setting_rows[id].kind != AF_SETTING_STRING)
+  if (s == NULL || !setting_valid_id(id) || af_setting_rows[id].kind != AF_SETTING_STRING)
     return NULL;
   int slot = string_slot(id);
   return slot < 0 ? NULL : s->text[slot];
@@ -462,7 +462,7 @@ void af_settings_value_text(const af_settings *s, af_setting_id id, char *buf, s
 {
   if (buf == NULL || len == 0)
     return;
-  if (s == NULL || !af_setting_valid_id(id)) {
+  if (s == NULL || !setting_valid_id(id)) {
     snprintf(buf, len, "?");
     return;
   }

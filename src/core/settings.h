@@ -216,7 +216,7 @@ typedef struct {
 } af_settings;
 
 /* Every row at its default (optional rows absent), nothing given, prefix "". */
-void af_settings_init(af_settings *s);
+void af_settings_reset(af_settings *s);
 /* Names in messages become prefix + name, e.g. "~" for ROS private
  * parameters. Cut to AF_SETTINGS_PREFIX_MAX - 1 characters. */
 void af_settings_set_name_prefix(af_settings *s, const char *prefix);

@@ -20,7 +20,7 @@
 /* The table, indexed by af_setting_id (settings_table.c). */
 extern const af_setting_def af_setting_rows[AF_SETTING_COUNT];
 
-static inline bool af_setting_valid_id(af_setting_id id)
+static inline bool setting_valid_id(af_setting_id id)
 {
   return (int)id >= 0 && id < AF_SETTING_COUNT;
 }

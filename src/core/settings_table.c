@@ -278,7 +278,7 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
 
 const af_setting_def *af_setting_def_of(af_setting_id id)
 {
-  return af_setting_valid_id(id) ? &af_setting_rows[id] : NULL;
+  return setting_valid_id(id) ? &af_setting_rows[id] : NULL;
 }
 
 af_status af_setting_find(const char *name, af_setting_id *id)
@@ -327,7 +327,7 @@ bool af_setting_parse_range(const char *text, af_setting_range *r, const char **
 
 af_status af_setting_range_of(af_setting_id id, af_setting_range *out)
 {
-  if (!af_setting_valid_id(id) || out == NULL || af_setting_rows[id].range == NULL)
+  if (!setting_valid_id(id) || out == NULL || af_setting_rows[id].range == NULL)
     return AF_EINVAL;
   return af_setting_parse_range(af_setting_rows[id].range, out, NULL) ? AF_OK : AF_EINVAL;
 }
@@ -345,7 +345,7 @@ bool af_setting_range_contains(const af_setting_range *r, double v)
 
 double af_setting_rig_value(af_setting_id id)
 {
-  return af_setting_valid_id(id) && af_setting_rows[id].rig != NULL
+  return setting_valid_id(id) && af_setting_rows[id].rig != NULL
              ? strtod(af_setting_rows[id].rig, NULL)
              : NAN;
 }
@@ -354,7 +354,7 @@ const char *af_setting_unit(af_setting_id id)
 {
   af_setting_range r;
   const char *unit = "";
-  if (af_setting_valid_id(id) && af_setting_rows[id].range != NULL &&
+  if (setting_valid_id(id) && af_setting_rows[id].range != NULL &&
       af_setting_parse_range(af_setting_rows[id].range, &r, &unit))
     return unit;
   return "";
@@ -362,7 +362,7 @@ const char *af_setting_unit(af_setting_id id)
 
 af_status af_setting_choice_word(af_setting_id id, size_t k, char *buf, size_t len)
 {
-  if (!af_setting_valid_id(id) || af_setting_rows[id].kind != AF_SETTING_CHOICE || buf == NULL ||
+  if (!setting_valid_id(id) || af_setting_rows[id].kind != AF_SETTING_CHOICE || buf == NULL ||
       len == 0)
     return AF_EINVAL;
   const char *p = af_setting_rows[id].choices;

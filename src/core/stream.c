@@ -21,7 +21,7 @@ static bool converts(const af_stream_config *cfg)
   return cfg->to_si != 1.0 && cfg->to_si != 0.0; /* 0: a config made without a unit */
 }
 
-af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg)
+af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg)
 {
   memset(s, 0, sizeof *s);
   s->name = name;
@@ -31,7 +31,7 @@ af_status af_stream_init(af_stream *s, const char *name, const af_stream_config 
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
 
-void af_stream_fini(af_stream *s)
+void af_stream_destroy(af_stream *s)
 {
   af_ring_destroy(s->ring);
   s->ring = NULL;

@@ -14,7 +14,7 @@
  * nanoseconds (a double of seconds since 1970 keeps only ~0.2 us).
  *
  * No ROS: the node converts SignalChunk messages, the desk tools recordings,
- * into af_chunk. No allocation after af_stream_init. */
+ * into af_chunk. No allocation after af_stream_create. */
 #ifndef AF_STREAM_H
 #define AF_STREAM_H
 
@@ -88,8 +88,8 @@ void af_stream_to_si(double to_si, const float *x, size_t n, float *out);
 
 /* Makes the ring (capacity from cfg, which must outlive s) and, when
  * cfg->to_si is not 1, the conversion scratch. AF_ENOMEM. */
-af_status af_stream_init(af_stream *s, const char *name, const af_stream_config *cfg);
-void af_stream_fini(af_stream *s); /* safe on a zeroed or finished stream */
+af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg);
+void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
 
 /* Checks one chunk (as sent: its unit, its rate, finite samples) and
  * buffers it, times cfg->to_si, when good; a refused chunk is counted and

@@ -105,7 +105,7 @@ af_status af_stress_max_center_pressure_pa(const double *force_n, const double *
  *   sigma_r / p0 = -(1 + nu)(1 - zeta atan(1/zeta)) + 1 / (2 (1 + zeta^2)),
  *   sigma_z / p0 = -1 / (1 + zeta^2),  tau = |sigma_z - sigma_r| / 2.
  * Negated so that the minimiser finds the maximum. */
-static double af_neg_axial_shear(double zeta, void *params)
+static double neg_axial_shear(double zeta, void *params)
 {
   double nu = *(const double *)params;
   double q = 1.0 / (1.0 + zeta * zeta);
@@ -115,12 +115,12 @@ static double af_neg_axial_shear(double zeta, void *params)
 }
 
 /* Maximum of tau / p0 over zeta by Brent's minimiser. */
-static af_status af_exact_shear(double poisson, double *ratio, double *depth_over_a)
+static af_status exact_shear(double poisson, double *ratio, double *depth_over_a)
 {
   gsl_min_fminimizer *s = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent);
   if (s == NULL)
     return AF_ENOMEM;
-  gsl_function f = {af_neg_axial_shear, &poisson};
+  gsl_function f = {neg_axial_shear, &poisson};
   af_status st = AF_ENOCONV;
   if (gsl_min_fminimizer_set(s, &f, AF_SHEAR_ZETA_GUESS, AF_SHEAR_ZETA_LO, AF_SHEAR_ZETA_HI) ==
       GSL_SUCCESS) {
@@ -154,7 +154,7 @@ af_status af_stress_shear_ratio(af_shear_ratio mode, double poisson, double *rat
     return AF_OK;
   case AF_SHEAR_EXACT:
     af_status_init(); /* the minimiser must report, not abort */
-    return af_exact_shear(poisson, ratio, depth_over_a);
+    return exact_shear(poisson, ratio, depth_over_a);
   }
   return AF_EINVAL;
 }
@@ -166,7 +166,7 @@ double af_stress_yield_shear_pa(double yield_ratio, double modulus_pa)
   return yield_ratio * modulus_pa;
 }
 
-void af_shear_cache_init(af_shear_cache *c)
+void af_shear_cache_reset(af_shear_cache *c)
 {
   c->mode = AF_SHEAR_EXACT;
   c->poisson = NAN;

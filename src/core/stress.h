@@ -45,14 +45,14 @@ af_status af_stress_shear_ratio(af_shear_ratio mode, double poisson, double *rat
 
 /* tau_max / p0 of the last mode and Poisson ratio asked (its GSL minimiser
  * allocates; a station asks for the same pair at every strike). Initialise
- * with af_shear_cache_init. */
+ * with af_shear_cache_reset. */
 typedef struct {
   af_shear_ratio mode;
   double poisson; /* NaN: empty */
   double ratio;
 } af_shear_cache;
 
-void af_shear_cache_init(af_shear_cache *c);
+void af_shear_cache_reset(af_shear_cache *c);
 /* af_stress_shear_ratio's ratio, solved only when mode or poisson changed. */
 af_status af_stress_shear_ratio_cached(af_shear_cache *c, af_shear_ratio mode, double poisson,
                                        double *ratio);

@@ -206,7 +206,7 @@ typedef struct {
   bool clipped;            /* a raw sample of the contact at or beyond +-full_scale_n */
   bool truncated;          /* cut before the contact ended (gap, restart, max_contact_s) */
   uint64_t lost_samples;   /* samples missing from pre-trigger .. emission */
-  /* The baseline-removed contact for af_spectrum_execute / af_fit_pulse:
+  /* The baseline-removed contact for af_spectrum_execute / af_fit_execute:
    * pulse_n[k] [N] at sample pulse_first_sample + k, k = 0 .. n_samples-1,
    * from the first sample at or after t0 to the last at or before t1. */
   const double *pulse_n;

@@ -46,10 +46,10 @@ double af_synth_gauss(af_synth_rng *g)
 
 /* ---- model pulse ---------------------------------------------------------- */
 
-af_status af_synth_pulse_run(af_impact *w, const af_impact_params *p, double fine_dt_s, double *buf,
-                             size_t cap, af_synth_pulse *out)
+af_status af_synth_pulse_model(af_impact *w, const af_impact_params *p, double fine_dt_s,
+                               double *buf, size_t cap, af_synth_pulse *out)
 {
-  af_status st = af_impact_run(w, p, fine_dt_s, buf, NULL, cap, &out->res);
+  af_status st = af_impact_execute(w, p, fine_dt_s, buf, NULL, cap, &out->res);
   if (st != AF_OK)
     return st;
   out->force_n = buf;

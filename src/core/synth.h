@@ -13,7 +13,7 @@
  * Typical use:
  *     af_synth_pulse p;
  *     double fine[8192];
- *     af_synth_pulse_run(w, &params, 20e-6 / 64, fine, 8192, &p);
+ *     af_synth_pulse_model(w, &params, 20e-6 / 64, fine, 8192, &p);
  *     af_synth_add_pulse(x, n, 20e-6, 0.0, &p, 0.0123456, 1.0);   F(t - t0)
  *     af_synth_add_noise(x, n, af_synth_noise_rms(p.res.peak_force_n, 40.0), &g);
  * Sample k of x is at time t_first_s + k dt_s throughout. */
@@ -61,17 +61,17 @@ typedef struct {
 } af_synth_pulse;
 
 /* Runs the impact model at fine_dt_s into buf[0..cap) and describes it in
- * *out (out->force_n = buf). Statuses of af_impact_run (AF_ESIZE when cap is
+ * *out (out->force_n = buf). Statuses of af_impact_execute (AF_ESIZE when cap is
  * too small). */
-af_status af_synth_pulse_run(af_impact *w, const af_impact_params *p, double fine_dt_s, double *buf,
-                             size_t cap, af_synth_pulse *out);
+af_status af_synth_pulse_model(af_impact *w, const af_impact_params *p, double fine_dt_s,
+                               double *buf, size_t cap, af_synth_pulse *out);
 
 /* The same pulse from an integrator of its own, so that a test or the demo
  * does not check the model against itself: classical fixed-step RK4 of
  * m1 d'' = m1 g - K d^1.5 (1 + chi d'/v0), d(0) = 0, d'(0) = v0 (PHYSICS.md
  * 1), at fine_dt_s, contact end where d returns to 0 (linear crossing).
  * Shares only K (af_impact_stiffness) and chi (af_impact_chi, the damping
- * law's definition) with af_impact_run, not its GSL odeiv2 stepper, events
+ * law's definition) with af_impact_execute, not its GSL odeiv2 stepper, events
  * or peak refinement. out->res: contact_time_s, peak_force_n (largest fine
  * sample), time_of_peak_s, max_deformation_m, delivered_restitution, chi,
  * dt_s, n_samples. AF_EINVAL for invalid params or fine_dt_s, AF_ESIZE when

@@ -25,7 +25,7 @@ typedef enum {
   AF_VERDICT_NO_APPLE = 1u << 0,        /* no AppleEstimate matches the strike */
   AF_VERDICT_NO_PREDICTION = 1u << 1,   /* its apple was refused (apple_why) */
   AF_VERDICT_APPLE_DOUBTFUL = 1u << 2,  /* matched, but its own estimate may not have come */
-  AF_VERDICT_MEASURE_FAILED = 1u << 3,  /* af_measure_strike refused (measure_status) */
+  AF_VERDICT_MEASURE_FAILED = 1u << 3,  /* af_measure_execute refused (measure_status) */
   AF_VERDICT_DOUBLE_HIT = 1u << 4,      /* the hammer bounced */
   AF_VERDICT_CLIPPED = 1u << 5,         /* a force sample at full scale */
   AF_VERDICT_LOST_SAMPLES = 1u << 6,    /* force samples missing (lost_samples) */

@@ -53,7 +53,7 @@
 #include "model_table.h"
 #include "tool_config.h"
 #include "options.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "synth.h"
 
 #ifndef M_PI /* strict C11 <math.h> does not define it */
@@ -286,11 +286,11 @@ static int make_strikes(const args *a, const station *st, af_impact *w, double *
     sk->modulus_pa =
         c->modulus_min_pa + (c->modulus_max_pa - c->modulus_min_pa) * af_synth_uniform(&g);
     sk->mass_kg = c->mass_min_kg + (c->mass_max_kg - c->mass_min_kg) * af_synth_uniform(&g);
-    sk->radius_m = af_resonance_sphere_radius_m(sk->mass_kg, density);
+    sk->radius_m = af_lamb_sphere_radius_m(sk->mass_kg, density);
     /* sub-sample offsets */
     sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * af_synth_uniform(&g);
     sk->resonance_hz =
-        af_resonance_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson, density, sk->mass_kg);
+        af_lamb_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson, density, sk->mass_kg);
     sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
     af_impact_params p = impact_for(st, sk);
     af_status rc = af_synth_pulse_rk4(w, &p, fine_dt_s(st), fine, FINE_CAP, &sk->pulse);
@@ -419,7 +419,7 @@ int main(int argc, char **argv)
   static station sta; /* static: a lane configuration is large for the stack */
   char err[512];
   af_settings table;
-  af_settings_init(&table);
+  af_settings_reset(&table);
   if (af_lane_config_for_tool(&table, &sta.lane, err, sizeof err) != AF_OK ||
       af_model_params_from_settings(&table, &sta.model, err, sizeof err) != AF_OK) {
     fprintf(stderr, "strike_bag: the parameter table's defaults: %s\n", err);

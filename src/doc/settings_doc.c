@@ -26,7 +26,7 @@
 #include <string.h>
 
 #include "grade.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 
 /* Column of the '#' of a row's comment (key: value padded to it). */
@@ -135,14 +135,14 @@ static void yaml_row(FILE *out, af_setting_id id, const af_setting_def *d)
 static double stiffness_factor_per_pa(void)
 {
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   double nu = af_settings_number(&s, AF_SETTING_FRUIT_POISSON);
   double rho = af_settings_number(&s, AF_SETTING_DENSITY_KG_M3);
   double factor = af_settings_number(&s, AF_SETTING_MODULUS_FACTOR);
   double xi, m = 1.0, e2 = 1e6;
-  if (af_resonance_lamb_root(nu, &xi) != AF_OK)
+  if (af_lamb_root(nu, &xi) != AF_OK)
     return NAN;
-  double f = af_resonance_frequency_hz(xi, factor * e2, nu, rho, m);
+  double f = af_lamb_frequency_hz(xi, factor * e2, nu, rho, m);
   return f * f * pow(m, 2.0 / 3.0) / e2;
 }
 
@@ -152,7 +152,7 @@ static int grades_note(FILE *out)
   af_settings s;
   af_grade_config g;
   char err[256];
-  af_settings_init(&s);
+  af_settings_reset(&s);
   if (af_grade_config_from_settings(&s, &g, err, sizeof err) != AF_OK) {
     fprintf(stderr, "settings_doc: %s\n", err);
     return 1;

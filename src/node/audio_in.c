@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "measured.h"
+#include "lane_io.h"
 #include "pcm.h"
 #include "text.h"
 

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "model.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 #include "text.h"
 
@@ -97,7 +97,7 @@ static bool params_of(const af_evaluate *e, const af_evaluate_request *req, af_m
   return true;
 }
 
-void af_evaluate_run(af_evaluate *e, const af_evaluate_request *req, af_evaluate_response *res)
+void af_evaluate_execute(af_evaluate *e, const af_evaluate_request *req, af_evaluate_response *res)
 {
   const af_lane_config *c = &e->cfg->lane;
   af_model_params p;
@@ -107,7 +107,7 @@ void af_evaluate_run(af_evaluate *e, const af_evaluate_request *req, af_evaluate
   e->calls++;
   af_status st = AF_EINVAL;
   if (params_of(e, req, &p, res)) {
-    st = af_model_evaluate(e->model, &p, &r);
+    st = af_model_execute(e->model, &p, &r);
     if (st != AF_OK)
       af_text(res->error, sizeof res->error, "the model failed: %s", af_strerror(st));
   }
@@ -131,11 +131,11 @@ void af_evaluate_run(af_evaluate *e, const af_evaluate_request *req, af_evaluate
   res->band_high_hz = r.band_found ? r.band.band_high_hz : NAN;
   res->resonance_hz = r.resonance_hz;
   res->resonance_low_hz =
-      af_resonance_frequency_hz(c->resonance_xi, p.modulus_factor * c->modulus_min_pa,
-                                p.impact.fruit_poisson, p.fruit_density_kg_m3, p.fruit_mass_kg);
+      af_lamb_frequency_hz(c->resonance_xi, p.modulus_factor * c->modulus_min_pa,
+                           p.impact.fruit_poisson, p.fruit_density_kg_m3, p.fruit_mass_kg);
   res->resonance_high_hz =
-      af_resonance_frequency_hz(c->resonance_xi, p.modulus_factor * c->modulus_max_pa,
-                                p.impact.fruit_poisson, p.fruit_density_kg_m3, p.fruit_mass_kg);
+      af_lamb_frequency_hz(c->resonance_xi, p.modulus_factor * c->modulus_max_pa,
+                           p.impact.fruit_poisson, p.fruit_density_kg_m3, p.fruit_mass_kg);
   res->excitation_at_resonance_db = r.excitation_at_resonance_db;
   res->max_contact_pressure_pa = r.max_contact_pressure_pa;
   res->max_shear_stress_pa = r.max_shear_stress_pa;
@@ -153,7 +153,7 @@ void af_evaluate_run(af_evaluate *e, const af_evaluate_request *req, af_evaluate
 
 static void on_evaluate(const af_evaluate_request *req, af_evaluate_response *res, void *user)
 {
-  af_evaluate_run(user, req, res);
+  af_evaluate_execute(user, req, res);
 }
 
 void af_evaluate_diag(const af_evaluate *e, af_diag_status *d)

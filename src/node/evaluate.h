@@ -29,7 +29,7 @@ af_status af_evaluate_create(af_ros *ros, const af_node_config *cfg, af_evaluate
 void af_evaluate_destroy(af_evaluate *e); /* NULL-safe */
 
 /* Answers one request (the service's handler; also callable directly). */
-void af_evaluate_run(af_evaluate *e, const af_evaluate_request *req, af_evaluate_response *res);
+void af_evaluate_execute(af_evaluate *e, const af_evaluate_request *req, af_evaluate_response *res);
 
 /* Adds the service's keys (calls, refused, last refusal) to d. */
 void af_evaluate_diag(const af_evaluate *e, af_diag_status *d);

@@ -48,7 +48,7 @@ int main(int argc, char **argv)
       af_station_update(st);
   }
   af_station_destroy(st);
-  af_params_free(&cfg);
+  af_params_destroy(&cfg);
   af_ros_destroy(ros);
   return s == AF_OK ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -14,7 +14,7 @@
 struct af_live_settings {
   af_ros *ros;
   af_node_config *cfg;
-  af_measured *measured;
+  af_lane_io *measured;
   af_settings next;       /* the request on the node's settings */
   af_lane_config derived; /* its lane configuration */
   af_lane_config before;  /* the one in force, to restore */
@@ -82,7 +82,7 @@ static af_status on_request(const af_rc_value *values, size_t n, bool initial, v
   if (st == AF_OK) {
     l->before = l->cfg->lane;
     l->cfg->lane = l->derived;
-    st = af_measured_reconfigured(l->measured, grades, &what);
+    st = af_lane_io_reconfigured(l->measured, grades, &what);
     if (st != AF_OK) {
       l->cfg->lane = l->before;
       af_text(why, sizeof why, "could not remake %s: %s", what, af_strerror(st));
@@ -112,7 +112,7 @@ void af_live_settings_diag(const af_live_settings *l, af_diag_status *d)
   af_diag_add(d, "reconfigure last refusal", "%s", l->last_refusal);
 }
 
-af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_measured *measured,
+af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_lane_io *measured,
                                   af_live_settings **out, const char **what)
 {
   *out = NULL;

@@ -9,7 +9,7 @@
  * modulus_nominal_pa within [modulus_min_pa, modulus_max_pa], the grade
  * classes, the model's own check over the corners). Accepted: the node's
  * configuration is replaced in place and the lane's parts that copied it
- * are made anew (af_measured_reconfigured); the next apple, strike and
+ * are made anew (af_lane_io_reconfigured); the next apple, strike and
  * ~evaluate call use it. Refused: nothing changes, the server answers with
  * the values in force, the reason goes to a WARN log and /diagnostics.
  *
@@ -20,7 +20,7 @@
 #define AF_NODE_LIVE_SETTINGS_H
 
 #include "af_ros.h"
-#include "measured.h"
+#include "lane_io.h"
 #include "params.h"
 
 #ifdef __cplusplus
@@ -31,7 +31,7 @@ typedef struct af_live_settings af_live_settings;
 
 /* Starts the dynamic_reconfigure server on ~ (cfg is changed in place and
  * must outlive it). *out NULL on error, *what naming the part. */
-af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_measured *measured,
+af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_lane_io *measured,
                                   af_live_settings **out, const char **what);
 void af_live_settings_destroy(af_live_settings *l); /* NULL-safe */
 

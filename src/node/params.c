@@ -70,7 +70,7 @@ static af_status load_row(af_ros *r, af_settings *s, af_setting_id id, char *err
 /* Every row of the table from ~, then the required ones checked. */
 static af_status load_settings(af_ros *r, af_settings *s, char *err, size_t len)
 {
-  af_settings_init(s);
+  af_settings_reset(s);
   af_settings_set_name_prefix(s, "~");
   for (int k = 0; k < AF_SETTING_COUNT; k++) {
     af_status st = load_row(r, s, (af_setting_id)k, err, len);
@@ -203,11 +203,11 @@ af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err
       cfg->settings = s; /* the base of a reconfigure (src/node/live_settings.c) */
   }
   if (st != AF_OK)
-    af_params_free(cfg);
+    af_params_destroy(cfg);
   return st;
 }
 
-void af_params_free(af_node_config *cfg)
+void af_params_destroy(af_node_config *cfg)
 {
   af_urdf_destroy(cfg->urdf);
   cfg->urdf = NULL;

@@ -64,7 +64,7 @@ typedef struct {
  * AF_ENOMEM, with a one-line reason in err; cfg then holds nothing to free. */
 af_status af_params_load(af_ros *ros, af_node_config *cfg, char *err, size_t err_len);
 /* Frees the URDF; safe on a zeroed or freed config. */
-void af_params_free(af_node_config *cfg);
+void af_params_destroy(af_node_config *cfg);
 
 #ifdef __cplusplus
 }

@@ -13,9 +13,9 @@
 #include "evaluate.h"
 #include "live_settings.h"
 #include "markers.h"
-#include "measured.h"
+#include "lane_io.h"
 #include "model.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "status_marker.h"
 #include "strike_plot.h"
 #include "text.h"
@@ -44,7 +44,7 @@ struct af_station {
   const af_node_config *cfg;
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
-  af_measured *measured; /* the lane (src/core/lane.h) and its strike outputs */
+  af_lane_io *measured;  /* the lane (src/core/lane.h) and its strike outputs */
   af_evaluate *evaluate; /* the ~evaluate service */
   /* dynamic_reconfigure of the criteria, thresholds and grades */
   af_live_settings *live;
@@ -325,7 +325,7 @@ static void on_apple(const void *msg, void *user)
   memset(&w, 0, sizeof w);
   st->apples++;
   apple_of(st, m, &w, &a);
-  af_status s = af_measured_apple(st->measured, &a, &pr);
+  af_status s = af_lane_io_apple(st->measured, &a, &pr);
   if (s != AF_OK) {
     st->model_failures += s != AF_EINVAL;
     reject_apple(st, m, pr->why);
@@ -343,7 +343,7 @@ static void on_apple(const void *msg, void *user)
       anchor[i] = w.centre_m[i] +
                   (pr->geo.direction_known ? (top + 3.5 * h) * pr->geo.normal[i] : 0.0) -
                   (pr->geo.direction_known && i == 2 ? top + 3.5 * h : 0.0);
-    af_measured_label_place(st->measured, m->apple_id, &m->header, anchor, top);
+    af_lane_io_label_place(st->measured, m->apple_id, &m->header, anchor, top);
   }
   fill_band(m, pr, &st->band);
   fill_advice(st->cfg, m, &a, pr, &st->advice);
@@ -388,16 +388,16 @@ static void on_force(const void *msg, void *user)
 {
   af_station *st = user;
   af_ring_write_info info;
-  af_chunk_verdict v = af_measured_force(st->measured, msg, &info);
-  on_chunk(st, af_lane_force_stream(af_measured_lane(st->measured)), v, &info);
+  af_chunk_verdict v = af_lane_io_force(st->measured, msg, &info);
+  on_chunk(st, af_lane_force_stream(af_lane_io_lane(st->measured)), v, &info);
 }
 
 static void on_audio(const void *msg, void *user)
 {
   af_station *st = user;
   af_ring_write_info info;
-  af_chunk_verdict v = af_measured_audio(st->measured, msg, &info);
-  on_chunk(st, af_lane_audio_stream(af_measured_lane(st->measured)), v, &info);
+  af_chunk_verdict v = af_lane_io_audio(st->measured, msg, &info);
+  on_chunk(st, af_lane_audio_stream(af_lane_io_lane(st->measured)), v, &info);
 }
 
 /* --- diagnostics ------------------------------------------------------------ */
@@ -434,7 +434,7 @@ static void publish_status(af_station *st, const char *warning)
   if (!st->markers_pub || !c->hammer_axis_known)
     return;
   char text[AF_TEXT_MAX];
-  const af_lane_stats *ls = af_lane_get_stats(af_measured_lane(st->measured));
+  const af_lane_stats *ls = af_lane_get_stats(af_lane_io_lane(st->measured));
   af_text(text, sizeof text, "%s: %s\napples %llu, strikes %llu (unreliable %llu)",
           af_ros_node_name(st->ros), warning ? warning : "OK", st->apples,
           (unsigned long long)ls->strikes, (unsigned long long)ls->unreliable);
@@ -451,7 +451,7 @@ static void diag_task(af_diag_status *d, void *user)
 {
   af_station *st = user;
   const af_node_config *c = st->cfg;
-  const af_lane *lane = af_measured_lane(st->measured);
+  const af_lane *lane = af_lane_io_lane(st->measured);
   const af_stream *force = af_lane_force_stream(lane), *audio = af_lane_audio_stream(lane);
   int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
   bool force_stale = af_stream_stale(force, now_ns, c->lane.stream_stale_after_s);
@@ -467,7 +467,7 @@ static void diag_task(af_diag_status *d, void *user)
   if (absent && !st->absent_logged)
     af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
   st->absent_logged |= absent;
-  const char *strike_warning = af_measured_warning(st->measured);
+  const char *strike_warning = af_lane_io_warning(st->measured);
   if (!strike_warning)
     strike_warning = af_audio_in_warning(st->audio_in);
   /* The first problem, in this order of importance; NULL = none. */
@@ -518,7 +518,7 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_add(d, "stream absent check", "%s", absent ? st->absent : "ok");
   else
     af_diag_add(d, "stream absent check", "off (stream_absent_warn_s 0)");
-  af_measured_diag(st->measured, d);
+  af_lane_io_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
   af_live_settings_diag(st->live, d);
   af_audio_in_diag(st->audio_in, d);
@@ -651,12 +651,12 @@ static af_status build(af_station *st, const char **what)
   *what = "the publishers";
   if ((s = advertise(st)) != AF_OK)
     return s;
-  if ((s = af_measured_create(st->ros, st->cfg, st->reliability_pub, st->markers_pub, &st->measured,
-                              what)) != AF_OK)
+  if ((s = af_lane_io_create(st->ros, st->cfg, st->reliability_pub, st->markers_pub, &st->measured,
+                             what)) != AF_OK)
     return s;
   if ((s = af_strike_plot_create(st->ros, st->cfg, &st->plot, what)) != AF_OK)
     return s;
-  af_measured_set_strike_plot(st->measured, st->plot);
+  af_lane_io_set_strike_plot(st->measured, st->plot);
   if ((s = af_evaluate_create(st->ros, st->cfg, &st->evaluate, what)) != AF_OK)
     return s;
   /* main owns the configuration (not const there); a reconfigure changes it in place. */
@@ -695,7 +695,7 @@ void af_station_destroy(af_station *st)
 {
   if (!st)
     return;
-  af_measured_destroy(st->measured);
+  af_lane_io_destroy(st->measured);
   af_evaluate_destroy(st->evaluate);
   af_live_settings_destroy(st->live);
   af_audio_in_destroy(st->audio_in);
@@ -707,7 +707,7 @@ void af_station_destroy(af_station *st)
 void af_station_update(af_station *st)
 {
   deferred_rig_frames(st);
-  af_measured_poll(st->measured);
+  af_lane_io_poll(st->measured);
   af_strike_plot_update(st->plot); /* renders outside every callback */
   af_ros_diag_update(st->diag);
 }

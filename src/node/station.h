@@ -7,7 +7,7 @@
  *   apple         acoustic_firmness/AppleEstimate -> one prediction each
  * Outputs, each header the AppleEstimate's (stamp and frame, never now()):
  *   excitation_band, strike_advice, reliability, markers; /diagnostics.
- * Measured strikes (measured.h), header = contact start and the force
+ * Measured strikes (lane_io.h), header = contact start and the force
  *   chunk's frame: strike_report, reliability (source "measured").
  *
  * Everything is allocated in af_station_create; the callbacks allocate

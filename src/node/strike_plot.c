@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "measured.h" /* af_time_from_ns */
+#include "lane_io.h" /* af_time_from_ns */
 #include "strike_view.h"
 #include "text.h"
 

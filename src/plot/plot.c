@@ -33,7 +33,7 @@ af_plot_panel af_plot_panel_empty(void)
   return p;
 }
 
-static bool af_ends_with(const char *s, const char *suffix)
+static bool ends_with(const char *s, const char *suffix)
 {
   size_t n = strlen(s), m = strlen(suffix);
   if (n < m)
@@ -49,9 +49,9 @@ af_status af_plot_target_file(const char *path, int width_px, int height_px, af_
   if (!path || !out || width_px < 64 || width_px > 8192 || height_px < 64 || height_px > 8192)
     return AF_EINVAL;
   memset(out, 0, sizeof *out);
-  if (af_ends_with(path, ".png"))
+  if (ends_with(path, ".png"))
     out->format = AF_PLOT_PNG;
-  else if (af_ends_with(path, ".svg"))
+  else if (ends_with(path, ".svg"))
     out->format = AF_PLOT_SVG;
   else
     return AF_EINVAL;
@@ -63,7 +63,7 @@ af_status af_plot_target_file(const char *path, int width_px, int height_px, af_
 
 /* ---- limits ------------------------------------------------------------------- */
 
-static void af_extend(double v, double *lo, double *hi)
+static void extend(double v, double *lo, double *hi)
 {
   if (!isfinite(v))
     return;
@@ -74,7 +74,7 @@ static void af_extend(double v, double *lo, double *hi)
 }
 
 /* The panel's window: given limits, else the data's range with a 5 % margin. */
-static void af_limits(const af_plot_panel *p, double *x0, double *x1, double *y0, double *y1)
+static void axis_limits(const af_plot_panel *p, double *x0, double *x1, double *y0, double *y1)
 {
   double xl = INFINITY, xh = -INFINITY, yl = INFINITY, yh = -INFINITY;
   for (size_t s = 0; s < p->n_series; s++) {
@@ -82,19 +82,19 @@ static void af_limits(const af_plot_panel *p, double *x0, double *x1, double *y0
     for (size_t k = 0; k < ser->n; k++) {
       if (!isfinite(ser->x[k]) || !isfinite(ser->y[k]))
         continue;
-      af_extend(ser->x[k], &xl, &xh);
-      af_extend(ser->y[k], &yl, &yh);
+      extend(ser->x[k], &xl, &xh);
+      extend(ser->y[k], &yl, &yh);
       if (ser->style == AF_PLOT_STEPS) { /* the bin's right edge and the floor */
         if (ser->n > 1)
-          af_extend(ser->x[k] + (ser->x[1] - ser->x[0]), &xl, &xh);
-        af_extend(0.0, &yl, &yh);
+          extend(ser->x[k] + (ser->x[1] - ser->x[0]), &xl, &xh);
+        extend(0.0, &yl, &yh);
       }
     }
   }
   for (size_t k = 0; k < p->n_x_rules; k++)
-    af_extend(p->x_rules[k].at, &xl, &xh);
+    extend(p->x_rules[k].at, &xl, &xh);
   for (size_t k = 0; k < p->n_y_rules; k++)
-    af_extend(p->y_rules[k].at, &yl, &yh);
+    extend(p->y_rules[k].at, &yl, &yh);
   if (!(xl <= xh))
     xl = 0.0, xh = 1.0;
   if (!(yl <= yh))
@@ -113,7 +113,7 @@ static void af_limits(const af_plot_panel *p, double *x0, double *x1, double *y0
 
 /* ---- layers ------------------------------------------------------------------- */
 
-static void af_span(const af_plot_span *s, double x0, double x1, double y0, double y1)
+static void span(const af_plot_span *s, double x0, double x1, double y0, double y1)
 {
   double a = fmax(fmin(s->x0, s->x1), x0), b = fmin(fmax(s->x0, s->x1), x1);
   if (!(b > a))
@@ -125,7 +125,7 @@ static void af_span(const af_plot_span *s, double x0, double x1, double y0, doub
 }
 
 /* A line through the finite points, broken where a point is not finite. */
-static void af_line(const double *x, const double *y, size_t n)
+static void draw_line(const double *x, const double *y, size_t n)
 {
   PLFLT bx[AF_PLOT_RUN_MAX], by[AF_PLOT_RUN_MAX];
   size_t m = 0;
@@ -149,7 +149,7 @@ static void af_line(const double *x, const double *y, size_t n)
   }
 }
 
-static void af_steps(const af_plot_series *s)
+static void steps(const af_plot_series *s)
 {
   if (s->n == 0)
     return;
@@ -167,7 +167,7 @@ static void af_steps(const af_plot_series *s)
 
 #define AF_PLOT_DIAMOND "\xe2\x97\x86" /* U+25C6, a filled diamond */
 
-static void af_series(const af_plot_series *s)
+static void draw_series(const af_plot_series *s)
 {
   plcol0(s->colour);
   pllsty(s->style == AF_PLOT_DASHED ? 2 : 1);
@@ -180,7 +180,7 @@ static void af_series(const af_plot_series *s)
         plpoin(1, &x, &y, 17);
       }
     break;
-  case AF_PLOT_STEPS: af_steps(s); break;
+  case AF_PLOT_STEPS: steps(s); break;
   case AF_PLOT_MARKER: {
     PLFLT def_mm, height_mm; /* the page's character scale, restored after the markers */
     plgchr(&def_mm, &height_mm);
@@ -197,14 +197,13 @@ static void af_series(const af_plot_series *s)
     plschr(0.0, def_mm > 0.0 ? height_mm / def_mm : 1.0);
     break;
   }
-  default: af_line(s->x, s->y, s->n); break;
+  default: draw_line(s->x, s->y, s->n); break;
   }
   pllsty(1);
   plwidth(1.0);
 }
 
-static void af_rule(const af_plot_rule *r, bool vertical, double x0, double x1, double y0,
-                    double y1)
+static void rule(const af_plot_rule *r, bool vertical, double x0, double x1, double y0, double y1)
 {
   if (!isfinite(r->at))
     return;
@@ -236,7 +235,7 @@ typedef struct {
   int n;
 } af_legend;
 
-static int af_legend_add(af_legend *l, const char *text, PLINT opt, af_plot_colour c, bool dashed)
+static int legend_add(af_legend *l, const char *text, PLINT opt, af_plot_colour c, bool dashed)
 {
   if (!text || l->n == AF_PLOT_LEGEND_MAX)
     return -1;
@@ -258,28 +257,26 @@ static int af_legend_add(af_legend *l, const char *text, PLINT opt, af_plot_colo
   return k;
 }
 
-static void af_legend_draw(const af_plot_panel *p)
+static void legend_draw(const af_plot_panel *p)
 {
   af_legend l;
   memset(&l, 0, sizeof l);
   for (size_t k = 0; k < p->n_spans; k++)
-    af_legend_add(&l, p->spans[k].label, PL_LEGEND_COLOR_BOX, p->spans[k].colour, false);
+    legend_add(&l, p->spans[k].label, PL_LEGEND_COLOR_BOX, p->spans[k].colour, false);
   for (size_t k = 0; k < p->n_series; k++) {
     const af_plot_series *s = &p->series[k];
     bool symbol = s->style == AF_PLOT_POINTS || s->style == AF_PLOT_MARKER;
-    int at = af_legend_add(&l, s->label, symbol ? PL_LEGEND_SYMBOL : PL_LEGEND_LINE, s->colour,
-                           s->style == AF_PLOT_DASHED);
+    int at = legend_add(&l, s->label, symbol ? PL_LEGEND_SYMBOL : PL_LEGEND_LINE, s->colour,
+                        s->style == AF_PLOT_DASHED);
     if (at >= 0 && s->style == AF_PLOT_MARKER) {
       l.symbol[at] = AF_PLOT_DIAMOND;
       l.symbol_scale[at] = 1.2;
     }
   }
   for (size_t k = 0; k < p->n_x_rules; k++)
-    af_legend_add(&l, p->x_rules[k].label, PL_LEGEND_LINE, p->x_rules[k].colour,
-                  p->x_rules[k].dashed);
+    legend_add(&l, p->x_rules[k].label, PL_LEGEND_LINE, p->x_rules[k].colour, p->x_rules[k].dashed);
   for (size_t k = 0; k < p->n_y_rules; k++)
-    af_legend_add(&l, p->y_rules[k].label, PL_LEGEND_LINE, p->y_rules[k].colour,
-                  p->y_rules[k].dashed);
+    legend_add(&l, p->y_rules[k].label, PL_LEGEND_LINE, p->y_rules[k].colour, p->y_rules[k].dashed);
   if (l.n == 0)
     return;
   const bool below = p->legend == AF_PLOT_LEGEND_BELOW;
@@ -304,23 +301,23 @@ static void af_legend_draw(const af_plot_panel *p)
 /* ---- one panel ------------------------------------------------------------------ */
 
 /* chars: character height scale (PLplot scales it with the subpage). */
-static void af_panel(const af_plot_panel *p, double chars)
+static void draw_panel(const af_plot_panel *p, double chars)
 {
   plschr(0.0, chars);
   double x0, x1, y0, y1;
-  af_limits(p, &x0, &x1, &y0, &y1);
+  axis_limits(p, &x0, &x1, &y0, &y1);
   plvpor(0.13, 0.96, p->legend == AF_PLOT_LEGEND_BELOW ? 0.42 : 0.13, p->subtitle ? 0.86 : 0.90);
   plwind(x0, x1, y0, y1);
   for (size_t k = 0; k < p->n_spans; k++)
-    af_span(&p->spans[k], x0, x1, y0, y1);
+    span(&p->spans[k], x0, x1, y0, y1);
   plcol0(AF_PLOT_LIGHT_GREY);
   plbox("g", 0.0, 0, "g", 0.0, 0);
   for (size_t k = 0; k < p->n_series; k++)
-    af_series(&p->series[k]);
+    draw_series(&p->series[k]);
   for (size_t k = 0; k < p->n_x_rules; k++)
-    af_rule(&p->x_rules[k], true, x0, x1, y0, y1);
+    rule(&p->x_rules[k], true, x0, x1, y0, y1);
   for (size_t k = 0; k < p->n_y_rules; k++)
-    af_rule(&p->y_rules[k], false, x0, x1, y0, y1);
+    rule(&p->y_rules[k], false, x0, x1, y0, y1);
   plcol0(AF_PLOT_BLACK);
   plbox("bcnst", 0.0, 0, "bcnstv", 0.0, 0);
   pllab(p->x_label ? p->x_label : "", p->y_label ? p->y_label : "", p->title ? p->title : "");
@@ -329,7 +326,7 @@ static void af_panel(const af_plot_panel *p, double chars)
     plmtex("t", 1.0, 0.5, 0.5, p->subtitle);
     plschr(0.0, chars);
   }
-  af_legend_draw(p);
+  legend_draw(p);
 }
 
 af_status af_plot_draw(const af_plot_target *t, const af_plot_panel *panels, int nx, int ny,
@@ -374,7 +371,7 @@ af_status af_plot_draw(const af_plot_target *t, const af_plot_panel *panels, int
   plstar(nx, ny); /* plinit with nx x ny subpages */
   for (int k = 0; k < nx * ny; k++) {
     pladv(k + 1);
-    af_panel(&panels[k], nx >= 3 ? 0.55 : 0.7);
+    draw_panel(&panels[k], nx >= 3 ? 0.55 : 0.7);
   }
   plend1();
   plsstrm(previous);

@@ -50,7 +50,7 @@ struct af_strike_view {
   fftw_plan plan;
 };
 
-static size_t af_pow2_at_least(size_t n)
+static size_t pow2_at_least(size_t n)
 {
   size_t p = 1;
   while (p < n)
@@ -70,7 +70,7 @@ af_status af_strike_view_create(const af_lane_config *cfg, af_strike_view **out)
   v->cap_pulse = cfg->measured.pulse_capacity_samples + 1;
   v->cap_audio = cfg->measured.audio_window_samples + 1;
   v->cap_model = AF_VIEW_OVERSAMPLE * 4 * v->cap_pulse;
-  v->fft_size = af_pow2_at_least(4 * v->cap_audio);
+  v->fft_size = pow2_at_least(4 * v->cap_audio);
   v->pulse_n = calloc(v->cap_pulse, sizeof *v->pulse_n);
   v->pulse_t_ms = calloc(v->cap_pulse, sizeof *v->pulse_t_ms);
   v->audio = calloc(v->cap_audio, sizeof *v->audio);
@@ -80,7 +80,7 @@ af_status af_strike_view_create(const af_lane_config *cfg, af_strike_view **out)
   v->fft_out = fftw_alloc_complex(v->fft_size / 2 + 1);
   af_spectrum_config sc = af_spectrum_config_default();
   sc.max_samples = v->cap_pulse;
-  sc.fft_size = af_pow2_at_least(4 * v->cap_pulse);
+  sc.fft_size = pow2_at_least(4 * v->cap_pulse);
   af_status st = AF_ENOMEM;
   if (v->pulse_n && v->pulse_t_ms && v->audio && v->model_t_ms && v->model_n && v->fft_in &&
       v->fft_out) {
@@ -118,7 +118,7 @@ void af_strike_view_destroy(af_strike_view *v)
 /* The analysed audio window, found as the lane finds it (lane.c): the first
  * sample at or after the contact start + the delay, audio_window_samples
  * long, read from the audio ring. */
-static size_t af_capture_audio(af_strike_view *v, const af_lane_strike *s, const af_lane *lane)
+static size_t capture_audio(af_strike_view *v, const af_lane_strike *s, const af_lane *lane)
 {
   const af_stream *a = af_lane_audio_stream(lane);
   const size_t n = v->cfg->measured.audio_window_samples;
@@ -156,7 +156,7 @@ void af_strike_view_capture(af_strike_view *v, const af_lane_strike *s, const af
     v->dt_s = ev->dt_s;
     v->t0_s = ev->pulse_t0_s;
   }
-  v->n_audio = lane ? af_capture_audio(v, s, lane) : 0;
+  v->n_audio = lane ? capture_audio(v, s, lane) : 0;
   v->with_audio = v->n_audio > 0;
 }
 
@@ -167,7 +167,7 @@ bool af_strike_view_pending(const af_strike_view *v)
 
 /* ---- prepare ------------------------------------------------------------------- */
 
-static void af_prepare_model(af_strike_view *v)
+static void prepare_model(af_strike_view *v)
 {
   const af_measure_report *r = &v->report;
   v->have_model = false;
@@ -179,7 +179,7 @@ static void af_prepare_model(af_strike_view *v)
   p.damping = v->cfg->measured.measure.fit.damping;
   af_impact_result res;
   double dt = v->dt_s / AF_VIEW_OVERSAMPLE;
-  if (af_impact_run(v->impact, &p, dt, v->model_n, NULL, v->cap_model - 1, &res) != AF_OK)
+  if (af_impact_execute(v->impact, &p, dt, v->model_n, NULL, v->cap_model - 1, &res) != AF_OK)
     return;
   for (size_t k = 0; k < res.n_samples; k++)
     v->model_t_ms[k] = (double)k * dt * 1e3;
@@ -190,7 +190,7 @@ static void af_prepare_model(af_strike_view *v)
   v->have_model = true;
 }
 
-static void af_prepare_force_spectrum(af_strike_view *v, double f_max_hz)
+static void prepare_force_spectrum(af_strike_view *v, double f_max_hz)
 {
   v->have_force_spectrum = false;
   v->level_db = NAN;
@@ -209,7 +209,7 @@ static void af_prepare_force_spectrum(af_strike_view *v, double f_max_hz)
 
 /* |FFT| of the Hann-windowed audio, zero-padded, read at the curve's
  * frequencies (linear interpolation between bins), dB re its maximum. */
-static void af_prepare_audio_spectrum(af_strike_view *v)
+static void prepare_audio_spectrum(af_strike_view *v)
 {
   v->have_audio_spectrum = false;
   if (!v->with_audio)
@@ -256,9 +256,9 @@ af_status af_strike_view_prepare(af_strike_view *v)
   f_max = fmin(f_max, 0.5 * v->cfg->audio.sample_rate_hz);
   for (size_t k = 0; k < AF_STRIKE_VIEW_FREQS; k++)
     v->freq_hz[k] = f_max * (double)k / (double)(AF_STRIKE_VIEW_FREQS - 1);
-  af_prepare_model(v);
-  af_prepare_force_spectrum(v, f_max);
-  af_prepare_audio_spectrum(v);
+  prepare_model(v);
+  prepare_force_spectrum(v, f_max);
+  prepare_audio_spectrum(v);
   v->prepared = true;
   return AF_OK;
 }

@@ -4,7 +4,7 @@
  *
  *   left:  the measured force pulse (the detector's baseline-removed contact
  *          samples) and over it the impact model with the fitted E2 and e
- *          (af_impact_run at a quarter of the sample step, from the
+ *          (af_impact_execute at a quarter of the sample step, from the
  *          detector's contact start), time from the contact start [ms];
  *   right: the spectra in dB re their own maxima: the force pulse's (the
  *          excitation, af_spectrum) and the audio window's (Hann window; the

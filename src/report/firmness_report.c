@@ -48,7 +48,7 @@ typedef struct {
 } af_report_args;
 
 /* The defaults the parser starts from (and --help shows). */
-static af_report_args af_report_args_default(void)
+static af_report_args report_args_default(void)
 {
   af_report_args a;
   memset(&a, 0, sizeof a);
@@ -80,9 +80,9 @@ static const af_option af_report_options[] = {
 };
 #define AF_N_OPTIONS (sizeof af_report_options / sizeof af_report_options[0])
 
-static void af_usage(FILE *out)
+static void print_usage(FILE *out)
 {
-  af_report_args d = af_report_args_default();
+  af_report_args d = report_args_default();
   fprintf(out,
           "usage: firmness_report BAG [flags]\n\n"
           "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
@@ -94,7 +94,7 @@ static void af_usage(FILE *out)
   fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input\n");
 }
 
-static int af_bad(const char *fmt, const char *a, const char *b)
+static int bad_flag(const char *fmt, const char *a, const char *b)
 {
   fprintf(stderr, "firmness_report: ");
   fprintf(stderr, fmt, a, b);
@@ -104,7 +104,7 @@ static int af_bad(const char *fmt, const char *a, const char *b)
 
 /* A lane namespace: a ROS graph name of letters, digits and _ (segments
  * separated by /), starting with a letter; surrounding slashes are dropped. */
-static bool af_ns_valid(const char *ns, char *out, size_t len)
+static bool ns_valid(const char *ns, char *out, size_t len)
 {
   while (*ns == '/')
     ns++;
@@ -123,14 +123,14 @@ static bool af_ns_valid(const char *ns, char *out, size_t len)
   return true;
 }
 
-static int af_parse(int argc, char **argv, af_report_args *a)
+static int parse(int argc, char **argv, af_report_args *a)
 {
-  *a = af_report_args_default();
+  *a = report_args_default();
   for (int k = 1; k < argc; k++) {
     const char *f = argv[k];
     if (strncmp(f, "--", 2) != 0) {
       if (a->bag)
-        return af_bad("one bag only: '%s' after '%s'", f, a->bag);
+        return bad_flag("one bag only: '%s' after '%s'", f, a->bag);
       a->bag = f;
       continue;
     }
@@ -150,40 +150,40 @@ static int af_parse(int argc, char **argv, af_report_args *a)
     const char *v = argv[++k];
     if (strcmp(f, "--set") == 0) {
       if (a->n_sets == AF_SETS_MAX)
-        return af_bad("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
+        return bad_flag("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
       a->sets[a->n_sets++] = v;
     } else
       (void)af_option_store(o, v, a);
   }
   if (!a->bag)
-    return af_bad("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
+    return bad_flag("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
   return 0;
 }
 
 /* The node's settings: the table's defaults, the two files, the shipped
  * rig's hammer unless given, then --set. */
-static int af_configure(const af_report_args *a, af_lane_config *cfg)
+static int configure(const af_report_args *a, af_lane_config *cfg)
 {
   char err[AF_ERR_MAX];
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   if (af_settings_load_yaml(&s, a->config, err, sizeof err) != AF_OK)
-    return af_bad("--config %s%s", err, "");
+    return bad_flag("--config %s%s", err, "");
   if (af_settings_load_yaml(&s, a->cultivar, err, sizeof err) != AF_OK)
-    return af_bad("--cultivar %s%s", err, "");
+    return bad_flag("--cultivar %s%s", err, "");
   /* The node reads the hammer from the rig's URDF; a bag does not hold it:
    * the shipped rig's (the table's rig values). */
   if (af_settings_use_rig_hammer(&s, err, sizeof err) != AF_OK)
-    return af_bad("%s%s", err, "");
+    return bad_flag("%s%s", err, "");
   for (int k = 0; k < a->n_sets; k++)
     if (af_settings_set_arg(&s, a->sets[k], err, sizeof err) != AF_OK)
-      return af_bad("--set %s: %s", a->sets[k], err);
+      return bad_flag("--set %s: %s", a->sets[k], err);
   if (af_lane_config_derive(&s, cfg, err, sizeof err) != AF_OK)
-    return af_bad("%s%s", err, "");
+    return bad_flag("%s%s", err, "");
   return 0;
 }
 
-static void af_print_bench(const af_session *s)
+static void print_bench(const af_session *s)
 {
   fprintf(stderr,
           "bench: %.1f s of recording (%zu strikes, %llu messages) in %.3f s wall, %.3f s CPU: "
@@ -193,19 +193,19 @@ static void af_print_bench(const af_session *s)
           s->cpu_s > 0.0 ? s->recorded_s / s->cpu_s : 0.0);
 }
 
-static int af_report(const af_report_args *a, const char *ns, const af_lane_config *cfg, FILE *csv)
+static int run_report(const af_report_args *a, const char *ns, const af_lane_config *cfg, FILE *csv)
 {
   char err[AF_ERR_MAX];
   af_report_plots *plots = NULL;
   if (a->plots && af_report_plots_create(a->plots, cfg, &plots, err, sizeof err) != AF_OK)
-    return af_bad("--plots %s: %s", a->plots, err);
+    return bad_flag("--plots %s: %s", a->plots, err);
   af_session_options o = {
       a->bag, ns, cfg, plots ? af_report_plots_strike : NULL, plots, isatty(STDERR_FILENO) != 0};
   af_session s;
-  int code = af_session_run(&o, &s, err, sizeof err);
+  int code = af_session_execute(&o, &s, err, sizeof err);
   if (code != AF_SESSION_OK) {
     fprintf(stderr, "firmness_report: %s\n", err);
-    af_session_free(&s);
+    af_session_destroy(&s);
     af_report_plots_destroy(plots);
     return code;
   }
@@ -225,9 +225,9 @@ static int af_report(const af_report_args *a, const char *ns, const af_lane_conf
       code = 1;
     }
     if (a->bench)
-      af_print_bench(&s);
+      print_bench(&s);
   }
-  af_session_free(&s);
+  af_session_destroy(&s);
   af_report_plots_destroy(plots);
   return code;
 }
@@ -235,29 +235,29 @@ static int af_report(const af_report_args *a, const char *ns, const af_lane_conf
 int main(int argc, char **argv)
 {
   if (af_options_want_help(argc, argv, 1)) {
-    af_usage(stdout);
+    print_usage(stdout);
     return 0;
   }
   af_report_args a;
-  int code = af_parse(argc, argv, &a);
+  int code = parse(argc, argv, &a);
   if (code)
     return code;
   char ns[AF_SESSION_NS_MAX];
-  if (!af_ns_valid(a.ns, ns, sizeof ns))
-    return af_bad("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
-                  "starting with a letter)%s",
-                  a.ns, "");
+  if (!ns_valid(a.ns, ns, sizeof ns))
+    return bad_flag("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
+                    "starting with a letter)%s",
+                    a.ns, "");
   FILE *probe = fopen(a.bag, "rb");
   if (!probe)
-    return af_bad("%s cannot be opened: %s", a.bag, strerror(errno));
+    return bad_flag("%s cannot be opened: %s", a.bag, strerror(errno));
   fclose(probe);
   static af_lane_config cfg; /* large: not on the stack */
-  if ((code = af_configure(&a, &cfg)) != 0)
+  if ((code = configure(&a, &cfg)) != 0)
     return code;
   FILE *csv = NULL;
   if (a.csv && !(csv = fopen(a.csv, "w")))
-    return af_bad("--csv %s: cannot write: %s", a.csv, strerror(errno));
-  code = af_report(&a, ns, &cfg, csv);
+    return bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
+  code = run_report(&a, ns, &cfg, csv);
   if (csv && fclose(csv) != 0 && code == 0) {
     fprintf(stderr, "firmness_report: --csv %s: write failed\n", a.csv);
     code = 1;

@@ -10,7 +10,7 @@
 /* ---- text ----------------------------------------------------------------------- */
 
 /* A number in a fixed width, "-" when not finite. */
-static void af_cell(FILE *out, const char *fmt, int width, double v)
+static void cell(FILE *out, const char *fmt, int width, double v)
 {
   if (isfinite(v))
     fprintf(out, fmt, width, v);
@@ -20,7 +20,7 @@ static void af_cell(FILE *out, const char *fmt, int width, double v)
 
 /* The names of the verdict flags set in flags (verdict.h), in flag order,
  * separated by sep. */
-static void af_flag_names(FILE *out, uint32_t flags, const char *sep)
+static void flag_names(FILE *out, uint32_t flags, const char *sep)
 {
   const char *between = "";
   for (uint32_t bit = 1; bit != 0; bit <<= 1)
@@ -30,26 +30,26 @@ static void af_flag_names(FILE *out, uint32_t flags, const char *sep)
     }
 }
 
-static void af_text_strike(FILE *out, const af_session_strike *r)
+static void text_strike(FILE *out, const af_session_strike *r)
 {
   const af_measure_report *q = &r->report;
   fprintf(out, "%5" PRIu32 " %17.6f ", r->apple_id, (double)r->start_ns * 1e-9);
-  af_cell(out, "%*.1f", 6, r->mass_kg * 1e3);
+  cell(out, "%*.1f", 6, r->mass_kg * 1e3);
   if (r->predicted)
     fprintf(out, " %5.0f-%-5.0f %-8s", r->predicted_band_low_hz, r->predicted_band_high_hz,
             r->predicted_reliable ? "reliable" : "NOT");
   else
     fprintf(out, " %11s %-8s", "-", r->has_apple ? "refused" : "no apple");
   fputs(" |", out);
-  af_cell(out, "%*.1f", 7, q->resonance_hz);
-  af_cell(out, "%*.1f", 6, q->resonance_q);
-  af_cell(out, "%*.1f", 6, q->snr_db);
-  af_cell(out, "%*.4g", 10, q->stiffness_factor);
-  af_cell(out, "%*.2f", 7, q->modulus_from_resonance_pa * 1e-6);
-  af_cell(out, "%*.2f", 7, q->fitted_modulus_pa * 1e-6);
-  af_cell(out, "%*.3f", 6, q->fitted_restitution);
-  af_cell(out, "%*.3f", 7, q->contact_time_s * 1e3);
-  af_cell(out, "%*.2f", 7, q->peak_force_n);
+  cell(out, "%*.1f", 7, q->resonance_hz);
+  cell(out, "%*.1f", 6, q->resonance_q);
+  cell(out, "%*.1f", 6, q->snr_db);
+  cell(out, "%*.4g", 10, q->stiffness_factor);
+  cell(out, "%*.2f", 7, q->modulus_from_resonance_pa * 1e-6);
+  cell(out, "%*.2f", 7, q->fitted_modulus_pa * 1e-6);
+  cell(out, "%*.3f", 6, q->fitted_restitution);
+  cell(out, "%*.3f", 7, q->contact_time_s * 1e3);
+  cell(out, "%*.2f", 7, q->peak_force_n);
   fprintf(out, " | %2u %-10s |", r->grade.index, r->grade.name);
   if (q->reliable) {
     /* A reliable strike is ungraded only for a reason of the grading's own. */
@@ -57,20 +57,20 @@ static void af_text_strike(FILE *out, const af_session_strike *r)
     return;
   }
   fputs(" NOT reliable [", out);
-  af_flag_names(out, q->verdict.flags, "|");
+  flag_names(out, q->verdict.flags, "|");
   fprintf(out, "]: %s\n", q->reason);
 }
 
-static void af_text_quantiles(FILE *out, const char *name, const af_quantiles *q, double scale,
-                              const char *fmt)
+static void text_quantiles(FILE *out, const char *name, const af_quantiles *q, double scale,
+                           const char *fmt)
 {
   fprintf(out, "  %-34s %5zu ", name, q->n);
   for (int k = 0; k < AF_SUMMARY_QUANTILES; k++)
-    af_cell(out, fmt, 9, q->q[k] * scale);
+    cell(out, fmt, 9, q->q[k] * scale);
   fputc('\n', out);
 }
 
-static void af_text_stream(FILE *out, const char *name, const af_session_stream *s)
+static void text_stream(FILE *out, const char *name, const af_session_stream *s)
 {
   fprintf(out,
           "  %-5s %8" PRIu64 " chunks, %" PRIu64 " gaps (%" PRIu64 " samples lost), %" PRIu64
@@ -80,7 +80,7 @@ static void af_text_stream(FILE *out, const char *name, const af_session_stream 
           s->bad_rate + s->bad_unit + s->bad_data, s->bad_rate, s->bad_unit, s->bad_data);
 }
 
-static double af_share(size_t part, size_t whole)
+static double share(size_t part, size_t whole)
 {
   return whole ? 100.0 * (double)part / (double)whole : 0.0;
 }
@@ -94,7 +94,7 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
           "", "[Hz]", "verdict", "[Hz]", "", "[dB]", "[Hz2kg^2/3]", "[MPa]", "[MPa]", "", "[ms]",
           "[N]", "index name");
   for (size_t k = 0; k < s->n_strikes; k++)
-    af_text_strike(out, &s->strikes[k]);
+    text_strike(out, &s->strikes[k]);
   if (m->apples_without_strike > 0) {
     fprintf(out, "apples without a strike (%zu):", m->apples_without_strike);
     for (size_t k = 0; k < s->n_apples; k++)
@@ -110,14 +110,14 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
   fprintf(out, "  apples %zu: %zu refused, %zu without a strike, %zu predicted reliable\n",
           m->apples, m->apples_refused, m->apples_without_strike, m->apples_predicted_reliable);
   fprintf(out, "  reliable (measured): %zu of %zu strikes (%.1f %%)\n", m->reliable, m->strikes,
-          af_share(m->reliable, m->strikes));
+          share(m->reliable, m->strikes));
   if (m->reliable < m->strikes)
     fprintf(out, "  not reliable, by reason (a strike may have several):\n");
   for (unsigned b = 0; b < AF_SUMMARY_FLAGS; b++)
     if (m->by_flag[b])
       fprintf(out, "    %-18s %6zu (%.1f %% of strikes)\n",
               af_verdict_flag_name((af_verdict_flag)(1u << b)), m->by_flag[b],
-              af_share(m->by_flag[b], m->strikes));
+              share(m->by_flag[b], m->strikes));
   for (unsigned c = 0; c < AF_SUMMARY_AUDIO_CAUSES; c++)
     if (m->by_audio_cause[c])
       fprintf(out, "    no audio: %-30s %zu\n", af_audio_cause_name((af_audio_cause)c),
@@ -126,12 +126,11 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
   for (int k = 0; k < AF_SUMMARY_QUANTILES; k++)
     fprintf(out, "%8.0f%%", af_summary_levels[k] * 100.0);
   fputc('\n', out);
-  af_text_quantiles(out, "0S2 [Hz]", &m->resonance_hz, 1.0, "%*.1f");
-  af_text_quantiles(out, "modulus from the 0S2 [MPa]", &m->modulus_from_resonance_pa, 1e-6,
-                    "%*.3f");
-  af_text_quantiles(out, "fitted E2 [MPa]", &m->fitted_modulus_pa, 1e-6, "%*.3f");
-  af_text_quantiles(out, "stiffness factor [Hz^2 kg^(2/3)]", &m->stiffness_factor, 1.0, "%*.0f");
-  af_text_quantiles(out, "E(0S2) / fitted E2 [-]", &m->modulus_ratio, 1.0, "%*.4f");
+  text_quantiles(out, "0S2 [Hz]", &m->resonance_hz, 1.0, "%*.1f");
+  text_quantiles(out, "modulus from the 0S2 [MPa]", &m->modulus_from_resonance_pa, 1e-6, "%*.3f");
+  text_quantiles(out, "fitted E2 [MPa]", &m->fitted_modulus_pa, 1e-6, "%*.3f");
+  text_quantiles(out, "stiffness factor [Hz^2 kg^(2/3)]", &m->stiffness_factor, 1.0, "%*.0f");
+  text_quantiles(out, "E(0S2) / fitted E2 [-]", &m->modulus_ratio, 1.0, "%*.4f");
   if (m->modulus_ratio.n > 0)
     fprintf(out,
             "  modulus agreement: E(0S2) / fitted E2 median %.4f, spread %.2f %% (1.4826 MAD), "
@@ -143,8 +142,8 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
   else
     fprintf(out, "  modulus agreement: no strike has both moduli\n");
   fprintf(out, "  streams (recorded %.1f s of force):\n", s->recorded_s);
-  af_text_stream(out, "force", &s->force);
-  af_text_stream(out, "audio", &s->audio);
+  text_stream(out, "force", &s->force);
+  text_stream(out, "audio", &s->audio);
   fprintf(out,
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
@@ -153,7 +152,7 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
 
 /* ---- JSON ----------------------------------------------------------------------- */
 
-static void af_json_num(FILE *out, const char *key, double v)
+static void json_num(FILE *out, const char *key, double v)
 {
   fprintf(out, "\"%s\": ", key);
   if (isfinite(v))
@@ -164,7 +163,7 @@ static void af_json_num(FILE *out, const char *key, double v)
 }
 
 /* The strike's fields (serialize.h), then what the station knew of its apple. */
-static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
+static void json_strike(FILE *out, const af_session_strike *r, bool last)
 {
   const af_serial_strike v = af_session_serial(r);
   fputs("    {", out);
@@ -173,13 +172,13 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
     fprintf(out, ", \"apple_stamp_ns\": %" PRId64 ", ", r->apple_stamp_ns);
   else
     fputs(", \"apple_stamp_ns\": null, ", out);
-  af_json_num(out, "mass_kg", r->mass_kg);
+  json_num(out, "mass_kg", r->mass_kg);
   fputs("\"predicted\": ", out);
   if (r->predicted) {
     fputc('{', out);
-    af_json_num(out, "band_low_Hz", r->predicted_band_low_hz);
-    af_json_num(out, "band_high_Hz", r->predicted_band_high_hz);
-    af_json_num(out, "resonance_Hz", r->predicted_resonance_hz);
+    json_num(out, "band_low_Hz", r->predicted_band_low_hz);
+    json_num(out, "band_high_Hz", r->predicted_band_high_hz);
+    json_num(out, "resonance_Hz", r->predicted_resonance_hz);
     fprintf(out, "\"reliable\": %s, \"reason\": ", r->predicted_reliable ? "true" : "false");
     af_json_string(out, r->predicted_reason);
     fputc('}', out);
@@ -188,7 +187,7 @@ static void af_json_strike(FILE *out, const af_session_strike *r, bool last)
   fprintf(out, "}%s\n", last ? "" : ",");
 }
 
-static void af_json_quantiles(FILE *out, const char *key, const af_quantiles *q, bool last)
+static void json_quantiles(FILE *out, const char *key, const af_quantiles *q, bool last)
 {
   fprintf(out, "    \"%s\": {\"n\": %zu, \"q\": [", key, q->n);
   for (int k = 0; k < AF_SUMMARY_QUANTILES; k++) {
@@ -201,7 +200,7 @@ static void af_json_quantiles(FILE *out, const char *key, const af_quantiles *q,
   fprintf(out, "]}%s\n", last ? "" : ",");
 }
 
-static void af_json_stream(FILE *out, const char *key, const af_session_stream *s)
+static void json_stream(FILE *out, const char *key, const af_session_stream *s)
 {
   fprintf(out,
           "    \"%s\": {\"chunks\": %" PRIu64 ", \"gaps\": %" PRIu64 ", \"lost_samples\": %" PRIu64
@@ -220,7 +219,7 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
   af_json_string(out, ns);
   fputs(",\n  \"strikes\": [\n", out);
   for (size_t k = 0; k < s->n_strikes; k++)
-    af_json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);
+    json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);
   fputs("  ],\n  \"apples_without_strike\": [", out);
   bool first = true;
   for (size_t k = 0; k < s->n_apples; k++)
@@ -246,25 +245,25 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
       first = false;
     }
   fputs("},\n    \"quantile_levels\": [0, 0.1, 0.25, 0.5, 0.75, 0.9, 1],\n", out);
-  af_json_quantiles(out, "resonance_Hz", &m->resonance_hz, false);
-  af_json_quantiles(out, "modulus_from_resonance_Pa", &m->modulus_from_resonance_pa, false);
-  af_json_quantiles(out, "fitted_modulus_Pa", &m->fitted_modulus_pa, false);
-  af_json_quantiles(out, "stiffness_factor", &m->stiffness_factor, false);
-  af_json_quantiles(out, "modulus_ratio", &m->modulus_ratio, false);
+  json_quantiles(out, "resonance_Hz", &m->resonance_hz, false);
+  json_quantiles(out, "modulus_from_resonance_Pa", &m->modulus_from_resonance_pa, false);
+  json_quantiles(out, "fitted_modulus_Pa", &m->fitted_modulus_pa, false);
+  json_quantiles(out, "stiffness_factor", &m->stiffness_factor, false);
+  json_quantiles(out, "modulus_ratio", &m->modulus_ratio, false);
   fputs("    ", out);
-  af_json_num(out, "modulus_ratio_spread", m->modulus_ratio_spread);
-  af_json_num(out, "modulus_factor_now", m->modulus_factor_now);
-  af_json_num(out, "modulus_factor_suggested", m->modulus_factor_suggested);
+  json_num(out, "modulus_ratio_spread", m->modulus_ratio_spread);
+  json_num(out, "modulus_factor_now", m->modulus_factor_now);
+  json_num(out, "modulus_factor_suggested", m->modulus_factor_suggested);
   fputc('\n', out);
-  af_json_stream(out, "force", &s->force);
-  af_json_stream(out, "audio", &s->audio);
+  json_stream(out, "force", &s->force);
+  json_stream(out, "audio", &s->audio);
   fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }\n}\n", s->recorded_s,
           s->messages);
 }
 
 /* ---- CSV ------------------------------------------------------------------------ */
 
-static void af_csv_num(FILE *out, double v, bool last)
+static void csv_num(FILE *out, double v, bool last)
 {
   if (isfinite(v))
     af_serialize_real(out, v);
@@ -285,10 +284,10 @@ void af_output_csv(FILE *out, const af_session *s)
     if (r->has_apple)
       fprintf(out, "%" PRId64, r->apple_stamp_ns);
     fputc(',', out);
-    af_csv_num(out, r->mass_kg, false);
-    af_csv_num(out, r->predicted_band_low_hz, false);
-    af_csv_num(out, r->predicted_band_high_hz, false);
-    af_csv_num(out, r->predicted_resonance_hz, false);
+    csv_num(out, r->mass_kg, false);
+    csv_num(out, r->predicted_band_low_hz, false);
+    csv_num(out, r->predicted_band_high_hz, false);
+    csv_num(out, r->predicted_resonance_hz, false);
     fprintf(out, "%s\n", r->predicted ? (r->predicted_reliable ? "1" : "0") : "");
   }
 }

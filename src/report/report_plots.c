@@ -11,7 +11,7 @@
 
 #include "options.h"
 #include "plot.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "strike_view.h"
 #include "text.h"
 
@@ -68,7 +68,7 @@ void af_report_plots_destroy(af_report_plots *p)
   free(p);
 }
 
-static void af_failed(af_report_plots *p, const char *err)
+static void plot_failed(af_report_plots *p, const char *err)
 {
   if (p->failed++ == 0)
     af_text(p->first_error, sizeof p->first_error, "%s", err);
@@ -85,15 +85,15 @@ void af_report_plots_strike(const af_lane_strike *s, const af_lane *lane, void *
   if (af_strike_view_prepare(p->view) != AF_OK ||
       af_plot_target_file(path, AF_STRIKE_W_PX, AF_STRIKE_H_PX, &t) != AF_OK ||
       af_strike_view_draw(p->view, &t, err, sizeof err) != AF_OK)
-    af_failed(p, path);
+    plot_failed(p, path);
   else
     af_options_wrote(path);
 }
 
 /* ---- session figures ----------------------------------------------------------- */
 
-static af_status af_draw_one(af_report_plots *p, const char *name, const af_plot_panel *panel,
-                             char *err, size_t len)
+static af_status draw_one(af_report_plots *p, const char *name, const af_plot_panel *panel,
+                          char *err, size_t len)
 {
   char path[AF_PATH_MAX + 64];
   af_plot_target t;
@@ -109,8 +109,8 @@ static af_status af_draw_one(af_report_plots *p, const char *name, const af_plot
 }
 
 /* Histogram counts of x [Pa] in AF_HIST_BIN_MPA bins from 0; edges in MPa. */
-static void af_histogram(const af_session *s, bool from_resonance, double *edges, double *counts,
-                         size_t bins)
+static void histogram(const af_session *s, bool from_resonance, double *edges, double *counts,
+                      size_t bins)
 {
   for (size_t k = 0; k < bins; k++) {
     edges[k] = (double)k * AF_HIST_BIN_MPA;
@@ -126,8 +126,8 @@ static void af_histogram(const af_session *s, bool from_resonance, double *edges
   }
 }
 
-static af_status af_plot_histogram(af_report_plots *p, const af_session *s, const af_summary *m,
-                                   char *err, size_t len)
+static af_status plot_histogram(af_report_plots *p, const af_session *s, const af_summary *m,
+                                char *err, size_t len)
 {
   double top = fmax(p->cfg->modulus_max_pa * 1e-6,
                     fmax(m->modulus_from_resonance_pa.q[6], m->fitted_modulus_pa.q[6]) * 1e-6);
@@ -139,8 +139,8 @@ static af_status af_plot_histogram(af_report_plots *p, const af_session *s, cons
     af_text(err, len, "out of memory");
     return AF_ENOMEM;
   }
-  af_histogram(s, true, buf, buf + bins, bins);
-  af_histogram(s, false, buf + 2 * bins, buf + 3 * bins, bins);
+  histogram(s, true, buf, buf + bins, bins);
+  histogram(s, false, buf + 2 * bins, buf + 3 * bins, bins);
   char title[160], l1[96], l2[96];
   af_text(title, sizeof title, "firmness of %zu strikes (%s)", s->n_strikes, p->cfg->cultivar);
   af_text(l1, sizeof l1, "from the 0S2 (median %.2f MPa)",
@@ -166,7 +166,7 @@ static af_status af_plot_histogram(af_report_plots *p, const af_session *s, cons
   for (size_t k = 0; k < bins; k++)
     most = fmax(most, fmax(buf[bins + k], buf[3 * bins + k]));
   panel.y_max = 1.4 * most; /* room for the legend */
-  af_status st = af_draw_one(p, "firmness_histogram.png", &panel, err, len);
+  af_status st = draw_one(p, "firmness_histogram.png", &panel, err, len);
   free(buf);
   return st;
 }
@@ -174,7 +174,7 @@ static af_status af_plot_histogram(af_report_plots *p, const af_session *s, cons
 /* Verdict classes of the scatter. */
 enum { AF_CLASS_RELIABLE = 0, AF_CLASS_OUTSIDE_BAND, AF_CLASS_OTHER, AF_CLASSES };
 
-static int af_class_of(const af_measure_report *r)
+static int class_of(const af_measure_report *r)
 {
   if (r->reliable)
     return AF_CLASS_RELIABLE;
@@ -183,16 +183,16 @@ static int af_class_of(const af_measure_report *r)
 
 /* The stiffness factor f^2 m^(2/3) of a sphere of modulus e_pa: independent
  * of the mass (E = C f^2 m^(2/3) rho^(1/3)). */
-static double af_stiffness_of(const af_lane_config *c, double xi, double e_pa)
+static double stiffness_of(const af_lane_config *c, double xi, double e_pa)
 {
   const af_model_params *m = &c->model;
   const double mass_kg = 0.175; /* any: the factor does not depend on it */
-  double f = af_resonance_frequency_hz(xi, m->modulus_factor * e_pa, m->impact.fruit_poisson,
-                                       m->fruit_density_kg_m3, mass_kg);
+  double f = af_lamb_frequency_hz(xi, m->modulus_factor * e_pa, m->impact.fruit_poisson,
+                                  m->fruit_density_kg_m3, mass_kg);
   return f * f * pow(mass_kg, 2.0 / 3.0);
 }
 
-static af_status af_plot_stiffness(af_report_plots *p, const af_session *s, char *err, size_t len)
+static af_status plot_stiffness(af_report_plots *p, const af_session *s, char *err, size_t len)
 {
   const size_t n = s->n_strikes;
   double *buf = malloc((2 * AF_CLASSES * n + 1) * sizeof *buf);
@@ -203,7 +203,7 @@ static af_status af_plot_stiffness(af_report_plots *p, const af_session *s, char
   size_t count[AF_CLASSES] = {0};
   for (size_t k = 0; k < n; k++) {
     const af_session_strike *r = &s->strikes[k];
-    int c = af_class_of(&r->report);
+    int c = class_of(&r->report);
     double *x = buf + 2 * (size_t)c * n, *y = x + n;
     x[count[c]] = r->mass_kg * 1e3;
     y[count[c]] = r->report.stiffness_factor * 1e-3;
@@ -224,12 +224,12 @@ static af_status af_plot_stiffness(af_report_plots *p, const af_session *s, char
   double xi = NAN;
   af_plot_rule rules[2];
   size_t nr = 0;
-  if (af_resonance_lamb_root(p->cfg->model.impact.fruit_poisson, &xi) == AF_OK) {
+  if (af_lamb_root(p->cfg->model.impact.fruit_poisson, &xi) == AF_OK) {
     af_text(lo, sizeof lo, "a sphere of %.0f MPa", p->cfg->modulus_min_pa * 1e-6);
     af_text(hi, sizeof hi, "a sphere of %.0f MPa", p->cfg->modulus_max_pa * 1e-6);
-    rules[nr++] = (af_plot_rule){lo, af_stiffness_of(p->cfg, xi, p->cfg->modulus_min_pa) * 1e-3,
+    rules[nr++] = (af_plot_rule){lo, stiffness_of(p->cfg, xi, p->cfg->modulus_min_pa) * 1e-3,
                                  AF_PLOT_GREY, true};
-    rules[nr++] = (af_plot_rule){hi, af_stiffness_of(p->cfg, xi, p->cfg->modulus_max_pa) * 1e-3,
+    rules[nr++] = (af_plot_rule){hi, stiffness_of(p->cfg, xi, p->cfg->modulus_max_pa) * 1e-3,
                                  AF_PLOT_BLACK, true};
   }
   af_text(title, sizeof title, "stiffness factor against mass, %zu strikes, by measured verdict",
@@ -243,12 +243,12 @@ static af_status af_plot_stiffness(af_report_plots *p, const af_session *s, char
   panel.y_rules = rules;
   panel.n_y_rules = nr;
   panel.legend = AF_PLOT_LEGEND_TOP_LEFT;
-  af_status st = af_draw_one(p, "stiffness_vs_mass.png", &panel, err, len);
+  af_status st = draw_one(p, "stiffness_vs_mass.png", &panel, err, len);
   free(buf);
   return st;
 }
 
-static af_status af_plot_band(af_report_plots *p, const af_session *s, char *err, size_t len)
+static af_status plot_band(af_report_plots *p, const af_session *s, char *err, size_t len)
 {
   const size_t n = s->n_strikes;
   double *buf = malloc((7 * n + 1) * sizeof *buf);
@@ -293,7 +293,7 @@ static af_status af_plot_band(af_report_plots *p, const af_session *s, char *err
   panel.y_min = 0.0;
   panel.x_min = 0.0;
   panel.x_max = (double)n + 1.0;
-  af_status st = af_draw_one(p, "resonance_vs_band.png", &panel, err, len);
+  af_status st = draw_one(p, "resonance_vs_band.png", &panel, err, len);
   free(buf);
   return st;
 }
@@ -301,11 +301,11 @@ static af_status af_plot_band(af_report_plots *p, const af_session *s, char *err
 af_status af_report_plots_session(af_report_plots *p, const af_session *s, const af_summary *m,
                                   char *err, size_t len)
 {
-  af_status st = af_plot_histogram(p, s, m, err, len);
+  af_status st = plot_histogram(p, s, m, err, len);
   if (st == AF_OK)
-    st = af_plot_stiffness(p, s, err, len);
+    st = plot_stiffness(p, s, err, len);
   if (st == AF_OK)
-    st = af_plot_band(p, s, err, len);
+    st = plot_band(p, s, err, len);
   if (st == AF_OK && p->failed > 0) {
     af_text(err, len, "%zu of %zu strike figures could not be drawn, the first %s", p->failed,
             p->strikes, p->first_error);

@@ -22,20 +22,20 @@ typedef struct {
   bool out_of_memory;
 } af_session_ctx;
 
-static double af_clock_s(clockid_t id)
+static double clock_s(clockid_t id)
 {
   struct timespec ts;
   clock_gettime(id, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int64_t af_ns_of(af_time t)
+static int64_t ns_of(af_time t)
 {
   return (int64_t)t.sec * AF_NS_PER_S + (int64_t)t.nsec;
 }
 
 /* Room for one more of n elements of size bytes at *p (capacity *cap). */
-static bool af_grow(void **p, size_t *cap, size_t n, size_t size)
+static bool grow(void **p, size_t *cap, size_t n, size_t size)
 {
   if (n < *cap)
     return true;
@@ -48,7 +48,7 @@ static bool af_grow(void **p, size_t *cap, size_t n, size_t size)
   return true;
 }
 
-static af_session_apple *af_find_apple(af_session *s, uint32_t id)
+static af_session_apple *find_apple(af_session *s, uint32_t id)
 {
   for (size_t k = s->n_apples; k-- > 0;) /* the newest estimate of that id */
     if (s->apples[k].apple_id == id)
@@ -57,11 +57,11 @@ static af_session_apple *af_find_apple(af_session *s, uint32_t id)
 }
 
 /* The lane's callback: one row per measured strike. */
-static void af_on_strike(const af_lane_strike *ls, void *user)
+static void on_lane_strike(const af_lane_strike *ls, void *user)
 {
   af_session_ctx *c = user;
   af_session *s = c->s;
-  if (!af_grow((void **)&s->strikes, &s->cap_strikes, s->n_strikes, sizeof *s->strikes)) {
+  if (!grow((void **)&s->strikes, &s->cap_strikes, s->n_strikes, sizeof *s->strikes)) {
     c->out_of_memory = true;
     return;
   }
@@ -91,7 +91,7 @@ static void af_on_strike(const af_lane_strike *ls, void *user)
   r->with_audio = ls->with_audio;
   r->report = ls->report;
   r->grade = ls->grade;
-  af_session_apple *a = ls->apple_id ? af_find_apple(s, ls->apple_id) : NULL;
+  af_session_apple *a = ls->apple_id ? find_apple(s, ls->apple_id) : NULL;
   if (a)
     a->strikes++;
   if (c->o->on_strike)
@@ -105,10 +105,10 @@ af_serial_strike af_session_serial(const af_session_strike *r)
   return v;
 }
 
-static bool af_add_apple(af_session_ctx *c, const af_apple *a, const af_prediction *pr)
+static bool add_apple(af_session_ctx *c, const af_apple *a, const af_prediction *pr)
 {
   af_session *s = c->s;
-  if (!af_grow((void **)&s->apples, &s->cap_apples, s->n_apples, sizeof *s->apples))
+  if (!grow((void **)&s->apples, &s->cap_apples, s->n_apples, sizeof *s->apples))
     return false;
   af_session_apple *r = &s->apples[s->n_apples++];
   memset(r, 0, sizeof *r);
@@ -127,12 +127,12 @@ static bool af_add_apple(af_session_ctx *c, const af_apple *a, const af_predicti
 
 /* The lane's view of an estimate: the node's conversion (station.c), the
  * strike direction unknown. */
-static af_apple af_apple_of(const af_apple_estimate *e)
+static af_apple apple_of(const af_apple_estimate *e)
 {
   af_apple a;
   memset(&a, 0, sizeof a);
   a.apple_id = e->apple_id;
-  a.stamp_ns = af_ns_of(e->header.stamp);
+  a.stamp_ns = ns_of(e->header.stamp);
   a.mass_kg = e->mass_kg;
   a.equatorial_radius_m = e->equatorial_radius_m;
   a.strike_radius_m = e->strike_radius_m;
@@ -144,9 +144,9 @@ static af_apple af_apple_of(const af_apple_estimate *e)
   return a;
 }
 
-static void af_note_stream(af_session_stream *st, const af_signal_chunk *c)
+static void note_stream(af_session_stream *st, const af_signal_chunk *c)
 {
-  int64_t t0 = af_ns_of(c->header.stamp);
+  int64_t t0 = ns_of(c->header.stamp);
   int64_t t1 = t0 + (int64_t)((double)c->n / c->sample_rate_hz * 1e9 + 0.5);
   if (st->first_ns == 0 || t0 < st->first_ns)
     st->first_ns = t0;
@@ -154,7 +154,7 @@ static void af_note_stream(af_session_stream *st, const af_signal_chunk *c)
     st->end_ns = t1;
 }
 
-static void af_copy_stream(af_session_stream *out, const af_stream *s)
+static void copy_stream(af_session_stream *out, const af_stream *s)
 {
   out->chunks = s->chunks;
   out->gaps = s->gaps;
@@ -165,7 +165,7 @@ static void af_copy_stream(af_session_stream *out, const af_stream *s)
   out->bad_data = s->bad_data;
 }
 
-static void af_progress(uint64_t done, uint64_t total, bool final)
+static void show_progress(uint64_t done, uint64_t total, bool final)
 {
   const int width = 40;
   int filled = total ? (int)((double)done / (double)total * width) : width;
@@ -179,7 +179,7 @@ static void af_progress(uint64_t done, uint64_t total, bool final)
   fflush(stderr);
 }
 
-static const char *af_type_name(af_msg_type t)
+static const char *type_name(af_msg_type t)
 {
   switch (t) {
   case AF_MSG_SIGNAL_CHUNK: return "acoustic_firmness/SignalChunk";
@@ -191,35 +191,33 @@ static const char *af_type_name(af_msg_type t)
 }
 
 /* Every message of the three topics into the lane. */
-static int af_feed(af_session_ctx *c, af_bag_reader *bag,
-                   char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX], uint64_t total, char *err,
-                   size_t len)
+static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX],
+                uint64_t total, char *err, size_t len)
 {
   af_session *s = c->s;
   af_bag_message m;
   af_status st;
   uint64_t step = total / 200 + 1;
   while ((st = af_bag_read_next(bag, &m)) == AF_OK) {
-    int64_t now = af_ns_of(m.bag_time);
+    int64_t now = ns_of(m.bag_time);
     int which = strcmp(m.topic, topics[AF_TOPIC_FORCE]) == 0   ? AF_TOPIC_FORCE
                 : strcmp(m.topic, topics[AF_TOPIC_AUDIO]) == 0 ? AF_TOPIC_AUDIO
                                                                : AF_TOPIC_APPLE;
     af_msg_type want = which == AF_TOPIC_APPLE ? AF_MSG_APPLE_ESTIMATE : AF_MSG_SIGNAL_CHUNK;
     if (m.type != want) {
-      af_text(err, len, "topic %s carries %s, not %s", m.topic, af_type_name(m.type),
-              af_type_name(want));
+      af_text(err, len, "topic %s carries %s, not %s", m.topic, type_name(m.type), type_name(want));
       return AF_SESSION_BAD_INPUT;
     }
     s->messages++;
     if (which == AF_TOPIC_APPLE) {
-      af_apple a = af_apple_of(&m.msg.apple);
+      af_apple a = apple_of(&m.msg.apple);
       const af_prediction *pr = NULL;
       (void)af_lane_apple(c->lane, &a, now, &pr);
-      if (!af_add_apple(c, &a, pr))
+      if (!add_apple(c, &a, pr))
         c->out_of_memory = true;
     } else {
       const af_signal_chunk *k = &m.msg.chunk;
-      af_chunk ch = {af_ns_of(k->header.stamp),
+      af_chunk ch = {ns_of(k->header.stamp),
                      k->first_sample,
                      k->sample_rate_hz,
                      k->unit,
@@ -228,20 +226,20 @@ static int af_feed(af_session_ctx *c, af_bag_reader *bag,
                      k->n};
       if (which == AF_TOPIC_FORCE) {
         if (af_lane_force(c->lane, &ch, now, NULL) == AF_CHUNK_OK)
-          af_note_stream(&s->force, k);
+          note_stream(&s->force, k);
       } else if (af_lane_audio(c->lane, &ch, now, NULL) == AF_CHUNK_OK)
-        af_note_stream(&s->audio, k);
+        note_stream(&s->audio, k);
     }
     if (c->out_of_memory) {
       af_text(err, len, "out of memory after %llu messages", (unsigned long long)s->messages);
       return AF_SESSION_FAILED;
     }
     if (c->o->progress && s->messages % step == 0)
-      af_progress(s->messages, total, false);
+      show_progress(s->messages, total, false);
   }
   af_lane_finish(c->lane);
   if (c->o->progress)
-    af_progress(s->messages, total, true);
+    show_progress(s->messages, total, true);
   if (c->out_of_memory) {
     af_text(err, len, "out of memory at the end of the bag");
     return AF_SESSION_FAILED;
@@ -255,9 +253,9 @@ static int af_feed(af_session_ctx *c, af_bag_reader *bag,
 }
 
 /* Opens the bag and checks its topics; NULL with err on bad input. */
-static af_bag_reader *af_open(const af_session_options *o,
-                              char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX], uint64_t *total,
-                              char *err, size_t len)
+static af_bag_reader *open(const af_session_options *o,
+                           char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX], uint64_t *total, char *err,
+                           size_t len)
 {
   static const char *const names[AF_TOPICS] = {"force", "audio", "apple"};
   const char *list[AF_TOPICS];
@@ -285,36 +283,36 @@ static af_bag_reader *af_open(const af_session_options *o,
   return bag;
 }
 
-int af_session_run(const af_session_options *o, af_session *out, char *err, size_t len)
+int af_session_execute(const af_session_options *o, af_session *out, char *err, size_t len)
 {
   memset(out, 0, sizeof *out);
-  double wall0 = af_clock_s(CLOCK_MONOTONIC), cpu0 = af_clock_s(CLOCK_PROCESS_CPUTIME_ID);
+  double wall0 = clock_s(CLOCK_MONOTONIC), cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
   char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX];
   uint64_t total = 0;
-  af_bag_reader *bag = af_open(o, topics, &total, err, len);
+  af_bag_reader *bag = open(o, topics, &total, err, len);
   if (!bag)
     return AF_SESSION_BAD_INPUT;
   af_session_ctx c = {o, out, NULL, false};
   const char *what = "the lane";
-  af_status st = af_lane_create(o->cfg, af_on_strike, &c, &c.lane, &what);
+  af_status st = af_lane_create(o->cfg, on_lane_strike, &c, &c.lane, &what);
   if (st != AF_OK) {
     af_text(err, len, "could not create %s: %s", what, af_strerror(st));
     af_bag_close_read(bag);
     return AF_SESSION_FAILED;
   }
-  int code = af_feed(&c, bag, topics, total, err, len);
+  int code = feed(&c, bag, topics, total, err, len);
   out->stats = *af_lane_get_stats(c.lane);
-  af_copy_stream(&out->force, af_lane_force_stream(c.lane));
-  af_copy_stream(&out->audio, af_lane_audio_stream(c.lane));
+  copy_stream(&out->force, af_lane_force_stream(c.lane));
+  copy_stream(&out->audio, af_lane_audio_stream(c.lane));
   af_lane_destroy(c.lane);
   af_bag_close_read(bag);
   out->recorded_s = (double)(out->force.end_ns - out->force.first_ns) * 1e-9;
-  out->wall_s = af_clock_s(CLOCK_MONOTONIC) - wall0;
-  out->cpu_s = af_clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+  out->wall_s = clock_s(CLOCK_MONOTONIC) - wall0;
+  out->cpu_s = clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
   return code;
 }
 
-void af_session_free(af_session *s)
+void af_session_destroy(af_session *s)
 {
   if (!s)
     return;

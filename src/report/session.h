@@ -107,8 +107,8 @@ typedef struct {
 /* Runs the bag through a lane made from o->cfg into *out (zeroed first).
  * AF_SESSION_OK, AF_SESSION_BAD_INPUT or AF_SESSION_FAILED with one line in
  * err. *out holds what was read even on error; free it with
- * af_session_free. */
-int af_session_run(const af_session_options *o, af_session *out, char *err, size_t len);
-void af_session_free(af_session *s); /* safe on a zeroed or freed session */
+ * af_session_destroy. */
+int af_session_execute(const af_session_options *o, af_session *out, char *err, size_t len);
+void af_session_destroy(af_session *s); /* safe on a zeroed or freed session */
 
 #endif

@@ -7,7 +7,7 @@
 
 const double af_summary_levels[AF_SUMMARY_QUANTILES] = {0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0};
 
-static int af_cmp_double(const void *a, const void *b)
+static int cmp_double(const void *a, const void *b)
 {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -23,7 +23,7 @@ af_quantiles af_summary_quantiles(double *x, size_t n)
       x[m++] = x[k];
       x[k] = t;
     }
-  qsort(x, m, sizeof *x, af_cmp_double);
+  qsort(x, m, sizeof *x, cmp_double);
   q.n = m;
   for (int k = 0; k < AF_SUMMARY_QUANTILES; k++) {
     if (m == 0) {
@@ -41,32 +41,32 @@ af_quantiles af_summary_quantiles(double *x, size_t n)
 /* One column of the strikes into scratch, then its quantiles. */
 typedef double af_column_fn(const af_session_strike *r);
 
-static double af_col_e0s2(const af_session_strike *r)
+static double col_e0s2(const af_session_strike *r)
 {
   return r->report.modulus_from_resonance_pa;
 }
-static double af_col_efit(const af_session_strike *r)
+static double col_efit(const af_session_strike *r)
 {
   return r->report.fitted_modulus_pa;
 }
-static double af_col_stiffness(const af_session_strike *r)
+static double col_stiffness(const af_session_strike *r)
 {
   return r->report.stiffness_factor;
 }
-static double af_col_resonance(const af_session_strike *r)
+static double col_resonance(const af_session_strike *r)
 {
   return r->report.resonance_hz;
 }
-static double af_col_ratio(const af_session_strike *r)
+static double col_ratio(const af_session_strike *r)
 {
   return r->report.modulus_from_resonance_pa / r->report.fitted_modulus_pa;
 }
-static double af_col_factor(const af_session_strike *r)
+static double col_factor(const af_session_strike *r)
 {
-  return r->modulus_factor * af_col_ratio(r);
+  return r->modulus_factor * col_ratio(r);
 }
 
-static af_quantiles af_column(const af_session *s, af_column_fn *fn, double *scratch)
+static af_quantiles summary_column(const af_session *s, af_column_fn *fn, double *scratch)
 {
   for (size_t k = 0; k < s->n_strikes; k++)
     scratch[k] = fn(&s->strikes[k]);
@@ -103,11 +103,11 @@ af_status af_summary_compute(const af_session *s, af_summary *out)
     out->apples_without_strike += s->apples[k].strikes == 0;
     out->apples_predicted_reliable += s->apples[k].reliable;
   }
-  out->modulus_from_resonance_pa = af_column(s, af_col_e0s2, scratch);
-  out->fitted_modulus_pa = af_column(s, af_col_efit, scratch);
-  out->stiffness_factor = af_column(s, af_col_stiffness, scratch);
-  out->resonance_hz = af_column(s, af_col_resonance, scratch);
-  out->modulus_ratio = af_column(s, af_col_ratio, scratch);
+  out->modulus_from_resonance_pa = summary_column(s, col_e0s2, scratch);
+  out->fitted_modulus_pa = summary_column(s, col_efit, scratch);
+  out->stiffness_factor = summary_column(s, col_stiffness, scratch);
+  out->resonance_hz = summary_column(s, col_resonance, scratch);
+  out->modulus_ratio = summary_column(s, col_ratio, scratch);
   /* Spread: the median absolute deviation of the ratio (scratch holds the
    * finite ratios sorted first), scaled to a standard deviation. */
   const size_t n = out->modulus_ratio.n;
@@ -116,7 +116,7 @@ af_status af_summary_compute(const af_session *s, af_summary *out)
     scratch[k] = fabs(scratch[k] - median);
   af_quantiles mad = af_summary_quantiles(scratch, n);
   out->modulus_ratio_spread = n > 0 ? 1.4826 * mad.q[3] / median : NAN;
-  out->modulus_factor_suggested = af_column(s, af_col_factor, scratch).q[3];
+  out->modulus_factor_suggested = summary_column(s, col_factor, scratch).q[3];
   free(scratch);
   return AF_OK;
 }

@@ -31,7 +31,7 @@
 #include "lane.h"
 #include "options.h"
 #include "recording.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 
 #define AF_ANALYZE_CHUNK 1024 /* samples per chunk, as the node's SignalChunks */
@@ -64,14 +64,14 @@ typedef struct {
   size_t n_rows, cap_rows, dropped;
 } af_analyze_ctx;
 
-static double af_cpu_s(void)
+static double cpu_time_s(void)
 {
   struct timespec ts;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int af_usage(const char *fmt, const char *a, const char *b)
+static int print_usage(const char *fmt, const char *a, const char *b)
 {
   fprintf(stderr, "firmness_model analyze: ");
   fprintf(stderr, fmt, a, b);
@@ -84,7 +84,7 @@ static int af_usage(const char *fmt, const char *a, const char *b)
 /* A number of flag: > 0 when positive, else within +-AF_ANALYZE_OFFSET_MAX_S
  * (the only signed flag is --audio-offset). The physical ranges of the rates
  * and of the apple are the parameter table's (checked later). */
-static bool af_parse_value(const char *flag, const char *text, bool positive, double *out)
+static bool parse_value(const char *flag, const char *text, bool positive, double *out)
 {
   char *end;
   errno = 0;
@@ -105,7 +105,7 @@ static bool af_parse_value(const char *flag, const char *text, bool positive, do
  * recordings' channels and scales as recording.h leaves them; the
  * recordings and the apple are required (0 / NULL), the rates when a
  * recording is raw float32. */
-static af_analyze_args af_analyze_args_default(void)
+static af_analyze_args analyze_args_default(void)
 {
   af_analyze_args a;
   memset(&a, 0, sizeof a);
@@ -187,13 +187,13 @@ const af_option *af_analyze_options(size_t *n)
   return analyze_options;
 }
 
-static const af_option *af_option_of(const char *flag)
+static const af_option *option_of(const char *flag)
 {
   return af_option_find(analyze_options, AF_N_OPTIONS, flag);
 }
 
 /* "--flag value" as "row=value" into s; false after a message naming both. */
-static bool af_set_row(af_settings *s, const char *flag, const char *row, const char *value)
+static bool set_row(af_settings *s, const char *flag, const char *row, const char *value)
 {
   char arg[AF_SETTINGS_TEXT_MAX + 64], err[AF_ERR_MAX];
   snprintf(arg, sizeof arg, "%s=%s", row, value);
@@ -205,7 +205,7 @@ static bool af_set_row(af_settings *s, const char *flag, const char *row, const 
 
 /* --profile paper: the paper-literal criterion settings, af_model_params_paper's
  * choices (model.h) written as the table's rows. */
-static bool af_set_profile(af_settings *s, const char *name)
+static bool set_profile(af_settings *s, const char *name)
 {
   if (strcmp(name, "default") == 0)
     return true;
@@ -221,22 +221,22 @@ static bool af_set_profile(af_settings *s, const char *name)
                                  {"band_level", af_band_level_name(paper.band_level)},
                                  {"shear_ratio", af_shear_ratio_name(paper.shear_ratio)}};
   for (size_t k = 0; k < sizeof rows / sizeof rows[0]; k++)
-    if (!af_set_row(s, "--profile", rows[k][0], rows[k][1]))
+    if (!set_row(s, "--profile", rows[k][0], rows[k][1]))
       return false;
   return true;
 }
 
 /* --set, --profile and the rows of the parameter table: applied to the
  * settings after the files. */
-static bool af_is_settings_flag(const char *flag)
+static bool is_settings_flag(const char *flag)
 {
-  const af_option *o = af_option_of(flag);
+  const af_option *o = option_of(flag);
   return o != NULL && (o->kind == AF_OPTION_SETTING || strcmp(flag, "--set") == 0 ||
                        strcmp(flag, "--profile") == 0);
 }
 
 /* A channel or scale flag of the force or the audio; false after a message. */
-static bool af_input_flag(const char *flag, const char *value, af_analyze_args *a)
+static bool input_flag(const char *flag, const char *value, af_analyze_args *a)
 {
   char err[AF_ERR_MAX];
   af_recording_spec *in = strncmp(flag, "--force", 7) == 0 ? &a->force_spec : &a->audio_spec;
@@ -250,10 +250,10 @@ static bool af_input_flag(const char *flag, const char *value, af_analyze_args *
 
 /* One of analyze's own flags with its value; false after a message. (The
  * settings flags are applied later, after the files: later = stronger.) */
-static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args *a)
+static bool analyze_flag(const char *flag, const char *value, af_analyze_args *a)
 {
   if (strstr(flag, "-channel") || strstr(flag, "-scale"))
-    return af_input_flag(flag, value, a);
+    return input_flag(flag, value, a);
   if (strcmp(flag, "--force") == 0)
     a->force_path = value;
   else if (strcmp(flag, "--audio") == 0)
@@ -263,23 +263,23 @@ static bool af_analyze_flag(const char *flag, const char *value, af_analyze_args
   else if (strcmp(flag, "--cultivar") == 0)
     a->cultivar_path = value;
   else if (strcmp(flag, "--rate-force") == 0)
-    return af_parse_value(flag, value, true, &a->rate_force_hz);
+    return parse_value(flag, value, true, &a->rate_force_hz);
   else if (strcmp(flag, "--rate-audio") == 0)
-    return af_parse_value(flag, value, true, &a->rate_audio_hz);
+    return parse_value(flag, value, true, &a->rate_audio_hz);
   else if (strcmp(flag, "--audio-offset") == 0)
-    return af_parse_value(flag, value, false, &a->audio_offset_s);
+    return parse_value(flag, value, false, &a->audio_offset_s);
   else if (strcmp(flag, "--mass") == 0)
-    return af_parse_value(flag, value, true, &a->mass_kg);
+    return parse_value(flag, value, true, &a->mass_kg);
   else if (strcmp(flag, "--R2") == 0)
-    return af_parse_value(flag, value, true, &a->r2_m);
+    return parse_value(flag, value, true, &a->r2_m);
   else if (strcmp(flag, "--equatorial-radius") == 0)
-    return af_parse_value(flag, value, true, &a->equatorial_radius_m);
+    return parse_value(flag, value, true, &a->equatorial_radius_m);
   else
     return false;
   return true;
 }
 
-static bool af_apply_settings_flag(af_settings *s, const char *flag, const char *value)
+static bool apply_settings_flag(af_settings *s, const char *flag, const char *value)
 {
   if (strcmp(flag, "--set") == 0) {
     char err[AF_ERR_MAX];
@@ -289,21 +289,21 @@ static bool af_apply_settings_flag(af_settings *s, const char *flag, const char 
     return false;
   }
   if (strcmp(flag, "--profile") == 0)
-    return af_set_profile(s, value);
-  const af_option *o = af_option_of(flag);
+    return set_profile(s, value);
+  const af_option *o = option_of(flag);
   if (o != NULL && o->kind == AF_OPTION_SETTING)
-    return af_set_row(s, flag, af_setting_def_of((af_setting_id)o->setting)->name, value);
+    return set_row(s, flag, af_setting_def_of((af_setting_id)o->setting)->name, value);
   return false;
 }
 
 /* First pass: files, rates, the apple; every flag must be known and have a
  * value. */
-static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
+static bool parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
-  *a = af_analyze_args_default();
+  *a = analyze_args_default();
   for (int k = first; k < argc; k++) {
     const char *flag = argv[k];
-    const af_option *o = af_option_of(flag);
+    const af_option *o = option_of(flag);
     if (o == NULL) {
       af_options_unknown("firmness_model analyze", analyze_options, AF_N_OPTIONS, flag, NULL);
       return false;
@@ -317,12 +317,12 @@ static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
       return false;
     }
     const char *value = argv[++k];
-    if (af_is_settings_flag(flag))
+    if (is_settings_flag(flag))
       continue;
-    if (!af_analyze_flag(flag, value, a))
+    if (!analyze_flag(flag, value, a))
       return false;
   }
-  /* The rates: a WAV's header gives them (af_analyze_load). */
+  /* The rates: a WAV's header gives them (analyze_load). */
   const char *missing = !a->force_path   ? "--force FILE"
                         : !a->audio_path ? "--audio FILE"
                         : !a->mass_kg    ? "--mass KG (the apple's)"
@@ -341,10 +341,10 @@ static bool af_parse_args(int argc, char **argv, int first, af_analyze_args *a)
  * recording's rates, the hammer when no file gives it, then the flags. */
 /* Table defaults, the two files, the hammer when no file gives it: what
  * the flags then change (and what --help shows as their defaults). */
-static bool af_analyze_files(const af_analyze_args *a, af_settings *s)
+static bool analyze_files(const af_analyze_args *a, af_settings *s)
 {
   char err[AF_ERR_MAX];
-  af_settings_init(s);
+  af_settings_reset(s);
   if (af_settings_load_yaml(s, a->config_path, err, sizeof err) != AF_OK ||
       af_settings_load_yaml(s, a->cultivar_path, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model analyze: %s\n", err);
@@ -360,25 +360,25 @@ static bool af_analyze_files(const af_analyze_args *a, af_settings *s)
   return true;
 }
 
-static bool af_analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
-                                af_settings *s)
+static bool analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
+                             af_settings *s)
 {
   char rate[64];
-  if (!af_analyze_files(a, s))
+  if (!analyze_files(a, s))
     return false;
   snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
-  if (!af_set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+  if (!set_row(s, "--rate-force", "force_sample_rate_hz", rate))
     return false;
   snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
-  if (!af_set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
+  if (!set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
     return false;
-  /* Every flag but the switches has a value (af_parse_args checked it). */
+  /* Every flag but the switches has a value (parse_args checked it). */
   for (int k = first; k + 1 < argc; k++) {
-    const af_option *o = af_option_of(argv[k]);
+    const af_option *o = option_of(argv[k]);
     if (o != NULL && o->value == NULL)
       continue;
     const char *flag = argv[k], *value = argv[++k];
-    if (af_is_settings_flag(flag) && !af_apply_settings_flag(s, flag, value))
+    if (is_settings_flag(flag) && !apply_settings_flag(s, flag, value))
       return false;
   }
   return true;
@@ -386,7 +386,7 @@ static bool af_analyze_settings(int argc, char **argv, int first, const af_analy
 
 /* ---- the lane's strikes --------------------------------------------------------- */
 
-static void af_on_strike(const af_lane_strike *s, void *user)
+static void on_strike(const af_lane_strike *s, void *user)
 {
   af_analyze_ctx *c = user;
   if (c->n_rows == c->cap_rows) {
@@ -401,7 +401,7 @@ static void af_on_strike(const af_lane_strike *s, void *user)
 /* ---- output ------------------------------------------------------------------ */
 
 /* One strike: every field of the serializer (serialize.h), one per line. */
-static void af_json_row(FILE *out, const af_lane_strike *row, bool last)
+static void json_row(FILE *out, const af_lane_strike *row, bool last)
 {
   const af_serial_strike v = af_serial_of_lane(row);
   fputs("    {\n      ", out);
@@ -409,13 +409,13 @@ static void af_json_row(FILE *out, const af_lane_strike *row, bool last)
   fprintf(out, "\n    }%s\n", last ? "" : ",");
 }
 
-static void af_json_print(FILE *out, const af_analyze_ctx *c, const char *no_strike)
+static void json_print(FILE *out, const af_analyze_ctx *c, const char *no_strike)
 {
   fputs("{\n  \"strikes\": [", out);
   if (c->n_rows > 0)
     fputc('\n', out);
   for (size_t k = 0; k < c->n_rows; k++)
-    af_json_row(out, &c->rows[k], k + 1 == c->n_rows);
+    json_row(out, &c->rows[k], k + 1 == c->n_rows);
   fputs(c->n_rows > 0 ? "  ],\n" : "],\n", out);
   fputs("  \"no_strike_reason\": ", out);
   if (no_strike)
@@ -428,7 +428,7 @@ static void af_json_print(FILE *out, const af_analyze_ctx *c, const char *no_str
 /* ---- the run ----------------------------------------------------------------- */
 
 /* The apple of the whole recording, stamped at its start. */
-static af_apple af_analyze_apple(const af_analyze_args *a, const af_lane_config *cfg)
+static af_apple analyze_apple(const af_analyze_args *a, const af_lane_config *cfg)
 {
   af_apple ap;
   memset(&ap, 0, sizeof ap);
@@ -439,7 +439,7 @@ static af_apple af_analyze_apple(const af_analyze_args *a, const af_lane_config 
   ap.equatorial_radius_m =
       a->equatorial_radius_m > 0.0
           ? a->equatorial_radius_m
-          : af_resonance_sphere_radius_m(a->mass_kg, cfg->model.fruit_density_kg_m3);
+          : af_lamb_sphere_radius_m(a->mass_kg, cfg->model.fruit_density_kg_m3);
   ap.strike_radius_m = a->r2_m;
   ap.confidence = 1.0;
   snprintf(ap.direction_note, sizeof ap.direction_note, "strike direction not recorded");
@@ -448,8 +448,8 @@ static af_apple af_analyze_apple(const af_analyze_args *a, const af_lane_config 
 
 /* Both recordings into the lane in time order, chunk by chunk; the lane's
  * clock is the end of the latest chunk. */
-static void af_feed(af_lane *lane, const af_analyze_args *a, const af_lane_config *cfg,
-                    const af_recording *force, const af_recording *audio)
+static void feed(af_lane *lane, const af_analyze_args *a, const af_lane_config *cfg,
+                 const af_recording *force, const af_recording *audio)
 {
   size_t kf = 0, ka = 0;
   const int64_t offset_ns = (int64_t)llround(a->audio_offset_s * 1e9);
@@ -474,8 +474,8 @@ static void af_feed(af_lane *lane, const af_analyze_args *a, const af_lane_confi
   af_lane_finish(lane);
 }
 
-static void af_print_bench(const af_analyze_args *a, const af_analyze_ctx *c, double cpu_s,
-                           size_t n_force)
+static void print_bench(const af_analyze_args *a, const af_analyze_ctx *c, double cpu_s,
+                        size_t n_force)
 {
   double seconds = (double)n_force / a->rate_force_hz;
   fprintf(stderr,
@@ -485,8 +485,8 @@ static void af_print_bench(const af_analyze_args *a, const af_analyze_ctx *c, do
 }
 
 /* Runs the lane over the recordings; prints the JSON (and why no strike). */
-static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
-                          const af_recording *force, const af_recording *audio)
+static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
+                       const af_recording *force, const af_recording *audio)
 {
   af_analyze_ctx c = {0};
   af_lane *lane = NULL;
@@ -497,13 +497,13 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   if (c.cap_rows > AF_ANALYZE_MAX_STRIKES)
     c.cap_rows = AF_ANALYZE_MAX_STRIKES;
   c.rows = calloc(c.cap_rows, sizeof *c.rows);
-  af_status st = c.rows ? af_lane_create(cfg, af_on_strike, &c, &lane, &what) : AF_ENOMEM;
+  af_status st = c.rows ? af_lane_create(cfg, on_strike, &c, &lane, &what) : AF_ENOMEM;
   if (st != AF_OK) {
     fprintf(stderr, "firmness_model analyze: could not create %s: %s\n", what, af_strerror(st));
     free(c.rows);
     return 1;
   }
-  af_apple apple = af_analyze_apple(a, cfg);
+  af_apple apple = analyze_apple(a, cfg);
   const af_prediction *pr = NULL;
   int code = 0;
   af_status ast = af_lane_apple(lane, &apple, apple.stamp_ns, &pr);
@@ -517,9 +517,9 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
     /* A triggered capture has its strike within a millisecond of its start:
      * the baseline and noise come from the whole capture's quiet parts. */
     (void)af_lane_prime_force(lane, force->x, force->n);
-    double t0 = af_cpu_s();
-    af_feed(lane, a, cfg, force, audio);
-    double cpu_s = af_cpu_s() - t0;
+    double t0 = cpu_time_s();
+    feed(lane, a, cfg, force, audio);
+    double cpu_s = cpu_time_s() - t0;
     char why[AF_ERR_MAX] = "";
     if (c.n_rows == 0) {
       if (force->n == 0)
@@ -528,14 +528,14 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
         (void)af_strike_explain(af_lane_detector(lane), why, sizeof why);
       fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
     }
-    af_json_print(stdout, &c, c.n_rows == 0 ? why : NULL);
+    json_print(stdout, &c, c.n_rows == 0 ? why : NULL);
     if (c.dropped > 0) {
       fprintf(stderr, "firmness_model analyze: %zu strikes beyond the %zu expected at most\n",
               c.dropped, c.cap_rows);
       code = 1;
     }
     if (a->bench)
-      af_print_bench(a, &c, cpu_s, force->n);
+      print_bench(a, &c, cpu_s, force->n);
   }
   af_lane_destroy(lane);
   free(c.rows);
@@ -543,33 +543,33 @@ static int af_analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
 }
 
 /* Both recordings, WAV or raw (recording.h), and their rates into a. */
-static bool af_analyze_load(af_analyze_args *a, af_recording *force, af_recording *audio)
+static bool analyze_load(af_analyze_args *a, af_recording *force, af_recording *audio)
 {
   char rerr[AF_ERR_MAX];
   a->force_spec.rate_hz = a->rate_force_hz;
   a->audio_spec.rate_hz = a->rate_audio_hz;
   if (af_recording_load(a->force_path, &a->force_spec, force, &a->rate_force_hz, rerr,
                         sizeof rerr) != AF_OK) {
-    af_usage("--force %s", rerr, "");
+    print_usage("--force %s", rerr, "");
     return false;
   }
   if (af_recording_load(a->audio_path, &a->audio_spec, audio, &a->rate_audio_hz, rerr,
                         sizeof rerr) != AF_OK) {
-    af_recording_free(force);
-    af_usage("--audio %s", rerr, "");
+    af_recording_destroy(force);
+    print_usage("--audio %s", rerr, "");
     return false;
   }
   return true;
 }
 
 /* --help: every flag, the rows' defaults as the shipped files set them. */
-static void af_analyze_help(void)
+static void analyze_help(void)
 {
-  af_analyze_args d = af_analyze_args_default();
+  af_analyze_args d = analyze_args_default();
   af_settings s;
-  bool files = af_analyze_files(&d, &s);
+  bool files = analyze_files(&d, &s);
   if (!files)
-    af_settings_init(&s);
+    af_settings_reset(&s);
   printf("usage: firmness_model analyze --force FILE --audio FILE --mass KG --R2 M\n"
          "                              [--rate-force HZ --rate-audio HZ] [flags]\n\n"
          "A recording judged as the node judges it live: the force and audio files (WAV, or\n"
@@ -587,7 +587,7 @@ static void af_analyze_help(void)
 int af_analyze_main(int argc, char **argv, int first)
 {
   if (af_options_want_help(argc, argv, first)) {
-    af_analyze_help();
+    analyze_help();
     return 0;
   }
   af_analyze_args a;
@@ -595,32 +595,32 @@ int af_analyze_main(int argc, char **argv, int first)
   af_lane_config cfg;
   char err[AF_ERR_MAX];
   af_recording force = {0}, audio = {0};
-  if (!af_parse_args(argc, argv, first, &a) || !af_analyze_load(&a, &force, &audio))
+  if (!parse_args(argc, argv, first, &a) || !analyze_load(&a, &force, &audio))
     return AF_CLI_EXIT_USAGE;
   int code = 0;
-  if (!af_analyze_settings(argc, argv, first, &a, &s))
+  if (!analyze_settings(argc, argv, first, &a, &s))
     code = AF_CLI_EXIT_USAGE;
   else if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
-    code = af_usage("%s%s", err, "");
+    code = print_usage("%s%s", err, "");
   if (code != 0) {
-    af_recording_free(&force);
-    af_recording_free(&audio);
+    af_recording_destroy(&force);
+    af_recording_destroy(&audio);
     return code;
   }
   /* Nothing to analyze is bad input, not an empty answer. (An empty audio
    * file is allowed: the strikes are then measured without audio, each
    * saying so.) */
   if (force.n == 0) {
-    af_recording_free(&force);
-    af_recording_free(&audio);
-    return af_usage("--force %s is empty: no samples to analyze", a.force_path, "");
+    af_recording_destroy(&force);
+    af_recording_destroy(&audio);
+    return print_usage("--force %s is empty: no samples to analyze", a.force_path, "");
   }
   /* One apple for the whole recording: it must match every strike in it. */
   double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
-  code = af_analyze_run(&a, &cfg, &force, &audio);
-  af_recording_free(&force);
-  af_recording_free(&audio);
+  code = analyze_run(&a, &cfg, &force, &audio);
+  af_recording_destroy(&force);
+  af_recording_destroy(&audio);
   return code;
 }

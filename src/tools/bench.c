@@ -94,12 +94,12 @@ typedef af_status (*af_eval_fn)(void *ctx, const af_model_params *p, af_model_re
 
 static af_status eval_ode(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_model_evaluate(ctx, p, r);
+  return af_model_execute(ctx, p, r);
 }
 
 static af_status eval_fast(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_fastpath_evaluate(ctx, p, r);
+  return af_fastpath_execute(ctx, p, r);
 }
 
 typedef struct {
@@ -143,7 +143,7 @@ static void print_run(const char *name, const af_bench_run *b)
 static void domain_strikes(const af_model_params *p, af_model_params *out)
 {
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   const double e_lo = af_settings_number(&s, AF_SETTING_MODULUS_MIN_PA);
   const double e_hi = af_settings_number(&s, AF_SETTING_MODULUS_MAX_PA);
   const double m_lo = af_settings_number(&s, AF_SETTING_MASS_MIN_KG);
@@ -183,7 +183,7 @@ int af_bench_main(int argc, char **argv, int first)
   free(rest);
   if (!ok)
     return AF_CLI_EXIT_USAGE;
-  if (af_model_create(&m) != AF_OK || af_model_evaluate(m, &p, &r) != AF_OK) {
+  if (af_model_create(&m) != AF_OK || af_model_execute(m, &p, &r) != AF_OK) {
     fprintf(stderr, "firmness_model bench: the model refuses this strike\n");
     af_model_destroy(m);
     return 1;

@@ -138,7 +138,7 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
 static af_status eval(af_fastpath *f, af_model *m, bool ode, const af_model_params *p,
                       af_model_result *r)
 {
-  return ode ? af_model_evaluate(m, p, r) : af_fastpath_evaluate(f, p, r);
+  return ode ? af_model_execute(m, p, r) : af_fastpath_execute(f, p, r);
 }
 
 /* Band margin [dB] of one result. */
@@ -216,7 +216,7 @@ static bool load_cultivar(const af_design_args *a, af_model_params *base, af_des
 {
   af_settings s;
   char why[512];
-  af_settings_init(&s);
+  af_settings_reset(&s);
   if (af_settings_load_yaml(&s, a->cultivar, why, sizeof why) != AF_OK) {
     snprintf(err, len, "%s", why);
     return false;
@@ -306,8 +306,8 @@ static void compare(af_fastpath *f, af_model *m, const af_design_args *a,
   r->paper_status = evaluate_strike(f, m, a, &p, r, &r->paper, NULL, NULL);
 }
 
-af_status af_design_run(const af_design_args *a, af_design_result *out, bool *bad_input, char *err,
-                        size_t len)
+af_status af_design_execute(const af_design_args *a, af_design_result *out, bool *bad_input,
+                            char *err, size_t len)
 {
   af_model_params base;
   *bad_input = true;
@@ -430,7 +430,7 @@ int af_design_main(int argc, char **argv, int first)
   static af_design_result r;
   char err[1100];
   bool bad_input = false;
-  if (af_design_run(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
+  if (af_design_execute(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model design: %s\n", err);
     return bad_input ? AF_CLI_EXIT_USAGE : 1;
   }

@@ -1,5 +1,5 @@
 /* design.h — `firmness_model design`: the strike designer. The search is
- * af_design_run, which fills an af_design_result; `firmness_model design`
+ * af_design_execute, which fills an af_design_result; `firmness_model design`
  * prints it (af_design_print) and `firmness_model paper` quotes and judges
  * the same struct. */
 #ifndef AF_TOOLS_DESIGN_H
@@ -70,8 +70,8 @@ typedef struct {
  * and *bad_input true for a cultivar file or value that cannot be used,
  * false for a model failure. Creates and destroys the model within the
  * call. */
-af_status af_design_run(const af_design_args *a, af_design_result *out, bool *bad_input, char *err,
-                        size_t len);
+af_status af_design_execute(const af_design_args *a, af_design_result *out, bool *bad_input,
+                            char *err, size_t len);
 
 /* The designer's report of r, as `firmness_model design` prints it;
  * cultivar is the path shown (e.g. relative to the package). */

@@ -8,7 +8,7 @@
  *   100 g and 250 g fruit, and the shear against the yield, over E2, R2, e;
  * as DIR/paper/fig<N>_<profile>.png and .svg; then DIR/paper.md: each of the
  * paper's claims with the figure computed here and a verdict per profile,
- * and the designer (af_design_run, design.h) on the shipped cultivar against
+ * and the designer (af_design_execute, design.h) on the shipped cultivar against
  * the paper's optimum, its report quoted as `firmness_model design` prints it.
  * Every number in the report is computed by this command. */
 #define _POSIX_C_SOURCE 200809L
@@ -30,7 +30,7 @@
 #include "model_table.h"
 #include "options.h"
 #include "plot.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "spectrum.h"
 #include "text.h"
 
@@ -132,15 +132,15 @@ static void strike_subtitle(char *buf, size_t len, const af_model_params *p, con
 static double resonance_hz(const af_model_params *p, double mass_kg)
 {
   double xi;
-  if (af_resonance_lamb_root(p->impact.fruit_poisson, &xi) != AF_OK)
+  if (af_lamb_root(p->impact.fruit_poisson, &xi) != AF_OK)
     return NAN;
-  return af_resonance_frequency_hz(xi, p->modulus_factor * p->impact.fruit_modulus_pa,
-                                   p->impact.fruit_poisson, p->fruit_density_kg_m3, mass_kg);
+  return af_lamb_frequency_hz(xi, p->modulus_factor * p->impact.fruit_modulus_pa,
+                              p->impact.fruit_poisson, p->fruit_density_kg_m3, mass_kg);
 }
 
 static af_status eval(af_paper *w, const af_model_params *p, af_model_result *r)
 {
-  return af_model_evaluate(w->model, p, r);
+  return af_model_execute(w->model, p, r);
 }
 
 /* ---- Figs. 2, 4, 6, 8: a family of pulses and their spectra ------------- */
@@ -161,7 +161,7 @@ static af_status pulse_of(af_paper *w, const af_model_params *p, af_curve *c, do
   af_impact_result ir;
   double dt = af_impact_hertz_contact_time_s(&p->impact) / 400.0;
   af_status st =
-      af_impact_run(w->impact, &p->impact, dt, c->f_n, NULL, AF_PAPER_PULSE_CAP - 1, &ir);
+      af_impact_execute(w->impact, &p->impact, dt, c->f_n, NULL, AF_PAPER_PULSE_CAP - 1, &ir);
   if (st != AF_OK)
     return st;
   c->n = ir.n_samples;
@@ -787,7 +787,7 @@ static int design_section(FILE *md)
   const char *shown = "config/" AF_PAPER_CULTIVAR;
   char err[1100];
   bool bad_input = false;
-  if (af_design_run(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
+  if (af_design_execute(&a, &r, &bad_input, err, sizeof err) != AF_OK) {
     fprintf(stderr, "firmness_model paper: design: %s\n", err);
     return 1;
   }

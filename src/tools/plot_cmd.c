@@ -21,7 +21,7 @@
 #include "model.h"
 #include "options.h"
 #include "plot.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 #include "spectrum.h"
 #include "text.h"
@@ -43,9 +43,9 @@ typedef struct {
 
 /* The defaults the parser starts from: the firmness range is the parameter
  * table's (modulus_min_pa, modulus_max_pa); --out is required. */
-static af_plot_args af_plot_defaults(af_settings *s)
+static af_plot_args plot_defaults(af_settings *s)
 {
-  af_settings_init(s);
+  af_settings_reset(s);
   af_plot_args a = {NULL, af_settings_number(s, AF_SETTING_MODULUS_MIN_PA),
                     af_settings_number(s, AF_SETTING_MODULUS_MAX_PA)};
   return a;
@@ -68,10 +68,10 @@ const af_option *af_plot_options(size_t *n)
   return plot_options;
 }
 
-static void af_plot_help(void)
+static void plot_help(void)
 {
   af_settings s;
-  af_plot_args d = af_plot_defaults(&s);
+  af_plot_args d = plot_defaults(&s);
   printf("usage: firmness_model plot [model flags] --out FILE.png|FILE.svg [--modulus-min PA]\n"
          "                           [--modulus-max PA]\n\n"
          "The predicted strike as a figure: the force pulse; its spectrum with the lobes, the\n"
@@ -83,7 +83,7 @@ static void af_plot_help(void)
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
-static int af_usage(const char *fmt, const char *a, const char *b)
+static int print_usage(const char *fmt, const char *a, const char *b)
 {
   fprintf(stderr, "firmness_model plot: ");
   fprintf(stderr, fmt, a, b);
@@ -92,7 +92,7 @@ static int af_usage(const char *fmt, const char *a, const char *b)
 }
 
 /* A modulus flag's value, within its parameter table row's range. */
-static bool af_number(const af_option *o, const char *text, double *out)
+static bool number(const af_option *o, const char *text, double *out)
 {
   char *end;
   af_setting_range r;
@@ -108,10 +108,10 @@ static bool af_number(const af_option *o, const char *text, double *out)
   return true;
 }
 
-static int af_plot_parse(char **argv, const int *rest, int n_rest, af_plot_args *a)
+static int plot_parse(char **argv, const int *rest, int n_rest, af_plot_args *a)
 {
   af_settings s;
-  *a = af_plot_defaults(&s);
+  *a = plot_defaults(&s);
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
     const af_option *o = af_option_find(plot_options, N_OPTIONS, flag);
@@ -128,21 +128,20 @@ static int af_plot_parse(char **argv, const int *rest, int n_rest, af_plot_args 
     const char *v = argv[rest[++k]];
     if (strcmp(flag, "--out") == 0)
       a->out = v;
-    else if (!af_number(o, v,
-                        strcmp(flag, "--modulus-min") == 0 ? &a->modulus_min_pa
-                                                           : &a->modulus_max_pa))
+    else if (!number(o, v,
+                     strcmp(flag, "--modulus-min") == 0 ? &a->modulus_min_pa : &a->modulus_max_pa))
       return AF_CLI_EXIT_USAGE;
   }
   if (!a->out)
-    return af_usage("--out FILE.png|FILE.svg is required%s%s", "", "");
+    return print_usage("--out FILE.png|FILE.svg is required%s%s", "", "");
   if (!(a->modulus_max_pa > a->modulus_min_pa))
-    return af_usage("--modulus-max must be above --modulus-min%s%s", "", "");
+    return print_usage("--modulus-max must be above --modulus-min%s%s", "", "");
   return 0;
 }
 
 /* tau_1 / p0 on the axis of a Hertz contact at depth z / a (Johnson 3.45):
  * half the difference of the axial and radial stresses. */
-static double af_axis_shear(double za, double nu)
+static double axis_shear(double za, double nu)
 {
   if (za <= 0.0)
     return 0.5 * fabs(-1.0 + 0.5 * (1.0 + 2.0 * nu));
@@ -158,8 +157,8 @@ typedef struct {
   size_t n_pulse;
 } af_curves;
 
-static int af_draw(const af_plot_args *a, const af_model_params *p, const af_model_result *r,
-                   const af_curves *c, double level_db, double res_lo, double res_hi)
+static int draw(const af_plot_args *a, const af_model_params *p, const af_model_result *r,
+                const af_curves *c, double level_db, double res_lo, double res_hi)
 {
   /* band is pointed to by spans[] until the plot is drawn: not scoped to its if. */
   // cppcheck-suppress variableScope
@@ -247,10 +246,10 @@ static int af_draw(const af_plot_args *a, const af_model_params *p, const af_mod
   af_plot_target t;
   char err[256];
   if (af_plot_target_file(a->out, AF_W_PX, AF_H_PX, &t) != AF_OK)
-    return af_usage("--out %s: the file must end in .png or .svg%s", a->out, "");
+    return print_usage("--out %s: the file must end in .png or .svg%s", a->out, "");
   af_status st = af_plot_draw(&t, pan, 3, 1, err, sizeof err);
   if (st == AF_EIO)
-    return af_usage("--out %s%s", err, "");
+    return print_usage("--out %s%s", err, "");
   if (st != AF_OK) {
     fprintf(stderr, "firmness_model plot: %s\n", err);
     return 1;
@@ -260,20 +259,20 @@ static int af_draw(const af_plot_args *a, const af_model_params *p, const af_mod
 }
 
 /* Pulse, spectrum and shear curves of p; the 0S2 range [res_lo, res_hi]. */
-static af_status af_curves_of(const af_model_params *p, const af_model_result *r,
-                              const af_plot_args *a, af_curves *c, double *level_db, double *res_lo,
-                              double *res_hi)
+static af_status curves_of(const af_model_params *p, const af_model_result *r,
+                           const af_plot_args *a, af_curves *c, double *level_db, double *res_lo,
+                           double *res_hi)
 {
   af_impact *imp = NULL;
   af_spectrum *spec = NULL;
   af_impact_result ir;
   double xi;
-  af_status st = af_resonance_lamb_root(p->impact.fruit_poisson, &xi);
+  af_status st = af_lamb_root(p->impact.fruit_poisson, &xi);
   if (st == AF_OK)
     st = af_impact_create(&imp);
   double dt = af_impact_hertz_contact_time_s(&p->impact) / 500.0;
   if (st == AF_OK)
-    st = af_impact_run(imp, &p->impact, dt, c->f_n, NULL, AF_PULSE_CAP - 1, &ir);
+    st = af_impact_execute(imp, &p->impact, dt, c->f_n, NULL, AF_PULSE_CAP - 1, &ir);
   af_impact_destroy(imp);
   if (st != AF_OK)
     return st;
@@ -287,12 +286,10 @@ static af_status af_curves_of(const af_model_params *p, const af_model_result *r
   sc.fft_size = 4 * AF_PULSE_CAP;
   if ((st = af_spectrum_create(&sc, &spec)) == AF_OK)
     st = af_spectrum_execute(spec, c->f_n, c->n_pulse, dt);
-  *res_lo =
-      af_resonance_frequency_hz(xi, p->modulus_factor * a->modulus_min_pa, p->impact.fruit_poisson,
-                                p->fruit_density_kg_m3, p->fruit_mass_kg);
-  *res_hi =
-      af_resonance_frequency_hz(xi, p->modulus_factor * a->modulus_max_pa, p->impact.fruit_poisson,
-                                p->fruit_density_kg_m3, p->fruit_mass_kg);
+  *res_lo = af_lamb_frequency_hz(xi, p->modulus_factor * a->modulus_min_pa, p->impact.fruit_poisson,
+                                 p->fruit_density_kg_m3, p->fruit_mass_kg);
+  *res_hi = af_lamb_frequency_hz(xi, p->modulus_factor * a->modulus_max_pa, p->impact.fruit_poisson,
+                                 p->fruit_density_kg_m3, p->fruit_mass_kg);
   double f_max =
       fmax(1.3 * *res_hi, r->n_lobes >= 3 ? r->lobes[2].end_hz : 3.0 / ir.contact_time_s);
   for (size_t k = 0; k < AF_FREQS && st == AF_OK; k++) {
@@ -309,7 +306,7 @@ static af_status af_curves_of(const af_model_params *p, const af_model_result *r
   for (size_t k = 0; k < AF_DEPTHS; k++) {
     double za = 3.0 * (double)k / (AF_DEPTHS - 1);
     c->depth_mm[k] = za * a_m * 1e3;
-    c->shear_mpa[k] = p0 * af_axis_shear(za, p->impact.fruit_poisson) * 1e-6;
+    c->shear_mpa[k] = p0 * axis_shear(za, p->impact.fruit_poisson) * 1e-6;
   }
   return st;
 }
@@ -317,7 +314,7 @@ static af_status af_curves_of(const af_model_params *p, const af_model_result *r
 int af_plot_main(int argc, char **argv, int first)
 {
   if (af_options_want_help(argc, argv, first)) {
-    af_plot_help();
+    plot_help();
     return 0;
   }
   af_model_params p;
@@ -329,7 +326,7 @@ int af_plot_main(int argc, char **argv, int first)
     free(rest);
     return AF_CLI_EXIT_USAGE;
   }
-  int code = af_plot_parse(argv, rest, n_rest, &a);
+  int code = plot_parse(argv, rest, n_rest, &a);
   free(rest);
   if (code)
     return code;
@@ -338,14 +335,14 @@ int af_plot_main(int argc, char **argv, int first)
   af_model_result r;
   af_status st = af_model_create(&m);
   if (st == AF_OK)
-    st = af_model_evaluate(m, &p, &r);
+    st = af_model_execute(m, &p, &r);
   af_model_destroy(m);
   double level_db = NAN, lo = NAN, hi = NAN;
   if (st == AF_OK)
-    st = af_curves_of(&p, &r, &a, &c, &level_db, &lo, &hi);
+    st = curves_of(&p, &r, &a, &c, &level_db, &lo, &hi);
   if (st != AF_OK) {
     fprintf(stderr, "firmness_model plot: the model failed on this strike: %s\n", af_strerror(st));
     return 1;
   }
-  return af_draw(&a, &p, &r, &c, level_db, lo, hi);
+  return draw(&a, &p, &r, &c, level_db, lo, hi);
 }

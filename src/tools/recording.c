@@ -258,11 +258,11 @@ af_status af_recording_load(const char *path, const af_recording_spec *spec, af_
   free(head);
   fclose(f);
   if (s != AF_OK)
-    af_recording_free(out);
+    af_recording_destroy(out);
   return s;
 }
 
-void af_recording_free(af_recording *r)
+void af_recording_destroy(af_recording *r)
 {
   free(r->x);
   r->x = NULL;

@@ -65,7 +65,7 @@ bool af_recording_parse_scale(const char *flag, const char *text, double *out, c
 af_status af_recording_load(const char *path, const af_recording_spec *spec, af_recording *out,
                             double *rate_hz, char *err, size_t len);
 
-void af_recording_free(af_recording *r); /* safe on an empty recording */
+void af_recording_destroy(af_recording *r); /* safe on an empty recording */
 
 #ifdef __cplusplus
 }

@@ -6,7 +6,7 @@
 af_status af_report_compute(af_model *m, const af_model_params *p, af_report *rep)
 {
   rep->params = *p;
-  af_status st = af_model_evaluate(m, p, &rep->result);
+  af_status st = af_model_execute(m, p, &rep->result);
   if (st != AF_OK)
     return st;
   st = af_model_min_strike_radius(m, p, AF_REPORT_R2_LO_M, AF_REPORT_R2_HI_M,
@@ -21,7 +21,7 @@ af_status af_report_compute(af_model *m, const af_model_params *p, af_report *re
 af_status af_report_compute_fast(af_fastpath *f, const af_model_params *p, af_report *rep)
 {
   rep->params = *p;
-  af_status st = af_fastpath_evaluate(f, p, &rep->result);
+  af_status st = af_fastpath_execute(f, p, &rep->result);
   if (st != AF_OK)
     return st;
   st = af_fastpath_min_strike_radius(f, p, AF_REPORT_R2_LO_M, AF_REPORT_R2_HI_M,

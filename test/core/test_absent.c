@@ -36,8 +36,8 @@ int main(void)
   af_stream force, audio;
   char text[512];
   const float x[4] = {0.0f, 1.0f, 2.0f, 3.0f};
-  AF_CHECK(af_stream_init(&force, "force", &fc) == AF_OK);
-  AF_CHECK(af_stream_init(&audio, "audio", &ac) == AF_OK);
+  AF_CHECK(af_stream_create(&force, "force", &fc) == AF_OK);
+  AF_CHECK(af_stream_create(&audio, "audio", &ac) == AF_OK);
 
   /* 5 s = 5 000 000 000 ns: 1 ns before, nothing; at the boundary, both. */
   AF_CHECK(!af_absent_warning(&force, &audio, T0_NS, T0_NS + INT64_C(4999999999), 5.0, text,
@@ -75,7 +75,7 @@ int main(void)
                               sizeof text));
   AF_CHECK(strcmp(text, "") == 0);
 
-  af_stream_fini(&force);
-  af_stream_fini(&audio);
+  af_stream_destroy(&force);
+  af_stream_destroy(&audio);
   return af_test_summary("test_absent");
 }

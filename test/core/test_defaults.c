@@ -179,7 +179,7 @@ static af_status derive_yaml(const char *text, af_lane_config *c, char *err)
   fputs(text, f);
   fclose(f);
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   af_status st = af_settings_load_yaml(&s, STATION, err, ERR_MAX);
   if (st == AF_OK)
     st = af_settings_load_yaml(&s, CULTIVAR, err, ERR_MAX);

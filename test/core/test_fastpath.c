@@ -64,9 +64,9 @@ static void test_random(af_fastpath *f)
     af_model_result a, b;
     size_t t0, t1;
     af_fastpath_counts(f, &t0, NULL);
-    AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &a), AF_OK);
+    AF_CHECK_STATUS(af_fastpath_execute(f, &p, &a), AF_OK);
     af_fastpath_counts(f, &t1, NULL);
-    AF_CHECK_STATUS(af_model_evaluate(ode, &p, &b), AF_OK);
+    AF_CHECK_STATUS(af_model_execute(ode, &p, &b), AF_OK);
     if (t1 > t0) {
       compare(&a, &b);
       compared++;
@@ -95,18 +95,18 @@ static void test_closed_forms(af_fastpath *f)
   af_model_result r;
   p.impact.restitution = 1.0;
   p.impact.gravity_m_s2 = 0.0;
-  AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &r), AF_OK);
+  AF_CHECK_STATUS(af_fastpath_execute(f, &p, &r), AF_OK);
   AF_CHECK_REL(r.impact.contact_time_s, 1.33059e-3, 1e-4);
   AF_CHECK_REL(r.impact.peak_force_n, 38.710, 1e-4);
   AF_CHECK_REL(r.impact.max_deformation_m, 0.63291e-3, 1e-4);
   AF_CHECK_REL(r.band.band_high_hz * r.impact.contact_time_s, 0.928, 2e-3);
   p.band_level = AF_BAND_POWER_HALF;
-  AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &r), AF_OK);
+  AF_CHECK_STATUS(af_fastpath_execute(f, &p, &r), AF_OK);
   AF_CHECK_REL(r.band.band_high_hz * r.impact.contact_time_s, 0.670, 2e-3);
   AF_CHECK_REL(r.lobes[1].start_hz * r.impact.contact_time_s, 1.804, 2e-3);
   /* With gravity: 1.33217 ms. */
   p.impact.gravity_m_s2 = 9.80665;
-  AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &r), AF_OK);
+  AF_CHECK_STATUS(af_fastpath_execute(f, &p, &r), AF_OK);
   AF_CHECK_REL(r.impact.contact_time_s, 1.33217e-3, 1e-4);
 }
 
@@ -115,10 +115,10 @@ static void test_bad_input(af_fastpath *f)
   af_model_params p = af_model_params_default();
   af_model_result r;
   p.impact.fruit_modulus_pa = -1.0;
-  AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fastpath_execute(f, &p, &r), AF_EINVAL);
   p = af_model_params_default();
   p.impact.restitution = 0.02; /* exact law: from 0.05 */
-  AF_CHECK_STATUS(af_fastpath_evaluate(f, &p, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fastpath_execute(f, &p, &r), AF_EINVAL);
   af_fastpath_destroy(NULL);
 }
 

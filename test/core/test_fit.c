@@ -52,7 +52,7 @@ static void synth(af_impact *im, af_synth_rng *g, const af_impact_params *truth,
   af_synth_pulse p;
   s->n = 0;
   af_status st =
-      af_synth_pulse_run(im, truth, DT_S / SYNTH_OVERSAMPLE, synth_fine_n, SYNTH_CAP, &p);
+      af_synth_pulse_model(im, truth, DT_S / SYNTH_OVERSAMPLE, synth_fine_n, SYNTH_CAP, &p);
   AF_CHECK_STATUS(st, AF_OK);
   if (st != AF_OK)
     return; /* n = 0: the fit refuses it and the test fails loudly */
@@ -91,7 +91,7 @@ static double contact_time_of_fit(af_impact *im, const strike *s, const af_fit_r
   p.restitution = r->restitution;
   p.velocity_m_s = r->velocity_m_s;
   af_impact_result res;
-  if (af_impact_run(im, &p, 1e-6, NULL, NULL, SYNTH_CAP, &res) != AF_OK)
+  if (af_impact_execute(im, &p, 1e-6, NULL, NULL, SYNTH_CAP, &res) != AF_OK)
     return NAN;
   return res.contact_time_s;
 }
@@ -154,7 +154,7 @@ static void test_noise_free(af_impact *im, af_synth_rng *rng, bool padded)
     af_impact_params truth = apple(i);
     synth(im, rng, &truth, padded, INFINITY, &s);
     af_fit_result r;
-    AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, s.t0_guess_s, &r), AF_OK);
+    AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, s.t0_guess_s, &r), AF_OK);
     AF_CHECK(r.status == AF_OK);
     AF_CHECK_REL(r.modulus_pa, truth.fruit_modulus_pa, 1e-3);
     AF_CHECK_ABS(r.restitution, truth.restitution, 1e-3 * truth.restitution);
@@ -231,7 +231,7 @@ static void test_noisy(af_impact *im, af_synth_rng *rng, bool fit_velocity, bool
     if (!fit_velocity)
       start.velocity_m_s = truth.velocity_m_s; /* measured */
     af_fit_result r;
-    AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, s.t0_guess_s, &r), AF_OK);
+    AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, s.t0_guess_s, &r), AF_OK);
     if (!fit_velocity)
       AF_CHECK(r.velocity_m_s == truth.velocity_m_s && r.velocity_se_m_s == 0.0);
     check_noisy(im, &s, &r, &b);
@@ -270,7 +270,7 @@ static void test_variants(af_impact *im, af_synth_rng *rng)
   start.hammer_modulus_pa = 40e6;
   start.velocity_m_s = truth.velocity_m_s;
   af_fit_result r;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_OK);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_OK);
   AF_CHECK_REL(r.modulus_pa, truth.fruit_modulus_pa, 1e-3);
   AF_CHECK_ABS(r.restitution, truth.restitution, 1e-3);
   AF_CHECK(r.time_offset_s == s.t0_s && r.time_offset_se_s == 0.0);
@@ -292,9 +292,9 @@ static void test_reuse(af_impact *im, af_synth_rng *rng)
   synth(im, rng, &hard, false, SNR_DB, &b);
   AF_CHECK(a.n != b.n);
   af_fit_result r1, r2, r3;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, a.pulse_n, a.n, DT_S, a.t0_guess_s, &r1), AF_OK);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, b.pulse_n, b.n, DT_S, b.t0_guess_s, &r2), AF_OK);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, a.pulse_n, a.n, DT_S, a.t0_guess_s, &r3), AF_OK);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, a.pulse_n, a.n, DT_S, a.t0_guess_s, &r1), AF_OK);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, b.pulse_n, b.n, DT_S, b.t0_guess_s, &r2), AF_OK);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, a.pulse_n, a.n, DT_S, a.t0_guess_s, &r3), AF_OK);
   AF_CHECK(r1.modulus_pa == r3.modulus_pa && r1.restitution == r3.restitution &&
            r1.model_runs == r3.model_runs);
   af_fit_destroy(f);
@@ -311,7 +311,7 @@ static void test_truncated(af_impact *im, af_synth_rng *rng)
   strike s;
   synth(im, rng, &truth, false, SNR_DB, &s);
   af_fit_result r;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n * 6 / 10, DT_S, s.t0_guess_s, &r),
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n * 6 / 10, DT_S, s.t0_guess_s, &r),
                   AF_ENODATA);
   AF_CHECK(isfinite(r.modulus_pa) && r.time_offset_s + r.contact_time_s > (double)s.n * 0.6 * DT_S);
   af_fit_destroy(f);
@@ -351,33 +351,34 @@ static void test_bad_input(af_impact *im, af_synth_rng *rng)
   strike s;
   synth(im, rng, &truth, false, SNR_DB, &s);
   af_fit_result r;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, NULL), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(NULL, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, NULL, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, NULL, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, 0, DT_S, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, AF_FIT_MIN_SAMPLES - 1, DT_S, s.t0_s, &r),
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(NULL, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, NULL, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, NULL, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, 0, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, AF_FIT_MIN_SAMPLES - 1, DT_S, s.t0_s, &r),
                   AF_EINVAL);
   AF_CHECK(r.status == AF_EINVAL && isnan(r.modulus_pa) && r.model_runs == 0);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, 0.0, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, NAN, s.t0_s, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, INFINITY, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, 0.0, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, NAN, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, INFINITY, &r), AF_EINVAL);
   static double too_long_n[MAX_SAMPLES + 1];
   for (size_t k = 0; k <= MAX_SAMPLES; k++)
     too_long_n[k] = k < s.n ? s.pulse_n[k] : 0.0;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, too_long_n, MAX_SAMPLES + 1, DT_S, s.t0_s, &r), AF_ESIZE);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, too_long_n, MAX_SAMPLES + 1, DT_S, s.t0_s, &r),
+                  AF_ESIZE);
   af_impact_params bad = start;
   bad.restitution = 1.0; /* the logit needs an inner start */
-  AF_CHECK_STATUS(af_fit_pulse(f, &bad, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &bad, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
   bad = start;
   bad.hammer_mass_kg = -1.0; /* rejected by the impact model */
-  AF_CHECK_STATUS(af_fit_pulse(f, &bad, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &bad, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
   double saved = s.pulse_n[3];
   s.pulse_n[3] = NAN;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, DT_S, s.t0_s, &r), AF_EINVAL);
   s.pulse_n[3] = saved;
   /* sampled at 1 MHz the start model is 1300 samples: more than the buffer */
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, s.pulse_n, s.n, 1e-6, s.t0_s, &r), AF_ESIZE);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, s.pulse_n, s.n, 1e-6, s.t0_s, &r), AF_ESIZE);
   af_fit_destroy(f);
 }
 
@@ -391,10 +392,10 @@ static void test_garbage(af_synth_rng *rng)
   af_impact_params start = af_impact_params_default();
   double pulse_n[MAX_SAMPLES] = {0};
   af_fit_result r;
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, pulse_n, 65, DT_S, 5 * DT_S, &r), AF_ENODATA);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, pulse_n, 65, DT_S, 5 * DT_S, &r), AF_ENODATA);
   for (size_t k = 0; k < 65; k++)
     pulse_n[k] = -20.0 * sin(PI * (double)k / 64.0); /* a pull, not a push */
-  AF_CHECK_STATUS(af_fit_pulse(f, &start, pulse_n, 65, DT_S, 5 * DT_S, &r), AF_ENODATA);
+  AF_CHECK_STATUS(af_fit_execute(f, &start, pulse_n, 65, DT_S, 5 * DT_S, &r), AF_ENODATA);
   /* white noise, with and without an offset, in windows of 5 to 200 samples */
   static const size_t lengths[] = {5, 8, 30, 65, 120, 200};
   size_t ok = 0, max_runs = 0;
@@ -402,7 +403,7 @@ static void test_garbage(af_synth_rng *rng)
     size_t n = lengths[i % 6];
     for (size_t k = 0; k < n; k++)
       pulse_n[k] = 0.4 * af_synth_gauss(rng) + (i % 2 ? 0.3 : 0.0);
-    af_status st = af_fit_pulse(f, &start, pulse_n, n, DT_S, -0.5 * DT_S, &r);
+    af_status st = af_fit_execute(f, &start, pulse_n, n, DT_S, -0.5 * DT_S, &r);
     ok += st == AF_OK;
     AF_CHECK(st == AF_ENODATA || st == AF_EBUDGET_FIT_ITER || st == AF_ENOCONV ||
              st == AF_ENUMERIC);

@@ -44,7 +44,7 @@ static af_status derive(const char *const *sets, size_t n, af_lane_config *cfg, 
                         size_t len)
 {
   af_settings st;
-  af_settings_init(&st);
+  af_settings_reset(&st);
   af_status s = af_settings_load_yaml(&st, "config/station.yaml", err, len);
   if (s == AF_OK)
     s = af_settings_load_yaml(&st, "config/jonagold.yaml", err, len);

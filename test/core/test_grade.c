@@ -8,7 +8,7 @@
 
 #include "af_test.h"
 #include "grade.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 
 #define ERR_MAX 512
@@ -18,7 +18,7 @@ static void test_shipped(void)
   char err[ERR_MAX] = "";
   af_settings s;
   af_grade_config g;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_load_yaml(&s, "config/jonagold.yaml", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_grade_config_from_settings(&s, &g, err, sizeof err), AF_OK);
   AF_CHECK(g.quantity == AF_GRADE_BY_STIFFNESS_FACTOR);
@@ -33,11 +33,11 @@ static void test_shipped(void)
   /* The boundaries in MPa, as the YAML says (3.9, 6.1, 8.8 MPa): S = f^2 m^(2/3)
    * of Lamb's 0S2 does not depend on the mass. */
   double xi;
-  AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &xi), AF_OK);
+  AF_CHECK_STATUS(af_lamb_root(0.35, &xi), AF_OK);
   const double mpa[] = {3.9, 6.1, 8.8};
   for (int k = 0; k < 3; k++) {
     for (double m = 0.1; m <= 0.25; m += 0.05) {
-      double f = af_resonance_frequency_hz(xi, mpa[k] * 1e6, 0.35, 840.0, m);
+      double f = af_lamb_frequency_hz(xi, mpa[k] * 1e6, 0.35, 840.0, m);
       AF_CHECK_REL(f * f * pow(m, 2.0 / 3.0), g.lower[k + 1], 0.02); /* [2 %] */
     }
   }
@@ -178,7 +178,7 @@ static void test_refused(void)
   /* Through the table: the row's name with the values object's prefix. */
   af_settings s;
   af_grade_config g;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   af_settings_set_name_prefix(&s, "~");
   AF_CHECK_STATUS(af_settings_set_text(&s, "grade_classes", "\"soft | 5 | firm\"", err, sizeof err),
                   AF_OK);

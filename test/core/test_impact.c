@@ -91,7 +91,7 @@ static af_impact_params soft_hammer_strike(void)
 static af_status run(af_impact *w, const af_impact_params *p, af_impact_result *r)
 {
   double dt_s = af_impact_hertz_contact_time_s(p) / SAMPLES_PER_PULSE;
-  return af_impact_run(w, p, dt_s, force_n, deformation_m, CAP, r);
+  return af_impact_execute(w, p, dt_s, force_n, deformation_m, CAP, r);
 }
 
 /* ---- names and parameters ------------------------------------------------ */
@@ -196,7 +196,7 @@ static void test_samples(af_impact *w)
   af_impact_params p = af_impact_params_default();
   double dt_s = af_impact_hertz_contact_time_s(&p) / SAMPLES_PER_PULSE;
   af_impact_result r;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, force_n, deformation_m, CAP, &r), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, force_n, deformation_m, CAP, &r), AF_OK);
   AF_CHECK(r.dt_s == dt_s);
   AF_CHECK(r.n_samples == (size_t)floor(r.contact_time_s / dt_s) + 1);
   AF_CHECK(force_n[0] == 0.0 && deformation_m[0] == 0.0);
@@ -225,16 +225,17 @@ static void test_samples(af_impact *w)
 
   /* Either output may be omitted. */
   af_impact_result r2;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, CAP, &r2), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, CAP, &r2), AF_OK);
   AF_CHECK(r2.n_samples == r.n_samples);
   AF_CHECK_REL(r2.contact_time_s, r.contact_time_s, 1e-12);
   /* Exactly enough room is enough; one sample less is not. */
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, force_n, NULL, r.n_samples, &r2), AF_OK);
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, deformation_m, r.n_samples - 1, &r2), AF_ESIZE);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, force_n, NULL, r.n_samples, &r2), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, deformation_m, r.n_samples - 1, &r2),
+                  AF_ESIZE);
 
   /* A step longer than the pulse leaves the sample at contact only; the
    * events are still located in full. */
-  AF_CHECK_STATUS(af_impact_run(w, &p, 1.0, force_n, deformation_m, CAP, &r2), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, 1.0, force_n, deformation_m, CAP, &r2), AF_OK);
   AF_CHECK(r2.n_samples == 1);
   AF_CHECK_REL(r2.peak_force_n, r.peak_force_n, 1e-6);
   AF_CHECK_REL(r2.max_deformation_m, r.max_deformation_m, 1e-6);
@@ -374,7 +375,7 @@ static void test_poisson_negligible(af_impact *w)
 static void expect_einval(af_impact *w, const af_impact_params *p)
 {
   af_impact_result r;
-  AF_CHECK_STATUS(af_impact_run(w, p, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, p, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
 }
 
 #define BAD(field, value)                                                                          \
@@ -412,17 +413,17 @@ static void test_invalid_params(af_impact *w)
 
   af_impact_params p = af_impact_params_default();
   af_impact_result r;
-  AF_CHECK_STATUS(af_impact_run(w, &p, 0.0, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(w, &p, -1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(w, &p, NAN, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(w, &p, INFINITY, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(NULL, &p, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(w, NULL, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_impact_run(w, &p, 1e-5, force_n, deformation_m, CAP, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, 0.0, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, -1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, NAN, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, INFINITY, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(NULL, &p, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, NULL, 1e-5, force_n, deformation_m, CAP, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, 1e-5, force_n, deformation_m, CAP, NULL), AF_EINVAL);
   /* The paper's law takes any e in (0, 1]. */
   p.damping = AF_DAMPING_PAPER;
   p.restitution = 0.01;
-  AF_CHECK_STATUS(af_impact_run(w, &p, 1e-5, force_n, deformation_m, CAP, &r), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, 1e-5, force_n, deformation_m, CAP, &r), AF_OK);
 }
 
 /* CPU time [s]. */
@@ -436,12 +437,12 @@ static void test_failures(af_impact *w)
   af_impact_params p = af_impact_params_default();
   af_impact_result r;
   double dt_s = af_impact_hertz_contact_time_s(&p) / SAMPLES_PER_PULSE;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, force_n, deformation_m, 10, &r), AF_ESIZE);
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, 0, &r), AF_ESIZE);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, force_n, deformation_m, 10, &r), AF_ESIZE);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, 0, &r), AF_ESIZE);
   /* A weight far above the impact force: the hammer sinks and stays, the
    * contact never ends; the step budget stops it and says so (issue 11). */
   p.gravity_m_s2 = 1e6;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, SIZE_MAX, &r), AF_EBUDGET_ODE_STEPS);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, SIZE_MAX, &r), AF_EBUDGET_ODE_STEPS);
   /* The hanging inputs of issue 11 (outside the table's physical ranges,
    * which the model checks; the impact alone still stops): a modulus of
    * 1e-30 Pa, a radius of 1e-300 m or the smallest normal double, a contact
@@ -457,15 +458,15 @@ static void test_failures(af_impact *w)
       p.strike_radius_m = 2.2250738585072014e-308;
     else
       p.velocity_m_s = 1e-9;
-    af_status st = af_impact_run(w, &p, af_impact_hertz_contact_time_s(&p) / 128, force_n,
-                                 deformation_m, CAP, &r);
+    af_status st = af_impact_execute(w, &p, af_impact_hertz_contact_time_s(&p) / 128, force_n,
+                                     deformation_m, CAP, &r);
     AF_CHECK(st == AF_EBUDGET_ODE_STEPS || st == AF_ENOCONV || st == AF_ESIZE);
   }
   AF_CHECK(clock_s() - t_start < 1.0);
   /* Moduli beyond double range: the scales overflow. */
   p = af_impact_params_default();
   p.fruit_modulus_pa = DBL_MAX;
-  AF_CHECK_STATUS(af_impact_run(w, &p, dt_s, NULL, NULL, CAP, &r), AF_ENUMERIC);
+  AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, CAP, &r), AF_ENUMERIC);
   /* The workspace still works after failures. */
   p = elastic_no_gravity();
   AF_CHECK_STATUS(run(w, &p, &r), AF_OK);

@@ -105,7 +105,7 @@ static af_lane_config config(const char *const *sets, size_t n_sets)
   af_settings st;
   af_lane_config cfg;
   char err[512] = "";
-  af_settings_init(&st);
+  af_settings_reset(&st);
   int ok = af_settings_load_yaml(&st, "config/station.yaml", err, sizeof err) == AF_OK &&
            af_settings_load_yaml(&st, "config/jonagold.yaml", err, sizeof err) == AF_OK &&
            af_settings_set_arg(&st, "hammer_mass_kg=0.010", err, sizeof err) == AF_OK &&

@@ -29,7 +29,7 @@
 #include <string.h>
 
 #include "af_test.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "synth.h"
 
 #define PI 3.14159265358979323846
@@ -179,8 +179,7 @@ static af_impact_params truth_impact(const apple_truth *t)
 /* The true 0S2 [Hz] of the apple. */
 static double truth_f0(const apple_truth *t)
 {
-  return af_resonance_frequency_hz(lamb_xi, t->modulus_factor * t->modulus_pa, 0.35, 840.0,
-                                   t->mass_kg);
+  return af_lamb_frequency_hz(lamb_xi, t->modulus_factor * t->modulus_pa, 0.35, 840.0, t->mass_kg);
 }
 
 /* A recording of n_strikes strikes of one apple: force at 50 kHz, audio at
@@ -210,8 +209,8 @@ static void add_mode(float *x, size_t n, double onset_s, const mode *m)
  * and one below it (the range as measure.c widens it: 15 % margin). */
 static void strike_modes(const apple_truth *t, af_synth_rng *g, mode out[3])
 {
-  double f_hi = af_resonance_frequency_hz(lamb_xi, t->modulus_factor * 12e6, 0.35, 840, t->mass_kg);
-  double f_lo = af_resonance_frequency_hz(lamb_xi, t->modulus_factor * 2e6, 0.35, 840, t->mass_kg);
+  double f_hi = af_lamb_frequency_hz(lamb_xi, t->modulus_factor * 12e6, 0.35, 840, t->mass_kg);
+  double f_lo = af_lamb_frequency_hz(lamb_xi, t->modulus_factor * 2e6, 0.35, 840, t->mass_kg);
   out[0] = (mode){truth_f0(t), 30.0, 1.0, 2.0 * PI * af_synth_uniform(g)};
   out[1] = (mode){1.6 * 1.15 * f_hi, 25.0, 3.0, 2.0 * PI * af_synth_uniform(g)};
   out[2] = (mode){0.6 * 0.85 * f_lo, 15.0, 1.0, 2.0 * PI * af_synth_uniform(g)};
@@ -241,7 +240,7 @@ static void synth_recording(recording *r, const apple_truth *t, size_t n_strikes
   af_synth_rng g;
   af_synth_rng_seed(&g, seed + TEST_SEED);
   af_impact_params p = truth_impact(t);
-  AF_CHECK_STATUS(af_synth_pulse_run(impact, &p, DT_S / 64, fine_n, FINE_CAP, &r->pulse), AF_OK);
+  AF_CHECK_STATUS(af_synth_pulse_model(impact, &p, DT_S / 64, fine_n, FINE_CAP, &r->pulse), AF_OK);
   double span_s = FIRST_STRIKE_S + STRIKE_SPACING_S * (double)n_strikes;
   r->n_strikes = n_strikes;
   r->n_force = (size_t)(span_s * FORCE_HZ);
@@ -300,8 +299,8 @@ static void on_strike(const af_strike_event *ev, void *user)
   const float *audio = p->no_audio ? NULL : p->rec->audio + first;
   p->start_s[p->n] = start_s;
   p->status[p->n] =
-      af_measure_strike(p->m, ev, p->apple, audio, p->no_audio ? 0 : (size_t)n_win,
-                        p->rec->audio + noise_end - n_noise, (size_t)n_noise, &p->reports[p->n]);
+      af_measure_execute(p->m, ev, p->apple, audio, p->no_audio ? 0 : (size_t)n_win,
+                         p->rec->audio + noise_end - n_noise, (size_t)n_noise, &p->reports[p->n]);
   p->n++;
 }
 
@@ -346,7 +345,7 @@ static double fitted_contact_time_s(const af_measure_report *r)
   af_impact_result res;
   p.fruit_modulus_pa = r->fitted_modulus_pa;
   p.restitution = r->fitted_restitution;
-  if (af_impact_run(impact, &p, DT_S / 8, fine_n, NULL, FINE_CAP, &res) != AF_OK)
+  if (af_impact_execute(impact, &p, DT_S / 8, fine_n, NULL, FINE_CAP, &res) != AF_OK)
     return NAN;
   return res.contact_time_s;
 }
@@ -419,7 +418,7 @@ static void check_verdict(const apple_truth *t, const af_measure_report *r, af_m
   p.impact.fruit_modulus_pa = t->modulus_pa;
   p.fruit_mass_kg = t->mass_kg;
   p.modulus_factor = t->modulus_factor;
-  AF_CHECK_STATUS(af_model_evaluate(model, &p, &mr), AF_OK);
+  AF_CHECK_STATUS(af_model_execute(model, &p, &mr), AF_OK);
   AF_CHECK_REL(r->band_high_hz, mr.band.band_high_hz, 0.02);
   worst_add(&w->band, (r->band_high_hz - mr.band.band_high_hz) / mr.band.band_high_hz);
   if (fabs(mr.resonance_hz - mr.band.band_high_hz) > 0.02 * mr.band.band_high_hz)
@@ -607,7 +606,7 @@ static void test_fit_failure(void)
   af_measure_apple apple = prediction(&default_apple);
   af_measure_report r;
   size_t first = (size_t)lround(rec.t0_s[0] * AUDIO_HZ);
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &apple, rec.audio + first, 1920, NULL, 0, &r), AF_OK);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &apple, rec.audio + first, 1920, NULL, 0, &r), AF_OK);
   AF_CHECK(isnan(r.fitted_modulus_pa) && isnan(r.max_shear_stress_pa) && !r.no_damage);
   AF_CHECK(!r.reliable && has(&r, "fit failed: the model does not explain the pulse"));
   AF_CHECK(strstr(r.reason, "bruise") == NULL);
@@ -615,7 +614,7 @@ static void test_fit_failure(void)
   printf("fit failure: %s\n", r.reason);
   /* too short for a fit, and a spectrum */
   ev.n_samples = 3;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &apple, NULL, 0, NULL, 0, &r), AF_OK);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &apple, NULL, 0, NULL, 0, &r), AF_OK);
   AF_CHECK(!r.reliable && has(&r, "fit failed: pulse too short") && has(&r, "no audio"));
   printf("short pulse: %s\n", r.reason);
   af_measure_destroy(m);
@@ -680,7 +679,7 @@ static void test_pulse_only(void)
   af_impact_result res;
   af_impact_params ip = af_impact_params_default();
   AF_CHECK_STATUS(af_impact_create(&w), AF_OK);
-  AF_CHECK_STATUS(af_impact_run(w, &ip, DT_S, pulse, NULL, 256, &res), AF_OK);
+  AF_CHECK_STATUS(af_impact_execute(w, &ip, DT_S, pulse, NULL, 256, &res), AF_OK);
   af_impact_destroy(w);
   af_strike_event ev = {.contact_time_s = res.contact_time_s,
                         .peak_force_n = res.peak_force_n,
@@ -691,18 +690,18 @@ static void test_pulse_only(void)
   af_model_result predicted;
   af_model_params mp = af_model_params_default();
   AF_CHECK_STATUS(af_model_create(&model), AF_OK);
-  AF_CHECK_STATUS(af_model_evaluate(model, &mp, &predicted), AF_OK);
+  AF_CHECK_STATUS(af_model_execute(model, &mp, &predicted), AF_OK);
   af_model_destroy(model);
   af_measure *m = make_measure();
   af_measure_report r;
-  AF_CHECK_STATUS(af_measure_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_OK);
+  AF_CHECK_STATUS(af_measure_execute_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_OK);
   AF_CHECK_REL(r.band_high_hz, predicted.band.band_high_hz, 0.01);
   AF_CHECK_REL(r.contact_time_s, res.contact_time_s, 1e-12);
   AF_CHECK(r.lobe == 1 && isnan(r.resonance_hz) && isnan(r.fitted_modulus_pa));
   AF_CHECK(isnan(r.max_shear_stress_pa) && !r.reliable && r.reason[0] == '\0');
-  AF_CHECK_STATUS(af_measure_pulse(NULL, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_pulse(m, NULL, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute_pulse(NULL, &ev, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute_pulse(m, NULL, AF_BAND_AMPLITUDE_HALF, 1, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute_pulse(m, &ev, AF_BAND_AMPLITUDE_HALF, 1, NULL), AF_EINVAL);
   af_measure_destroy(m);
 }
 
@@ -714,24 +713,24 @@ static void test_bad_arguments(void)
   static const float audio[64] = {0};
   af_strike_event ev = {.pulse_n = pulse, .n_samples = 64, .dt_s = DT_S};
   af_measure_report r;
-  AF_CHECK_STATUS(af_measure_strike(NULL, &ev, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_strike(m, NULL, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, NULL, audio, 64, NULL, 0, &r), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &a, audio, 64, NULL, 0, NULL), AF_EINVAL);
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &a, NULL, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(NULL, &ev, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, NULL, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, NULL, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &a, audio, 64, NULL, 0, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &a, NULL, 64, NULL, 0, &r), AF_EINVAL);
   bad = a, bad.model.fruit_mass_kg = 0.0;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
   bad = a, bad.modulus_min_pa = 0.0;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
   bad = a, bad.modulus_max_pa = bad.modulus_min_pa;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
   bad = a, bad.modulus_max_pa = INFINITY;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &bad, audio, 64, NULL, 0, &r), AF_EINVAL);
   ev.dt_s = 0.0;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &a, audio, 64, NULL, 0, &r), AF_EINVAL);
   /* digital silence everywhere: measured, nothing found, no crash */
   ev.dt_s = DT_S;
-  AF_CHECK_STATUS(af_measure_strike(m, &ev, &a, audio, 64, audio, 64, &r), AF_OK);
+  AF_CHECK_STATUS(af_measure_execute(m, &ev, &a, audio, 64, audio, 64, &r), AF_OK);
   AF_CHECK(!r.reliable && r.reason[0] != '\0');
   printf("silence: %s\n", r.reason);
   af_measure_destroy(m);
@@ -776,7 +775,7 @@ static void test_no_allocation(void)
 int main(void)
 {
   AF_CHECK_STATUS(af_impact_create(&impact), AF_OK);
-  AF_CHECK_STATUS(af_resonance_lamb_root(0.35, &lamb_xi), AF_OK);
+  AF_CHECK_STATUS(af_lamb_root(0.35, &lamb_xi), AF_OK);
   test_config();
   test_pulse_only();
   test_bad_arguments();

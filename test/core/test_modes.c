@@ -1,5 +1,5 @@
-/* test_modes.c — which microphone peak is the 0S2: af_response_peaks and
- * af_modes_identify on synthetic strikes whose truth is known.
+/* test_modes.c — which microphone peak is the 0S2: af_response_execute_peaks and
+ * af_modes_execute on synthetic strikes whose truth is known.
  *
  * The audio model is this file's own, independent of the measurement's code
  * path (not synth.c, not response.c): a sum of exponentially decaying
@@ -8,7 +8,7 @@
  * 50 Hz hum (and 150 Hz at a fifth); seeded white Gaussian noise (splitmix64
  * + Box-Muller, written here).
  *
- * The fruit (PHYSICS.md 5, also written here, not from resonance.c): the 0S2
+ * The fruit (PHYSICS.md 5, also written here, not from lamb.c): the 0S2
  * of a sphere of modulus E, mass m, density rho 840 kg/m3, nu 0.35 from
  * E = C f^2 m^(2/3) rho^(1/3), C = 5.833; its neighbours from the table's
  * ratios 0S3 1.4919, 0S4 1.9153, 1S2 1.9381, 0T2 0.9432. The model's 0S2
@@ -33,7 +33,7 @@
 #include <string.h>
 
 #include "af_test.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "response.h"
 
 #define PI 3.14159265358979323846
@@ -158,7 +158,7 @@ static void rig_open(rig *p, double fs)
   p->n = (size_t)lround(WINDOW_S * fs);
   AF_CHECK_STATUS(af_response_create(&c, &p->r), AF_OK);
   p->x = malloc(c.window_samples * sizeof *p->x);
-  AF_CHECK_STATUS(af_resonance_sphere_modes(0.35, &p->modes), AF_OK);
+  AF_CHECK_STATUS(af_lamb_sphere_modes(0.35, &p->modes), AF_OK);
   p->cfg = af_modes_config_default();
 }
 
@@ -179,14 +179,14 @@ static af_status rig_run(rig *p, const scene *s, double m_kg, double f_pred_hz, 
   in->f_lo_hz = f_lo;
   in->f_hi_hz = f_hi;
   AF_CHECK_STATUS(af_modes_list_band(f_lo, f_hi, p->fs, &in->band_lo_hz, &in->band_hi_hz), AF_OK);
-  p->list_status = af_response_peaks(p->r, p->x, p->n, in->band_lo_hz, in->band_hi_hz, p->peaks,
-                                     AF_RESPONSE_MAX_PEAKS, &p->n_peaks);
+  p->list_status = af_response_execute_peaks(p->r, p->x, p->n, in->band_lo_hz, in->band_hi_hz,
+                                             p->peaks, AF_RESPONSE_MAX_PEAKS, &p->n_peaks);
   in->peaks = p->peaks;
   in->n_peaks = p->n_peaks;
   in->modes = &p->modes;
   in->f_pred_hz = f_pred_hz;
   in->f_pred_rel_sd = PRIOR_SD;
-  return af_modes_identify(&p->cfg, in, id);
+  return af_modes_execute(&p->cfg, in, id);
 }
 
 /* The apple's clean comb: 0S2 (amplitude 1), 0S3, 0S4, 1S2 with the given
@@ -231,7 +231,7 @@ static void print_id(const char *label, const af_modes_id *id)
 /* ---- (a) a louder 0S3 inside the range ------------------------------------------
  * 2.5 MPa, 250 g: 0S2 338 Hz, range 258-852 Hz, 0S3 504 Hz (2.5x louder) and
  * 0S4/1S2 647/655 Hz all inside it. The loudest-in-range reading
- * (af_response_analyze) takes the 0S3; with the prior anywhere within +-20 %
+ * (af_response_execute) takes the 0S3; with the prior anywhere within +-20 %
  * of the modulus the identification takes the 0S2, within 0.5 % at 30 dB, at
  * every rate. */
 static void test_louder_0s3(void)
@@ -262,7 +262,7 @@ static void test_louder_0s3(void)
     }
     /* the old reading on the last window: the loudest in range is the 0S3 */
     af_response_result old;
-    AF_CHECK_STATUS(af_response_analyze(p.r, p.x, p.n, p.in.f_lo_hz, p.in.f_hi_hz, &old), AF_OK);
+    AF_CHECK_STATUS(af_response_execute(p.r, p.x, p.n, p.in.f_lo_hz, p.in.f_hi_hz, &old), AF_OK);
     AF_CHECK_REL(old.frequency_hz, R_0S3 * f0, 0.01);
     printf("  %.1f kHz: worst 0S2 error %.3f %% over the priors; loudest in range %.1f Hz\n",
            RATES_HZ[k] / 1000.0, 100.0 * worst, old.frequency_hz);
@@ -471,7 +471,7 @@ static void test_sweep(void)
         }
         /* the same peaks, no prior */
         p.in.f_pred_hz = NAN;
-        st = af_modes_identify(&p.cfg, &p.in, &id_np);
+        st = af_modes_execute(&p.cfg, &p.in, &id_np);
         right = st == AF_OK && !id_np.ambiguous && rel_err(id_np.frequency_hz, f0) <= 0.005;
         count_np[right ? 0 : id_np.ambiguous ? 1 : 2]++;
       }
@@ -576,7 +576,7 @@ static af_modes_input list_input(const af_response_result *pk, size_t n,
 static void test_rules(void)
 {
   af_sphere_modes modes;
-  AF_CHECK_STATUS(af_resonance_sphere_modes(0.35, &modes), AF_OK);
+  AF_CHECK_STATUS(af_lamb_sphere_modes(0.35, &modes), AF_OK);
   const af_modes_config cfg = af_modes_config_default();
   af_modes_id id;
   char line[200];
@@ -584,7 +584,7 @@ static void test_rules(void)
   /* a comb at 400 Hz with an unrelated louder peak at 700 Hz */
   af_response_result comb[] = {peak(400, 30), peak(596.8, 40), peak(700, 45), peak(770, 25)};
   af_modes_input in = list_input(comb, 4, &modes, 410.0);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_OK);
   AF_CHECK(id.peak == 0 && id.method == AF_MODES_METHOD_PRIOR_RATIOS && !id.ambiguous);
   AF_CHECK(id.n_matched == 3 && id.matched[1].mode == AF_MODE_0S3 &&
            id.matched[2].mode == AF_MODE_0S4);
@@ -595,7 +595,7 @@ static void test_rules(void)
   /* the prior near the 0S3, far from the 0S2, with the comb clear: they
    * disagree -> ambiguous, naming both */
   in.f_pred_hz = 560.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_OK);
   af_modes_format(&id, line, sizeof line);
   printf("rules: %s\n", line);
   AF_CHECK(id.ambiguous && id.n_competing == 2);
@@ -604,7 +604,7 @@ static void test_rules(void)
   /* the prior far from every peak, no partner for the nearest: conflict */
   af_response_result lone[] = {peak(700, 40)};
   in = list_input(lone, 1, &modes, 400.0);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_OK);
   af_modes_format(&id, line, sizeof line);
   printf("rules: %s\n", line);
   AF_CHECK(id.ambiguous && id.ambiguity == AF_MODES_PRIOR_CONFLICT && id.prior_conflict);
@@ -614,7 +614,7 @@ static void test_rules(void)
   /* two candidates, the prior between them: close call */
   af_response_result pair[] = {peak(600, 30), peak(640, 35)};
   in = list_input(pair, 2, &modes, 620.0);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_OK);
   af_modes_format(&id, line, sizeof line);
   printf("rules: %s\n", line);
   AF_CHECK(id.ambiguous && id.ambiguity == AF_MODES_CLOSE_CALL && id.n_competing == 2);
@@ -624,7 +624,7 @@ static void test_rules(void)
    * 0S3 is named as such in the text when it competes */
   af_response_result three[] = {peak(411, 20), peak(613.2, 40), peak(641, 38)};
   in = list_input(three, 3, &modes, NAN);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_OK);
   AF_CHECK(id.method == AF_MODES_METHOD_RATIOS && id.peak == 0);
   af_modes_format(&id, line, sizeof line);
   printf("rules: %s\n", line);
@@ -632,7 +632,7 @@ static void test_rules(void)
   /* peaks only outside the range: no identification */
   af_response_result out_of_range[] = {peak(250, 40), peak(1500, 40)};
   in = list_input(out_of_range, 2, &modes, 500.0);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_ENODATA);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_ENODATA);
   af_modes_format(&id, line, sizeof line);
   AF_CHECK(strcmp(line, "no 0S2 candidate in [300, 1000] Hz") == 0);
   /* the text's length as snprintf's, truncated safely */
@@ -645,39 +645,39 @@ static void test_rules(void)
 static void test_bad_input(void)
 {
   af_sphere_modes modes;
-  AF_CHECK_STATUS(af_resonance_sphere_modes(0.35, &modes), AF_OK);
+  AF_CHECK_STATUS(af_lamb_sphere_modes(0.35, &modes), AF_OK);
   af_modes_config cfg = af_modes_config_default();
   af_response_result pk[] = {peak(400, 30)};
   af_modes_input in = list_input(pk, 1, &modes, 400.0), bad;
   af_modes_id id;
   id.method = AF_MODES_METHOD_RATIOS;
-  AF_CHECK_STATUS(af_modes_identify(NULL, &in, &id), AF_EINVAL);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, NULL, &id), AF_EINVAL);
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(NULL, &in, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, NULL, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, NULL), AF_EINVAL);
   bad = in, bad.peaks = NULL;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.modes = NULL;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.f_lo_hz = 1200.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.band_lo_hz = 350.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.f_pred_hz = -1.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.f_pred_rel_sd = 0.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_EINVAL);
   bad = in, bad.f_pred_hz = NAN, bad.f_pred_rel_sd = 0.0; /* no prior: sd unused */
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_OK);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_OK);
   AF_CHECK(id.method == AF_MODES_METHOD_LOUDEST);
   id.method = AF_MODES_METHOD_RATIOS;
   cfg.ratio_tolerance = 0.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_EINVAL);
   cfg = af_modes_config_default(), cfg.p_heard = 1.0;
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &in, &id), AF_EINVAL);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &in, &id), AF_EINVAL);
   AF_CHECK(id.method == AF_MODES_METHOD_RATIOS); /* untouched */
   bad = in, bad.peaks = NULL, bad.n_peaks = 0;   /* an empty list is no error */
   cfg = af_modes_config_default();
-  AF_CHECK_STATUS(af_modes_identify(&cfg, &bad, &id), AF_ENODATA);
+  AF_CHECK_STATUS(af_modes_execute(&cfg, &bad, &id), AF_ENODATA);
 
   double lo = 0.0, hi = 0.0;
   AF_CHECK_STATUS(af_modes_list_band(300.0, 1000.0, 48000.0, &lo, &hi), AF_OK);
@@ -693,8 +693,8 @@ static void test_bad_input(void)
   AF_CHECK(strcmp(af_modes_method_name(AF_MODES_METHOD_LOUDEST), "loudest in range") == 0);
 }
 
-/* af_response_peaks' own contract: argument checks, the list sorted and
- * capped, each listed peak as af_response_analyze reads it. */
+/* af_response_execute_peaks' own contract: argument checks, the list sorted and
+ * capped, each listed peak as af_response_execute reads it. */
 static void test_peak_list(void)
 {
   rig p;
@@ -705,18 +705,18 @@ static void test_peak_list(void)
   render(&s, p.fs, p.x, p.n, &g);
   af_response_result pk[AF_RESPONSE_MAX_PEAKS], one;
   size_t n = 99;
-  AF_CHECK_STATUS(af_response_peaks(NULL, p.x, p.n, 300, 1200, pk, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, NULL, p.n, 300, 1200, pk, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, NULL, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, pk, 0, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, NULL), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 1200, 300, pk, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 24000, pk, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, 7, 300, 1200, pk, 4, &n), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, 4097, 300, 1200, pk, 4, &n), AF_ESIZE);
+  AF_CHECK_STATUS(af_response_execute_peaks(NULL, p.x, p.n, 300, 1200, pk, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, NULL, p.n, 300, 1200, pk, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, NULL, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, pk, 0, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 1200, 300, pk, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 24000, pk, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, 7, 300, 1200, pk, 4, &n), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, 4097, 300, 1200, pk, 4, &n), AF_ESIZE);
   AF_CHECK(n == 99);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, pk, AF_RESPONSE_MAX_PEAKS, &n),
-                  AF_OK);
+  AF_CHECK_STATUS(
+      af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, pk, AF_RESPONSE_MAX_PEAKS, &n), AF_OK);
   /* 380, 500, 746, 958/969 (0S4/1S2, merged or not) */
   AF_CHECK(n >= 4 && n <= 5);
   const double truth[] = {380.0, 500.0, R_0S3 * 500.0};
@@ -727,11 +727,11 @@ static void test_peak_list(void)
       AF_CHECK_REL(pk[i].frequency_hz, truth[i], 0.005);
   }
   /* the 0S2's Q within 15 % (test_response's tolerance at 30 dB); the same
-   * peak as af_response_analyze reads it in its own range, within 0.5 %
+   * peak as af_response_execute reads it in its own range, within 0.5 %
    * (the list reads it with the louder modes taken off, the window's end
    * modelled) */
   AF_CHECK_REL(pk[1].q, s.tones[0].q, 0.15);
-  AF_CHECK_STATUS(af_response_analyze(p.r, p.x, p.n, 450.0, 560.0, &one), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(p.r, p.x, p.n, 450.0, 560.0, &one), AF_OK);
   AF_CHECK_REL(pk[1].frequency_hz, one.frequency_hz, 0.005);
   AF_CHECK(pk[1].onset_index == one.onset_index && pk[1].noise_segments == 0);
   /* with a noise reference: each peak's floor from it, the same modes */
@@ -741,8 +741,9 @@ static void test_peak_list(void)
   AF_CHECK_STATUS(af_response_add_noise(p.r, noise, p.n), AF_OK);
   af_response_result ref[AF_RESPONSE_MAX_PEAKS];
   size_t n_ref = 0;
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, ref, AF_RESPONSE_MAX_PEAKS, &n_ref),
-                  AF_OK);
+  AF_CHECK_STATUS(
+      af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, ref, AF_RESPONSE_MAX_PEAKS, &n_ref),
+      AF_OK);
   AF_CHECK(n_ref == n && ref[0].noise_segments == 1);
   for (size_t i = 0; i < n && i < n_ref; ++i) {
     AF_CHECK_REL(ref[i].frequency_hz, pk[i].frequency_hz, 1e-9);
@@ -753,7 +754,7 @@ static void test_peak_list(void)
   free(noise);
   /* capped at 2: the two of highest SNR, sorted by frequency */
   af_response_result two[2];
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, two, 2, &n), AF_OK);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, two, 2, &n), AF_OK);
   AF_CHECK(n == 2 && two[0].frequency_hz < two[1].frequency_hz);
   for (size_t i = 0; i < n_ref; ++i) {
     int in_two =
@@ -762,10 +763,10 @@ static void test_peak_list(void)
   }
   /* digital silence */
   memset(p.x, 0, p.n * sizeof *p.x);
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, &n), AF_ENODATA);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, &n), AF_ENODATA);
   AF_CHECK(n == 0 && isnan(pk[0].frequency_hz) && isinf(pk[0].snr_db) && pk[0].snr_db < 0.0);
   p.x[3] = NAN;
-  AF_CHECK_STATUS(af_response_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, &n), AF_ENUMERIC);
+  AF_CHECK_STATUS(af_response_execute_peaks(p.r, p.x, p.n, 300, 1200, pk, 4, &n), AF_ENUMERIC);
   rig_close(&p);
 }
 

@@ -24,7 +24,7 @@ static int setup(void)
 {
   char err[512] = "";
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   af_status st = af_settings_set_arg(&s, "hammer_mass_kg=0.010", err, sizeof err);
   if (st == AF_OK)
     st = af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err);
@@ -70,7 +70,7 @@ static void test_sphere(void)
   af_prediction p;
   const double r_m = sphere_radius_m(0.175); /* 36.78 mm */
   AF_CHECK_REL(r_m, 0.036775, 1e-4);
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   AF_CHECK(p.valid && p.why[0] == '\0');
   /* c = 3 m / (4 pi rho a^2) = a for the sphere. */
   AF_CHECK_REL(p.polar_semi_axis_m, r_m, 1e-12);
@@ -108,7 +108,7 @@ static void test_sphere(void)
   for (int k = 0; k < 2; k++) {
     a.mass_kg = masses[k];
     a.equatorial_radius_m = sphere_radius_m(masses[k]);
-    AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+    AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
     AF_CHECK_ABS(p.resonance_low_hz, lo[k], 0.5);
     AF_CHECK_ABS(p.resonance_high_hz, hi[k], 0.5);
   }
@@ -120,7 +120,7 @@ static void test_r2_sources(void)
   af_prediction p;
   /* A measured local radius is used as is. */
   a.strike_radius_m = 0.031;
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   AF_CHECK(p.geo.r2_source == AF_R2_GIVEN && p.geo.strike_radius_m == 0.031);
   AF_CHECK(p.params.impact.strike_radius_m == 0.031);
 
@@ -129,7 +129,7 @@ static void test_r2_sources(void)
   a = sphere_apple();
   memset(a.strike_direction, 0, sizeof a.strike_direction);
   strcpy(a.direction_note, "no hammer frame");
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   AF_CHECK(p.valid && !p.geo.direction_known && p.geo.r2_source == AF_R2_EQUATORIAL);
   AF_CHECK_REL(p.geo.strike_radius_m, a.equatorial_radius_m, 1e-12);
   AF_CHECK(!p.reliable);
@@ -143,7 +143,7 @@ static void test_r2_sources(void)
   a = sphere_apple();
   a.strike_direction[0] = -1.0;
   a.strike_direction[2] = -1.0;
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   AF_CHECK_ABS(p.geo.latitude_rad, PI / 4.0, 1e-9);
   AF_CHECK_REL(p.geo.strike_radius_m, a.equatorial_radius_m, 1e-9); /* sphere: any latitude */
   AF_CHECK(p.rotation.latitude_off && p.rotation.rotate);
@@ -157,7 +157,7 @@ static int refused(af_apple a, const char *expected)
 {
   af_prediction p;
   memset(&p, 0x5a, sizeof p);
-  af_status st = af_prediction_run(model, &cfg, &a, &p);
+  af_status st = af_prediction_execute(model, &cfg, &a, &p);
   int ok = st == AF_EINVAL && !p.valid && strcmp(p.why, expected) == 0;
   if (!ok)
     fprintf(stderr, "  refusal: status %d, why '%s'\n  expected '%s'\n", (int)st, p.why, expected);
@@ -196,9 +196,9 @@ static void test_refusals(void)
   a = sphere_apple();
   a.confidence = 0.0;
   af_prediction p;
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   a.confidence = 1.0;
-  AF_CHECK_STATUS(af_prediction_run(model, &cfg, &a, &p), AF_OK);
+  AF_CHECK_STATUS(af_prediction_execute(model, &cfg, &a, &p), AF_OK);
   /* Mass and radius that disagree: 250 g in a 30 mm equator gives
    * c = 3 0.25 / (4 pi 840 0.03^2) = 78.9 mm, aspect 2.63 > 1.5. */
   a = sphere_apple();

@@ -84,7 +84,7 @@ static void test_ranges(void)
       fprintf(stderr, "  %s: range [%g, %g], expected [%g, %g]\n", e->name, r.lo, r.hi, e->lo,
               e->hi);
     af_settings s;
-    af_settings_init(&s);
+    af_settings_reset(&s);
     double def = af_settings_number(&s, rows[k].id);
     AF_CHECK(af_setting_range_contains(&r, def));
     char err[256] = "";
@@ -105,7 +105,7 @@ static void test_ranges(void)
   }
   /* One refusal in full. */
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   char err[256] = "";
   AF_CHECK_STATUS(af_settings_set_number(&s, AF_SETTING_RESTITUTION, 1.5, err, sizeof err),
                   AF_EINVAL);

@@ -196,18 +196,18 @@ static void test_bad_arguments(void)
   size_t n = c.window_samples;
   float *x = calloc(n + 1, sizeof *x);
   af_response_result res;
-  AF_CHECK_STATUS(af_response_analyze(NULL, x, n, 500, 900, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, NULL, n, 500, 900, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500, 900, NULL), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, 7, 500, 900, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 0.0, 900, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 900, 500, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500, 500, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500, 24000, &res), AF_EINVAL); /* Nyquist */
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, NAN, 900, &res), AF_EINVAL);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n + 1, 500, 900, &res), AF_ESIZE);
+  AF_CHECK_STATUS(af_response_execute(NULL, x, n, 500, 900, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, NULL, n, 500, 900, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 900, NULL), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, 7, 500, 900, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 0.0, 900, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 900, 500, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 500, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 24000, &res), AF_EINVAL); /* Nyquist */
+  AF_CHECK_STATUS(af_response_execute(r, x, n, NAN, 900, &res), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_execute(r, x, n + 1, 500, 900, &res), AF_ESIZE);
   x[10] = NAN;
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500, 900, &res), AF_ENUMERIC);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 900, &res), AF_ENUMERIC);
   AF_CHECK_STATUS(af_response_add_noise(r, x, n), AF_ENUMERIC);
   x[10] = 0.0f;
   AF_CHECK_STATUS(af_response_add_noise(NULL, x, n), AF_EINVAL);
@@ -216,7 +216,7 @@ static void test_bad_arguments(void)
   AF_CHECK_STATUS(af_response_add_noise(r, x, n + 1), AF_ESIZE);
   af_response_clear_noise(NULL);
   /* digital silence: no peak, no noise, ENODATA with -inf SNR */
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500, 900, &res), AF_ENODATA);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 900, &res), AF_ENODATA);
   AF_CHECK(isnan(res.frequency_hz) && isinf(res.snr_db) && res.snr_db < 0.0);
   free(x);
   af_response_destroy(r);
@@ -241,7 +241,7 @@ static void test_single_mode(void)
     strike s = {{{682.0, 30.0, 0.8, 0.3}}, 1, onsets_s[i], 0.0, 0.0, 0.0};
     synth(&s, x, c.window_samples, &g);
     af_response_result res;
-    AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 500.0, 900.0, &res), AF_OK);
+    AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 500.0, 900.0, &res), AF_OK);
     AF_CHECK_REL(res.frequency_hz, 682.0, 1e-4);
     AF_CHECK_REL(res.q, 30.0, 0.01);
     AF_CHECK_REL(res.decay_time_s, 30.0 / (PI * 682.0), 0.01);
@@ -279,7 +279,7 @@ static scan_result scan(af_response *r, int trials, double snr_db, uint64_t seed
     double f_lo = f0 * rng_range(&g, 0.62, 0.9), f_hi = f0 * rng_range(&g, 1.1, 1.45);
     synth(&s, x, n, &g);
     af_response_result res;
-    if (af_response_analyze(r, x, n, f_lo, f_hi, &res) != AF_OK) {
+    if (af_response_execute(r, x, n, f_lo, f_hi, &res) != AF_OK) {
       worst.not_ok++;
       continue;
     }
@@ -335,13 +335,13 @@ static void test_not_loudest(void)
   s.onset_s = 0.0005;
   synth(&s, x, c.window_samples, &g);
   af_response_result loud, res;
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 1400.0, 1800.0, &loud), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 1400.0, 1800.0, &loud), AF_OK);
   AF_CHECK_REL(loud.frequency_hz, 1600.0, 0.005);
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 500.0, 900.0, &res), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 500.0, 900.0, &res), AF_OK);
   AF_CHECK_REL(res.frequency_hz, 682.0, 0.005);
   printf("not loudest: 1.6 kHz %.1f dB, 0S2 %.1f dB\n", loud.snr_db, res.snr_db);
   AF_CHECK(loud.snr_db > res.snr_db + 3.0);
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 450.0, 1450.0, &res), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 450.0, 1450.0, &res), AF_OK);
   AF_CHECK_REL(res.frequency_hz, 682.0, 0.005);
   free(x);
   af_response_destroy(r);
@@ -369,7 +369,7 @@ static void test_no_peak(void)
     double f0 = exp(rng_range(&g, log(300.0), log(1300.0)));
     synth(&s, x, n, &g);
     af_response_result res;
-    af_status st = af_response_analyze(r, x, n, 0.7 * f0, 1.4 * f0, &res);
+    af_status st = af_response_execute(r, x, n, 0.7 * f0, 1.4 * f0, &res);
     found += st != AF_ENODATA;
     reported += isfinite(res.snr_db) && res.snr_db < c.snr_threshold_db;
     best_snr_db = fmax(best_snr_db, res.snr_db);
@@ -388,7 +388,7 @@ static void test_no_peak(void)
     double f_lo = f0 * rng_range(&g, 0.62, 0.9), f_hi = f0 * rng_range(&g, 1.1, 1.45);
     synth(&s, x, n, &g);
     af_response_result res;
-    found += af_response_analyze(r, x, n, f_lo, f_hi, &res) == AF_OK;
+    found += af_response_execute(r, x, n, f_lo, f_hi, &res) == AF_OK;
   }
   printf("strikes without a 0S2, 1000 at 30 dB: %d false peaks\n", found);
   AF_CHECK(found <= 5);
@@ -396,7 +396,7 @@ static void test_no_peak(void)
   strike weak = {{{682.0, 30.0, 1.0, 0.7}}, 1, 0.0, 5.0, 0.0, 0.0};
   synth(&weak, x, n, &g); /* A / sigma_n = -14 dB: the processing gain brings ~5 dB */
   af_response_result res;
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &res), AF_ENODATA);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &res), AF_ENODATA);
   double truth = true_snr_db(&c, &weak, n, res.onset_index, weak.noise_std * weak.noise_std);
   printf("weak 0S2: true SNR %.1f dB, reported %.1f dB at %.1f Hz\n", truth, res.snr_db,
          res.frequency_hz);
@@ -437,12 +437,12 @@ static void test_noise_reference(void)
   double psd_per_sample = sigma_e * sigma_e / creal(den * conj(den));
 
   af_response_result wide, one, ref;
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &wide), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &wide), AF_OK);
   AF_CHECK_STATUS(af_response_add_noise(r, pre + (SEGMENTS - 1) * n, n), AF_OK);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &one), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &one), AF_OK);
   for (size_t i = 0; i + 1 < SEGMENTS; ++i)
     AF_CHECK_STATUS(af_response_add_noise(r, pre + i * n, n), AF_OK);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &ref), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
   double truth = true_snr_db(&c, &s, n, ref.onset_index, psd_per_sample);
   printf("coloured noise: true SNR %.1f dB; with %d segments %.1f dB, with one %.1f dB, "
          "from 4-16 kHz %.1f dB\n",
@@ -456,10 +456,10 @@ static void test_noise_reference(void)
   af_response_clear_noise(r);
   for (size_t i = 0; i < SEGMENTS; ++i)
     AF_CHECK_STATUS(af_response_add_noise(r, pre + i * n, n / 2), AF_OK);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &ref), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
   AF_CHECK_ABS(ref.snr_db, truth, 1.5);
   af_response_clear_noise(r);
-  AF_CHECK_STATUS(af_response_analyze(r, x, n, 500.0, 900.0, &ref), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
   AF_CHECK(ref.noise_segments == 0);
   AF_CHECK_ABS(ref.snr_db, wide.snr_db, 1e-9);
   free(pre);
@@ -481,7 +481,7 @@ static void test_strong_hum(void)
   strike s = {{{350.0, 30.0, 1.0, 0.4}}, 1, 0.002, 0.01, 3.0, 0.9};
   synth(&s, x, c.window_samples, &g);
   af_response_result res;
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 280.0, 500.0, &res), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 280.0, 500.0, &res), AF_OK);
   AF_CHECK_REL(res.frequency_hz, 350.0, 0.001);
   AF_CHECK_REL(res.q, 30.0, 0.05);
   free(x);
@@ -502,14 +502,14 @@ static void test_other_windows(void)
   strike s = {{{1000.0, 20.0, 1.0, 0.2}}, 1, 0.0, 0.01, 0.0, 0.0};
   synth(&s, x, c.window_samples, &g);
   af_response_result res;
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples / 2, 700.0, 1400.0, &res), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples / 2, 700.0, 1400.0, &res), AF_OK);
   AF_CHECK_REL(res.frequency_hz, 1000.0, 0.001);
   AF_CHECK_REL(res.q, 20.0, 0.05);
   af_response_destroy(r);
 
   c.window = AF_RESPONSE_WINDOW_RECTANGULAR;
   AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
-  AF_CHECK_STATUS(af_response_analyze(r, x, c.window_samples, 700.0, 1400.0, &res), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, c.window_samples, 700.0, 1400.0, &res), AF_OK);
   AF_CHECK_REL(res.frequency_hz, 1000.0, 0.001);
   AF_CHECK_REL(res.q, 20.0, 0.05);
   free(x);

@@ -17,7 +17,7 @@
 #include "af_test.h"
 #include "lane.h"
 #include "lane_config.h"
-#include "resonance.h"
+#include "lamb.h"
 #include "settings.h"
 
 #define STATION "config/station.yaml"
@@ -92,7 +92,7 @@ static af_status load_text(af_settings *s, const char *text, char *err)
 /* Both shipped files and the hammer the node takes from config/rig.urdf. */
 static af_status shipped(af_settings *s, char *err)
 {
-  af_settings_init(s);
+  af_settings_reset(s);
   af_status st = af_settings_load_yaml(s, STATION, err, ERR_MAX);
   if (st == AF_OK)
     st = af_settings_load_yaml(s, CULTIVAR, err, ERR_MAX);
@@ -109,7 +109,7 @@ static void test_table(void)
 {
   int strings = 0;
   af_settings d;
-  af_settings_init(&d);
+  af_settings_reset(&d);
   for (int k = 0; k < AF_SETTING_COUNT; k++) {
     af_setting_id id = (af_setting_id)k, found;
     const af_setting_def *r = af_setting_def_of(id);
@@ -136,7 +136,7 @@ static void test_table(void)
     if (r->def != NULL) {
       af_settings t;
       char err[ERR_MAX], text[AF_SETTINGS_TEXT_MAX];
-      af_settings_init(&t);
+      af_settings_reset(&t);
       AF_CHECK_STATUS(af_settings_set_text(&t, r->name, r->def, err, sizeof err), AF_OK);
       /* value_text writes YAML that reads back to the same value. */
       af_settings_value_text(&d, id, text, sizeof text);
@@ -174,7 +174,7 @@ static void test_table(void)
     snprintf(text, sizeof text, "%s", af_damping_law_name(laws[k]));
     af_settings t;
     char err[ERR_MAX];
-    af_settings_init(&t);
+    af_settings_reset(&t);
     AF_CHECK_STATUS(af_settings_set_text(&t, "damping_law", text, err, sizeof err), AF_OK);
   }
 
@@ -230,10 +230,10 @@ static void test_shipped_files(void)
 {
   char err[ERR_MAX] = "";
   af_settings d, s;
-  af_settings_init(&d);
+  af_settings_reset(&d);
 
   /* station.yaml: station rows only, all required ones, each = the default. */
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_load_yaml(&s, STATION, err, sizeof err), AF_OK);
   if (err[0])
     fprintf(stderr, "%s\n", err);
@@ -268,7 +268,7 @@ static void test_shipped_files(void)
   AF_CHECK(strstr(err, "cultivar is missing") == err);
 
   /* The cultivar's file: cultivar rows only, all of them, in range. */
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_load_yaml(&s, CULTIVAR, err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_settings_check_required(&s, AF_SETTINGS_CULTIVAR, err, sizeof err), AF_OK);
   for (int k = 0; k < AF_SETTING_COUNT; k++)
@@ -339,7 +339,7 @@ static void test_derive_shipped(void)
   AF_CHECK(c.equatorial_radius_min_m == 0.025 && c.equatorial_radius_max_m == 0.06);
   AF_CHECK(c.aspect_ratio_min == 0.5 && c.aspect_ratio_max == 1.5);
   double xi;
-  AF_CHECK(af_resonance_lamb_root(0.35, &xi) == AF_OK && c.resonance_xi == xi);
+  AF_CHECK(af_lamb_root(0.35, &xi) == AF_OK && c.resonance_xi == xi);
 
   /* Another rate: 44.1 kHz x 40 ms = 1764 samples -> 4 x 1764 = 7056 -> 8192;
    * a 50 ms noise reference is the longer: 2205 -> 8820 -> 16384. */
@@ -377,7 +377,7 @@ static void test_value_errors(void)
 {
   char err[ERR_MAX];
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   CHECK_ERROR(af_settings_set_text(&s, "strike_velocity_m_s", "-1", err, sizeof err), AF_EINVAL,
               err, "strike_velocity_m_s = -1 is outside the accepted range [0.05, 10] m/s");
   AF_CHECK(af_settings_number(&s, AF_SETTING_STRIKE_VELOCITY_M_S) == 1.4); /* unchanged */
@@ -458,7 +458,7 @@ static void test_value_errors(void)
               "unknown parameter '~lobes'");
 
   /* Missing required rows. */
-  af_settings_init(&s);
+  af_settings_reset(&s);
   CHECK_ERROR(af_settings_check_required(&s, AF_SETTINGS_STATION, err, sizeof err), AF_EINVAL, err,
               "hammer_link is missing (expected a string; its default is in "
               "config/station.yaml)");
@@ -479,7 +479,7 @@ static void test_args(void)
 {
   char err[ERR_MAX];
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_set_arg(&s, "modulus_nominal_pa=9e6", err, sizeof err), AF_OK);
   AF_CHECK(af_settings_number(&s, AF_SETTING_MODULUS_NOMINAL_PA) == 9e6); /* C numbers too */
   AF_CHECK_STATUS(af_settings_set_arg(&s, "cultivar=Gala", err, sizeof err), AF_OK);
@@ -506,7 +506,7 @@ static void test_args(void)
                                         "'q'", "a\"b\\c", "Gala", " lead"};
   for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
     af_settings t;
-    af_settings_init(&t);
+    af_settings_reset(&t);
     AF_CHECK_STATUS(af_settings_set_string(&s, AF_SETTING_CULTIVAR, strings[k], err, sizeof err),
                     AF_OK);
     af_settings_value_text(&s, AF_SETTING_CULTIVAR, text, sizeof text);
@@ -527,7 +527,7 @@ static void test_yaml(void)
 {
   char err[ERR_MAX] = "";
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(load_text(&s,
                             "---\n"
                             "# a comment\n"
@@ -737,7 +737,7 @@ static void test_derive_errors(void)
   /* The hammer must be given (the node sets it from the URDF). */
   af_settings s;
   af_lane_config c;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   CHECK_ERROR(af_lane_config_derive(&s, &c, err, sizeof err), AF_EINVAL, err,
               "hammer_mass_kg is not set (from the URDF unless given)");
   af_settings_set_name_prefix(&s, "~");
@@ -920,13 +920,13 @@ static void test_rig_hammer(void)
   AF_CHECK_ABS(af_setting_rig_value(AF_SETTING_HAMMER_TIP_RADIUS_M), 0.0, 0.0); /* flat */
   AF_CHECK(isnan(af_setting_rig_value((af_setting_id)AF_SETTING_COUNT)));
   af_settings s;
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_set_arg(&s, "hammer_mass_kg=0.02", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_settings_use_rig_hammer(&s, err, sizeof err), AF_OK);
   AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_MASS_KG), 0.02, 0.0); /* kept */
   AF_CHECK(af_settings_present(&s, AF_SETTING_HAMMER_TIP_RADIUS_M));
   AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_TIP_RADIUS_M), 0.0, 0.0);
-  af_settings_init(&s);
+  af_settings_reset(&s);
   AF_CHECK_STATUS(af_settings_use_rig_hammer(&s, err, sizeof err), AF_OK);
   AF_CHECK_ABS(af_settings_number(&s, AF_SETTING_HAMMER_MASS_KG), 0.010, 0.0);
   af_lane_config c;

@@ -42,7 +42,7 @@ static void test_gaps_and_restarts(void)
 {
   af_stream_config cfg = config(1000, 1.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
   AF_CHECK(!s.seen && s.chunks == 0);
   af_ring_write_info w;
   af_chunk c = chunk(0, CHUNK, 1000);
@@ -73,18 +73,18 @@ static void test_gaps_and_restarts(void)
   c = chunk(459, 0, 0);
   AF_CHECK(af_stream_push(&s, &c, 10, &w) == AF_CHUNK_OK && w.gap_samples == 0);
   AF_CHECK(s.chunks == 6 && af_stream_bad_chunks(&s) == 0);
-  af_stream_fini(&s);
-  af_stream_fini(&s); /* twice: safe */
+  af_stream_destroy(&s);
+  af_stream_destroy(&s); /* twice: safe */
   af_stream z;
   memset(&z, 0, sizeof z);
-  af_stream_fini(&z); /* zeroed: safe */
+  af_stream_destroy(&z); /* zeroed: safe */
 }
 
 static void test_refused(void)
 {
   af_stream_config cfg = config(1000, 1.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
   af_chunk c = chunk(0, CHUNK, 0);
   AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
 
@@ -129,7 +129,7 @@ static void test_refused(void)
   c = chunk(100, CHUNK, 0);
   c.unit = "V";
   AF_CHECK(af_stream_push(&s, &c, 2, NULL) == AF_CHUNK_OK && s.gaps == 0 && s.chunks == 2);
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
 }
 
 /* A force in volts: 0.5 V/N, so to_si = 2 N/V; chunks longer than the
@@ -145,7 +145,7 @@ static void test_conversion(void)
   const size_t n = 2 * AF_STREAM_BLOCK + 7, cap = 3 * AF_STREAM_BLOCK;
   af_stream_config cfg = config(cap, 2.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "force", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
   AF_CHECK(s.si != NULL);
   af_chunk c = chunk(1000, n, 0);
   c.unit = "V";
@@ -164,18 +164,18 @@ static void test_conversion(void)
       exact = 0;
   AF_CHECK(exact);
   AF_CHECK(af_ring_end(s.ring) == 1000 + 2 * n + 50);
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
   AF_CHECK(s.si == NULL && s.ring == NULL);
 
   /* to_si 1 (or 0, a config without a unit): no scratch, samples as sent. */
   cfg = config(cap, 0.0);
-  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "audio", &cfg), AF_OK);
   AF_CHECK(s.si == NULL);
   c = chunk(0, 10, 0);
   AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
   AF_CHECK_STATUS(af_ring_read(s.ring, 3, 1, back), AF_OK);
   AF_CHECK(back[0] == 3.25f);
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
 }
 
 /* Stamps that drift against the counter: chunk k (100 samples = 2 ms)
@@ -191,7 +191,7 @@ static void test_time_mapping(void)
 {
   af_stream_config cfg = config(100000, 1.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "audio", &cfg), AF_OK);
   for (uint64_t k = 0; k < 5; k++) {
     af_chunk c = chunk(k * CHUNK, CHUNK, stamp_of_chunk(k));
     AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
@@ -219,7 +219,7 @@ static void test_time_mapping(void)
   af_chunk c = chunk(0, CHUNK, T0_NS + 7000000000LL);
   AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK && s.restarts == 1);
   AF_CHECK(af_stream_time_ns(&s, 10.0) == T0_NS + 7000000000LL + 200000);
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
 }
 
 /* 600 chunks: the oldest 88 anchors are dropped, earlier samples map
@@ -228,7 +228,7 @@ static void test_anchor_limit(void)
 {
   af_stream_config cfg = config(1000, 1.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "audio", &cfg), AF_OK);
   const uint64_t n_chunks = 600, dropped = n_chunks - AF_STREAM_ANCHORS;
   for (uint64_t k = 0; k < n_chunks; k++) {
     af_chunk c = chunk(k * CHUNK, CHUNK, stamp_of_chunk(k));
@@ -241,14 +241,14 @@ static void test_anchor_limit(void)
   AF_CHECK(af_stream_time_ns(&s, 0.0) == stamp_of_chunk(dropped) - (int64_t)dropped * 2000000);
   AF_CHECK(af_stream_time_ns(&s, 0.0) != stamp_of_chunk(0)); /* 88 us of drift lost */
   AF_CHECK(af_stream_time_ns(&s, 599.0 * CHUNK + 99.0) == stamp_of_chunk(599) + 99 * 20000);
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
 }
 
 static void test_stale(void)
 {
   af_stream_config cfg = config(1000, 1.0);
   af_stream s;
-  AF_CHECK_STATUS(af_stream_init(&s, "audio", &cfg), AF_OK);
+  AF_CHECK_STATUS(af_stream_create(&s, "audio", &cfg), AF_OK);
   AF_CHECK(!af_stream_stale(&s, 1000000000000LL, 0.1)); /* never seen: not stale */
   af_chunk c = chunk(0, CHUNK, 0);
   af_stream_push(&s, &c, 2000000000LL, NULL);
@@ -259,7 +259,7 @@ static void test_stale(void)
   c.sample_rate_hz = 1.0;
   af_stream_push(&s, &c, 3000000000LL, NULL);
   AF_CHECK(s.last_rx_ns == 2000000000LL && af_stream_stale(&s, 3000000000LL, 0.5));
-  af_stream_fini(&s);
+  af_stream_destroy(&s);
 }
 
 int main(void)

@@ -162,7 +162,7 @@ static void test_cache(void)
 {
   af_shear_cache c;
   double ratio = 0.0;
-  af_shear_cache_init(&c);
+  af_shear_cache_reset(&c);
   AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_EXACT, 0.30, &ratio), AF_OK);
   AF_CHECK_REL(ratio, 0.3100, 5e-4);
   AF_CHECK_STATUS(af_stress_shear_ratio_cached(&c, AF_SHEAR_PAPER, 0.30, &ratio), AF_OK);

@@ -1,5 +1,5 @@
 /* test_strike.c — the strike detector against known truth: strikes made by
- * the impact model (af_impact_run at a fine step, sampled at 50 kHz with a
+ * the impact model (af_impact_execute at a fine step, sampled at 50 kHz with a
  * sub-sample delay), buried in stated imperfections, written in 1024-sample
  * chunks. Truth is the model's own contact time, peak and the momentum
  * balance's impulse, never the detector's output. */
@@ -761,7 +761,7 @@ int main(void)
   af_status_init();
   af_impact_params p = af_impact_params_default();
   if (af_impact_create(&impact) != AF_OK ||
-      af_synth_pulse_run(impact, &p, DT_S / OVERSAMPLE, model_fine, FINE_CAP, &model) != AF_OK) {
+      af_synth_pulse_model(impact, &p, DT_S / OVERSAMPLE, model_fine, FINE_CAP, &model) != AF_OK) {
     fprintf(stderr, "test_strike: the impact model failed\n");
     return 1;
   }

@@ -212,7 +212,7 @@ static void test_model_pulse(void)
   af_impact_params ip = af_impact_params_default();
   ip.restitution = 1.0;
   ip.gravity_m_s2 = 0.0;
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
   AF_CHECK(p.force_n == buf && p.n == p.res.n_samples && p.fine_dt_s == 20e-6 / 64);
   AF_CHECK_REL(p.res.contact_time_s, 1.33059e-3, 1e-4);
   AF_CHECK_REL(p.res.peak_force_n, 38.710, 1e-4);
@@ -237,10 +237,10 @@ static void test_model_pulse(void)
   /* The default strike (e 0.6, gravity): t_c with gravity for e = 1 is
    * 1.33217 ms; with damping the momentum balance includes m1 g t_c. */
   ip.gravity_m_s2 = 9.80665;
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
   AF_CHECK_REL(p.res.contact_time_s, 1.33217e-3, 1e-4);
   ip = af_impact_params_default();
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
   /* The exact law delivers what is asked without gravity; gravity's m1 g
    * during the contact shifts it by a few 0.1 %. */
   AF_CHECK_REL(p.res.delivered_restitution, 0.6, 1e-2);
@@ -249,17 +249,17 @@ static void test_model_pulse(void)
                1e-12);
   AF_CHECK_REL(integral_n_s(&p), p.impulse_n_s, 2e-3);
   ip.gravity_m_s2 = 0.0;
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_OK);
   AF_CHECK_REL(p.res.delivered_restitution, 0.6, 2e-3);
   AF_CHECK_REL(p.impulse_n_s, 0.010 * 1.4 * (1.0 + p.res.delivered_restitution), 1e-12);
   AF_CHECK_REL(integral_n_s(&p), p.impulse_n_s, 2e-3);
   ip.gravity_m_s2 = 9.80665;
 
   /* Refusals pass through: too small a buffer, a bad step. */
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 16, &p), AF_ESIZE);
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 0.0, buf, 8192, &p), AF_EINVAL);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 16, &p), AF_ESIZE);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 0.0, buf, 8192, &p), AF_EINVAL);
   ip.velocity_m_s = -1.0;
-  AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_EINVAL);
+  AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, 20e-6 / 64, buf, 8192, &p), AF_EINVAL);
   af_impact_destroy(w);
 }
 
@@ -297,7 +297,7 @@ static void test_rk4_pulse(void)
       ip.fruit_modulus_pa = moduli_pa[m];
       ip.damping = laws[l];
       AF_CHECK_STATUS(af_synth_pulse_rk4(w, &ip, h, buf, 8192, &p), AF_OK);
-      AF_CHECK_STATUS(af_synth_pulse_run(w, &ip, h, ref, 8192, &q), AF_OK);
+      AF_CHECK_STATUS(af_synth_pulse_model(w, &ip, h, ref, 8192, &q), AF_OK);
       AF_CHECK_REL(p.res.contact_time_s, q.res.contact_time_s, 1e-6);
       AF_CHECK_REL(p.res.peak_force_n, q.res.peak_force_n, 1e-5);
       AF_CHECK_REL(p.res.delivered_restitution, q.res.delivered_restitution, 1e-4);

@@ -36,7 +36,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
   af_settings s;
   char err[512];
-  af_settings_init(&s);
+  af_settings_reset(&s);
   for (int k = 1; k < argc; k++) {
     err[0] = '\0';
     if (af_settings_set_arg(&s, argv[k], err, sizeof err) != AF_OK &&
@@ -48,7 +48,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   if (!af_cli_parse_model(argc, argv, 1, &p, NULL, NULL))
     return 0;
   af_model_result r;
-  af_status st = af_model_evaluate(model, &p, &r);
+  af_status st = af_model_execute(model, &p, &r);
   if (st == AF_EINVAL)
     abort(); /* the parser accepted what the model refuses */
   if (st == AF_OK && (data[0] & 1)) {

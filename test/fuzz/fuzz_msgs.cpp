@@ -6,7 +6,7 @@
 // (af_shim::from_ros, as its subscribers do), then into a core lane made
 // from the table's defaults as the node would run them (af_lane_force /
 // af_lane_audio / af_lane_apple; the node's conversion of the C mirrors to
-// af_chunk / af_apple, src/node/measured.c and station.c, repeated here).
+// af_chunk / af_apple, src/node/lane_io.c and station.c, repeated here).
 // Malformed bytes must be refused by the deserializer's checks (an
 // exception), never crash, hang, allocate without bound or trip a
 // sanitizer; what deserializes must go through the lane the same way.
@@ -36,7 +36,7 @@ void make_lane()
 {
   af_settings s;
   char err[512];
-  af_settings_init(&s);
+  af_settings_reset(&s);
   if (af_settings_set_arg(&s, "hammer_mass_kg=0.01", err, sizeof err) != AF_OK ||
       af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err) != AF_OK ||
       af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)

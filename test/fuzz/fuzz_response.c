@@ -58,7 +58,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     (void)af_response_add_noise(r, noise, nn);
   }
   af_response_result out;
-  af_status st = af_response_analyze(r, audio, n, f_lo, f_hi, &out);
+  af_status st = af_response_execute(r, audio, n, f_lo, f_hi, &out);
   if (st == AF_OK && !(isfinite(out.frequency_hz) && out.frequency_hz >= f_lo &&
                        out.frequency_hz <= f_hi && !isnan(out.q) && !isnan(out.snr_db)))
     abort();

@@ -33,7 +33,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   fclose(f);
   af_settings s;
   char err[512] = "";
-  af_settings_init(&s);
+  af_settings_reset(&s);
   af_status st = af_settings_load_yaml(&s, path, err, sizeof err);
   if (st != AF_OK) {
     one_line(err);

@@ -72,7 +72,7 @@ static af_lane_config config(void)
   af_settings st;
   af_lane_config cfg;
   char err[512] = "";
-  af_settings_init(&st);
+  af_settings_reset(&st);
   if (af_settings_load_yaml(&st, "config/station.yaml", err, sizeof err) != AF_OK ||
       af_settings_load_yaml(&st, "config/jonagold.yaml", err, sizeof err) != AF_OK ||
       af_settings_set_arg(&st, "hammer_mass_kg=0.010", err, sizeof err) != AF_OK ||
@@ -97,8 +97,8 @@ static void feed(af_lane *l)
   af_synth_pulse pulse;
   af_impact_params p = af_impact_params_default();
   if (af_impact_create(&w) != AF_OK ||
-      af_synth_pulse_run(w, &p, 1.0 / (64.0 * FS_FORCE), fine, sizeof fine / sizeof *fine,
-                         &pulse) != AF_OK)
+      af_synth_pulse_model(w, &p, 1.0 / (64.0 * FS_FORCE), fine, sizeof fine / sizeof *fine,
+                           &pulse) != AF_OK)
     exit(1);
   for (size_t k = 0; k < nf; k++)
     force[k] =

@@ -1,4 +1,4 @@
-/* resonance.c — Lamb's frequency equation of the free sphere (spheroidal
+/* lamb.c — Lamb's frequency equation of the free sphere (spheroidal
  * and torsional modes) and the sphere frequency/modulus conversions.
  *
  * Frequency equation (Lamb 1882; in matrix form Sato & Usami 1962, eq. 2.2):
@@ -15,7 +15,7 @@
  * order n need (n - 1) j_n(y) - y j_{n+1}(y) = 0 (the shear traction of
  * the toroidal field), independent of nu.
  */
-#include "resonance.h"
+#include "lamb.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -45,7 +45,7 @@ typedef struct {
 } af_lamb_params;
 
 /* j_n(x) and j_{n+1}(x); NaN when GSL reports an error. */
-static void af_bessel_pair(int n, double x, double *jn, double *jn1)
+static void bessel_pair(int n, double x, double *jn, double *jn1)
 {
   gsl_sf_result r0, r1;
   int s0 = gsl_sf_bessel_jl_e(n, x, &r0);
@@ -55,14 +55,14 @@ static void af_bessel_pair(int n, double x, double *jn, double *jn1)
 }
 
 /* Lamb's spheroidal determinant D(y) of order p->n (dimensionless). */
-static double af_lamb_determinant(double y, void *params)
+static double lamb_determinant(double y, void *params)
 {
   const af_lamb_params *p = params;
   const double n = p->n;
   double x = y * p->cs_over_cp;
   double jx, jx1, jy, jy1;
-  af_bessel_pair(p->n, x, &jx, &jx1);
-  af_bessel_pair(p->n, y, &jy, &jy1);
+  bessel_pair(p->n, x, &jx, &jx1);
+  bessel_pair(p->n, y, &jy, &jy1);
   double s_p = (2.0 * n * (n - 1.0) - y * y) * jx + 4.0 * x * jx1;
   double s_s = 2.0 * n * (n + 1.0) * ((n - 1.0) * jy - y * jy1);
   double t_p = 2.0 * ((n - 1.0) * jx - x * jx1);
@@ -71,18 +71,18 @@ static double af_lamb_determinant(double y, void *params)
 }
 
 /* The torsional frequency function (n - 1) j_n(y) - y j_{n+1}(y), order p->n. */
-static double af_torsional_function(double y, void *params)
+static double torsional_function(double y, void *params)
 {
   const af_lamb_params *p = params;
   double jy, jy1;
-  af_bessel_pair(p->n, y, &jy, &jy1);
+  bessel_pair(p->n, y, &jy, &jy1);
   return (p->n - 1.0) * jy - y * jy1;
 }
 
 /* The (skip + 1)-th sign change of f above AF_LAMB_SCAN_FROM, below scan_to:
  * [*lo, *hi]. */
-static af_status af_lamb_bracket(gsl_function *f, unsigned skip, double scan_to, double *lo,
-                                 double *hi)
+static af_status lamb_bracket(gsl_function *f, unsigned skip, double scan_to, double *lo,
+                              double *hi)
 {
   double y0 = AF_LAMB_SCAN_FROM;
   double d0 = GSL_FN_EVAL(f, y0);
@@ -105,7 +105,7 @@ static af_status af_lamb_bracket(gsl_function *f, unsigned skip, double scan_to,
 }
 
 /* Brent's method on a bracket known to hold a sign change. */
-static af_status af_lamb_polish(gsl_function *f, double lo, double hi, double *root)
+static af_status lamb_polish(gsl_function *f, double lo, double hi, double *root)
 {
   gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   if (s == NULL)
@@ -133,52 +133,51 @@ static af_status af_lamb_polish(gsl_function *f, double lo, double hi, double *r
 }
 
 /* The (overtone + 1)-th root of f above the spurious one, scanned to scan_to. */
-static af_status af_lamb_solve(gsl_function *f, unsigned overtone, double scan_to, double *xi)
+static af_status lamb_solve(gsl_function *f, unsigned overtone, double scan_to, double *xi)
 {
   double lo, hi;
-  af_status st = af_lamb_bracket(f, overtone, scan_to, &lo, &hi);
+  af_status st = lamb_bracket(f, overtone, scan_to, &lo, &hi);
   if (st == AF_OK)
-    st = af_lamb_polish(f, lo, hi, xi);
+    st = lamb_polish(f, lo, hi, xi);
   return st;
 }
 
 /* (c_s / c_p), from (c_p / c_s)^2 = 2 (1 - nu) / (1 - 2 nu). */
-static double af_cs_over_cp(double poisson)
+static double cs_over_cp_ratio(double poisson)
 {
   return sqrt((1.0 - 2.0 * poisson) / (2.0 * (1.0 - poisson)));
 }
 
-af_status af_resonance_lamb_root(double poisson, double *xi)
+af_status af_lamb_root(double poisson, double *xi)
 {
   if (xi == NULL || !(poisson >= 0.0 && poisson < 0.5))
     return AF_EINVAL;
   af_status_init();
-  af_lamb_params p = {af_cs_over_cp(poisson), AF_LAMB_ORDER};
-  gsl_function f = {af_lamb_determinant, &p};
-  return af_lamb_solve(&f, 0, AF_LAMB_SCAN_TO, xi);
+  af_lamb_params p = {cs_over_cp_ratio(poisson), AF_LAMB_ORDER};
+  gsl_function f = {lamb_determinant, &p};
+  return lamb_solve(&f, 0, AF_LAMB_SCAN_TO, xi);
 }
 
-af_status af_resonance_spheroidal_root(double poisson, unsigned order, unsigned overtone,
-                                       double *xi)
+af_status af_lamb_spheroidal_root(double poisson, unsigned order, unsigned overtone, double *xi)
 {
   if (xi == NULL || !(poisson >= 0.0 && poisson < 0.5) || order < 2 ||
       order > AF_RESONANCE_MAX_ORDER || overtone > AF_RESONANCE_MAX_OVERTONE)
     return AF_EINVAL;
   af_status_init();
-  af_lamb_params p = {af_cs_over_cp(poisson), (int)order};
-  gsl_function f = {af_lamb_determinant, &p};
-  return af_lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
+  af_lamb_params p = {cs_over_cp_ratio(poisson), (int)order};
+  gsl_function f = {lamb_determinant, &p};
+  return lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
 }
 
-af_status af_resonance_torsional_root(unsigned order, unsigned overtone, double *xi)
+af_status af_lamb_torsional_root(unsigned order, unsigned overtone, double *xi)
 {
   if (xi == NULL || order < 2 || order > AF_RESONANCE_MAX_ORDER ||
       overtone > AF_RESONANCE_MAX_OVERTONE)
     return AF_EINVAL;
   af_status_init();
   af_lamb_params p = {1.0, (int)order};
-  gsl_function f = {af_torsional_function, &p};
-  return af_lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
+  gsl_function f = {torsional_function, &p};
+  return lamb_solve(&f, overtone, AF_LAMB_SCAN_TO_HIGH, xi);
 }
 
 const char *af_sphere_mode_name(af_sphere_mode mode)
@@ -194,7 +193,7 @@ const char *af_sphere_mode_name(af_sphere_mode mode)
   return "?";
 }
 
-af_status af_resonance_sphere_modes(double poisson, af_sphere_modes *out)
+af_status af_lamb_sphere_modes(double poisson, af_sphere_modes *out)
 {
   /* order and overtone of each af_sphere_mode; the 0T2 is torsional */
   static const unsigned order[AF_MODE_COUNT] = {2, 3, 4, 2, 2};
@@ -205,8 +204,8 @@ af_status af_resonance_sphere_modes(double poisson, af_sphere_modes *out)
   m.poisson = poisson;
   for (int i = 0; i < AF_MODE_COUNT; ++i) {
     af_status st = i == AF_MODE_0T2
-                       ? af_resonance_torsional_root(order[i], overtone[i], &m.xi[i])
-                       : af_resonance_spheroidal_root(poisson, order[i], overtone[i], &m.xi[i]);
+                       ? af_lamb_torsional_root(order[i], overtone[i], &m.xi[i])
+                       : af_lamb_spheroidal_root(poisson, order[i], overtone[i], &m.xi[i]);
     if (st != AF_OK)
       return st;
   }
@@ -216,20 +215,20 @@ af_status af_resonance_sphere_modes(double poisson, af_sphere_modes *out)
   return AF_OK;
 }
 
-void af_sphere_modes_cache_init(af_sphere_modes_cache *c)
+void af_sphere_modes_cache_reset(af_sphere_modes_cache *c)
 {
   c->modes.poisson = NAN;
   for (int i = 0; i < AF_MODE_COUNT; ++i)
     c->modes.xi[i] = c->modes.ratio[i] = NAN;
 }
 
-af_status af_resonance_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
-                                           af_sphere_modes *out)
+af_status af_lamb_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
+                                      af_sphere_modes *out)
 {
   if (c == NULL || out == NULL)
     return AF_EINVAL;
   if (poisson != c->modes.poisson) {
-    af_status st = af_resonance_sphere_modes(poisson, &c->modes);
+    af_status st = af_lamb_sphere_modes(poisson, &c->modes);
     if (st != AF_OK)
       return st;
   }
@@ -237,7 +236,7 @@ af_status af_resonance_sphere_modes_cached(af_sphere_modes_cache *c, double pois
   return AF_OK;
 }
 
-double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3)
+double af_lamb_sphere_radius_m(double mass_kg, double density_kg_m3)
 {
   if (!(mass_kg > 0.0 && density_kg_m3 > 0.0) || !isfinite(mass_kg) || !isfinite(density_kg_m3))
     return NAN;
@@ -245,50 +244,50 @@ double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3)
 }
 
 /* True when the material and sphere arguments are usable (NaN otherwise). */
-static int af_sphere_args_ok(double xi, double poisson, double density_kg_m3, double mass_kg)
+static int sphere_args_ok(double xi, double poisson, double density_kg_m3, double mass_kg)
 {
   return xi > 0.0 && isfinite(xi) && poisson >= 0.0 && poisson < 0.5 && density_kg_m3 > 0.0 &&
          isfinite(density_kg_m3) && mass_kg > 0.0 && isfinite(mass_kg);
 }
 
-double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
-                                 double mass_kg)
+double af_lamb_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
+                            double mass_kg)
 {
-  if (!af_sphere_args_ok(xi, poisson, density_kg_m3, mass_kg) || !(modulus_pa > 0.0) ||
+  if (!sphere_args_ok(xi, poisson, density_kg_m3, mass_kg) || !(modulus_pa > 0.0) ||
       !isfinite(modulus_pa))
     return NAN;
   /* shear wave speed [m/s] */
   double c_s = sqrt(modulus_pa / (2.0 * (1.0 + poisson) * density_kg_m3));
-  return xi * c_s / (2.0 * M_PI * af_resonance_sphere_radius_m(mass_kg, density_kg_m3));
+  return xi * c_s / (2.0 * M_PI * af_lamb_sphere_radius_m(mass_kg, density_kg_m3));
 }
 
-double af_resonance_modulus_pa(double xi, double f_hz, double poisson, double density_kg_m3,
-                               double mass_kg)
+double af_lamb_modulus_pa(double xi, double f_hz, double poisson, double density_kg_m3,
+                          double mass_kg)
 {
-  if (!af_sphere_args_ok(xi, poisson, density_kg_m3, mass_kg) || !(f_hz > 0.0) || !isfinite(f_hz))
+  if (!sphere_args_ok(xi, poisson, density_kg_m3, mass_kg) || !(f_hz > 0.0) || !isfinite(f_hz))
     return NAN;
   /* shear wave speed [m/s] that puts the 0S2 mode at f_hz */
-  double c_s = 2.0 * M_PI * f_hz * af_resonance_sphere_radius_m(mass_kg, density_kg_m3) / xi;
+  double c_s = 2.0 * M_PI * f_hz * af_lamb_sphere_radius_m(mass_kg, density_kg_m3) / xi;
   return 2.0 * (1.0 + poisson) * density_kg_m3 * c_s * c_s;
 }
 
-double af_resonance_stiffness_factor(double f_hz, double mass_kg)
+double af_lamb_stiffness_factor(double f_hz, double mass_kg)
 {
   if (!(f_hz >= 0.0 && mass_kg > 0.0) || !isfinite(f_hz) || !isfinite(mass_kg))
     return NAN;
   return f_hz * f_hz * cbrt(mass_kg * mass_kg);
 }
 
-void af_lamb_cache_init(af_lamb_cache *c)
+void af_lamb_cache_reset(af_lamb_cache *c)
 {
   c->poisson = NAN;
   c->xi = NAN;
 }
 
-af_status af_resonance_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi)
+af_status af_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi)
 {
   if (poisson != c->poisson) {
-    af_status st = af_resonance_lamb_root(poisson, &c->xi);
+    af_status st = af_lamb_root(poisson, &c->xi);
     if (st != AF_OK)
       return st;
     c->poisson = poisson;

@@ -1,10 +1,10 @@
-/* measured.h — the node's side of one lane (src/core/lane.h): SignalChunk and
+/* lane_io.h — the node's side of one lane (src/core/lane.h): SignalChunk and
  * AppleEstimate messages into the lane, and each strike the lane measures
  * out as a StrikeReport, a Reliability (source "measured") and, with
  * markers, a line of text above the matched apple.
  *
  * Outputs, one of each per strike, header stamp = contact start, frame = the
- * force chunk's. Everything is allocated in af_measured_create (the lane
+ * force chunk's. Everything is allocated in af_lane_io_create (the lane
  * included); nothing per chunk or strike. Not thread-safe: the node's one
  * spinning thread. */
 #ifndef AF_NODE_MEASURED_H
@@ -21,52 +21,52 @@
 extern "C" {
 #endif
 
-typedef struct af_measured af_measured;
+typedef struct af_lane_io af_lane_io;
 
 /* Makes the lane and the strike_report publisher. reliability_pub is the
  * station's reliability publisher, markers_pub its markers publisher (NULL
  * when markers are off). *out is NULL on error; *what names the part that
  * failed. */
-af_status af_measured_create(af_ros *ros, const af_node_config *cfg, af_ros_pub *reliability_pub,
-                             af_ros_pub *markers_pub, af_measured **out, const char **what);
-void af_measured_destroy(af_measured *m); /* NULL-safe */
+af_status af_lane_io_create(af_ros *ros, const af_node_config *cfg, af_ros_pub *reliability_pub,
+                            af_ros_pub *markers_pub, af_lane_io **out, const char **what);
+void af_lane_io_destroy(af_lane_io *m); /* NULL-safe */
 
 /* The lane, for its streams and counters. */
-const af_lane *af_measured_lane(const af_measured *m);
+const af_lane *af_lane_io_lane(const af_lane_io *m);
 
 /* A force or audio chunk into the lane; the stream's verdict, *info its gaps
  * and restarts. Strikes it completes are published before it returns. */
-af_chunk_verdict af_measured_force(af_measured *m, const af_signal_chunk *c,
-                                   af_ring_write_info *info);
-af_chunk_verdict af_measured_audio(af_measured *m, const af_signal_chunk *c,
-                                   af_ring_write_info *info);
+af_chunk_verdict af_lane_io_force(af_lane_io *m, const af_signal_chunk *c,
+                                  af_ring_write_info *info);
+af_chunk_verdict af_lane_io_audio(af_lane_io *m, const af_signal_chunk *c,
+                                  af_ring_write_info *info);
 
 /* An apple into the lane: its prediction in *pred (see af_lane_apple). */
-af_status af_measured_apple(af_measured *m, const af_apple *a, const af_prediction **pred);
+af_status af_lane_io_apple(af_lane_io *m, const af_apple *a, const af_prediction **pred);
 
 /* Where the text of a strike on this apple is drawn: the AppleEstimate's
  * header, the apple centre and its larger semi-axis in its frame. */
-void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header *h,
-                             const double centre_m[3], double top_m);
+void af_lane_io_label_place(af_lane_io *m, uint32_t apple_id, const af_header *h,
+                            const double centre_m[3], double top_m);
 
 /* The live picture each strike is copied into (strike_plot.h); NULL = none. */
 struct af_strike_plot;
-void af_measured_set_strike_plot(af_measured *m, struct af_strike_plot *plot);
+void af_lane_io_set_strike_plot(af_lane_io *m, struct af_strike_plot *plot);
 
 /* The node's configuration was changed in place (src/node/live_settings.c):
  * the lane's parts that copied it are made anew (af_lane_reconfigured);
  * grades_changed restarts the counts per class. */
-af_status af_measured_reconfigured(af_measured *m, bool grades_changed, const char **what);
+af_status af_lane_io_reconfigured(af_lane_io *m, bool grades_changed, const char **what);
 
 /* Each spin: measures what is due (time-outs, stale audio). */
-void af_measured_poll(af_measured *m);
+void af_lane_io_poll(af_lane_io *m);
 
 /* A short reason to WARN when something new went wrong since the last call
  * (queue overflow, doubtful matches, late estimates, strikes without audio
  * or apple); NULL when nothing did. Call once per diagnostic report. */
-const char *af_measured_warning(af_measured *m);
+const char *af_lane_io_warning(af_lane_io *m);
 /* Adds the measured-strike keys to d. */
-void af_measured_diag(const af_measured *m, af_diag_status *d);
+void af_lane_io_diag(const af_lane_io *m, af_diag_status *d);
 
 /* ROS time in integer nanoseconds. */
 int64_t af_time_to_ns(af_time t);

@@ -1,5 +1,5 @@
-/* measured.c — messages into the lane, measured strikes out (see measured.h). */
-#include "measured.h"
+/* lane_io.c — messages into the lane, measured strikes out (see lane_io.h). */
+#include "lane_io.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -30,7 +30,7 @@ typedef struct {
   double centre_m[3], top_m;
 } af_label_place;
 
-struct af_measured {
+struct af_lane_io {
   af_ros *ros;
   const af_node_config *cfg;
   af_lane *lane;
@@ -61,7 +61,7 @@ static double wall_s(void)
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int64_t now_ns(const af_measured *m)
+static int64_t now_ns(const af_lane_io *m)
 {
   return af_time_to_ns(af_ros_now(m->ros));
 }
@@ -83,7 +83,7 @@ af_time af_time_from_ns(int64_t ns)
 
 /* --- outputs ------------------------------------------------------------------ */
 
-static void publish(af_measured *m, af_ros_pub *pub, const void *msg, const char *topic)
+static void publish(af_lane_io *m, af_ros_pub *pub, const void *msg, const char *topic)
 {
   if (af_ros_publish(pub, msg) != AF_OK)
     af_ros_log(m->ros, AF_LOG_ERROR, "%s not published: %s", topic, af_ros_last_error(m->ros));
@@ -110,7 +110,7 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
 }
 
 /* The strike's firmness class, graded by the lane (lane.h), counted for the diagnostics. */
-static void grade_report(af_measured *m, const af_grade *g, af_strike_report *r)
+static void grade_report(af_lane_io *m, const af_grade *g, af_strike_report *r)
 {
   r->grade_index = (uint8_t)g->index;
   af_text(r->grade, sizeof r->grade, "%s", g->name);
@@ -118,7 +118,7 @@ static void grade_report(af_measured *m, const af_grade *g, af_strike_report *r)
   m->graded[g->index <= AF_GRADE_CLASSES_MAX ? g->index : 0]++;
 }
 
-static void grade_diag(const af_measured *m, af_diag_status *d)
+static void grade_diag(const af_lane_io *m, af_diag_status *d)
 {
   const af_grade_config *g = &m->cfg->lane.grade;
   char text[AF_TEXT_MAX];
@@ -135,7 +135,7 @@ static void grade_diag(const af_measured *m, af_diag_status *d)
   af_diag_add(d, "strikes per grade", "%s", text);
 }
 
-static const af_label_place *label_place(const af_measured *m, uint32_t apple_id)
+static const af_label_place *label_place(const af_lane_io *m, uint32_t apple_id)
 {
   for (size_t k = 0; k < AF_LABELS; k++)
     if (m->labels[k].used && m->labels[k].apple_id == apple_id)
@@ -143,7 +143,7 @@ static const af_label_place *label_place(const af_measured *m, uint32_t apple_id
   return NULL;
 }
 
-static void publish_label(af_measured *m, const af_label_place *a)
+static void publish_label(af_lane_io *m, const af_label_place *a)
 {
   const af_strike_report *r = &m->report;
   char text[AF_TEXT_MAX];
@@ -170,7 +170,7 @@ static void timing_add(af_timing *t, double ms)
 /* The lane's callback: one measured strike out as messages. */
 static void on_lane_strike(const af_lane_strike *s, void *user)
 {
-  af_measured *m = user;
+  af_lane_io *m = user;
   af_strike_report *r = &m->report;
   af_reliability *rel = &m->rel;
   const af_measure_report *q = &s->report;
@@ -222,7 +222,7 @@ static af_chunk chunk_of(const af_signal_chunk *c)
 
 /* One chunk into the lane through push (af_lane_force or af_lane_audio),
  * the wall clock noted for the latency of the strikes it completes. */
-static af_chunk_verdict push_chunk(af_measured *m,
+static af_chunk_verdict push_chunk(af_lane_io *m,
                                    af_chunk_verdict (*push)(af_lane *, const af_chunk *, int64_t,
                                                             af_ring_write_info *),
                                    const af_signal_chunk *c, af_ring_write_info *info)
@@ -234,19 +234,17 @@ static af_chunk_verdict push_chunk(af_measured *m,
   return v;
 }
 
-af_chunk_verdict af_measured_force(af_measured *m, const af_signal_chunk *c,
-                                   af_ring_write_info *info)
+af_chunk_verdict af_lane_io_force(af_lane_io *m, const af_signal_chunk *c, af_ring_write_info *info)
 {
   return push_chunk(m, af_lane_force, c, info);
 }
 
-af_chunk_verdict af_measured_audio(af_measured *m, const af_signal_chunk *c,
-                                   af_ring_write_info *info)
+af_chunk_verdict af_lane_io_audio(af_lane_io *m, const af_signal_chunk *c, af_ring_write_info *info)
 {
   return push_chunk(m, af_lane_audio, c, info);
 }
 
-af_status af_measured_apple(af_measured *m, const af_apple *a, const af_prediction **pred)
+af_status af_lane_io_apple(af_lane_io *m, const af_apple *a, const af_prediction **pred)
 {
   m->entry_wall_s = wall_s(); /* the next apple's estimate settles a waiting strike */
   af_status st = af_lane_apple(m->lane, a, now_ns(m), pred);
@@ -254,8 +252,8 @@ af_status af_measured_apple(af_measured *m, const af_apple *a, const af_predicti
   return st;
 }
 
-void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header *h,
-                             const double centre_m[3], double top_m)
+void af_lane_io_label_place(af_lane_io *m, uint32_t apple_id, const af_header *h,
+                            const double centre_m[3], double top_m)
 {
   af_label_place *p = &m->labels[m->label_next];
   m->label_next = (m->label_next + 1) % AF_LABELS;
@@ -266,33 +264,33 @@ void af_measured_label_place(af_measured *m, uint32_t apple_id, const af_header 
   p->top_m = top_m;
 }
 
-void af_measured_set_strike_plot(af_measured *m, af_strike_plot *plot)
+void af_lane_io_set_strike_plot(af_lane_io *m, af_strike_plot *plot)
 {
   m->plot = plot;
 }
 
-void af_measured_poll(af_measured *m)
+void af_lane_io_poll(af_lane_io *m)
 {
   m->entry_wall_s = wall_s(); /* the apple wait may have run out */
   af_lane_poll(m->lane, now_ns(m));
   m->entry_wall_s = 0.0;
 }
 
-af_status af_measured_reconfigured(af_measured *m, bool grades_changed, const char **what)
+af_status af_lane_io_reconfigured(af_lane_io *m, bool grades_changed, const char **what)
 {
   if (grades_changed) /* the classes' counts start again */
     memset(m->graded, 0, sizeof m->graded);
   return af_lane_reconfigured(m->lane, what);
 }
 
-const af_lane *af_measured_lane(const af_measured *m)
+const af_lane *af_lane_io_lane(const af_lane_io *m)
 {
   return m->lane;
 }
 
 /* --- diagnostics ---------------------------------------------------------------- */
 
-const char *af_measured_warning(af_measured *m)
+const char *af_lane_io_warning(af_lane_io *m)
 {
   const af_lane_stats *s = af_lane_get_stats(m->lane);
   const char *w = NULL;
@@ -310,7 +308,7 @@ const char *af_measured_warning(af_measured *m)
   return w;
 }
 
-void af_measured_diag(const af_measured *m, af_diag_status *d)
+void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
 {
   const af_lane_stats *s = af_lane_get_stats(m->lane);
   af_strike_tracker tr;
@@ -361,12 +359,12 @@ void af_measured_diag(const af_measured *m, af_diag_status *d)
 
 /* --- life cycle ------------------------------------------------------------------ */
 
-af_status af_measured_create(af_ros *ros, const af_node_config *cfg, af_ros_pub *reliability_pub,
-                             af_ros_pub *markers_pub, af_measured **out, const char **what)
+af_status af_lane_io_create(af_ros *ros, const af_node_config *cfg, af_ros_pub *reliability_pub,
+                            af_ros_pub *markers_pub, af_lane_io **out, const char **what)
 {
   *out = NULL;
   *what = "the measured strikes";
-  af_measured *m = calloc(1, sizeof *m);
+  af_lane_io *m = calloc(1, sizeof *m);
   if (!m)
     return AF_ENOMEM;
   m->ros = ros;
@@ -380,14 +378,14 @@ af_status af_measured_create(af_ros *ros, const af_node_config *cfg, af_ros_pub 
                          &m->report_pub);
   }
   if (s != AF_OK) {
-    af_measured_destroy(m);
+    af_lane_io_destroy(m);
     return s;
   }
   *out = m;
   return AF_OK;
 }
 
-void af_measured_destroy(af_measured *m)
+void af_lane_io_destroy(af_lane_io *m)
 {
   if (!m)
     return;

@@ -1,4 +1,4 @@
-/* resonance.h — the free modes of a homogeneous elastic sphere: the 0S2
+/* lamb.h — the free modes of a homogeneous elastic sphere: the 0S2
  * (the lowest, the apple's firmness mode) and its audible neighbours.
  *
  * Lamb's frequency equation for the free sphere, spheroidal order n, solved
@@ -33,22 +33,22 @@ extern "C" {
 
 /* xi of the 0S2 mode for nu in [0, 0.5). AF_EINVAL outside, AF_ENOROOT/AF_ENOCONV
  * if the root finder fails. */
-af_status af_resonance_lamb_root(double poisson, double *xi);
+af_status af_lamb_root(double poisson, double *xi);
 
 /* xi of the last Poisson ratio asked: the root costs ~17 us and its GSL
  * solver allocates, while a station asks for the same ratio at every strike.
- * Initialise with af_lamb_cache_init. */
+ * Initialise with af_lamb_cache_reset. */
 typedef struct {
   double poisson; /* NaN: empty */
   double xi;
 } af_lamb_cache;
 
-void af_lamb_cache_init(af_lamb_cache *c);
-/* af_resonance_lamb_root, solved only when poisson differs from the cached one. */
-af_status af_resonance_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi);
+void af_lamb_cache_reset(af_lamb_cache *c);
+/* af_lamb_root, solved only when poisson differs from the cached one. */
+af_status af_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi);
 
-/* Orders and overtones af_resonance_spheroidal_root and
- * af_resonance_torsional_root accept: order 2..AF_RESONANCE_MAX_ORDER,
+/* Orders and overtones af_lamb_spheroidal_root and
+ * af_lamb_torsional_root accept: order 2..AF_RESONANCE_MAX_ORDER,
  * overtone 0..AF_RESONANCE_MAX_OVERTONE (the roots are scanned up to y = 40
  * with a 0.05 step, fine against their spacing in this range). */
 #define AF_RESONANCE_MAX_ORDER 8
@@ -56,16 +56,15 @@ af_status af_resonance_lamb_root_cached(af_lamb_cache *c, double poisson, double
 
 /* xi of the spheroidal mode (overtone)S(order) for nu in [0, 0.5): the
  * (overtone + 1)-th root of Lamb's equation of that order. Order 2 overtone
- * 0 gives af_resonance_lamb_root's 0S2 (bit for bit), order 3 overtone 0 the
+ * 0 gives af_lamb_root's 0S2 (bit for bit), order 3 overtone 0 the
  * 0S3, order 2 overtone 1 the 1S2. AF_EINVAL
  * outside the ranges above (n = 0 and 1 hold the breathing and translation
  * modes and a different equation), AF_ENOROOT/AF_ENOCONV/AF_ENUMERIC if the
  * root finder fails. Allocates (a GSL root solver): not for the per-strike path. */
-af_status af_resonance_spheroidal_root(double poisson, unsigned order, unsigned overtone,
-                                       double *xi);
+af_status af_lamb_spheroidal_root(double poisson, unsigned order, unsigned overtone, double *xi);
 /* xi of the torsional mode (overtone)T(order): root of
  * (n - 1) j_n(y) - y j_{n+1}(y), independent of nu (0T2: 2.5011). */
-af_status af_resonance_torsional_root(unsigned order, unsigned overtone, double *xi);
+af_status af_lamb_torsional_root(unsigned order, unsigned overtone, double *xi);
 
 /* The modes a mode identification works with (modes.h). */
 typedef enum {
@@ -87,37 +86,37 @@ typedef struct {
 } af_sphere_modes;
 
 /* Solves every af_sphere_mode for nu in [0, 0.5) (~0.3 ms, allocates);
- * *out untouched on failure (statuses as af_resonance_spheroidal_root). */
-af_status af_resonance_sphere_modes(double poisson, af_sphere_modes *out);
+ * *out untouched on failure (statuses as af_lamb_spheroidal_root). */
+af_status af_lamb_sphere_modes(double poisson, af_sphere_modes *out);
 
 /* The modes of the last Poisson ratio asked, as af_lamb_cache: solved at
  * start-up (or on the first strike of a new ratio), never per strike.
- * Initialise with af_sphere_modes_cache_init. */
+ * Initialise with af_sphere_modes_cache_reset. */
 typedef struct {
   af_sphere_modes modes; /* modes.poisson NaN: empty */
 } af_sphere_modes_cache;
 
-void af_sphere_modes_cache_init(af_sphere_modes_cache *c);
-/* af_resonance_sphere_modes, solved only when poisson differs from the
+void af_sphere_modes_cache_reset(af_sphere_modes_cache *c);
+/* af_lamb_sphere_modes, solved only when poisson differs from the
  * cached one; no allocation otherwise. AF_EINVAL for NULL; a failure leaves
  * the cache as it was. */
-af_status af_resonance_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
-                                           af_sphere_modes *out);
+af_status af_lamb_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
+                                      af_sphere_modes *out);
 
 /* Radius [m] of the sphere of this mass [kg] and density [kg/m3]. */
-double af_resonance_sphere_radius_m(double mass_kg, double density_kg_m3);
+double af_lamb_sphere_radius_m(double mass_kg, double density_kg_m3);
 
 /* 0S2 frequency [Hz] of a sphere of the given (dynamic) modulus [Pa], nu,
- * density [kg/m3] and mass [kg], with xi from af_resonance_lamb_root(nu). */
-double af_resonance_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
-                                 double mass_kg);
+ * density [kg/m3] and mass [kg], with xi from af_lamb_root(nu). */
+double af_lamb_frequency_hz(double xi, double modulus_pa, double poisson, double density_kg_m3,
+                            double mass_kg);
 
 /* The inverse: the modulus [Pa] whose 0S2 frequency is f_hz. */
-double af_resonance_modulus_pa(double xi, double f_hz, double poisson, double density_kg_m3,
-                               double mass_kg);
+double af_lamb_modulus_pa(double xi, double f_hz, double poisson, double density_kg_m3,
+                          double mass_kg);
 
 /* Stiffness factor f^2 m^(2/3) [Hz^2 kg^(2/3)]. */
-double af_resonance_stiffness_factor(double f_hz, double mass_kg);
+double af_lamb_stiffness_factor(double f_hz, double mass_kg);
 
 #ifdef __cplusplus
 }
