@@ -50,10 +50,11 @@ typedef struct {
   af_damping_law damping;
 } af_impact_params;
 
-/* The paper's optimal strike on the average apple: the shipped rig's hammer
- * (the parameter table's rig values, af_setting_rig_value: 10 g, flat face),
- * 1.4 m/s, rigid (nu1 0.3 unused while rigid), E2 8 MPa, nu2 0.35, R2 40 mm, e 0.6,
- * g 9.80665, AF_DAMPING_EXACT. */
+/* The paper's optimal strike on the average apple, every value a row of the
+ * parameter table (af_defaults.h): the shipped rig's hammer (the rows' rig
+ * values), strike_velocity_m_s, a rigid tip, modulus_nominal_pa,
+ * fruit_poisson, restitution, gravity_m_s2, damping_law; R2 40 mm (no row:
+ * per apple, from its estimate). */
 af_impact_params af_impact_params_default(void);
 
 double af_impact_effective_modulus_pa(const af_impact_params *p); /* E* */

@@ -45,7 +45,8 @@ af_model_params af_model_params_default(void)
   p.band_level = AF_BAND_AMPLITUDE_HALF;
   p.shear_ratio = AF_SHEAR_EXACT;
   /* The yield law, calibrated on the shipped profile (doc/paper.md, "The
-   * yield law"): tau_y = 0.0414 E_ref (E2/E_ref)^0.70 with E_ref 8 MPa. */
+   * yield law"): tau_y = yield_ratio E_ref (E2/E_ref)^yield_exponent, the
+   * table's rows. */
   p.yield_ratio = AF_DEFAULT_YIELD_RATIO;
   p.yield_exponent = AF_DEFAULT_YIELD_EXPONENT;
   p.yield_reference_modulus_pa = AF_DEFAULT_YIELD_REFERENCE_MODULUS_PA;

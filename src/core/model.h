@@ -41,7 +41,8 @@ af_yield_law af_model_yield_law(const af_model_params *p);
 
 /* Shipped default profile: the paper's optimal strike on the average apple
  * (175 g, 840 kg/m3) with exact damping, lobe 1, amplitude-half, exact shear,
- * yield law tau_y = 0.0414 x 8 MPa x (E2 / 8 MPa)^0.70 (calibrated: the
+ * yield law tau_y = yield_ratio x E_ref x (E2 / E_ref)^yield_exponent, the
+ * parameter table's rows (calibrated: the
  * average apple's damage boundary at the paper's 31 mm under this profile,
  * and an exponent below the shear's 0.8 so that soft apples are safe when
  * firm ones are, Fig. 3b's ordering; doc/paper.md), modulus factor 1. */

@@ -123,11 +123,13 @@ typedef struct {
  * a shorter tau_w widens the peaks until a weak mode 1.3 f0 away merges with
  * a 300 Hz 0S2: with 2048 samples and 10 ms, errors reached 30 % and 1 % of
  * the test strikes were refused; 3072 and 15 ms still held); fade-in 1 ms;
- * hum 50 Hz with 3 harmonics; onset at 25 % of the largest |x|; SNR
- * threshold 15 dB (noise-only
- * windows: the best candidate of a 300-1300 Hz range passes 12 dB in ~0.1 %,
- * 15 dB in none of 2e4; a strike at a 10 dB synthesis SNR reads ~25 dB); noise
- * band 4-16 kHz (above the apple's modes, below a microphone's roll-off). */
+ * hum measure_hum_hz with measure_hum_harmonics; onset at 25 % of the
+ * largest |x|; SNR threshold measure_snr_threshold_db (noise-only windows:
+ * the best candidate of a 300-1300 Hz range passes 12 dB in ~0.1 %, the
+ * shipped threshold in none of 2e4; a strike at a 10 dB synthesis SNR reads
+ * ~25 dB); noise band measure_noise_band_low_hz to _high_hz (above the
+ * apple's modes, below a microphone's roll-off). Those rows' defaults come
+ * from the parameter table (af_defaults.h). */
 af_response_config af_response_config_default(void);
 
 typedef struct af_response af_response;

@@ -1,35 +1,25 @@
 #!/usr/bin/env bash
-# The parameter table (src/core/settings.c) is the only source of the
+# The parameter table (src/core/settings_table.c) is the only source of the
 # lane's numbers (issue 16): the shipped defaults below may appear only in
 # the table and in what is generated from it (config/station.yaml,
 # config/jonagold.yaml and doc/parameters.md's generated part, which
 # scripts_doc_parameters checks; doc/paper.md, written by `firmness_model
-# paper`, quotes the paper). Any other line of src/, config/, launch/,
-# doc/, msg/ or README.md that states one as a default fails, unless
-# the allow-list below names it with its reason. Then the scanner is run on
-# a scratch tree with a planted stray, which it must report (so this test
-# can fail). Registered in ctest as scripts_stray_numbers.
+# paper`). The values looked for are the table's CURRENT ones, read from the
+# generated YAML files. Any other line of src/, config/, launch/, doc/, msg/
+# or README.md that states one fails, unless the allow-list below names it
+# with its reason; and an allow-list entry that no longer matches fails too,
+# so that a changed default fails every line still quoting the old one (a
+# quote cannot drift). Then the scanner is run on a scratch tree with a
+# planted stray, which it must report (so this test can fail). Registered in
+# ctest as scripts_stray_numbers.
 #   bash test/scripts/test_stray_numbers.sh
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 
 # The allow-list: "path | a fixed part of the line", one per line; '#' starts
-# a comment. An entry that matches no line is reported (not failed: the
-# i16-settings lines go away when that branch is merged).
+# a comment. An entry that matches no line of its file where a default is
+# stated fails.
 cat >"$tmp/allow" <<'ALLOW'
-# moved by i16-settings: the core *_default() bodies become generated macros
-src/core/response.c | c.hum_hz = 50.0;
-src/core/response.c | c.snr_threshold_db = 15.0;
-src/core/impact.c | .velocity_m_s = 1.4,
-src/core/model.c | #define AF_MODEL_YIELD_RATIO 0.0414
-src/core/model.c | #define AF_MODEL_YIELD_EXPONENT 0.70
-src/core/model.c | tau_y = 0.0414 E_ref (E2/E_ref)^0.70 with E_ref 8 MPa
-src/core/model.h | yield law tau_y = 0.0414 x 8 MPa x (E2 / 8 MPa)^0.70
-src/core/impact.h | 1.4 m/s, rigid (nu1 0.3 unused while rigid)
-src/core/impact.h | af_setting_rig_value: 10 g, flat face
-src/core/response.h | hum 50 Hz with 3 harmonics
-src/core/response.h | threshold 15 dB (noise-only
-src/core/response.h | 15 dB in none of 2e4
 # not a default: what the table's rows document (the rig's value, YAML syntax)
 src/core/settings.h | e.g. 0.010 for hammer_mass_kg [kg]
 # the rig itself: its URDF (test_urdf checks it equals the table's rig value)
@@ -42,9 +32,6 @@ doc/deviations.md | 0.0414 with exponent 0.70 in the c
 doc/figures.md | elastic contact time (m1 10 g, v0 1.4 m/s
 # prose quoting the shipped value: the doc pages the lead merges (README.md
 # is rewritten by another helper); to be cited from the table, then dropped
-README.md | (default 1.4 m/s, the paper's
-README.md | shipped 0.0414 ×
-README.md | 8 MPa × (E2/8 MPa)^0.70 (0.331 MPa
 doc/model.md | Shipped: **0.0414 × 8 MPa × (E2/8 MPa)^0.70**
 doc/model.md | p = 0.70 below the computed shear's
 doc/model.md | R2 40 mm, 10 g at 1.4 m/s) the shipped profile
@@ -55,11 +42,8 @@ doc/cli.md | 15 dB none of 2e4) [dB] (default 15
 doc/cli.md | (default 0.0414, range [0.001, 1]
 doc/cli.md | config/rig.urdf: 10 g,
 doc/cli.md | The paper's 10 g at 1.4 m/s is not feasible
-doc/cli.md | (10 g rigid flat hammer at 1.4 m/s, e 0.6
-doc/cli.md | peak, 50 Hz hum, offset and drift
 doc/parameters.md | The shipped rig's hammer (10 g, a flat face)
 doc/parameters.md | **yield_ratio** (double, 0.0414, [0.001, 1], –), **yield_exponent** (double, 0.70
-doc/parameters.md | 50 Hz hum + 3 harmonics removed
 doc/parameters.md | 12 dB let about 0.1 % of noise-only windows through as a resonance, 15 dB none of
 doc/parameters.md | 12 dB and `analyze` with 15 dB until
 doc/report.md | the shipped rig's hammer (10 g, flat face)
@@ -68,6 +52,11 @@ doc/parameters.md | - **strike_velocity_m_s** (double, 1.4, [0.05, 10], m/s): co
 # example output: printed by the tools from the table (scripts_doc_examples
 # re-runs each and compares)
 doc/cli.md | contact velocity [m/s] (default 1.4)
+doc/cli.md | hammer mass [kg] (default 0.01)
+doc/cli.md | yield law exponent p, tau_y ~ E2^p [-] (1 = ratio law) (default 0.7)
+doc/cli.md | strike: hammer 10.0 g at 1.40 m/s on E2 8.00 MPa
+doc/cli.md | overrides the URDF's hammer mass [kg] (default 0.01, range
+doc/cli.md | the paper's optimum: hammer 10.0 g at 1.40 m/s, tip flat
 doc/cli.md | contact velocity (the paper's optimum) [m/s] (default 1.4, range
 doc/lane.md | 'measure_snr_threshold_db': 15.0
 ALLOW
@@ -75,21 +64,62 @@ ALLOW
 # scan ROOT ALLOW: prints each stray as "path:line: default (text)"; exit 1
 # when there is one.
 scan() {
-  /usr/bin/python3 - "$1" "$2" <<'PY'
+  /usr/bin/python3 - "$1" "$2" "${3:-$AF_ROOT}" <<'PY'
 import os, re, sys
 root, allow_path = sys.argv[1], sys.argv[2]
 # Each default: its name and a regex of a line stating it (case-insensitive):
 # the number in a context that makes it that default (a bare "1.4" may be
 # anything; "1.4 m/s" or "velocity ... 1.4" is the strike velocity).
-DEFAULTS = [
-    ('yield_ratio 0.0414', r'\b0\.0414\b'),
-    ('yield_exponent 0.70', r'(yield|exponent|\^|\bp\b).*\b0\.70\b|\b0\.70\b.*(yield|exponent)'),
-    ('hammer_mass_kg 0.010 (10 g)',
-     r'(hammer|\bm1\b|\brig\b|mass).{0,40}(\b0\.010\b|\b10 ?g\b)|(\b0\.010\b|\b10 ?g\b).{0,20}(hammer|\bkg\b)'),
-    ('measure_snr_threshold_db 15', r'\b15(\.0)? ?dB\b|snr\w*\W?\s*[:=]\s*15(\.0)?(?![.\d])'),
-    ('hum 50 Hz', r'\b50(\.0)? ?Hz\b|hum_hz\W?\s*[:=]\s*50(\.0)?(?![.\d])'),
-    ('strike_velocity_m_s 1.4', r'\b1\.4 ?m/s\b|(velocity|\bv0).{0,40}\b1\.4(?![.\d]| ?ms)'),
-]
+def table_values(root):
+    """The shipped defaults, as the generated YAML files state them (the
+    hammer's rig mass is the station file's commented optional row)."""
+    want = {'yield_ratio', 'yield_exponent', 'measure_snr_threshold_db', 'measure_hum_hz',
+            'strike_velocity_m_s', 'hammer_mass_kg'}
+    v = {}
+    for name in ('station.yaml', 'jonagold.yaml'):
+        for line in open(os.path.join(root, 'config', name), encoding='utf-8'):
+            m = re.match(r'#?\s*(\w+):\s*([-+0-9.eE]+)\s', line)
+            if m and m.group(1) in want and m.group(1) not in v:
+                v[m.group(1)] = m.group(2)
+    missing = want - set(v)
+    if missing:
+        sys.exit('test_stray_numbers: no value of %s in config/*.yaml' % sorted(missing))
+    return v
+
+def num(text):
+    """A regex of a number as written (1.4, 15.0 or 15, 0.70, 0.010)."""
+    x = float(text)
+    forms = {text, repr(x), '%g' % x}
+    if x == int(x):
+        forms.add('%d' % x)
+    return '(?:%s)' % '|'.join(re.escape(f) for f in sorted(forms, key=len, reverse=True))
+
+def defaults(v):
+    """Each default: its name and a regex of a line stating it (case-
+    insensitive): the number in a context that makes it that default (a bare
+    "1.4" may be anything; "1.4 m/s" or "velocity ... 1.4" is the strike
+    velocity)."""
+    g = num('%g' % (float(v['hammer_mass_kg']) * 1000.0))
+    kg = num(v['hammer_mass_kg'])
+    snr, hum, vel = num(v['measure_snr_threshold_db']), num(v['measure_hum_hz']), num(
+        v['strike_velocity_m_s'])
+    return [
+        ('yield_ratio ' + v['yield_ratio'], r'(?<![.\d])%s(?![\d])' % num(v['yield_ratio'])),
+        ('yield_exponent ' + v['yield_exponent'],
+         r'(yield|exponent|\^|\bp\b).*(?<![.\d])%s(?![.\d])|(?<![.\d])%s(?![.\d]).*(yield|exponent)'
+         % (num(v['yield_exponent']), num(v['yield_exponent']))),
+        ('hammer_mass_kg %s (%s g)' % (v['hammer_mass_kg'], '%g' % (float(v['hammer_mass_kg']) * 1e3)),
+         r'(hammer|\bm1\b|\brig\b|mass).{0,40}((?<![.\d])%s(?![.\d])|\b%s ?g\b)|((?<![.\d])%s(?![.\d])|\b%s ?g\b).{0,20}(hammer|\bkg\b)'
+         % (kg, g, kg, g)),
+        ('measure_snr_threshold_db ' + v['measure_snr_threshold_db'],
+         r'(?<![.\d])%s ?dB\b|snr\w*\W?\s*[:=]\s*%s(?![.\d])' % (snr, snr)),
+        ('measure_hum_hz ' + v['measure_hum_hz'],
+         r'(?<![.\d])%s ?Hz\b|hum_hz\W?\s*[:=]\s*%s(?![.\d])' % (hum, hum)),
+        ('strike_velocity_m_s ' + v['strike_velocity_m_s'],
+         r'(?<![.\d])%s ?m/s\b|(velocity|\bv0).{0,40}(?<![.\d])%s(?![.\d]| ?ms)' % (vel, vel)),
+    ]
+
+DEFAULTS = defaults(table_values(sys.argv[3]))
 # The table and what is generated from it (checked by scripts_doc_parameters
 # and cli_test_paper): not scanned.
 SKIP = {'src/core/settings.c', 'src/core/settings_table.c', 'config/station.yaml',
@@ -134,13 +164,14 @@ for f in sorted(files):
                 print('%s:%d: %s typed outside the table: %s' % (rel, k, name, text.strip()[:160]))
 for path, part, used in allow:
     if not used and os.path.exists(os.path.join(root, path)):
-        print('note: allow-list entry matches no line (drop it): %s | %s' % (path, part))
+        strays += 1
+        print('%s: allow-list entry matches no line stating a default (the default changed, or '
+              'the line did: update or drop it): %s' % (path, part))
 sys.exit(1 if strays else 0)
 PY
 }
 
 if scan "$AF_ROOT" "$tmp/allow" >"$tmp/out"; then
-  grep '^note:' "$tmp/out" || true
   echo "test_stray_numbers: no default outside the table ($(grep -cv '^#\|^$' "$tmp/allow") allowed lines)"
 else
   cat "$tmp/out" >&2
@@ -150,10 +181,25 @@ fi
 # The scanner must see a planted stray: a tool starting from its own 1.4 m/s.
 mkdir -p "$tmp/plant/src/tools"
 printf 'static const double v0 = 1.4; /* strike velocity [m/s] */\n' >"$tmp/plant/src/tools/planted.c"
-if scan "$tmp/plant" "$tmp/allow" >"$tmp/plant.out"; then
+if scan "$tmp/plant" /dev/null >"$tmp/plant.out"; then
   bad "a planted 1.4 m/s in src/tools/planted.c was not reported"
 else
   grep -q '^src/tools/planted.c:1: strike_velocity_m_s' "$tmp/plant.out" ||
     bad "the planted stray was reported wrongly: $(cat "$tmp/plant.out")"
+fi
+
+# And a quote allow-listed for the old default must fail once the table's
+# default changes: a scratch config with strike_velocity_m_s 1.5.
+mkdir -p "$tmp/stale/doc" "$tmp/stale/config"
+cp "$AF_ROOT/config/station.yaml" "$AF_ROOT/config/jonagold.yaml" "$tmp/stale/config/"
+sed -i 's/^strike_velocity_m_s: 1.4 /strike_velocity_m_s: 1.5 /' "$tmp/stale/config/station.yaml"
+grep -q '^strike_velocity_m_s: 1.5 ' "$tmp/stale/config/station.yaml" || bad "no strike_velocity_m_s line to change"
+printf 'The strike runs at 1.4 m/s.\n' >"$tmp/stale/doc/page.md"
+printf 'doc/page.md | runs at 1.4 m/s\n' >"$tmp/stale/allow"
+if scan "$tmp/stale" "$tmp/stale/allow" "$tmp/stale" >"$tmp/stale.out"; then
+  bad "a quote of the old default (1.4 m/s, table now 1.5) was not reported"
+else
+  grep -q '^doc/page.md: allow-list entry matches no line' "$tmp/stale.out" ||
+    bad "the stale quote was reported wrongly: $(cat "$tmp/stale.out")"
 fi
 exit "$fail"
