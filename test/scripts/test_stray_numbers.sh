@@ -43,12 +43,8 @@ doc/cli.md | (default 0.0414, range [0.001, 1]
 doc/cli.md | config/rig.urdf: 10 g,
 doc/cli.md | The paper's 10 g at 1.4 m/s is not feasible
 doc/parameters.md | The shipped rig's hammer (10 g, a flat face)
-doc/parameters.md | **yield_ratio** (double, 0.0414, [0.001, 1], –), **yield_exponent** (double, 0.70
-doc/parameters.md | 12 dB let about 0.1 % of noise-only windows through as a resonance, 15 dB none of
-doc/parameters.md | 12 dB and `analyze` with 15 dB until
 doc/report.md | the shipped rig's hammer (10 g, flat face)
 doc/tests.md | (the value stays 15 dB;
-doc/parameters.md | - **strike_velocity_m_s** (double, 1.4, [0.05, 10], m/s): contact velocity.
 # example output: printed by the tools from the table (scripts_doc_examples
 # re-runs each and compares)
 doc/cli.md | contact velocity [m/s] (default 1.4)
