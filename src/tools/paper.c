@@ -424,15 +424,22 @@ static af_status grid(af_paper *w, const af_model_params *base, int *n_rel, int 
   return AF_OK;
 }
 
-static af_status claim_harder(af_paper *w, int prof, af_claim_row *row)
+/* The profile's strike on the paper's softest and firmest apples (E2 2 and
+ * 12 MPa, the ends of its grid). */
+static af_status eval_soft_firm(af_paper *w, int prof, af_model_result *soft, af_model_result *firm)
 {
   af_model_params p = profile(prof);
+  p.impact.fruit_modulus_pa = grid_e2[0];
+  af_status st = eval(w, &p, soft);
+  p.impact.fruit_modulus_pa = grid_e2[3];
+  return st == AF_OK ? eval(w, &p, firm) : st;
+}
+
+static af_status claim_harder(af_paper *w, int prof, af_claim_row *row)
+{
+  const af_model_params p = profile(prof);
   af_model_result r2, r12;
-  p.impact.fruit_modulus_pa = 2e6;
-  af_status st = eval(w, &p, &r2);
-  p.impact.fruit_modulus_pa = 12e6;
-  if (st == AF_OK)
-    st = eval(w, &p, &r12);
+  af_status st = eval_soft_firm(w, prof, &r2, &r12);
   if (st != AF_OK)
     return st;
   double c2 = 0.5 * (r2.band.band_low_hz + r2.band.band_high_hz);
@@ -672,13 +679,8 @@ static af_status claim_restitution_tc(af_paper *w, int prof, af_claim_row *row)
     de[i] = r.impact.delivered_restitution;
     lo = fmin(lo, tc[i]), hi = fmax(hi, tc[i]);
   }
-  af_model_params p = profile(prof);
   af_model_result a, b;
-  p.impact.fruit_modulus_pa = 2e6;
-  af_status st = eval(w, &p, &a);
-  p.impact.fruit_modulus_pa = 12e6;
-  if (st == AF_OK)
-    st = eval(w, &p, &b);
+  af_status st = eval_soft_firm(w, prof, &a, &b);
   if (st != AF_OK)
     return st;
   double spread = hi / lo - 1.0;
