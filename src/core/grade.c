@@ -3,27 +3,14 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "text.h"
+
 static const char *const quantity_names[] = {"stiffness_factor", "modulus_from_resonance",
                                              "fitted_modulus"};
-
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-static void
-say(char *err, size_t len, const char *fmt, ...)
-{
-  if (err == NULL || len == 0)
-    return;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, len, fmt, ap);
-  va_end(ap);
-}
 
 static bool valid_quantity(af_grade_quantity q)
 {
@@ -85,22 +72,22 @@ static af_status parse_name(const char *tok, size_t n, const char *name, af_grad
 {
   char *dst = g->names[g->n_classes];
   if (!trimmed(tok, n, dst, AF_GRADE_NAME_MAX)) {
-    say(err, len, "%s: class %zu's name '%.40s...' is longer than %d characters", name,
-        g->n_classes + 1, tok, AF_GRADE_NAME_MAX - 1);
+    af_text(err, len, "%s: class %zu's name '%.40s...' is longer than %d characters", name,
+            g->n_classes + 1, tok, AF_GRADE_NAME_MAX - 1);
     return AF_EINVAL;
   }
   if (dst[0] == '\0') {
-    say(err, len, "%s: class %zu has no name (expected 'name | boundary | name ...')", name,
-        g->n_classes + 1);
+    af_text(err, len, "%s: class %zu has no name (expected 'name | boundary | name ...')", name,
+            g->n_classes + 1);
     return AF_EINVAL;
   }
   if (strcmp(dst, AF_GRADE_UNGRADED) == 0) {
-    say(err, len, "%s: '%s' is reserved for strikes without a class", name, dst);
+    af_text(err, len, "%s: '%s' is reserved for strikes without a class", name, dst);
     return AF_EINVAL;
   }
   for (size_t k = 0; k < g->n_classes; k++)
     if (strcmp(g->names[k], dst) == 0) {
-      say(err, len, "%s: class name '%s' is given twice", name, dst);
+      af_text(err, len, "%s: class name '%s' is given twice", name, dst);
       return AF_EINVAL;
     }
   g->n_classes++;
@@ -115,29 +102,30 @@ static af_status parse_bound(const char *tok, size_t n, const char *name, af_gra
   af_grade_quantity_range(g->quantity, &lo, &hi);
   const char *after = g->names[g->n_classes - 1];
   if (!trimmed(tok, n, text, sizeof text) || text[0] == '\0') {
-    say(err, len, "%s: no boundary after class '%s' (expected a number in %s)", name, after,
-        af_grade_quantity_unit(g->quantity));
+    af_text(err, len, "%s: no boundary after class '%s' (expected a number in %s)", name, after,
+            af_grade_quantity_unit(g->quantity));
     return AF_EINVAL;
   }
   errno = 0;
   double v = strtod(text, &end);
   if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
-    say(err, len, "%s: boundary '%s' after class '%s' is not a number", name, text, after);
+    af_text(err, len, "%s: boundary '%s' after class '%s' is not a number", name, text, after);
     return AF_EINVAL;
   }
   if (!(v >= lo && v <= hi)) {
-    say(err, len,
-        "%s: boundary %g after class '%s' is outside the accepted range [%g, %g] %s of %s", name, v,
-        after, lo, hi, af_grade_quantity_unit(g->quantity), af_grade_quantity_name(g->quantity));
+    af_text(err, len,
+            "%s: boundary %g after class '%s' is outside the accepted range [%g, %g] %s of %s",
+            name, v, after, lo, hi, af_grade_quantity_unit(g->quantity),
+            af_grade_quantity_name(g->quantity));
     return AF_EINVAL;
   }
   if (g->n_classes >= 2 && !(v > g->lower[g->n_classes - 1])) {
-    say(err, len, "%s: boundary %g after class '%s' must be above the one before (%g)", name, v,
-        after, g->lower[g->n_classes - 1]);
+    af_text(err, len, "%s: boundary %g after class '%s' must be above the one before (%g)", name, v,
+            after, g->lower[g->n_classes - 1]);
     return AF_EINVAL;
   }
   if (g->n_classes >= AF_GRADE_CLASSES_MAX) {
-    say(err, len, "%s: more than %d classes", name, AF_GRADE_CLASSES_MAX);
+    af_text(err, len, "%s: more than %d classes", name, AF_GRADE_CLASSES_MAX);
     return AF_EINVAL;
   }
   g->lower[g->n_classes] = v;
@@ -148,7 +136,7 @@ af_status af_grade_config_parse(af_grade_quantity q, const char *spec, const cha
                                 af_grade_config *out, char *err, size_t len)
 {
   if (out == NULL || spec == NULL || !valid_quantity(q)) {
-    say(err, len, "af_grade_config_parse: a NULL argument or an unknown quantity");
+    af_text(err, len, "af_grade_config_parse: a NULL argument or an unknown quantity");
     return AF_EINVAL;
   }
   memset(out, 0, sizeof *out);
@@ -171,8 +159,8 @@ af_status af_grade_config_parse(af_grade_quantity q, const char *spec, const cha
     }
     if (p[n] == '\0') {
       if (k % 2 == 1) {
-        say(err, len, "%s: no class name after the last boundary %g", name,
-            out->lower[out->n_classes]);
+        af_text(err, len, "%s: no class name after the last boundary %g", name,
+                out->lower[out->n_classes]);
         memset(out, 0, sizeof *out);
         return AF_EINVAL;
       }
@@ -190,7 +178,7 @@ af_status af_grade_config_from_settings(const af_settings *s, af_grade_config *o
   const af_setting_def *d = af_setting_def_of(AF_SETTING_GRADE_QUANTITY);
   if (af_settings_choice(s, AF_SETTING_GRADE_QUANTITY, word, sizeof word) != AF_OK ||
       af_grade_quantity_parse(word, &q) != AF_OK) {
-    say(err, len, "%s%s = '%s' is not one of: %s", s->name_prefix, d->name, word, d->choices);
+    af_text(err, len, "%s%s = '%s' is not one of: %s", s->name_prefix, d->name, word, d->choices);
     return AF_EINVAL;
   }
   snprintf(name, sizeof name, "%s%s", s->name_prefix,

@@ -6,6 +6,8 @@
 
 void af_text(char *buf, size_t len, const char *fmt, ...)
 {
+  if (buf == NULL || len == 0) /* no room asked for: a caller's optional err */
+    return;
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(buf, len, fmt, ap);

@@ -11,7 +11,8 @@ extern "C" {
 /* snprintf into buf[len], cut at len - 1 characters. Operator texts and
  * reasons are capped by the message fields (AF_TEXT_MAX): a long one is
  * meant to be cut, never to overflow, so one place says so instead of
- * every call site silencing -Wformat-truncation. */
+ * every call site silencing -Wformat-truncation. buf NULL or len 0:
+ * nothing is written (an optional error text). */
 void af_text(char *buf, size_t len, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

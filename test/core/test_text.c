@@ -53,6 +53,8 @@ static void test_cut(void)
   guard(buf, sizeof buf);
   af_text(buf, 0, "%s", "anything"); /* len 0: nothing written, not even the NUL */
   AF_CHECK(untouched_from(buf, 0, sizeof buf));
+  af_text(NULL, 16, "%s", "anything"); /* no buffer (an optional error text): no write, no crash */
+  AF_CHECK(untouched_from(buf, 0, sizeof buf));
   /* A long reason into a message-sized field: cut at 255 characters. */
   char big[300], field[256];
   memset(big, 'x', sizeof big - 1);
