@@ -26,8 +26,8 @@ assert sorted(o['apple_id'] for o in rep['strikes']) == list(range(1, n + 1))
 assert len(rows) == n and [int(r['apple_id']) for r in rows] == [o['apple_id'] for o in rep['strikes']]
 for o in rep['strikes']:
     t = truth[o['apple_id']]
-    assert abs(o['resonance'] / float(t['resonance_hz']) - 1) < 0.01, (o, t)
-    assert abs(o['fitted_modulus'] / float(t['modulus_pa']) - 1) < 0.05, (o, t)
+    assert abs(o['resonance_hz'] / float(t['resonance_hz']) - 1) < 0.01, (o, t)
+    assert abs(o['fitted_modulus_pa'] / float(t['modulus_pa']) - 1) < 0.05, (o, t)
     assert abs(o['stamp_ns'] * 1e-9 - float(t['contact_start_s'])) < 5 / 50000.0, (o, t)
     assert abs(o['mass_kg'] - float(t['mass_kg'])) < 1e-6, (o, t)  # truth: 6 decimals
     assert o['reliable'] == (o['flags'] == []) and o['reliable'] == (o['reason'] == ''), o
