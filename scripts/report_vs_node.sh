@@ -6,7 +6,8 @@
 # the node's StrikeReport and measured Reliability messages are recorded, and
 # firmness_report --json of the same bag must give the same strikes, apple
 # ids, verdicts, reasons and grades, and every figure the same double (every
-# field of both messages under its own name in the report, serialize.h).
+# field of both messages in the report's field that firmness_report --fields
+# maps to it, serialize.h).
 #   bash scripts/report_vs_node.sh [N] [SEED]
 # Exit 0 when they agree. The strikes rostest does the same on 100 strikes.
 set -euo pipefail
@@ -34,4 +35,5 @@ af_wait_node /lane1/firmness_node
 echo "report_vs_node: replaying $N strikes at ${RATE}x through the node"
 af_replay_record "$tmp/in.bag" "$tmp/out.bag" lane1 "$RATE"
 "$lib/firmness_report" "$tmp/in.bag" --json --bench >"$tmp/report.json"
-/usr/bin/python3 "$(dirname "$0")/node_vs_report.py" "$tmp/report.json" "$tmp/out.bag" "$N"
+/usr/bin/python3 "$(dirname "$0")/node_vs_report.py" "$tmp/report.json" "$tmp/out.bag" "$N" \
+  "$lib/firmness_report"

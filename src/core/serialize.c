@@ -51,57 +51,68 @@ typedef enum {
 } field_id;
 
 static const af_serial_field fields[F_COUNT] = {
-    [F_STAMP_NS] = {"stamp_ns", AF_SERIAL_INT, "ns", SR, "contact start (header.stamp)"},
-    [F_FRAME_ID] = {"frame_id", AF_SERIAL_TEXT, "", SR, "the force chunk's (header.frame_id)"},
-    [F_APPLE_ID] = {"apple_id", AF_SERIAL_INT, "-", SR, "the matched apple; 0 = none"},
-    [F_WITH_AUDIO] = {"with_audio", AF_SERIAL_BOOL, "-", NULL, "an audio window was analysed"},
-    [F_CONTACT_TIME] = {"contact_time", AF_SERIAL_REAL, "s", SR,
+    [F_STAMP_NS] = {"stamp_ns", AF_SERIAL_INT, "ns", SR, "header.stamp",
+                    "contact start, since the epoch"},
+    [F_FRAME_ID] = {"frame_id", AF_SERIAL_TEXT, "", SR, "header.frame_id",
+                    "the force chunk's frame"},
+    [F_APPLE_ID] = {"apple_id", AF_SERIAL_INT, "-", SR, "apple_id", "the matched apple; 0 = none"},
+    [F_WITH_AUDIO] = {"with_audio", AF_SERIAL_BOOL, "-", NULL, NULL,
+                      "an audio window was analysed"},
+    [F_CONTACT_TIME] = {"contact_time_s", AF_SERIAL_REAL, "s", SR, "contact_time",
                         "contact time of the fitted impact model (the detector's when the fit "
                         "fails)"},
-    [F_PEAK_FORCE] = {"peak_force", AF_SERIAL_REAL, "N", SR, "peak force, baseline removed"},
-    [F_IMPULSE] = {"impulse", AF_SERIAL_REAL, "N s", SR, "force integrated over the contact"},
-    [F_BAND_LOW] = {"band_low", AF_SERIAL_REAL, "Hz", SR,
+    [F_PEAK_FORCE] = {"peak_force_n", AF_SERIAL_REAL, "N", SR, "peak_force",
+                      "peak force, baseline removed"},
+    [F_IMPULSE] = {"impulse_n_s", AF_SERIAL_REAL, "N s", SR, "impulse",
+                   "force integrated over the contact"},
+    [F_BAND_LOW] = {"band_low_hz", AF_SERIAL_REAL, "Hz", SR, "band_low",
                     "half-power band of the configured lobe of the pulse, low edge"},
-    [F_BAND_HIGH] = {"band_high", AF_SERIAL_REAL, "Hz", SR, "the same band, high edge"},
-    [F_RESONANCE] = {"resonance", AF_SERIAL_REAL, "Hz", SR, "0S2 frequency found in the audio"},
-    [F_RESONANCE_Q] = {"resonance_q", AF_SERIAL_REAL, "-", SR, "its quality factor"},
-    [F_SNR_DB] = {"snr_db", AF_SERIAL_REAL, "dB", SR, "its peak over the noise per bin"},
-    [F_STIFFNESS_FACTOR] = {"stiffness_factor", AF_SERIAL_REAL, "Hz^2 kg^(2/3)", SR,
-                            "resonance^2 mass^(2/3)"},
-    [F_MODULUS_FROM_RESONANCE] = {"modulus_from_resonance", AF_SERIAL_REAL, "Pa", SR,
+    [F_BAND_HIGH] = {"band_high_hz", AF_SERIAL_REAL, "Hz", SR, "band_high",
+                     "the same band, high edge"},
+    [F_RESONANCE] = {"resonance_hz", AF_SERIAL_REAL, "Hz", SR, "resonance",
+                     "0S2 frequency found in the audio"},
+    [F_RESONANCE_Q] = {"resonance_q", AF_SERIAL_REAL, "-", SR, "resonance_q", "its quality factor"},
+    [F_SNR_DB] = {"snr_db", AF_SERIAL_REAL, "dB", SR, "snr_db", "its peak over the noise per bin"},
+    [F_STIFFNESS_FACTOR] = {"stiffness_factor_hz2_kg2_3", AF_SERIAL_REAL, "Hz^2 kg^(2/3)", SR,
+                            "stiffness_factor", "resonance^2 mass^(2/3)"},
+    [F_MODULUS_FROM_RESONANCE] = {"modulus_from_resonance_pa", AF_SERIAL_REAL, "Pa", SR,
+                                  "modulus_from_resonance",
                                   "E2 from the 0S2 (Lamb), divided by the modulus factor"},
-    [F_FITTED_MODULUS] = {"fitted_modulus", AF_SERIAL_REAL, "Pa", SR,
+    [F_FITTED_MODULUS] = {"fitted_modulus_pa", AF_SERIAL_REAL, "Pa", SR, "fitted_modulus",
                           "E2 of the impact model fitted to the pulse"},
-    [F_FITTED_RESTITUTION] = {"fitted_restitution", AF_SERIAL_REAL, "-", SR,
+    [F_FITTED_RESTITUTION] = {"fitted_restitution", AF_SERIAL_REAL, "-", SR, "fitted_restitution",
                               "coefficient of restitution of that fit"},
-    [F_FIT_RESIDUAL] = {"fit_residual", AF_SERIAL_REAL, "-", SR,
+    [F_FIT_RESIDUAL] = {"fit_residual", AF_SERIAL_REAL, "-", SR, "fit_residual",
                         "RMS residual of the fit / peak force"},
-    [F_DOUBLE_HIT] = {"double_hit", AF_SERIAL_BOOL, "-", SR, "the hammer bounced"},
-    [F_CLIPPED] = {"clipped", AF_SERIAL_BOOL, "-", SR, "a force sample reached full scale"},
-    [F_LOST_SAMPLES] = {"lost_samples", AF_SERIAL_INT, "samples", SR,
+    [F_DOUBLE_HIT] = {"double_hit", AF_SERIAL_BOOL, "-", SR, "double_hit", "the hammer bounced"},
+    [F_CLIPPED] = {"clipped", AF_SERIAL_BOOL, "-", SR, "clipped",
+                   "a force sample reached full scale"},
+    [F_LOST_SAMPLES] = {"lost_samples", AF_SERIAL_INT, "samples", SR, "lost_samples",
                         "force samples missing around the strike"},
-    [F_GRADE_INDEX] = {"grade_index", AF_SERIAL_INT, "-", SR,
+    [F_GRADE_INDEX] = {"grade_index", AF_SERIAL_INT, "-", SR, "grade_index",
                        "firmness class 1..N, softest first; 0 = ungraded"},
-    [F_GRADE] = {"grade", AF_SERIAL_TEXT, "", SR, "the class name, or \"ungraded\""},
-    [F_GRADE_REASON] = {"grade_reason", AF_SERIAL_TEXT, "", SR, "why ungraded; \"\" when graded"},
-    [F_EXCITES_MODE] = {"excites_mode", AF_SERIAL_BOOL, "-", REL,
+    [F_GRADE] = {"grade", AF_SERIAL_TEXT, "", SR, "grade", "the class name, or \"ungraded\""},
+    [F_GRADE_REASON] = {"grade_reason", AF_SERIAL_TEXT, "", SR, "grade_reason",
+                        "why ungraded; \"\" when graded"},
+    [F_EXCITES_MODE] = {"excites_mode", AF_SERIAL_BOOL, "-", REL, "excites_mode",
                         "the resonance lies in the measured band"},
-    [F_NO_DAMAGE] = {"no_damage", AF_SERIAL_BOOL, "-", REL,
+    [F_NO_DAMAGE] = {"no_damage", AF_SERIAL_BOOL, "-", REL, "no_damage",
                      "max shear stress below the yield shear stress"},
-    [F_RELIABLE] = {"reliable", AF_SERIAL_BOOL, "-", REL, "both, and a clean strike"},
-    [F_MAX_SHEAR_STRESS] = {"max_shear_stress", AF_SERIAL_REAL, "Pa", REL,
+    [F_RELIABLE] = {"reliable", AF_SERIAL_BOOL, "-", REL, "reliable", "both, and a clean strike"},
+    [F_MAX_SHEAR_STRESS] = {"max_shear_stress_pa", AF_SERIAL_REAL, "Pa", REL, "max_shear_stress",
                             "tau_max from the peak force and the fitted E2"},
-    [F_YIELD_SHEAR_STRESS] = {"yield_shear_stress", AF_SERIAL_REAL, "Pa", REL,
-                              "yield shear stress of the fitted E2"},
-    [F_REASON] = {"reason", AF_SERIAL_TEXT, "", REL, "why not reliable; \"\" when reliable"},
-    [F_FLAGS] = {"flags", AF_SERIAL_FLAGS, "", NULL, "the verdict's flags (verdict.h)"},
-    [F_MODE_METHOD] = {"mode_method", AF_SERIAL_TEXT, "", NULL,
+    [F_YIELD_SHEAR_STRESS] = {"yield_shear_stress_pa", AF_SERIAL_REAL, "Pa", REL,
+                              "yield_shear_stress", "yield shear stress of the fitted E2"},
+    [F_REASON] = {"reason", AF_SERIAL_TEXT, "", REL, "reason",
+                  "why not reliable; \"\" when reliable"},
+    [F_FLAGS] = {"flags", AF_SERIAL_FLAGS, "", NULL, NULL, "the verdict's flags (verdict.h)"},
+    [F_MODE_METHOD] = {"mode_method", AF_SERIAL_TEXT, "", NULL, NULL,
                        "how the 0S2 was identified among the peaks (modes.h)"},
-    [F_MODE_CONFIDENCE] = {"mode_confidence", AF_SERIAL_REAL, "-", NULL,
+    [F_MODE_CONFIDENCE] = {"mode_confidence", AF_SERIAL_REAL, "-", NULL, NULL,
                            "confidence of that identification, [0, 1]"},
-    [F_MODE_AMBIGUOUS] = {"mode_ambiguous", AF_SERIAL_BOOL, "-", NULL,
+    [F_MODE_AMBIGUOUS] = {"mode_ambiguous", AF_SERIAL_BOOL, "-", NULL, NULL,
                           "another peak could be the 0S2"},
-    [F_MODE_TEXT] = {"mode_text", AF_SERIAL_TEXT, "", NULL,
+    [F_MODE_TEXT] = {"mode_text", AF_SERIAL_TEXT, "", NULL, NULL,
                      "the identification in words; \"\" when none ran"},
 };
 
@@ -169,6 +180,61 @@ const af_serial_field *af_serial_fields(size_t *n)
   if (n)
     *n = F_COUNT;
   return fields;
+}
+
+const char *af_serial_kind_name(af_serial_kind kind)
+{
+  switch (kind) {
+  case AF_SERIAL_REAL: return "real";
+  case AF_SERIAL_INT: return "integer";
+  case AF_SERIAL_BOOL: return "boolean";
+  case AF_SERIAL_TEXT: return "text";
+  case AF_SERIAL_FLAGS: return "flags";
+  }
+  return "?";
+}
+
+void af_serialize_fields_markdown(FILE *out)
+{
+  fputs("| field | type | unit | message field | meaning |\n|---|---|---|---|---|\n", out);
+  for (int k = 0; k < F_COUNT; k++) {
+    const af_serial_field *f = &fields[k];
+    fprintf(out, "| `%s` | %s | %s | ", f->name, af_serial_kind_name(f->kind), f->unit);
+    if (f->message)
+      fprintf(out, "%s.%s", f->message, f->message_field);
+    else
+      fputs("report-only", out);
+    fprintf(out, " | %s |\n", f->meaning);
+  }
+}
+
+/* A JSON string, or null for NULL. */
+static void json_text_or_null(FILE *out, const char *text)
+{
+  if (text)
+    af_json_string(out, text);
+  else
+    fputs("null", out);
+}
+
+void af_serialize_fields_json(FILE *out)
+{
+  fputs("[\n", out);
+  for (int k = 0; k < F_COUNT; k++) {
+    const af_serial_field *f = &fields[k];
+    fputs("  {\"name\": ", out);
+    af_json_string(out, f->name);
+    fprintf(out, ", \"type\": \"%s\", \"unit\": ", af_serial_kind_name(f->kind));
+    af_json_string(out, f->unit);
+    fputs(", \"message\": ", out);
+    json_text_or_null(out, f->message);
+    fputs(", \"message_field\": ", out);
+    json_text_or_null(out, f->message_field);
+    fputs(", \"meaning\": ", out);
+    af_json_string(out, f->meaning);
+    fprintf(out, "}%s\n", k + 1 < F_COUNT ? "," : "");
+  }
+  fputs("]\n", out);
 }
 
 /* The names of the set flags in flag order, separated by sep. */

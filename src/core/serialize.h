@@ -1,12 +1,14 @@
 /* serialize.h — one measured strike as text: a JSON object and a CSV row,
  * from one table of fields, for every desk tool (firmness_model analyze,
  * firmness_report). The node sends the same figures as messages (its
- * StrikeReport and measured Reliability); a field carried by one of those
- * messages has the message's own name here (StrikeReport's `resonance`,
- * `peak_force`, ...: their units are in msg/StrikeReport.msg and in the
- * table), so that a strike can be compared with the node's field by field
- * (scripts/node_vs_report.py). A field no message carries is report-only and
- * carries its unit in its name (`stamp_ns`, `mode_confidence`).
+ * StrikeReport and measured Reliability); the messages' field names stay
+ * as they are (an interface for subscribers), but here every field carries
+ * its SI unit in its name (`resonance_hz`, `peak_force_n`, `impulse_n_s`,
+ * `max_shear_stress_pa`; a dimensionless one none: `resonance_q`), and each
+ * row of the table names the message field it is (StrikeReport.resonance;
+ * NULL: report-only), so that a strike can be compared with the node's
+ * field by field through the table (firmness_report --fields --json, read
+ * by scripts/node_vs_report.py).
  *
  * One precision: every real in the fewest of 15, 16 or 17 significant
  * digits (%.*g) that read back as the same double (17 always do), so that
@@ -61,17 +63,28 @@ typedef enum {
 
 /* One row of the table. */
 typedef struct {
-  const char *name; /* JSON key and CSV column */
+  const char *name; /* JSON key and CSV column: unit-suffixed (the unit's
+                       lower-case symbols joined by _: "N s" -> _n_s) */
   af_serial_kind kind;
-  const char *unit;    /* SI unit, "-" for none, "" for text and flags */
-  const char *message; /* "StrikeReport" or "Reliability" (the node's message that carries it
-                          under the same name; header.stamp as ns for stamp_ns) or NULL:
-                          report-only */
+  const char *unit;          /* SI unit, "-" for none, "" for text and flags */
+  const char *message;       /* "StrikeReport" or "Reliability": the node's message that
+                                carries it, or NULL: report-only */
+  const char *message_field; /* its field there ("resonance", "header.stamp" as ns), or NULL */
   const char *meaning;
 } af_serial_field;
 
 /* The table, in the order written: *n rows. */
 const af_serial_field *af_serial_fields(size_t *n);
+/* "real", "integer", "boolean", "text" or "flags". */
+const char *af_serial_kind_name(af_serial_kind kind);
+/* The table as a markdown table (field, type, unit, message.field or
+ * "report-only", meaning), header line included, each row ending in \n:
+ * firmness_report --fields, the generated block of doc/report.md. */
+void af_serialize_fields_markdown(FILE *out);
+/* The same as a JSON array of {name, type, unit, message, message_field,
+ * meaning} (null for a report-only field's message): firmness_report
+ * --fields --json, read by scripts/node_vs_report.py. */
+void af_serialize_fields_json(FILE *out);
 
 /* The members of s's JSON object, "key": value, separated by sep (", " for
  * one line, ",\n      " for one member per line); no braces. */

@@ -2,6 +2,7 @@
  *
  *   firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME] [--set NAME=VALUE]
  *                   [--csv FILE] [--plots DIR] [--json] [--bench]   (flags: af_report_options)
+ *   firmness_report --fields [--json]
  *
  * Reads BAG through the shim's rosbag reader (no ROS master), runs the
  * recorded force, audio and apple topics of lane NS through the core lane
@@ -9,7 +10,10 @@
  * strike with its apple's prediction and the measurement, then the summary
  * (summary.h); --json prints the same as one JSON document, --csv writes one
  * row per strike, --plots draws the figures (report_plots.h), --bench tells
- * the recorded time processed per wall-clock second. Configured from the
+ * the recorded time processed per wall-clock second; --fields prints the
+ * table of a strike's fields instead (serialize.h: name, type, unit, the
+ * message field it is or report-only, meaning) as markdown, or with --json
+ * as a JSON array. Configured from the
  * node's YAML files (default: the package's config/station.yaml and
  * config/jonagold.yaml) through the one parameter table; the hammer is the
  * shipped rig's (the table's rig values) unless a file or --set gives it.
@@ -28,6 +32,7 @@
 #include "options.h"
 #include "output.h"
 #include "report_plots.h"
+#include "serialize.h"
 #include "session.h"
 #include "settings.h"
 #include "summary.h"
@@ -44,7 +49,7 @@ typedef struct {
   const char *bag, *config, *cultivar, *ns, *csv, *plots;
   const char *sets[AF_SETS_MAX];
   int n_sets;
-  bool json, bench;
+  bool json, bench, fields;
 } af_report_args;
 
 /* The defaults the parser starts from (and --help shows). */
@@ -77,6 +82,10 @@ static const af_option af_report_options[] = {
      "the report as JSON on stdout instead of text", NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
      "recorded time processed per wall-clock second, on stderr", NULL},
+    {"--fields", NULL, AF_OPTION_SWITCH, AF_ARG(fields), -1,
+     "print the strike fields (name, type, unit, message field, meaning) as a markdown table, "
+     "with --json as JSON, and exit; no BAG",
+     NULL},
 };
 #define AF_N_OPTIONS (sizeof af_report_options / sizeof af_report_options[0])
 
@@ -84,7 +93,8 @@ static void print_usage(FILE *out)
 {
   af_report_args d = report_args_default();
   fprintf(out,
-          "usage: firmness_report BAG [flags]\n\n"
+          "usage: firmness_report BAG [flags]\n"
+          "       firmness_report --fields [--json]\n\n"
           "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
           "through the station's lane, as the node judges it live, and reports every strike\n"
           "(its measurement, verdict flags and firmness grade) and a summary. No ROS master\n"
@@ -155,7 +165,12 @@ static int parse(int argc, char **argv, af_report_args *a)
     } else
       (void)af_option_store(o, v, a);
   }
-  if (!a->bag)
+  if (a->fields && a->bag)
+    return bad_flag("--fields takes no bag: '%s'%s", a->bag, "");
+  if (a->fields && (a->csv || a->plots || a->bench || a->n_sets))
+    return bad_flag("--fields takes only --json (not --csv, --plots, --bench or --set)%s%s", "",
+                    "");
+  if (!a->bag && !a->fields)
     return bad_flag("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
   return 0;
 }
@@ -242,6 +257,13 @@ int main(int argc, char **argv)
   int code = parse(argc, argv, &a);
   if (code)
     return code;
+  if (a.fields) {
+    if (a.json)
+      af_serialize_fields_json(stdout);
+    else
+      af_serialize_fields_markdown(stdout);
+    return 0;
+  }
   char ns[AF_SESSION_NS_MAX];
   if (!ns_valid(a.ns, ns, sizeof ns))
     return bad_flag("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "

@@ -176,9 +176,9 @@ static void json_strike(FILE *out, const af_session_strike *r, bool last)
   fputs("\"predicted\": ", out);
   if (r->predicted) {
     fputc('{', out);
-    json_num(out, "band_low_Hz", r->predicted_band_low_hz);
-    json_num(out, "band_high_Hz", r->predicted_band_high_hz);
-    json_num(out, "resonance_Hz", r->predicted_resonance_hz);
+    json_num(out, "band_low_hz", r->predicted_band_low_hz);
+    json_num(out, "band_high_hz", r->predicted_band_high_hz);
+    json_num(out, "resonance_hz", r->predicted_resonance_hz);
     fprintf(out, "\"reliable\": %s, \"reason\": ", r->predicted_reliable ? "true" : "false");
     af_json_string(out, r->predicted_reason);
     fputc('}', out);
@@ -245,10 +245,10 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
       first = false;
     }
   fputs("},\n    \"quantile_levels\": [0, 0.1, 0.25, 0.5, 0.75, 0.9, 1],\n", out);
-  json_quantiles(out, "resonance_Hz", &m->resonance_hz, false);
-  json_quantiles(out, "modulus_from_resonance_Pa", &m->modulus_from_resonance_pa, false);
-  json_quantiles(out, "fitted_modulus_Pa", &m->fitted_modulus_pa, false);
-  json_quantiles(out, "stiffness_factor", &m->stiffness_factor, false);
+  json_quantiles(out, "resonance_hz", &m->resonance_hz, false);
+  json_quantiles(out, "modulus_from_resonance_pa", &m->modulus_from_resonance_pa, false);
+  json_quantiles(out, "fitted_modulus_pa", &m->fitted_modulus_pa, false);
+  json_quantiles(out, "stiffness_factor_hz2_kg2_3", &m->stiffness_factor, false);
   json_quantiles(out, "modulus_ratio", &m->modulus_ratio, false);
   fputs("    ", out);
   json_num(out, "modulus_ratio_spread", m->modulus_ratio_spread);

@@ -83,28 +83,28 @@ sys.exit(0 if ($expr) else 1)"; then
 }
 
 run=(--force "$tmp/force.f32" --audio "$tmp/audio.f32" "${base[@]}")
-keys="stamp_ns frame_id apple_id with_audio contact_time peak_force impulse band_low band_high resonance resonance_q snr_db stiffness_factor modulus_from_resonance fitted_modulus fitted_restitution fit_residual double_hit clipped lost_samples grade_index grade grade_reason excites_mode no_damage reliable max_shear_stress yield_shear_stress reason flags mode_method mode_confidence mode_ambiguous mode_text"
+keys="stamp_ns frame_id apple_id with_audio contact_time_s peak_force_n impulse_n_s band_low_hz band_high_hz resonance_hz resonance_q snr_db stiffness_factor_hz2_kg2_3 modulus_from_resonance_pa fitted_modulus_pa fitted_restitution fit_residual double_hit clipped lost_samples grade_index grade grade_reason excites_mode no_damage reliable max_shear_stress_pa yield_shear_stress_pa reason flags mode_method mode_confidence mode_ambiguous mode_text"
 pykeys=$(printf "'%s'," $keys)
 # one report per strike, each with exactly the keys, at the strike's time
 json_check "len(d) == 3 and all(set(r) == {$pykeys} for r in d)" "${run[@]}"
 json_check "all(abs(r['stamp_ns'] * 1e-9 - s) < 2e-5 for r, s in zip(d, t['starts']))" "${run[@]}"
 # the 0S2 within 0.5 %, the modulus from it within 1 %
-json_check "all(abs(r['resonance'] - t['f0']) < 0.005 * t['f0'] for r in d)" "${run[@]}"
-json_check "all(abs(r['modulus_from_resonance'] - t['E_f']) < 0.01 * t['E_f'] for r in d)" "${run[@]}"
+json_check "all(abs(r['resonance_hz'] - t['f0']) < 0.005 * t['f0'] for r in d)" "${run[@]}"
+json_check "all(abs(r['modulus_from_resonance_pa'] - t['E_f']) < 0.01 * t['E_f'] for r in d)" "${run[@]}"
 # contact time within the detector's 4 % (1.0-1.2 % RMS at 40 dB), peak 2 %
-json_check "all(abs(r['contact_time'] - t['tc']) < 0.04 * t['tc'] for r in d)" "${run[@]}"
-json_check "all(abs(r['peak_force'] - t['peak']) < 0.02 * t['peak'] for r in d)" "${run[@]}"
+json_check "all(abs(r['contact_time_s'] - t['tc']) < 0.04 * t['tc'] for r in d)" "${run[@]}"
+json_check "all(abs(r['peak_force_n'] - t['peak']) < 0.02 * t['peak'] for r in d)" "${run[@]}"
 # the fit: E2 within 3 %, e within 0.05 (chi 0.975 is the exact law's e 0.6)
-json_check "all(abs(r['fitted_modulus'] - 8e6) < 0.03 * 8e6 and abs(r['fitted_restitution'] - 0.6) < 0.05 for r in d)" "${run[@]}"
+json_check "all(abs(r['fitted_modulus_pa'] - 8e6) < 0.03 * 8e6 and abs(r['fitted_restitution'] - 0.6) < 0.05 for r in d)" "${run[@]}"
 # clean strikes: no flags; 650 Hz inside the default strike's main lobe band; reliable
 json_check "all(r['double_hit'] is False and r['clipped'] is False and r['lost_samples'] == 0 for r in d)" "${run[@]}"
 json_check "all(r['reliable'] is True and r['reason'] == '' and r['flags'] == [] and r['snr_db'] > 15 for r in d)" "${run[@]}"
 json_check "all(r['apple_id'] == 1 for r in d) and J['no_strike_reason'] is None" "${run[@]}"
 # the audio recording started 50 ms late, said so: the same resonances
-json_check "len(d) == 3 and all(abs(r['resonance'] - t['f0']) < 0.005 * t['f0'] for r in d)" \
+json_check "len(d) == 3 and all(abs(r['resonance_hz'] - t['f0']) < 0.005 * t['f0'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/audio_late.f32" --audio-offset 0.05 "${base[@]}"
 # the force alone (audio of nothing): measured, unreliable, resonance null, reason "no audio"
-json_check "len(d) == 3 and all(r['resonance'] is None and r['reliable'] is False and r['reason'] == 'no audio' and r['flags'] == ['no_audio'] for r in d)" \
+json_check "len(d) == 3 and all(r['resonance_hz'] is None and r['reliable'] is False and r['reason'] == 'no audio' and r['flags'] == ['no_audio'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/empty.f32" "${base[@]}"
 # no force: nothing to analyze, bad input (issue 11: it exited 0 saying nothing)
 expect_usage "--force $tmp/empty.f32 is empty" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
@@ -224,7 +224,7 @@ json.dump({"f0": f0, "f3": f3, "lo": lo, "hi": hi}, open(out + "/truth.json", "w
 EOF2
 soft=(--force "$tmp/soft.force.f32" --audio "$tmp/soft.audio.f32" --rate-force 50000 --rate-audio 48000 --mass 0.25 --R2 0.04)
 json_check "t['lo'] < t['f3'] < t['hi'] and len(d) == 3" "${soft[@]}"
-json_check "all(abs(r['resonance'] - t['f0']) < 0.005 * t['f0'] for r in d)" "${soft[@]}"
+json_check "all(abs(r['resonance_hz'] - t['f0']) < 0.005 * t['f0'] for r in d)" "${soft[@]}"
 json_check "all(r['mode_method'] == 'prior+ratios' and r['mode_ambiguous'] is False and '0S3' in r['mode_text'] for r in d)" "${soft[@]}"
 
 # --- real captures (test/data/README.md): one strike each, peak within 1 %
@@ -254,8 +254,8 @@ t1 = j + (y[j] - lev) / (y[j] - y[j + 1])
 json.dump({'peak': y[k], 'width': (t1 - t0) / 25600.0, 'start': t0 / 25600.0}, open(sys.argv[2], 'w'))
 EOF2
   json_check "len(d) == 1" "${cap[@]}"
-  json_check "abs(d[0]['peak_force'] - t['peak']) < 0.01 * t['peak']" "${cap[@]}"
-  json_check "abs(d[0]['contact_time'] - t['width']) <= 1 / 25600.0" "${cap[@]}"
+  json_check "abs(d[0]['peak_force_n'] - t['peak']) < 0.01 * t['peak']" "${cap[@]}"
+  json_check "abs(d[0]['contact_time_s'] - t['width']) <= 1 / 25600.0" "${cap[@]}"
   json_check "abs(d[0]['stamp_ns'] * 1e-9 - t['start']) <= 1 / 25600.0" "${cap[@]}"
 done
 
@@ -279,7 +279,7 @@ open(out + '/silence.f32', 'wb').write(struct.pack('<%df' % len(x), *([0.0] * le
 json.dump({'tc': tc, 'peak': peak, 'start': pre}, open(out + '/truth.json', 'w'))
 EOF2
     pre_run=(--force "$tmp/pre.f32" --audio "$tmp/silence.f32" --rate-force "$rate" --rate-audio "$rate" --mass 0.175 --R2 0.04)
-    json_check "len(d) == 1 and abs(d[0]['stamp_ns'] * 1e-9 - t['start']) <= 1 / $rate and abs(d[0]['contact_time'] - t['tc']) <= 1 / $rate and abs(d[0]['peak_force'] - t['peak']) < 0.01 * t['peak']" "${pre_run[@]}"
+    json_check "len(d) == 1 and abs(d[0]['stamp_ns'] * 1e-9 - t['start']) <= 1 / $rate and abs(d[0]['contact_time_s'] - t['tc']) <= 1 / $rate and abs(d[0]['peak_force_n'] - t['peak']) < 0.01 * t['peak']" "${pre_run[@]}"
   done
 done
 

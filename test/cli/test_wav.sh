@@ -119,8 +119,8 @@ if "$FM" analyze --force "$tmp/f8.wav" --force-scale "$FS_N" "${A[@]}" "${apple[
   "$PY" -c "
 import json, sys
 r, g = json.load(open('$tmp/ref.json'))['strikes'], json.load(open('$tmp/json'))['strikes']
-print('  8-bit PCM: %d strike, peak %.3f N (raw %.3f N, step %.3f N)' % (len(g), g[0]['peak_force'], r[0]['peak_force'], $FS_N / 128) if g else '  8-bit: no strike')
-sys.exit(0 if len(g) == 1 and abs(g[0]['peak_force'] - r[0]['peak_force']) <= $FS_N / 128 else 1)"; then
+print('  8-bit PCM: %d strike, peak %.3f N (raw %.3f N, step %.3f N)' % (len(g), g[0]['peak_force_n'], r[0]['peak_force_n'], $FS_N / 128) if g else '  8-bit: no strike')
+sys.exit(0 if len(g) == 1 and abs(g[0]['peak_force_n'] - r[0]['peak_force_n']) <= $FS_N / 128 else 1)"; then
   ok
 else
   bad "8-bit WAV: $(cat "$tmp/err")"
@@ -132,7 +132,7 @@ if "$FM" analyze --force "$tmp/f16.wav" "${A[@]}" "${apple[@]}" --set strike_thr
   >"$tmp/json" 2>"$tmp/err" && "$PY" -c "
 import json, sys
 r, g = json.load(open('$tmp/ref.json'))['strikes'], json.load(open('$tmp/json'))['strikes']
-sys.exit(0 if len(g) == 1 and abs(g[0]['peak_force'] * $FS_N / r[0]['peak_force'] - 1) < 1e-3 else 1)"; then
+sys.exit(0 if len(g) == 1 and abs(g[0]['peak_force_n'] * $FS_N / r[0]['peak_force_n'] - 1) < 1e-3 else 1)"; then
   ok
 else
   bad "16-bit WAV without --force-scale: $(head -c 300 "$tmp/err") $(head -c 300 "$tmp/json")"

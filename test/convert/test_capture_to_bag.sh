@@ -106,9 +106,9 @@ assert s['strikes'] == 3 and s['with_apple'] == 3 and s['without_audio'] == 0, s
 assert s['force']['gaps'] == 0 and s['audio']['gaps'] == 0, s
 for o, e in zip(strikes, exp['strikes']):
     start_s = o['stamp_ns'] * 1e-9 - 1700000000
-    d_start, d_peak = start_s - e['onset_s'], o['peak_force'] / e['peak_n'] - 1
+    d_start, d_peak = start_s - e['onset_s'], o['peak_force_n'] / e['peak_n'] - 1
     print('  apple %d (capture %d): start %+.1f samples, peak %.3f N vs %.3f N (%+.2f %%)'
-          % (o['apple_id'], e['capture'], d_start * exp['rate_hz'], o['peak_force'], e['peak_n'],
+          % (o['apple_id'], e['capture'], d_start * exp['rate_hz'], o['peak_force_n'], e['peak_n'],
              100 * d_peak))
     assert o['apple_id'] == e['apple_id'], (o['apple_id'], e)
     assert abs(d_start) <= 1.0 / exp['rate_hz'], d_start
@@ -129,8 +129,8 @@ worst = 0.0
 for p, q in zip(a, b):
     assert p['apple_id'] == q['apple_id'] and p['flags'] == q['flags'], (p, q)
     assert abs(q['stamp_ns'] - p['stamp_ns'] - 10**17) < 1000, (p['stamp_ns'], q['stamp_ns'])
-    for key in ('contact_time', 'peak_force', 'impulse', 'resonance', 'snr_db',
-                'stiffness_factor', 'modulus_from_resonance', 'band_high'):
+    for key in ('contact_time_s', 'peak_force_n', 'impulse_n_s', 'resonance_hz', 'snr_db',
+                'stiffness_factor_hz2_kg2_3', 'modulus_from_resonance_pa', 'band_high_hz'):
         d = abs(q[key] / p[key] - 1)
         worst = max(worst, d)
         assert d < 1e-3, (key, p[key], q[key])

@@ -6,9 +6,10 @@
  * many cells as a row, a NaN is null in JSON and an empty cell in CSV, text
  * with quotes, a backslash and a control character comes back unchanged,
  * reals come back as the same double (strtod of the text) in the fewest
- * digits that do, and every field
- * the table says a message carries is a field of that message's .msg file
- * (read from msg/). */
+ * digits that do, every field the table says a message carries is a field
+ * of that message's .msg file (read from msg/) and every field of StrikeReport
+ * and Reliability is mapped, every name ends in its unit's suffix
+ * (resonance_hz, impulse_n_s) and the markdown table has a row per field. */
 #include <ctype.h>
 #include <math.h>
 #include <stdint.h>
@@ -310,14 +311,15 @@ static void test_json(void)
   AF_CHECK((x = find(m, n, "stamp_ns")) && strcmp(x->raw, "1700000000123456789") == 0);
   AF_CHECK((x = find(m, n, "apple_id")) && strcmp(x->raw, "42") == 0);
   AF_CHECK((x = find(m, n, "lost_samples")) && strcmp(x->raw, "4294967295") == 0);
-  AF_CHECK((x = find(m, n, "contact_time")) && same_double(x->raw, report.contact_time_s));
-  AF_CHECK((x = find(m, n, "peak_force")) && same_double(x->raw, 0.1 + 0.2));
-  AF_CHECK((x = find(m, n, "impulse")) && same_double(x->raw, report.impulse_n_s));
-  AF_CHECK((x = find(m, n, "stiffness_factor")) && same_double(x->raw, report.stiffness_factor));
-  AF_CHECK((x = find(m, n, "modulus_from_resonance")) && same_double(x->raw, 5e-324));
-  AF_CHECK((x = find(m, n, "fitted_modulus")) && same_double(x->raw, report.fitted_modulus_pa));
-  AF_CHECK((x = find(m, n, "band_low")) && same_double(x->raw, 0.0));
-  AF_CHECK((x = find(m, n, "resonance")) && strcmp(x->raw, "null") == 0);
+  AF_CHECK((x = find(m, n, "contact_time_s")) && same_double(x->raw, report.contact_time_s));
+  AF_CHECK((x = find(m, n, "peak_force_n")) && same_double(x->raw, 0.1 + 0.2));
+  AF_CHECK((x = find(m, n, "impulse_n_s")) && same_double(x->raw, report.impulse_n_s));
+  AF_CHECK((x = find(m, n, "stiffness_factor_hz2_kg2_3")) &&
+           same_double(x->raw, report.stiffness_factor));
+  AF_CHECK((x = find(m, n, "modulus_from_resonance_pa")) && same_double(x->raw, 5e-324));
+  AF_CHECK((x = find(m, n, "fitted_modulus_pa")) && same_double(x->raw, report.fitted_modulus_pa));
+  AF_CHECK((x = find(m, n, "band_low_hz")) && same_double(x->raw, 0.0));
+  AF_CHECK((x = find(m, n, "resonance_hz")) && strcmp(x->raw, "null") == 0);
   AF_CHECK((x = find(m, n, "resonance_q")) && strcmp(x->raw, "null") == 0);
   AF_CHECK((x = find(m, n, "fit_residual")) && strcmp(x->raw, "null") == 0);
   AF_CHECK((x = find(m, n, "double_hit")) && strcmp(x->raw, "true") == 0);
@@ -330,7 +332,7 @@ static void test_json(void)
   AF_CHECK((x = find(m, n, "frame_id")) && strcmp(x->text, "force_link") == 0);
   /* The shortest of 15-17 digits that reads back: 0.2 as written, 0.1 + 0.2 needs 17. */
   AF_CHECK((x = find(m, n, "mode_confidence")) && strcmp(x->raw, "0.2") == 0);
-  AF_CHECK((x = find(m, n, "peak_force")) && strcmp(x->raw, "0.30000000000000004") == 0);
+  AF_CHECK((x = find(m, n, "peak_force_n")) && strcmp(x->raw, "0.30000000000000004") == 0);
   AF_CHECK((x = find(m, n, "fitted_restitution")) && strcmp(x->raw, "0.6") == 0);
 }
 
@@ -353,14 +355,14 @@ static void test_csv(void)
   for (int k = 0; k < nh; k++) {
     AF_CHECK(strcmp(hc[k], f[k].name) == 0);
     const char *c = rc[k];
-    if (strcmp(hc[k], "resonance") == 0 || strcmp(hc[k], "resonance_q") == 0 ||
+    if (strcmp(hc[k], "resonance_hz") == 0 || strcmp(hc[k], "resonance_q") == 0 ||
         strcmp(hc[k], "fit_residual") == 0)
       AF_CHECK(c[0] == '\0'); /* NaN and inf: empty, as JSON's null */
-    else if (strcmp(hc[k], "peak_force") == 0)
+    else if (strcmp(hc[k], "peak_force_n") == 0)
       AF_CHECK(same_double(c, 0.1 + 0.2));
-    else if (strcmp(hc[k], "contact_time") == 0)
+    else if (strcmp(hc[k], "contact_time_s") == 0)
       AF_CHECK(same_double(c, report.contact_time_s));
-    else if (strcmp(hc[k], "modulus_from_resonance") == 0)
+    else if (strcmp(hc[k], "modulus_from_resonance_pa") == 0)
       AF_CHECK(same_double(c, 5e-324));
     else if (strcmp(hc[k], "stamp_ns") == 0)
       AF_CHECK(strcmp(c, "1700000000123456789") == 0);
@@ -412,42 +414,158 @@ static void test_all_nan(void)
   AF_CHECK(n_real == sizeof reals / sizeof reals[0]); /* every real of the table was set */
 }
 
-/* Every field the table gives to a message is a field of its .msg file. */
-static int msg_has(const char *msg, const char *field)
+/* The fields of msg/NAME.msg (not its comments), their count; -1 when unreadable. */
+static int msg_fields(const char *msg, char names[][64], int max)
 {
   char path[128], line[512];
   snprintf(path, sizeof path, "msg/%s.msg", msg);
   FILE *in = fopen(path, "r");
   if (in == NULL) {
     fprintf(stderr, "cannot read %s (run from the package's root)\n", path);
-    return 0;
+    return -1;
   }
-  int found = 0;
-  while (!found && fgets(line, sizeof line, in)) {
-    char type[64], name[64];
-    if (line[0] != '#' && sscanf(line, "%63s %63s", type, name) == 2)
-      found = strcmp(name, field) == 0;
+  int n = 0;
+  while (n < max && fgets(line, sizeof line, in)) {
+    char type[64];
+    if (line[0] != '#' && sscanf(line, "%63s %63s", type, names[n]) == 2)
+      n++;
   }
   fclose(in);
-  return found;
+  return n;
 }
 
+/* The rows that name message field `field` of msg, or a sub-field of it
+ * (header: header.stamp, header.frame_id). */
+static int rows_mapping(const char *msg, const char *field)
+{
+  size_t nf, len = strlen(field);
+  const af_serial_field *f = af_serial_fields(&nf);
+  int rows = 0;
+  for (size_t k = 0; k < nf; k++)
+    if (f[k].message && strcmp(f[k].message, msg) == 0 &&
+        strncmp(f[k].message_field, field, len) == 0 &&
+        (f[k].message_field[len] == '\0' || f[k].message_field[len] == '.'))
+      rows++;
+  return rows;
+}
+
+/* Every row's message field is a field of its .msg file, and every field of
+ * StrikeReport.msg and Reliability.msg is some row's (Reliability's header,
+ * apple_id and source excepted: the strike is matched by its stamp, the
+ * apple_id is StrikeReport's, the source is "measured"). */
 static void test_message_names(void)
 {
   size_t nf, n_msg = 0;
   const af_serial_field *f = af_serial_fields(&nf);
   for (size_t k = 0; k < nf; k++) {
     AF_CHECK(f[k].unit != NULL && f[k].meaning != NULL && f[k].meaning[0] != '\0');
-    if (f[k].message == NULL)
+    AF_CHECK((f[k].message == NULL) == (f[k].message_field == NULL));
+    if (f[k].message == NULL || f[k].message_field == NULL)
       continue;
     n_msg++;
-    const int header = strcmp(f[k].name, "stamp_ns") == 0 || strcmp(f[k].name, "frame_id") == 0;
-    const int ok = msg_has(f[k].message, header ? "header" : f[k].name);
-    AF_CHECK(ok);
-    if (!ok)
-      fprintf(stderr, "%s is not a field of %s.msg\n", f[k].name, f[k].message);
+    char names[64][64], top[64];
+    const int n = msg_fields(f[k].message, names, 64);
+    snprintf(top, sizeof top, "%.*s", (int)strcspn(f[k].message_field, "."), f[k].message_field);
+    int found = 0;
+    for (int j = 0; j < n; j++)
+      found |= strcmp(names[j], top) == 0;
+    AF_CHECK(found);
+    if (!found)
+      fprintf(stderr, "%s: %s is not a field of %s.msg\n", f[k].name, f[k].message_field,
+              f[k].message);
   }
   AF_CHECK(n_msg >= 20);
+  const char *msgs[] = {"StrikeReport", "Reliability"};
+  for (int m = 0; m < 2; m++) {
+    char names[64][64];
+    const int n = msg_fields(msgs[m], names, 64);
+    AF_CHECK(n >= (m == 0 ? 20 : 8));
+    for (int j = 0; j < n; j++) {
+      const int skipped =
+          m == 1 && (strcmp(names[j], "header") == 0 || strcmp(names[j], "apple_id") == 0 ||
+                     strcmp(names[j], "source") == 0);
+      const int rows = rows_mapping(msgs[m], names[j]);
+      const int want = strcmp(names[j], "header") == 0 ? 2 : 1; /* stamp and frame_id */
+      AF_CHECK(skipped ? rows == 0 : rows == want);
+      if (skipped ? rows != 0 : rows != want)
+        fprintf(stderr, "%s.%s: mapped by %d rows\n", msgs[m], names[j], rows);
+    }
+  }
+}
+
+/* A unit's name suffix: its symbols in lower case, separated by _, without
+ * ^ and parentheses, / as _ ("N s" -> "_n_s", "Hz^2 kg^(2/3)" -> "_hz2_kg2_3");
+ * none for "-" (dimensionless) and "" (text, flags). */
+static void unit_suffix(const char *unit, char *out, size_t len)
+{
+  size_t n = 0;
+  out[0] = '\0';
+  if (strcmp(unit, "-") == 0 || unit[0] == '\0')
+    return;
+  out[n++] = '_';
+  for (const char *c = unit; *c && n + 1 < len; c++)
+    if (*c == ' ' || *c == '/')
+      out[n++] = '_';
+    else if (*c != '^' && *c != '(' && *c != ')')
+      out[n++] = (char)tolower((unsigned char)*c);
+  out[n] = '\0';
+}
+
+/* Every name carries its unit: it ends in the unit's suffix; a dimensionless
+ * field ends in none of the table's suffixes. */
+static void test_unit_names(void)
+{
+  size_t nf, n_suffixed = 0;
+  const af_serial_field *f = af_serial_fields(&nf);
+  for (size_t k = 0; k < nf; k++) {
+    char want[64];
+    unit_suffix(f[k].unit, want, sizeof want);
+    const size_t ln = strlen(f[k].name), ls = strlen(want);
+    if (ls == 0) {
+      for (size_t j = 0; j < nf; j++) {
+        char other[64];
+        unit_suffix(f[j].unit, other, sizeof other);
+        const size_t lo = strlen(other);
+        const int clash = lo > 0 && ln > lo && strcmp(f[k].name + ln - lo, other) == 0;
+        AF_CHECK(!clash);
+        if (clash)
+          fprintf(stderr, "%s (unit '%s') ends in %s's unit %s\n", f[k].name, f[k].unit, f[j].name,
+                  other);
+      }
+      continue;
+    }
+    n_suffixed++;
+    const int ok = ln > ls && strcmp(f[k].name + ln - ls, want) == 0;
+    AF_CHECK(ok);
+    if (!ok)
+      fprintf(stderr, "%s: unit %s, the name should end in %s\n", f[k].name, f[k].unit, want);
+  }
+  AF_CHECK(n_suffixed >= 14);
+}
+
+/* The table as markdown: a header, a separator, one row per field with its
+ * message field or report-only. */
+static void fields_md(FILE *out, const af_serial_strike *s)
+{
+  (void)s;
+  af_serialize_fields_markdown(out);
+}
+
+static void test_fields_markdown(void)
+{
+  size_t nf;
+  (void)af_serial_fields(&nf);
+  static char text[TEXT_MAX * 2];
+  write_to(text, sizeof text, fields_md, NULL);
+  int lines = 0;
+  for (const char *c = text; *c; c++)
+    lines += *c == '\n';
+  AF_CHECK(lines == (int)nf + 2);
+  AF_CHECK(strstr(text, "| `resonance_hz` | real | Hz | StrikeReport.resonance | ") != NULL);
+  AF_CHECK(strstr(text, "| `stamp_ns` | integer | ns | StrikeReport.header.stamp | ") != NULL);
+  AF_CHECK(strstr(text, "| `max_shear_stress_pa` | real | Pa | Reliability.max_shear_stress | ") !=
+           NULL);
+  AF_CHECK(strstr(text, "| `mode_text` | text |  | report-only | ") != NULL);
 }
 
 int main(void)
@@ -456,5 +574,7 @@ int main(void)
   test_csv();
   test_all_nan();
   test_message_names();
+  test_unit_names();
+  test_fields_markdown();
   return af_test_summary("test_serialize");
 }

@@ -217,9 +217,9 @@ class StrikesTest(unittest.TestCase):
     def test_03b_offline_report_judges_alike(self):
         """The same bag through firmness_report --json (the core lane
         offline, no ROS master: the lab's desk tool): for every strike the
-        StrikeReport and Reliability fields under the same names with the
-        same values (every figure the same double, the grade included), as
-        the node published."""
+        StrikeReport and Reliability fields, under the report's names that
+        the table of fields maps them to, with the same values (every figure
+        the same double, the grade included), as the node published."""
         cfg = os.path.join(rospkg.RosPack().get_path(sc.PKG), 'config')
         out = subprocess.run([find('firmness_report'), self.bag, '--json',
                               '--ns', rospy.get_namespace().strip('/'),
@@ -233,27 +233,22 @@ class StrikesTest(unittest.TestCase):
         with self.lock:
             reports = {r.header.stamp.to_nsec(): r for r in self.reports}
             measured = {m.header.stamp.to_nsec(): m for m in self.measured}
-        # Every field of both messages under its own name in the report (serialize.h):
-        # the same double (%.17g reads back exactly), NaN as null.
+        # Every field of both messages in the report's field that the serializer's table
+        # maps to it (firmness_report --fields --json, scripts/node_vs_report.py): the
+        # same double (the report's digits read back exactly), NaN as null.
+        sys.path.insert(0, os.path.join(rospkg.RosPack().get_path(sc.PKG), 'scripts'))
+        import node_vs_report
+        fields = node_vs_report.load_fields(find('firmness_report'))
+        bad = node_vs_report.check_mapping(fields, {'StrikeReport': StrikeReport.__slots__,
+                                                   'Reliability': Reliability.__slots__})
+        self.assertEqual(bad, [], 'the table of fields against the messages')
         worst = 0.0
         for stamp, o in sorted(offline.items()):
             r, m = reports.get(stamp), measured.get(stamp)
             self.assertIsNotNone(r, 'no node report at %d' % stamp)
             self.assertIsNotNone(m, 'no node Reliability at %d' % stamp)
-            self.assertEqual(r.header.frame_id, o['frame_id'])
-            pairs = [(f, getattr(r, f)) for f in r.__slots__ if f != 'header']
-            pairs += [(f, getattr(m, f)) for f in m.__slots__
-                      if f not in ('header', 'apple_id', 'source')]
-            for f, a in pairs:
-                self.assertIn(f, o, 'the report has no field %s' % f)
-                b = o[f]
-                if isinstance(a, float) and b is None:
-                    self.assertTrue(math.isnan(a), '%s at %d: node %r, offline NaN' % (f, stamp, a))
-                elif isinstance(a, float):
-                    self.assertEqual(a, b, '%s at %d: node %r, offline %r' % (f, stamp, a, b))
-                    worst = max(worst, abs(a - b) / max(abs(b), 1e-300))
-                else:
-                    self.assertEqual(a, b, '%s at %d' % (f, stamp))
+            worst = max(worst, node_vs_report.compare_strike(stamp, o, r, m, bad, fields))
+        self.assertEqual(bad, [], 'node and firmness_report differ')
         print('firmness_report vs node: %d strikes, same verdicts and reasons, worst relative '
               'difference %.3g' % (len(offline), worst))
 

@@ -20,9 +20,9 @@ N=24
 cat >"$tmp/check.py" <<'EOF'
 import bisect, csv, json, math, re, sys
 csv_path, json_path, text_path, quantity, classes = sys.argv[1:6]
-column = {'stiffness_factor': 'stiffness_factor',
-          'modulus_from_resonance': 'modulus_from_resonance',
-          'fitted_modulus': 'fitted_modulus'}[quantity]
+column = {'stiffness_factor': 'stiffness_factor_hz2_kg2_3',
+          'modulus_from_resonance': 'modulus_from_resonance_pa',
+          'fitted_modulus': 'fitted_modulus_pa'}[quantity]
 tokens = [t.strip() for t in classes.split('|')]
 names, bounds = tokens[0::2], [float(t) for t in tokens[1::2]]
 assert len(names) == len(bounds) + 1, tokens
@@ -45,9 +45,9 @@ for r, j in zip(rows, rep):
     assert set(flags) <= known, flags
     reliable = r['reliable'] == '1'
     assert reliable == (flags == []), (aid, r['reliable'], flags)
-    f0, lo, hi = float(r['resonance']), float(r['band_low']), float(r['band_high'])
+    f0, lo, hi = float(r['resonance_hz']), float(r['band_low_hz']), float(r['band_high_hz'])
     assert ('outside_band' in flags) == (not lo <= f0 <= hi), (aid, f0, lo, hi, flags)
-    assert ('damage' in flags) == (float(r['max_shear_stress']) >= float(r['yield_shear_stress'])), (aid, flags)
+    assert ('damage' in flags) == (float(r['max_shear_stress_pa']) >= float(r['yield_shear_stress_pa'])), (aid, flags)
     for name in ('double_hit', 'clipped'):
         assert (name in flags) == (r[name] == '1'), (aid, name, flags)
     assert ('lost_samples' in flags) == (int(r['lost_samples']) > 0), (aid, flags)
@@ -103,7 +103,7 @@ if [ "$(cat "$tmp/weak.seen")" = "ungraded $N" ] && grep -q 'outside_band|damage
 
 # A boundary exactly on the first reliable strike's stiffness factor: that strike
 # goes to the class above.
-edge=$($PY -c 'import csv,sys; print(next(r["stiffness_factor"] for r in csv.DictReader(open(sys.argv[1])) if r["reliable"] == "1"))' "$tmp/shipped.csv")
+edge=$($PY -c 'import csv,sys; print(next(r["stiffness_factor_hz2_kg2_3"] for r in csv.DictReader(open(sys.argv[1])) if r["reliable"] == "1"))' "$tmp/shipped.csv")
 run edge stiffness_factor "below | $edge | above" --set "grade_classes=below | $edge | above"
 if grep -q "above" "$tmp/edge.seen"; then ok; else bad "edge: no strike in the class above $edge"; fi
 

@@ -26,8 +26,8 @@ assert sorted(o['apple_id'] for o in rep['strikes']) == list(range(1, n + 1))
 assert len(rows) == n and [int(r['apple_id']) for r in rows] == [o['apple_id'] for o in rep['strikes']]
 for o in rep['strikes']:
     t = truth[o['apple_id']]
-    assert abs(o['resonance'] / float(t['resonance_hz']) - 1) < 0.01, (o, t)
-    assert abs(o['fitted_modulus'] / float(t['modulus_pa']) - 1) < 0.05, (o, t)
+    assert abs(o['resonance_hz'] / float(t['resonance_hz']) - 1) < 0.01, (o, t)
+    assert abs(o['fitted_modulus_pa'] / float(t['modulus_pa']) - 1) < 0.05, (o, t)
     assert abs(o['stamp_ns'] * 1e-9 - float(t['contact_start_s'])) < 5 / 50000.0, (o, t)
     assert abs(o['mass_kg'] - float(t['mass_kg'])) < 1e-6, (o, t)  # truth: 6 decimals
     assert o['reliable'] == (o['flags'] == []) and o['reliable'] == (o['reason'] == ''), o
@@ -40,6 +40,47 @@ EOF
 if [ "$(grep -c 'reliable' "$tmp/s.txt")" -ge $N ] && grep -q "strikes $N: $N on an apple" "$tmp/s.txt"; then ok; else bad "text report: $(cat "$tmp/s.txt")"; fi
 "$FM" "$tmp/s.bag" --bench >/dev/null 2>"$tmp/err"
 if grep -Eq '[0-9]+ x real time' "$tmp/err"; then ok; else bad "--bench: $(cat "$tmp/err")"; fi
+
+# --fields: the table of a strike's fields. --json: one row per key of a JSON
+# strike and per CSV column (the report's apple fields after them), in order,
+# each unit-suffixed, each mapped to a field of its message's .msg file (read
+# here) or report-only; the markdown: a header, a rule and the same rows.
+"$FM" --fields --json >"$tmp/fields.json" 2>"$tmp/err" && "$FM" --fields >"$tmp/fields.md" 2>>"$tmp/err" ||
+  bad "--fields exited $?: $(cat "$tmp/err")"
+if $PY - "$tmp/fields.json" "$tmp/fields.md" "$tmp/s.json" "$tmp/s.csv" "$(dirname "$0")/../../msg" <<'EOF'; then ok; else bad "--fields"; fi
+import csv, json, os, sys
+fields = json.load(open(sys.argv[1]))
+md = open(sys.argv[2]).read().splitlines()
+strike = json.load(open(sys.argv[3]))['strikes'][0]
+header = next(csv.reader(open(sys.argv[4])))
+names = [f['name'] for f in fields]
+apple = ['apple_stamp_ns', 'mass_kg', 'predicted']
+assert list(strike) == names + apple, (list(strike), names)
+assert header[:len(names)] == names, header
+assert md[0] == '| field | type | unit | message field | meaning |' and len(md) == len(fields) + 2, md[:2]
+suffix = {'s': '_s', 'N': '_n', 'N s': '_n_s', 'Hz': '_hz', 'Pa': '_pa', 'dB': '_db', 'ns': '_ns',
+          'samples': '_samples', 'Hz^2 kg^(2/3)': '_hz2_kg2_3', '-': '', '': ''}
+def msg_fields(name):
+    out = []
+    for line in open(os.path.join(sys.argv[5], name + '.msg')):
+        words = line.split('#')[0].split()
+        if len(words) >= 2:
+            out.append(words[1])
+    return out
+for f, row in zip(fields, md[2:]):
+    s = suffix[f['unit']]
+    assert f['name'].endswith(s), (f['name'], f['unit'])
+    if f['message'] is None:
+        assert f['message_field'] is None and '| report-only |' in row, (f, row)
+    else:
+        assert f['message_field'].split('.')[0] in msg_fields(f['message']), f
+        assert '| %s.%s |' % (f['message'], f['message_field']) in row, (f, row)
+    assert row.startswith('| `%s` | %s | %s |' % (f['name'], f['type'], f['unit'])), (f, row)
+mapped = sum(f['message'] is not None for f in fields)
+print('  --fields: %d fields, %d mapped to a message field, %d report-only' % (len(fields), mapped, len(fields) - mapped))
+EOF
+expect_usage "--fields takes no bag" --fields "$tmp/s.bag"
+expect_usage "--fields takes only --json" --fields --csv "$tmp/f.csv"
 
 "$FM" "$tmp/s.bag" --plots "$tmp/plots" >/dev/null 2>"$tmp/err" || bad "--plots exited $?: $(cat "$tmp/err")"
 n_png=$(ls "$tmp/plots"/*.png 2>/dev/null | wc -l)

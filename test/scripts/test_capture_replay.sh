@@ -36,12 +36,13 @@ af_stop_all
 af_check_stopped "$port" || fail=1
 
 "$lib/firmness_report" "$tmp/in.bag" --config "$tmp/station.yaml" --json >"$tmp/report.json"
-/usr/bin/python3 - "$tmp/report.json" "$tmp/out.bag" "$tmp/expect.json" "$AF_ROOT/scripts" <<'PY' || bad "node and firmness_report differ"
+/usr/bin/python3 - "$tmp/report.json" "$tmp/out.bag" "$tmp/expect.json" "$AF_ROOT/scripts" \
+  "$lib/firmness_report" <<'PY' || bad "node and firmness_report differ"
 import json, sys
 sys.path.insert(0, sys.argv[4])
 from node_vs_report import compare
 exp = json.load(open(sys.argv[3]))
-offline, bad, worst = compare(sys.argv[1], sys.argv[2], 3)
+offline, bad, worst = compare(sys.argv[1], sys.argv[2], 3, sys.argv[5])
 if len(exp['strikes']) != 3:
     bad.append('the captures: %d strikes, expected 3' % len(exp['strikes']))
 for (stamp, o), e in zip(sorted(offline.items()), exp['strikes']):
@@ -51,8 +52,8 @@ for (stamp, o), e in zip(sorted(offline.items()), exp['strikes']):
                    % (stamp, o['apple_id'], start_s, e['apple_id'], e['onset_s']))
 for stamp, o in sorted(offline.items()):
     print('  apple %d: start %.6f s, peak %.3f N, t_c %.4f ms, 0S2 %.1f Hz, %s'
-          % (o['apple_id'], stamp * 1e-9, o['peak_force'], o['contact_time'] * 1e3,
-             o['resonance'], 'reliable' if o['reliable'] else 'not reliable: ' + o['reason']))
+          % (o['apple_id'], stamp * 1e-9, o['peak_force_n'], o['contact_time_s'] * 1e3,
+             o['resonance_hz'], 'reliable' if o['reliable'] else 'not reliable: ' + o['reason']))
 print('capture_replay: %d strikes; node and firmness_report: %s; worst relative difference %.3g'
       % (len(offline), 'the same apples, starts, verdicts and reasons' if not bad
          else '%d DIFFERENCES' % len(bad), worst))

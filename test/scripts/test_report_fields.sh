@@ -4,9 +4,10 @@
 # through station.launch on a master of our own (a free port), the node's
 # StrikeReport and measured Reliability recorded; firmness_report --json and
 # --csv of the same bag. scripts/node_vs_report.py: for every field of both
-# messages, the JSON strike has the same-named field with the same value
-# (every real the same double: the report writes %.17g), and every other
-# field of the JSON strike is on its documented report-only lists. The CSV
+# messages, the JSON strike's field that firmness_report --fields --json maps
+# to it (resonance_hz: StrikeReport.resonance) has the same value (every real
+# the same double), and every other field of the JSON strike is a
+# report-only row of that table or one of firmness_report's apple fields. The CSV
 # has the same columns as the JSON's keys (predicted's flattened) and the
 # same values. No process of ours may outlive the test. Registered as
 # scripts_report_fields.
@@ -30,8 +31,8 @@ af_stop_all
 af_check_stopped "$port" || fail=1
 
 "$lib/firmness_report" "$tmp/in.bag" --json --csv "$tmp/report.csv" >"$tmp/report.json"
-/usr/bin/python3 "$AF_ROOT/scripts/node_vs_report.py" "$tmp/report.json" "$tmp/out.bag" $N ||
-  bad "node and firmness_report differ"
+/usr/bin/python3 "$AF_ROOT/scripts/node_vs_report.py" "$tmp/report.json" "$tmp/out.bag" $N \
+  "$lib/firmness_report" || bad "node and firmness_report differ"
 
 /usr/bin/python3 - "$tmp/report.json" "$tmp/report.csv" <<'PY' || bad "the CSV differs from the JSON"
 import csv, json, math, sys
