@@ -237,8 +237,7 @@ void af_serialize_fields_json(FILE *out)
   fputs("]\n", out);
 }
 
-/* The names of the set flags in flag order, separated by sep. */
-static void flag_names(FILE *out, uint32_t flags, const char *sep)
+void af_serialize_flags(FILE *out, uint32_t flags, const char *sep)
 {
   const char *between = "";
   for (uint32_t bit = 1; bit != 0; bit <<= 1)
@@ -320,7 +319,7 @@ void af_serialize_csv_row(FILE *out, const af_serial_strike *s)
     case AF_SERIAL_TEXT: csv_text(out, v.text ? v.text : ""); break;
     case AF_SERIAL_FLAGS:
       fputc('"', out);
-      flag_names(out, v.flags, "|");
+      af_serialize_flags(out, v.flags, "|");
       fputc('"', out);
       break;
     }

@@ -95,6 +95,9 @@ void af_serialize_json(FILE *out, const af_serial_strike *s);
 /* x in the fewest significant digits (15 to 17, %g) that strtod reads back
  * as x: the one format of every real (finite x; the callers write NaN). */
 void af_serialize_real(FILE *out, double x);
+/* The names of the verdict flags set in flags (verdict.h), in flag order,
+ * separated by sep (nothing when none is set). */
+void af_serialize_flags(FILE *out, uint32_t flags, const char *sep);
 
 /* The CSV header cells (the table's names), comma separated, no line end. */
 void af_serialize_csv_header(FILE *out);

@@ -18,18 +18,6 @@ static void cell(FILE *out, const char *fmt, int width, double v)
     fprintf(out, "%*s", width, "-");
 }
 
-/* The names of the verdict flags set in flags (verdict.h), in flag order,
- * separated by sep. */
-static void flag_names(FILE *out, uint32_t flags, const char *sep)
-{
-  const char *between = "";
-  for (uint32_t bit = 1; bit != 0; bit <<= 1)
-    if (flags & bit) {
-      fprintf(out, "%s%s", between, af_verdict_flag_name((af_verdict_flag)bit));
-      between = sep;
-    }
-}
-
 static void text_strike(FILE *out, const af_session_strike *r)
 {
   const af_measure_report *q = &r->report;
@@ -57,7 +45,7 @@ static void text_strike(FILE *out, const af_session_strike *r)
     return;
   }
   fputs(" NOT reliable [", out);
-  flag_names(out, q->verdict.flags, "|");
+  af_serialize_flags(out, q->verdict.flags, "|");
   fprintf(out, "]: %s\n", q->reason);
 }
 
