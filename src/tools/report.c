@@ -48,8 +48,8 @@ static void json_lobes(FILE *out, const af_model_result *r)
   for (size_t k = 0; k < r->n_lobes; k++) {
     const af_lobe *l = &r->lobes[k];
     fprintf(out,
-            "%s\n    {\"index\": %u, \"start_Hz\": %.10g, \"end_Hz\": %.10g, \"peak_Hz\": %.10g, "
-            "\"band_low_Hz\": %.10g, \"band_high_Hz\": %.10g}",
+            "%s\n    {\"index\": %u, \"start_hz\": %.10g, \"end_hz\": %.10g, \"peak_hz\": %.10g, "
+            "\"band_low_hz\": %.10g, \"band_high_hz\": %.10g}",
             k ? "," : "", l->index, l->start_hz, l->end_hz, l->peak_hz, l->band_low_hz,
             l->band_high_hz);
   }
@@ -61,17 +61,17 @@ void af_report_json(FILE *out, const af_report *rep)
   const af_model_result *r = &rep->result;
   fprintf(out, "{\n");
   json_number(out, "contact_time_s", r->impact.contact_time_s, ",");
-  json_number(out, "peak_force_N", r->impact.peak_force_n, ",");
+  json_number(out, "peak_force_n", r->impact.peak_force_n, ",");
   json_number(out, "max_deformation_m", r->impact.max_deformation_m, ",");
   json_number(out, "delivered_restitution", r->impact.delivered_restitution, ",");
   json_lobes(out, r);
-  json_number(out, "band_low_Hz", r->band_found ? r->band.band_low_hz : NAN, ",");
-  json_number(out, "band_high_Hz", r->band_found ? r->band.band_high_hz : NAN, ",");
-  json_number(out, "resonance_Hz", r->resonance_hz, ",");
-  json_number(out, "excitation_at_resonance_dB", r->excitation_at_resonance_db, ",");
-  json_number(out, "max_contact_pressure_Pa", r->max_contact_pressure_pa, ",");
-  json_number(out, "max_shear_stress_Pa", r->max_shear_stress_pa, ",");
-  json_number(out, "yield_shear_stress_Pa", r->yield_shear_stress_pa, ",");
+  json_number(out, "band_low_hz", r->band_found ? r->band.band_low_hz : NAN, ",");
+  json_number(out, "band_high_hz", r->band_found ? r->band.band_high_hz : NAN, ",");
+  json_number(out, "resonance_hz", r->resonance_hz, ",");
+  json_number(out, "excitation_at_resonance_db", r->excitation_at_resonance_db, ",");
+  json_number(out, "max_contact_pressure_pa", r->max_contact_pressure_pa, ",");
+  json_number(out, "max_shear_stress_pa", r->max_shear_stress_pa, ",");
+  json_number(out, "yield_shear_stress_pa", r->yield_shear_stress_pa, ",");
   json_number(out, "min_strike_radius_m", rep->min_strike_radius_m, ",");
   fprintf(out, "  \"excites_mode\": %s,\n", r->excites_mode ? "true" : "false");
   fprintf(out, "  \"no_damage\": %s,\n", r->no_damage ? "true" : "false");
@@ -115,9 +115,9 @@ void af_report_text(FILE *out, const af_report *rep)
 void af_report_csv_header(FILE *out, const char *param)
 {
   fprintf(out,
-          "%s,contact_time_s,peak_force_N,max_deformation_m,delivered_restitution,"
-          "band_low_Hz,band_high_Hz,resonance_Hz,excitation_at_resonance_dB,"
-          "max_contact_pressure_Pa,max_shear_stress_Pa,yield_shear_stress_Pa,"
+          "%s,contact_time_s,peak_force_n,max_deformation_m,delivered_restitution,"
+          "band_low_hz,band_high_hz,resonance_hz,excitation_at_resonance_db,"
+          "max_contact_pressure_pa,max_shear_stress_pa,yield_shear_stress_pa,"
           "min_strike_radius_m,excites_mode,no_damage,reliable\n",
           param);
 }

@@ -15,15 +15,15 @@ json_check() {
   fi
 }
 
-keys="contact_time_s peak_force_N max_deformation_m delivered_restitution lobes band_low_Hz band_high_Hz resonance_Hz excitation_at_resonance_dB max_contact_pressure_Pa max_shear_stress_Pa yield_shear_stress_Pa min_strike_radius_m excites_mode no_damage reliable"
+keys="contact_time_s peak_force_n max_deformation_m delivered_restitution lobes band_low_hz band_high_hz resonance_hz excitation_at_resonance_db max_contact_pressure_pa max_shear_stress_pa yield_shear_stress_pa min_strike_radius_m excites_mode no_damage reliable"
 pykeys=$(printf "'%s'," $keys)
 json_check "all(k in d for k in [$pykeys])"
-json_check "all(set(l) == {'index','start_Hz','end_Hz','peak_Hz','band_low_Hz','band_high_Hz'} for l in d['lobes']) and [l['index'] for l in d['lobes']] == list(range(1, len(d['lobes']) + 1))"
+json_check "all(set(l) == {'index','start_hz','end_hz','peak_hz','band_low_hz','band_high_hz'} for l in d['lobes']) and [l['index'] for l in d['lobes']] == list(range(1, len(d['lobes']) + 1))"
 # The paper's optimal strike on the average apple, default profile: a ~1.3 ms,
 # ~35-40 N pulse, the 0S2 near 682 Hz (PHYSICS.md 5), reliable.
-json_check "1.2e-3 < d['contact_time_s'] < 1.5e-3 and 30 < d['peak_force_N'] < 40 and abs(d['resonance_Hz'] - 682) < 3 and d['reliable'] is True"
+json_check "1.2e-3 < d['contact_time_s'] < 1.5e-3 and 30 < d['peak_force_n'] < 40 and abs(d['resonance_hz'] - 682) < 3 and d['reliable'] is True"
 # The flags land: a harder apple gives a shorter pulse.
-json_check "d['contact_time_s'] < 1.25e-3 and d['peak_force_N'] > 40" --E2 12e6
+json_check "d['contact_time_s'] < 1.25e-3 and d['peak_force_n'] > 40" --E2 12e6
 # Paper profile: lobe 2 at power-half never holds the 0S2 (PHYSICS.md 7).
 json_check "d['excites_mode'] is False and d['reliable'] is False" --profile paper
 json_check "d['excites_mode'] is True" --profile paper --lobe 1 --band-level amplitude-half
@@ -117,7 +117,7 @@ import csv, sys
 a, b = (list(csv.DictReader(open(f))) for f in sys.argv[1:3])
 assert len(a) == len(b) == 4
 for x, y in zip(a, b):
-    for k in ("contact_time_s", "peak_force_N", "band_high_Hz", "max_shear_stress_Pa"):
+    for k in ("contact_time_s", "peak_force_n", "band_high_hz", "max_shear_stress_pa"):
         assert abs(float(x[k]) / float(y[k]) - 1) < 1e-3, (k, x[k], y[k])
     assert x["reliable"] == y["reliable"]
 PY

@@ -38,15 +38,15 @@ class EvaluateTest(unittest.TestCase):
         self.assertTrue(ans.ok, ans.error)
         self.assertEqual(ans.error, '')
         ref = sc.firmness_model(**flags)
-        for field, key in (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_N'),
+        for field, key in (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_n'),
                            ('max_deformation', 'max_deformation_m'),
                            ('delivered_restitution', 'delivered_restitution'),
-                           ('band_low', 'band_low_Hz'), ('band_high', 'band_high_Hz'),
-                           ('resonance', 'resonance_Hz'),
-                           ('excitation_at_resonance_db', 'excitation_at_resonance_dB'),
-                           ('max_contact_pressure', 'max_contact_pressure_Pa'),
-                           ('max_shear_stress', 'max_shear_stress_Pa'),
-                           ('yield_shear_stress', 'yield_shear_stress_Pa')):
+                           ('band_low', 'band_low_hz'), ('band_high', 'band_high_hz'),
+                           ('resonance', 'resonance_hz'),
+                           ('excitation_at_resonance_db', 'excitation_at_resonance_db'),
+                           ('max_contact_pressure', 'max_contact_pressure_pa'),
+                           ('max_shear_stress', 'max_shear_stress_pa'),
+                           ('yield_shear_stress', 'yield_shear_stress_pa')):
             self.assertRel(getattr(ans, field), ref[key], field)
         if ref['min_strike_radius_m'] is None:
             self.assertEqual(ans.min_strike_radius, 0.0)
@@ -60,7 +60,7 @@ class EvaluateTest(unittest.TestCase):
         for field, modulus in (('resonance_low', 'modulus_min_pa'),
                                ('resonance_high', 'modulus_max_pa')):
             low = sc.firmness_model(**dict(flags, E2=float(sc.param(modulus))))
-            self.assertRel(getattr(ans, field), low['resonance_Hz'], field)
+            self.assertRel(getattr(ans, field), low['resonance_hz'], field)
         return ans
 
     def test_01_configured_values(self):

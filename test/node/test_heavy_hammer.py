@@ -34,14 +34,14 @@ class HeavyHammerTest(unittest.TestCase):
         band = got['excitation_band'][0]
         heavy = sc.firmness_model(**sc.model_flags(mass, r2, {'mass_kg': 0.020, 'tip_radius_m': 0.0}))
         light = sc.firmness_model(**sc.model_flags(mass, r2, {'mass_kg': 0.010, 'tip_radius_m': 0.0}))
-        for field, key in (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_N'),
-                           ('band_high', 'band_high_Hz'), ('band_low', 'band_low_Hz')):
+        for field, key in (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_n'),
+                           ('band_high', 'band_high_hz'), ('band_low', 'band_low_hz')):
             self.assertTrue(math.isclose(getattr(band, field), heavy[key], rel_tol=RTOL, abs_tol=1e-12),
                             '%s: node %r, firmness_model --hammer-mass 0.020 %r'
                             % (field, getattr(band, field), heavy[key]))
         # A heavier hammer stays longer on the fruit: a narrower main lobe.
         self.assertGreater(band.contact_time, light['contact_time_s'] * 1.2)
-        self.assertLess(band.band_high, light['band_high_Hz'] * 0.9)
+        self.assertLess(band.band_high, light['band_high_hz'] * 0.9)
 
 
 if __name__ == '__main__':
