@@ -80,7 +80,7 @@ static bool parse_double_arg(const char *flag, const char *text, double *out)
 }
 
 /* Reads the sweep's own flags from the arguments the model parser left. */
-static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_args *a)
+static bool parse_sweep_args(char **argv, int first, const int *rest, int n_rest, af_sweep_args *a)
 {
   double steps = NAN;
   bool have_from = false, have_to = false;
@@ -88,7 +88,7 @@ static bool parse_sweep_args(char **argv, const int *rest, int n_rest, af_sweep_
   for (int k = 0; k < n_rest; k++) {
     const char *flag = argv[rest[k]];
     const af_option *o = af_option_find(sweep_options, N_OPTIONS, flag);
-    if (o != NULL && !af_options_once("firmness_model sweep", o, argv, rest[0], rest[k]))
+    if (o != NULL && !af_options_once("firmness_model sweep", o, argv, first, rest[k]))
       return false;
     if (o == NULL) {
       char names[1024];
@@ -257,7 +257,7 @@ int af_sweep_main(int argc, char **argv, int first)
   if (rest == NULL)
     return 1;
   if (!af_cli_parse_model(argc, argv, first, &base, rest, &n_rest) ||
-      !parse_sweep_args(argv, rest, n_rest, &a)) {
+      !parse_sweep_args(argv, first, rest, n_rest, &a)) {
     free(rest);
     return AF_CLI_EXIT_USAGE;
   }

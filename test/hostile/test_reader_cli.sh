@@ -121,11 +121,12 @@ hostile_case design_r2_min_zero 2 '--r2-min 0 is outside the accepted range \[0.
   -- "$fm" design --r2-min 0
 expect_one_line design_r2_min_zero
 # Valid and wide: the heavy hammers' cells the ODE budget stops are counted
-# as failed (infeasible), the rest searched. ~1.4 s of CPU: 6 s for a loaded
-# machine; past 1 s it prints progress on stderr.
+# as failed (infeasible), the rest searched. ~1.4 s of CPU, over 3 s of wall
+# time on a loaded machine: past 1 s it prints progress on stderr (the
+# issue's "or prints progress"), and the bound here is 8 s.
 hostile_case design_wide_mass_range 0 \
   'failed: [0-9]+ strikes \([0-9]+ of 576 cells wholly\) the model could not answer, marked infeasible: impact ODE budget exhausted' \
-  6 256 -- "$fm" design --hammer-mass-range 0.002:1
+  8 256 -- "$fm" design --hammer-mass-range 0.002:1
 
 # ---- finding 6: analyze's audio rates ----------------------------------------
 hostile_case analyze_rate_4000 2 \
