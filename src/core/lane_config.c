@@ -268,6 +268,16 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
                              AF_SETTING_STRIKE_PRE_TRIGGER_S, err, len);
   if (st == AF_OK)
     st = check_order(s, AF_SETTING_STRIKE_BASELINE_WINDOW_S, AF_SETTING_STRIKE_POST_S, err, len);
+  /* The floor of the threshold must be a force the sensor can report: at or
+   * above its full scale no strike could ever cross it (a detector silent for
+   * good, e.g. after a reconfigure to 1e6 N). */
+  if (st == AF_OK && !(isfinite(d->threshold_min_n) && d->threshold_min_n < d->full_scale_n)) {
+    af_settings_say(err, len, "%s = %g N is outside the accepted range [0, %s = %g N)",
+                    af_settings_name_of(s, AF_SETTING_STRIKE_THRESHOLD_MIN_N).text,
+                    d->threshold_min_n, af_settings_name_of(s, AF_SETTING_STRIKE_FULL_SCALE_N).text,
+                    d->full_scale_n);
+    st = AF_EINVAL;
+  }
   if (st == AF_OK && d->post_s < d->double_hit_gap_s) {
     af_settings_say(
         err, len,
@@ -329,6 +339,28 @@ static af_status check_below_nyquist(const af_settings *s, af_setting_id id, con
   return AF_EINVAL;
 }
 
+/* The noise band holds at least AF_RESPONSE_MIN_NOISE_BINS bins of the
+ * audio FFT once clipped to the Nyquist frequency (a band just below
+ * Nyquist at a low audio rate holds too few). */
+static af_status check_noise_band(const af_settings *s, const af_response_config *rc, char *err,
+                                  size_t len)
+{
+  size_t bins = af_response_noise_band_bins(rc);
+  if (bins >= AF_RESPONSE_MIN_NOISE_BINS)
+    return AF_OK;
+  af_settings_say(err, len,
+                  "%s = %g .. %s = %g Hz, clipped to the Nyquist frequency %g Hz (%s = %g), holds "
+                  "%zu FFT bins of %.3g Hz, fewer than the %d the noise floor needs: lower %s",
+                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text,
+                  rc->noise_band_lo_hz,
+                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ).text,
+                  rc->noise_band_hi_hz, 0.5 * rc->sample_rate_hz,
+                  af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text, rc->sample_rate_hz,
+                  bins, rc->sample_rate_hz / (double)rc->fft_size, AF_RESPONSE_MIN_NOISE_BINS,
+                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text);
+  return AF_EINVAL;
+}
+
 /* The microphone analysis (measure_snr_threshold_db, measure_hum_*,
  * measure_noise_band_*, measure_fft_padding), after derive_measure has set
  * the windows: it holds the longer of the two, zero-padded to the power of
@@ -355,6 +387,8 @@ static af_status derive_response(const af_settings *s, af_lane_config *c, char *
   if (st == AF_OK)
     st = check_order(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ, AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ,
                      err, len);
+  if (st == AF_OK)
+    st = check_noise_band(s, rc, err, len);
   return st;
 }
 

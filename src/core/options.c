@@ -161,3 +161,14 @@ void af_options_wrote(const char *path)
 {
   fprintf(stderr, "wrote %s\n", path);
 }
+
+bool af_options_once(const char *tool, const af_option *o, char **argv, int first, int k)
+{
+  for (int j = first; j < k; j++)
+    if (strcmp(argv[j], o->name) == 0) {
+      fprintf(stderr, "%s: %s is given twice (as argument %d and %d); it is accepted once\n", tool,
+              o->name, j - first + 1, k - first + 1);
+      return false;
+    }
+  return true;
+}

@@ -82,6 +82,12 @@ void af_options_unknown(const char *tool, const af_option *table, size_t n, cons
  * needs a value: VALUE, help". */
 void af_options_missing(const char *tool, const af_option *o);
 
+/* argv[k] is o's name: true when argv[first..k) does not hold it already;
+ * else one line (stderr) "TOOL: FLAG is given twice ...; it is accepted
+ * once" and false. A single-valued flag given twice is refused rather than
+ * the last silently winning; repeatable flags (--set) are not passed here. */
+bool af_options_once(const char *tool, const af_option *o, char **argv, int first, int k);
+
 /* The one line a tool prints for each file it wrote: "wrote PATH" on stderr. */
 void af_options_wrote(const char *path);
 

@@ -8,9 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Fewest bins a noise band must hold for its median to be a floor. */
-#define AF_RESPONSE_MIN_NOISE_BINS 8
-
 /* ---- names and configuration --------------------------------------------- */
 
 const char *af_response_window_name(af_response_window window)
@@ -92,12 +89,19 @@ static af_status config_check_levels(const af_response_config *c)
   if (!(c->noise_band_lo_hz >= 0.0) || !(c->noise_band_hi_hz > c->noise_band_lo_hz) ||
       c->noise_band_lo_hz >= nyquist_hz)
     return AF_EINVAL;
-  size_t k_lo, k_hi;
-  af_response_band_bins(c->noise_band_lo_hz, c->noise_band_hi_hz,
-                        c->sample_rate_hz / (double)c->fft_size, c->fft_size / 2, &k_lo, &k_hi);
-  if (k_hi < k_lo || k_hi - k_lo + 1 < AF_RESPONSE_MIN_NOISE_BINS)
+  if (af_response_noise_band_bins(c) < AF_RESPONSE_MIN_NOISE_BINS)
     return AF_EINVAL;
   return AF_OK;
+}
+
+size_t af_response_noise_band_bins(const af_response_config *c)
+{
+  size_t k_lo, k_hi;
+  if (c == NULL || c->fft_size < 2 || !(c->sample_rate_hz > 0.0))
+    return 0;
+  af_response_band_bins(c->noise_band_lo_hz, c->noise_band_hi_hz,
+                        c->sample_rate_hz / (double)c->fft_size, c->fft_size / 2, &k_lo, &k_hi);
+  return k_hi < k_lo ? 0 : k_hi - k_lo + 1;
 }
 
 /* ---- lifetime ------------------------------------------------------------- */

@@ -132,6 +132,14 @@ typedef struct {
  * from the parameter table (af_defaults.h). */
 af_response_config af_response_config_default(void);
 
+/* Fewest FFT bins the noise band must hold for its median to be a floor. */
+#define AF_RESPONSE_MIN_NOISE_BINS 8
+
+/* The FFT bins of c's noise band [noise_band_lo_hz, noise_band_hi_hz], clipped
+ * to the Nyquist frequency, on c's grid (sample_rate_hz / fft_size); 0 when
+ * empty. af_response_create refuses fewer than AF_RESPONSE_MIN_NOISE_BINS. */
+size_t af_response_noise_band_bins(const af_response_config *c);
+
 typedef struct af_response af_response;
 
 /* Validates cfg (AF_EINVAL: sample_rate_hz or window_time_constant_s not

@@ -1,11 +1,15 @@
 /* settings_yaml.c — YAML 1.1 scalars typed as rosparam (PyYAML) types them,
  * and the reader of the flat YAML files (config/station.yaml, the
  * cultivar's), both checked against the parameter table. */
+#define _POSIX_C_SOURCE 200809L /* open, fstat, read */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "settings_private.h"
 
@@ -227,10 +231,167 @@ bool af_settings_blank_or_comment(const char *p)
   return *p == '\0' || *p == '#';
 }
 
-/* set_text and set_arg: one scalar for the row called name. */
 /* ---- the YAML file --------------------------------------------------------- */
 
-#define AF_YAML_LINE_MAX 1024 /* with its NUL */
+/* The file is read as bytes, whole, after fstat: a settings file is a
+ * regular file of at most AF_YAML_FILE_MAX_BYTES, so /dev/zero, a FIFO, a
+ * directory or 200 MB of anything is refused before a byte is read. Then,
+ * byte by byte: a UTF-8 byte-order mark at the very start is skipped (editors
+ * on Windows write one; rosparam's PyYAML skips it too); a line ends at LF or
+ * CR LF; a NUL byte or a CR not followed by LF anywhere is refused with
+ * file:line:column (a NUL would end a C string in silence, a lone CR is an
+ * old Mac line end PyYAML would read as a line break where we would not); a
+ * line longer than AF_YAML_LINE_MAX - 1 bytes is refused; a key given twice
+ * is refused naming both lines. */
+#define AF_YAML_LINE_MAX 1024                /* bytes per line, with its NUL */
+#define AF_YAML_FILE_MAX_BYTES (1024 * 1024) /* a settings file, whole [bytes] */
+
+static const char *file_kind(mode_t m)
+{
+  return S_ISDIR(m)    ? "a directory"
+         : S_ISFIFO(m) ? "a FIFO"
+         : S_ISCHR(m)  ? "a character device"
+         : S_ISBLK(m)  ? "a block device"
+         : S_ISSOCK(m) ? "a socket"
+                       : "not a regular file";
+}
+
+/* The whole file into *data (malloc'd, size bytes), or one line in err. */
+static af_status read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
+{
+  /* O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below. */
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  struct stat st;
+  if (fd < 0) {
+    af_settings_say(err, len, "%s: cannot be opened: %s", path, strerror(errno));
+    return AF_EIO;
+  }
+  af_status status = AF_OK;
+  char *buf = NULL;
+  size_t n = 0;
+  if (fstat(fd, &st) != 0) {
+    af_settings_say(err, len, "%s: cannot be read: %s", path, strerror(errno));
+    status = AF_EIO;
+  } else if (!S_ISREG(st.st_mode)) {
+    af_settings_say(err, len,
+                    "%s: is %s; a settings file must be a regular file of at most %d bytes", path,
+                    file_kind(st.st_mode), AF_YAML_FILE_MAX_BYTES);
+    status = AF_EINVAL;
+  } else if (st.st_size > AF_YAML_FILE_MAX_BYTES) {
+    af_settings_say(err, len,
+                    "%s: %lld bytes is outside the accepted size of a settings file, "
+                    "[0, %d] bytes",
+                    path, (long long)st.st_size, AF_YAML_FILE_MAX_BYTES);
+    status = AF_EINVAL;
+  } else if ((buf = malloc(AF_YAML_FILE_MAX_BYTES + 1)) == NULL) {
+    af_settings_say(err, len, "%s: no memory to read it", path);
+    status = AF_ENOMEM;
+  }
+  /* Read to the cap + 1: a file that grew after fstat is still bounded. */
+  while (status == AF_OK && n <= AF_YAML_FILE_MAX_BYTES) {
+    ssize_t got = read(fd, buf + n, AF_YAML_FILE_MAX_BYTES + 1 - n);
+    if (got < 0 && errno == EINTR)
+      continue;
+    if (got < 0) {
+      af_settings_say(err, len, "%s: read error: %s", path, strerror(errno));
+      status = AF_EIO;
+    } else if (got == 0) {
+      break;
+    }
+    n += status == AF_OK ? (size_t)got : 0;
+  }
+  if (status == AF_OK && n > AF_YAML_FILE_MAX_BYTES) {
+    af_settings_say(err, len, "%s: grew past %d bytes while read, the cap of a settings file", path,
+                    AF_YAML_FILE_MAX_BYTES);
+    status = AF_EINVAL;
+  }
+  close(fd);
+  if (status != AF_OK) {
+    free(buf);
+    return status;
+  }
+  *data = buf;
+  *size = n;
+  return AF_OK;
+}
+
+/* The line at data[*pos..size) into line[AF_YAML_LINE_MAX] without its end;
+ * *pos moves past the end. false with file:line:column on a NUL, a lone CR or
+ * an over-long line. */
+static bool next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
+                      int number, char *err, size_t len)
+{
+  size_t n = 0, p = *pos;
+  for (; p < size && data[p] != '\n'; p++) {
+    int column = (int)n + 1;
+    if (data[p] == '\0') {
+      af_settings_say(err, len, "%s:%d:%d: a NUL byte; a settings file is text", path, number,
+                      column);
+      return false;
+    }
+    if (data[p] == '\r' && (p + 1 == size || data[p + 1] != '\n')) {
+      af_settings_say(err, len,
+                      "%s:%d:%d: a carriage return not followed by a line feed; lines end with "
+                      "LF or CR LF",
+                      path, number, column);
+      return false;
+    }
+    if (data[p] == '\r') /* CR LF: the CR ends the line */
+      continue;
+    if (n + 1 >= AF_YAML_LINE_MAX) {
+      af_settings_say(err, len, "%s:%d: a line longer than %d bytes", path, number,
+                      AF_YAML_LINE_MAX - 1);
+      return false;
+    }
+    line[n++] = data[p];
+  }
+  line[n] = '\0';
+  *pos = p + (p < size); /* past the LF */
+  return true;
+}
+
+/* One `key: value` line into copy; false with the message in err. */
+static af_status one_entry(af_settings *copy, const char *line, const char *path, int number,
+                           int *first_line, char *err, size_t len)
+{
+  char value[AF_YAML_LINE_MAX], why_buf[AF_SETTINGS_TEXT_MAX];
+  const char *p = line;
+  while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+         *p == '_')
+    p++;
+  if (p == line || *p != ':' || (p[1] != '\0' && p[1] != ' ' && p[1] != '\t')) {
+    af_settings_say(err, len, "%s:%d: not a flat `key: value` line: '%.60s'", path, number, line);
+    return AF_EINVAL;
+  }
+  char key[80];
+  snprintf(key, sizeof key, "%.*s", (int)(p - line) < 79 ? (int)(p - line) : 79, line);
+  af_setting_id id;
+  if (af_setting_find(key, &id) != AF_OK) {
+    af_settings_say(err, len, "%s:%d: unknown parameter '%s'", path, number, key);
+    return AF_EINVAL;
+  }
+  if (first_line[id] != 0) {
+    af_settings_say(err, len, "%s:%d: duplicate key '%s': given on line %d and again on line %d",
+                    path, number, key, first_line[id], number);
+    return AF_EINVAL;
+  }
+  first_line[id] = number;
+  p++;
+  while (*p == ' ' || *p == '\t')
+    p++;
+  af_value v;
+  const char *rest = p, *why = NULL;
+  if (!af_settings_parse_scalar(p, value, sizeof value, &v, &rest, &why) ||
+      !af_settings_blank_or_comment(rest)) {
+    af_settings_say(err, len, "%s:%d: %s: %s", path, number, key,
+                    why ? why : "text after the quoted value");
+    return AF_EINVAL;
+  }
+  af_status st = af_settings_apply(copy, id, &v, why_buf, sizeof why_buf);
+  if (st != AF_OK)
+    af_settings_say(err, len, "%s:%d: %s", path, number, why_buf);
+  return st;
+}
 
 af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, size_t len)
 {
@@ -238,28 +399,24 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
     af_settings_say(err, len, "settings: a NULL argument");
     return AF_EINVAL;
   }
-  FILE *f = fopen(path, "r");
-  if (f == NULL) {
-    af_settings_say(err, len, "%s: cannot be opened: %s", path, strerror(errno));
-    return AF_EIO;
-  }
+  char *data = NULL;
+  size_t size = 0, pos = 0;
+  af_status st = read_whole(path, &data, &size, err, len);
+  if (st != AF_OK)
+    return st;
   af_settings copy = *s;
   int first_line[AF_SETTING_COUNT] = {0};
-  char line[AF_YAML_LINE_MAX + 1], value[AF_YAML_LINE_MAX], why_buf[AF_SETTINGS_TEXT_MAX];
-  af_status st = AF_OK;
+  char line[AF_YAML_LINE_MAX];
   int number = 0;
   bool any = false;
-  while (st == AF_OK && fgets(line, sizeof line, f) != NULL) {
+  if (size >= 3 && memcmp(data, "\xEF\xBB\xBF", 3) == 0) /* a UTF-8 byte-order mark */
+    pos = 3;
+  while (st == AF_OK && pos < size) {
     number++;
-    size_t n = strlen(line);
-    if (n == sizeof line - 1 && line[n - 1] != '\n' && !feof(f)) {
-      af_settings_say(err, len, "%s:%d: a line longer than %d characters", path, number,
-                      AF_YAML_LINE_MAX - 1);
+    if (!next_line(data, size, &pos, line, path, number, err, len)) {
       st = AF_EINVAL;
       break;
     }
-    while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r'))
-      line[--n] = '\0';
     if (af_settings_blank_or_comment(line))
       continue;
     if (!any && strcmp(line, "---") == 0) { /* a document start before any key */
@@ -267,51 +424,9 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
       continue;
     }
     any = true;
-    const char *p = line;
-    while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
-           *p == '_')
-      p++;
-    if (p == line || *p != ':' || (p[1] != '\0' && p[1] != ' ' && p[1] != '\t')) {
-      af_settings_say(err, len, "%s:%d: not a flat `key: value` line: '%.60s'", path, number, line);
-      st = AF_EINVAL;
-      break;
-    }
-    char key[80];
-    snprintf(key, sizeof key, "%.*s", (int)(p - line) < 79 ? (int)(p - line) : 79, line);
-    af_setting_id id;
-    if (af_setting_find(key, &id) != AF_OK) {
-      af_settings_say(err, len, "%s:%d: unknown parameter '%s'", path, number, key);
-      st = AF_EINVAL;
-      break;
-    }
-    if (first_line[id] != 0) {
-      af_settings_say(err, len, "%s:%d: duplicate key '%s' (first on line %d)", path, number, key,
-                      first_line[id]);
-      st = AF_EINVAL;
-      break;
-    }
-    first_line[id] = number;
-    p++;
-    while (*p == ' ' || *p == '\t')
-      p++;
-    af_value v;
-    const char *rest = p, *why = NULL;
-    if (!af_settings_parse_scalar(p, value, sizeof value, &v, &rest, &why) ||
-        !af_settings_blank_or_comment(rest)) {
-      af_settings_say(err, len, "%s:%d: %s: %s", path, number, key,
-                      why ? why : "text after the quoted value");
-      st = AF_EINVAL;
-      break;
-    }
-    st = af_settings_apply(&copy, id, &v, why_buf, sizeof why_buf);
-    if (st != AF_OK)
-      af_settings_say(err, len, "%s:%d: %s", path, number, why_buf);
+    st = one_entry(&copy, line, path, number, first_line, err, len);
   }
-  if (st == AF_OK && ferror(f)) {
-    af_settings_say(err, len, "%s: read error after line %d", path, number);
-    st = AF_EIO;
-  }
-  fclose(f);
+  free(data);
   if (st == AF_OK)
     *s = copy;
   return st;

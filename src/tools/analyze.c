@@ -308,6 +308,8 @@ static bool parse_args(int argc, char **argv, int first, af_analyze_args *a)
       af_options_unknown("firmness_model analyze", analyze_options, AF_N_OPTIONS, flag, NULL);
       return false;
     }
+    if (strcmp(flag, "--set") != 0 && !af_options_once("firmness_model analyze", o, argv, first, k))
+      return false;
     if (o->value == NULL) { /* a switch */
       (void)af_option_store(o, NULL, a);
       continue;

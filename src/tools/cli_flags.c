@@ -161,15 +161,49 @@ static const af_cli_flag *flag_of_field(const char *field)
   return NULL;
 }
 
-static bool validate(const af_model_params *p)
+void af_cli_number_text(double v, char *buf, size_t len)
+{
+  /* The fewest digits that read back as v: 1e9 + 1 shows as 1000000001, never
+   * as %g's 1e+09, which would look inside a range that ends at 1e9. */
+  if (v == floor(v) && fabs(v) < 1e15) { /* a whole number: every digit, no exponent */
+    snprintf(buf, len, "%.0f", v);
+    return;
+  }
+  for (int digits = 1; digits <= 17; digits++) {
+    snprintf(buf, len, "%.*g", digits, v);
+    if (strtod(buf, NULL) == v)
+      return;
+  }
+}
+
+bool af_cli_validate(const af_model_params *p, const char *tool)
 {
   af_param_error err;
   if (af_model_params_check(p, &err) == AF_OK)
     return true;
   const af_cli_flag *f = flag_of_field(err.field);
-  fprintf(stderr, "firmness_model: --%s %g is outside the accepted range %s\n",
-          f ? f->name : err.field, err.value, err.range);
+  char value[32];
+  af_cli_number_text(err.value, value, sizeof value);
+  fprintf(stderr, "%s: --%s %s is outside the accepted range %s\n", tool, f ? f->name : err.field,
+          value, err.range);
   return false;
+}
+
+/* A model flag (or --profile) given twice: refused, since which one wins
+ * would be a silent choice. */
+static bool once(int argc, char **argv, int first, int k)
+{
+  for (int j = first; j < k; j++) {
+    if (strcmp(argv[j], argv[k]) != 0)
+      continue;
+    fprintf(stderr,
+            "firmness_model: %s is given twice (arguments %d and %d: '%.40s' and '%.40s'); "
+            "a model flag is accepted once\n",
+            argv[k], j - first + 1, k - first + 1, j + 1 < argc ? argv[j + 1] : "",
+            k + 1 < argc ? argv[k + 1] : "");
+    return false;
+  }
+  return true;
 }
 
 bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
@@ -181,10 +215,14 @@ bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, in
     return false;
   for (int k = first; k < argc; k++) {
     if (strcmp(argv[k], "--profile") == 0) {
+      if (!once(argc, argv, first, k))
+        return false;
       k++;
       continue;
     }
     const af_cli_flag *f = strncmp(argv[k], "--", 2) == 0 ? af_cli_flag_find(argv[k]) : NULL;
+    if (f != NULL && !once(argc, argv, first, k))
+      return false;
     if (f == NULL) {
       if (rest == NULL) {
         char names[1024];
@@ -205,7 +243,7 @@ bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, in
     if (!af_cli_flag_set(f, argv[++k], p))
       return false;
   }
-  return validate(p);
+  return af_cli_validate(p, "firmness_model");
 }
 
 void af_cli_flag_names(char *buf, size_t len)

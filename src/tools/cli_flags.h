@@ -42,9 +42,18 @@ double af_cli_flag_get(const af_cli_flag *f, const af_model_params *p);
  * profile (--profile default|paper, wherever it stands). Arguments not of the
  * model are left to the caller when *rest is not NULL: their indices are
  * stored in rest[] and counted in *n_rest; otherwise they are errors. Then
- * validates p. false after printing a one-line error on stderr. */
+ * validates p. A model flag or --profile given twice is refused (which one
+ * would win is a silent choice). false after printing a one-line error on stderr. */
 bool af_cli_parse_model(int argc, char **argv, int first, af_model_params *p, int *rest,
                         int *n_rest);
+
+/* v as the fewest digits that read back exactly (1000000001, not 1e+09),
+ * for a message that prints a value beside its range. */
+void af_cli_number_text(double v, char *buf, size_t len);
+
+/* Checks p (af_model_params_check); false after one line on stderr, "TOOL:
+ * --FLAG VALUE is outside the accepted range RANGE". */
+bool af_cli_validate(const af_model_params *p, const char *tool);
 
 /* "the model flags --E2, --nu2, ..., --profile" into buf (truncated to
  * len), for the line naming what a tool accepts. */

@@ -9,6 +9,7 @@
  * margin is the 0S2's level re the selected lobe's peak minus the band's
  * level (-6 or -3 dB; forced negative when outside the band) and the damage
  * margin 20 log10(yield / shear). A strike's margin is its worst apple's. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "design.h"
 
 #include <math.h>
@@ -16,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cli_flags.h"
 #include "fastpath.h"
@@ -29,6 +31,27 @@
 #define N_R2 3
 #define N_GRID AF_DESIGN_GRID
 #define N_TIPS 4
+#define NO_STRIKE (1 << 30) /* best->failed before any strike was answered */
+#define PROGRESS_S 1.0      /* a progress line on stderr every [s] of a long search */
+
+static double now_s(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* One line on stderr every PROGRESS_S of a search that lasts longer (heavy
+ * hammers take the ODE: a wide box can run for seconds), never on stdout. */
+static void progress(int done, double start_s, double *last_s)
+{
+  double t = now_s();
+  if (t - *last_s < PROGRESS_S)
+    return;
+  fprintf(stderr, "firmness_model design: %d/%d cells searched, %.1f s\n", done, AF_DESIGN_CELLS,
+          t - start_s);
+  *last_s = t;
+}
 
 /* The defaults the parser starts from: the search box of the strike and
  * the shipped cultivar. */
@@ -40,15 +63,19 @@ static const af_option design_options[] = {
     {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1,
      "the cultivar's YAML: E2, mass, e, nu2, density, yield law", NULL},
     {"--hammer-mass-range", "A:B", AF_OPTION_RANGE, AF_ARG(m_lo), -1,
-     "hammer masses searched, 0 < A <= B [kg]", NULL},
+     "hammer masses searched, A <= B, each in hammer_mass_kg's range [kg]", NULL},
     {"--v0-range", "A:B", AF_OPTION_RANGE, AF_ARG(v_lo), -1,
-     "contact velocities searched, 0 < A <= B [m/s]", NULL},
+     "contact velocities searched, A <= B, each in strike_velocity_m_s's range [m/s]", NULL},
     {"--tip-radius-range", "A:B", AF_OPTION_RANGE, AF_ARG(tip_lo), -1,
-     "tip radii searched, 0 <= A <= B, A = 0 adds the flat face [m]", NULL},
+     "tip radii searched, A <= B, each in hammer_tip_radius_m's range, A = 0 adds the flat face "
+     "[m]",
+     NULL},
     {"--hammer-modulus", "PA", AF_OPTION_NUMBER, AF_ARG(hammer_modulus), -1,
-     "hammer tip modulus, 0 = rigid [Pa]", "rigid"},
+     "hammer tip modulus, 0 = rigid, in hammer_modulus_pa's range [Pa]", "rigid"},
     {"--r2-min", "M", AF_OPTION_NUMBER, AF_ARG(r2_min), -1,
-     "smallest radius of curvature under the hammer of the domain [m]", NULL},
+     "smallest radius of curvature under the hammer of the domain, in strike_radius_min_m's range "
+     "[m]",
+     NULL},
     {"--plot", "FILE", AF_OPTION_TEXT, AF_ARG(plot), -1,
      "the feasibility map, FILE.png or FILE.svg", "no map"},
     {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
@@ -77,17 +104,84 @@ static void design_help(void)
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
-static bool parse_range(const char *flag, const char *text, double *lo, double *hi)
+/* text as a number (the whole text), or false. */
+static bool number_of(const char *text, double *out)
 {
   char *end;
-  *lo = strtod(text, &end);
-  if (*end == ':') {
-    *hi = strtod(end + 1, &end);
-    if (*end == '\0' && isfinite(*lo) && isfinite(*hi) && *lo >= 0.0 && *hi >= *lo)
-      return true;
-  }
-  fprintf(stderr, "firmness_model design: %s '%s' is not A:B with 0 <= A <= B\n", flag, text);
+  *out = strtod(text, &end);
+  return end != text && *end == '\0' && isfinite(*out);
+}
+
+/* v within the parameter table row's range; else one line naming the flag,
+ * the value as given and the range. */
+static bool in_row(const char *flag, const char *given, double v, af_setting_id row)
+{
+  af_setting_range r;
+  if (af_setting_range_of(row, &r) == AF_OK && af_setting_range_contains(&r, v))
+    return true;
+  fprintf(stderr,
+          "firmness_model design: %s %.40s is outside the accepted range %s (parameter %s)\n", flag,
+          given, af_setting_def_of(row)->range, af_setting_def_of(row)->name);
   return false;
+}
+
+/* "A:B", each end in the row's range, A <= B; one line when not. */
+static bool parse_range(const char *flag, const char *text, af_setting_id row, double *lo,
+                        double *hi)
+{
+  const char *colon = strchr(text, ':');
+  char a[64];
+  if (colon == NULL || (size_t)(colon - text) >= sizeof a) {
+    fprintf(stderr, "firmness_model design: %s '%.40s' is not A:B (each in %s)\n", flag, text,
+            af_setting_def_of(row)->range);
+    return false;
+  }
+  memcpy(a, text, (size_t)(colon - text));
+  a[colon - text] = '\0';
+  if (!number_of(a, lo) || !number_of(colon + 1, hi)) {
+    fprintf(stderr, "firmness_model design: %s '%.40s' is not A:B with two numbers (each in %s)\n",
+            flag, text, af_setting_def_of(row)->range);
+    return false;
+  }
+  if (!in_row(flag, a, *lo, row) || !in_row(flag, colon + 1, *hi, row))
+    return false;
+  if (*hi < *lo) {
+    fprintf(stderr, "firmness_model design: %s %.40s is reversed: A:B needs A <= B (each in %s)\n",
+            flag, text, af_setting_def_of(row)->range);
+    return false;
+  }
+  return true;
+}
+
+/* One number flag in the row's range. */
+static bool parse_number(const char *flag, const char *text, af_setting_id row, double *out)
+{
+  if (!number_of(text, out)) {
+    fprintf(stderr, "firmness_model design: %s '%.40s' is not a number (accepted range %s)\n", flag,
+            text, af_setting_def_of(row)->range);
+    return false;
+  }
+  return in_row(flag, text, *out, row);
+}
+
+/* The flag's value into a; false after one line on stderr. */
+static bool parse_value(const char *f, const char *v, af_design_args *a)
+{
+  if (strcmp(f, "--cultivar") == 0)
+    a->cultivar = v;
+  else if (strcmp(f, "--plot") == 0)
+    a->plot = v;
+  else if (strcmp(f, "--hammer-mass-range") == 0)
+    return parse_range(f, v, AF_SETTING_HAMMER_MASS_KG, &a->m_lo, &a->m_hi);
+  else if (strcmp(f, "--v0-range") == 0)
+    return parse_range(f, v, AF_SETTING_STRIKE_VELOCITY_M_S, &a->v_lo, &a->v_hi);
+  else if (strcmp(f, "--tip-radius-range") == 0)
+    return parse_range(f, v, AF_SETTING_HAMMER_TIP_RADIUS_M, &a->tip_lo, &a->tip_hi);
+  else if (strcmp(f, "--hammer-modulus") == 0)
+    return parse_number(f, v, AF_SETTING_HAMMER_MODULUS_PA, &a->hammer_modulus);
+  else if (strcmp(f, "--r2-min") == 0)
+    return parse_number(f, v, AF_SETTING_STRIKE_RADIUS_MIN_M, &a->r2_min);
+  return true;
 }
 
 static bool parse_args(int argc, char **argv, int first, af_design_args *a)
@@ -96,6 +190,8 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
   for (int k = first; k < argc; k++) {
     const char *f = argv[k];
     const af_option *o = af_option_find(design_options, N_OPTIONS, f);
+    if (o != NULL && !af_options_once("firmness_model design", o, argv, first, k))
+      return false;
     if (o != NULL && o->value == NULL) {
       (void)af_option_store(o, NULL, a);
       continue;
@@ -108,29 +204,8 @@ static bool parse_args(int argc, char **argv, int first, af_design_args *a)
       af_options_missing("firmness_model design", o);
       return false;
     }
-    const char *v = argv[++k];
-    char *end = NULL;
-    bool ok = true;
-    if (strcmp(f, "--cultivar") == 0)
-      a->cultivar = v;
-    else if (strcmp(f, "--plot") == 0)
-      a->plot = v;
-    else if (strcmp(f, "--hammer-mass-range") == 0)
-      ok = parse_range(f, v, &a->m_lo, &a->m_hi) && a->m_lo > 0.0;
-    else if (strcmp(f, "--v0-range") == 0)
-      ok = parse_range(f, v, &a->v_lo, &a->v_hi) && a->v_lo > 0.0;
-    else if (strcmp(f, "--tip-radius-range") == 0)
-      ok = parse_range(f, v, &a->tip_lo, &a->tip_hi);
-    else if (strcmp(f, "--hammer-modulus") == 0)
-      a->hammer_modulus = strtod(v, &end), ok = *end == '\0' && a->hammer_modulus >= 0.0;
-    else if (strcmp(f, "--r2-min") == 0)
-      a->r2_min = strtod(v, &end), ok = *end == '\0' && a->r2_min > 0.0;
-    else
-      ok = false;
-    if (!ok) {
-      fprintf(stderr, "firmness_model design: %s '%s' is not accepted: %s\n", f, v, o->help);
+    if (!parse_value(f, argv[++k], a))
       return false;
-    }
   }
   return true;
 }
@@ -250,10 +325,12 @@ static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
   r->n_tips = n_tips;
   af_design_strike *best = &r->recommended;
   *best = (af_design_strike){0};
-  best->margin_db = -INFINITY, best->failed = 1 << 30;
+  best->margin_db = -INFINITY, best->failed = NO_STRIKE;
   r->feasible_cells = 0;
+  r->failed_cells = 0, r->failed_strikes = 0, r->failed_status = AF_OK;
   r->feasible_m_lo_kg = INFINITY, r->feasible_m_hi_kg = 0;
   r->feasible_v_lo_m_s = INFINITY, r->feasible_v_hi_m_s = 0;
+  double start_s = now_s(), last_s = start_s;
   for (int i = 0; i < N_GRID; i++)
     for (int j = 0; j < N_GRID; j++) {
       double m1 = grid_at(a->m_lo, a->m_hi, i, N_GRID), v0 = grid_at(a->v_lo, a->v_hi, j, N_GRID);
@@ -262,8 +339,13 @@ static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
         af_model_params p = with_strike(base, m1, v0, tips[t]);
         af_design_strike e = {.hammer_mass_kg = m1, .velocity_m_s = v0, .tip_radius_m = tips[t]};
         af_status st = evaluate_strike(f, m, a, &p, r, &e, NULL, NULL);
-        if (st != AF_OK)
+        if (st == AF_EINVAL)
           return st;
+        if (st != AF_OK) { /* the model cannot answer this strike: failed, counted */
+          if (r->failed_strikes++ == 0)
+            r->failed_status = st;
+          continue;
+        }
         cell = fmax(cell, e.margin_db);
         /* Best: all reliable first, then the largest worst margin; without
          * a feasible strike the fewest apples given up. */
@@ -272,7 +354,8 @@ static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
       }
       r->map_mass_g[i * N_GRID + j] = m1 * 1e3;
       r->map_v_m_s[i * N_GRID + j] = v0;
-      r->map_margin_db[i * N_GRID + j] = cell;
+      r->map_margin_db[i * N_GRID + j] = cell; /* -inf: every tip failed */
+      r->failed_cells += cell == -INFINITY;
       if (cell >= 0.0) {
         r->feasible_cells++;
         r->feasible_m_lo_kg = fmin(r->feasible_m_lo_kg, m1);
@@ -280,6 +363,7 @@ static af_status search(af_fastpath *f, af_model *m, const af_design_args *a,
         r->feasible_v_lo_m_s = fmin(r->feasible_v_lo_m_s, v0);
         r->feasible_v_hi_m_s = fmax(r->feasible_v_hi_m_s, v0);
       }
+      progress(i * N_GRID + j + 1, start_s, &last_s);
     }
   return AF_OK;
 }
@@ -321,9 +405,14 @@ af_status af_design_execute(const af_design_args *a, af_design_result *out, bool
     return AF_ENOMEM;
   }
   af_status st = search(f, m, a, &base, out);
-  if (st != AF_OK)
+  if (st == AF_OK && out->recommended.failed == NO_STRIKE) {
+    st = out->failed_status;
+    snprintf(err, len, "the model failed on every strike of the box (%d): %s", out->failed_strikes,
+             af_strerror(st));
+  } else if (st != AF_OK) {
+    *bad_input = st == AF_EINVAL;
     snprintf(err, len, "the model failed: %s", af_strerror(st));
-  else
+  } else
     compare(f, m, a, &base, out);
   af_fastpath_destroy(f);
   af_model_destroy(m);
@@ -377,6 +466,11 @@ void af_design_print(FILE *out, const char *cultivar, const af_design_args *a,
             r->feasible_m_hi_kg * 1e3, r->feasible_v_lo_m_s, r->feasible_v_hi_m_s);
   else
     fprintf(out, "feasible region: none in the searched ranges\n");
+  if (r->failed_strikes > 0)
+    fprintf(out,
+            "failed: %d strikes (%d of %d cells wholly) the model could not answer, marked "
+            "infeasible: %s\n",
+            r->failed_strikes, r->failed_cells, AF_DESIGN_CELLS, af_strerror(r->failed_status));
   if (r->paper_status == AF_OK)
     print_strike(out, "the paper's optimum", &r->paper);
 }

@@ -58,6 +58,9 @@ typedef struct {
   af_design_lost lost[AF_DESIGN_APPLES]; /* the apples the best compromise gives up */
   int n_lost;                            /* 0 when recommended.failed is 0 */
   int feasible_cells;                    /* cells whose best tip keeps every apple */
+  int failed_strikes;      /* strikes (cell x tip) the model could not answer: infeasible */
+  int failed_cells;        /* cells whose every tip failed (map margin -inf) */
+  af_status failed_status; /* the first failed strike's status (AF_OK: none) */
   double feasible_m_lo_kg, feasible_m_hi_kg, feasible_v_lo_m_s, feasible_v_hi_m_s;
   af_design_strike paper; /* the paper's optimum on the same domain */
   af_status paper_status; /* AF_OK, or why the paper's optimum could not be evaluated */

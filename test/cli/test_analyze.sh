@@ -129,8 +129,8 @@ expect_analyze_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rat
 expect_analyze_usage "--rate-audio" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio -48000 --mass 0.175 --R2 0.04
 expect_analyze_usage "--mass" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04
 expect_analyze_usage "--R2" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175
-expect_analyze_usage "--R2" "${F[@]}" "${A[@]}" "${base[@]}" --R2 -0.01
-expect_analyze_usage "--mass" "${F[@]}" "${A[@]}" "${base[@]}" --mass 0
+expect_analyze_usage "--R2" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175 --R2 -0.01
+expect_analyze_usage "--mass" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04 --mass 0
 expect_analyze_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset nan
 expect_analyze_usage "--audio-offset" "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset
 expect_analyze_usage "--bogus" "${F[@]}" "${A[@]}" "${base[@]}" --bogus 1
@@ -145,7 +145,7 @@ expect_analyze_usage "unknown parameter 'no_such_row'" "${F[@]}" "${A[@]}" "${ba
 expect_analyze_usage "$tmp/missing.yaml" "${F[@]}" "${A[@]}" "${base[@]}" --config "$tmp/missing.yaml"
 printf 'lobe: 9\n' >"$tmp/bad.yaml"
 expect_analyze_usage "$tmp/bad.yaml:1: " "${F[@]}" "${A[@]}" "${base[@]}" --cultivar "$tmp/bad.yaml"
-expect_analyze_usage "strike_radius" "${F[@]}" "${A[@]}" "${base[@]}" --R2 0.9
+expect_analyze_usage "strike_radius" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175 --R2 0.9
 # Issue 11: extreme but well-formed input, each exit 2 with one line naming
 # the flag, within a second; no allocation sized from it beforehand.
 expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+20 is outside the accepted range \[1000, 1e6\] Hz" \
@@ -157,14 +157,16 @@ expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+12 is outside" \
 expect_bounded 2 "--audio-offset '1e15' must be a number in \[-3600, 3600\] s" \
   analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset 1e15
 expect_bounded 2 "--audio-offset '-1e15'" analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset -1e15
-expect_bounded 2 "--mass" analyze "${F[@]}" "${A[@]}" "${base[@]}" --mass 1e300
-expect_bounded 2 "--R2" analyze "${F[@]}" "${A[@]}" "${base[@]}" --R2 1e-300
+expect_bounded 2 "--mass is given twice (as argument 9 and 13); it is accepted once" \
+  analyze "${F[@]}" "${A[@]}" "${base[@]}" --mass 0.2
+expect_bounded 2 "--mass" analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04 --mass 1e300
+expect_bounded 2 "--R2" analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175 --R2 1e-300
 expect_bounded 2 "--v0: strike_velocity_m_s = 1e-09 is outside" analyze "${F[@]}" "${A[@]}" "${base[@]}" --v0 1e-9
 expect_bounded 2 "--E2: modulus_nominal_pa = 1e-30 is outside" analyze "${F[@]}" "${A[@]}" "${base[@]}" --E2 1e-30
-expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" "${base[@]}" \
-  --rate-force 1e6 --set force_buffer_s=100
-expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" "${base[@]}" \
-  --rate-force 1e6 --set strike_max_contact_s=1
+expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" --rate-audio 48000 \
+  --mass 0.175 --R2 0.04 --rate-force 1e6 --set force_buffer_s=100
+expect_bounded 2 "above the 256 MiB accepted" analyze "${F[@]}" "${A[@]}" --rate-audio 48000 \
+  --mass 0.175 --R2 0.04 --rate-force 1e6 --set strike_max_contact_s=1
 # inside every range, a hammer that rests on the fruit: the budget, exit 1
 expect_bounded 1 "the model failed on this apple: model evaluation failed: impact ODE budget exhausted" \
   analyze "${F[@]}" "${A[@]}" "${base[@]}" --v0 0.05 --set hammer_mass_kg=1 --set gravity_m_s2=20 \

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "af_test.h"
+#include "lane_config.h"
 #include "reconfigure.h"
 #include "settings.h"
 
@@ -143,8 +144,41 @@ static void test_not_allowed(void)
   AF_CHECK(!af_reconfigure_allowed((af_setting_id)-1));
 }
 
+/* strike_threshold_min_n through a reconfigure (issue 18): inf is refused
+ * by the row, and a value inside the row's [0, 1e6] N but at or above
+ * strike_full_scale_n (500 N shipped) by af_lane_config_derive, the check
+ * the node runs on every request, naming both rows; 499 N is taken. */
+static void test_threshold_below_full_scale(void)
+{
+  af_settings s;
+  af_lane_config c;
+  char err[512];
+  af_settings_reset(&s);
+  AF_CHECK_STATUS(af_settings_set_arg(&s, "hammer_mass_kg=0.01", err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
+  AF_CHECK(af_settings_number(&s, AF_SETTING_STRIKE_FULL_SCALE_N) == 500.0);
+  af_status st =
+      af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, INFINITY, err, sizeof err);
+  AF_CHECK_STATUS(st, AF_EINVAL);
+  AF_CHECK(strcmp(err, "strike_threshold_min_n = inf is outside the accepted range [0, 1e6] N") ==
+           0);
+  AF_CHECK_STATUS(
+      af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, 1e6, err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_EINVAL);
+  AF_CHECK(strcmp(err, "strike_threshold_min_n = 1e+06 N is outside the accepted range [0, "
+                       "strike_full_scale_n = 500 N)") == 0);
+  AF_CHECK_STATUS(
+      af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, 500.0, err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_EINVAL);
+  AF_CHECK_STATUS(
+      af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, 499.0, err, sizeof err), AF_OK);
+  AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
+}
+
 int main(void)
 {
+  test_threshold_below_full_scale();
   test_rows();
   test_ranges();
   test_not_allowed();

@@ -7,11 +7,13 @@
  * check against the table, and the printed table. Run from the repository
  * root (the shipped files are read as config/station.yaml and
  * config/jonagold.yaml). */
+#define _POSIX_C_SOURCE 200809L /* mkfifo */
 #include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "af_test.h"
@@ -573,7 +575,8 @@ static void test_yaml(void)
   char path[64];
   write_file(path, "lobe: 1\nlobe: 2\n");
   char want[ERR_MAX];
-  snprintf(want, sizeof want, "%s:2: duplicate key 'lobe' (first on line 1)", path);
+  snprintf(want, sizeof want, "%s:2: duplicate key 'lobe': given on line 1 and again on line 2",
+           path);
   CHECK_ERROR(af_settings_load_yaml(&s, path, err, sizeof err), AF_EINVAL, err, want);
   remove(path);
   AF_CHECK(memcmp(&before, &s, sizeof s) == 0);
@@ -626,6 +629,97 @@ static void test_yaml(void)
   CHECK_ERROR(af_settings_load_yaml(&s, "/no/such/dir/station.yaml", err, sizeof err), AF_EIO, err,
               "/no/such/dir/station.yaml: cannot be opened: No such file or directory");
   AF_CHECK(memcmp(&before, &s, sizeof s) == 0);
+}
+
+/* n bytes (NULs included) as a YAML file; the status, err filled. */
+static af_status load_bytes(af_settings *s, const char *bytes, size_t n, char *err, char *path)
+{
+  write_file(path, "");
+  FILE *f = fopen(path, "wb");
+  AF_CHECK(f != NULL);
+  if (f) {
+    AF_CHECK(fwrite(bytes, 1, n, f) == n);
+    fclose(f);
+  }
+  return af_settings_load_yaml(s, path, err, ERR_MAX);
+}
+#define LOAD_BYTES(s, lit, err, path) load_bytes(s, lit, sizeof lit - 1, err, path)
+
+/* The reader works on bytes (issue 18): a NUL anywhere, a lone CR, a line
+ * over 1023 bytes, a file that is not regular or is over 1 MiB are refused
+ * with file:line:column; CR LF and a UTF-8 BOM at the start are accepted. */
+static void test_yaml_bytes(void)
+{
+  af_settings s;
+  char err[ERR_MAX], path[64], want[ERR_MAX];
+  af_settings_reset(&s);
+  af_settings before = s;
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "mass_max_kg: 0.3\0junk\n", err, path), AF_EINVAL);
+  snprintf(want, sizeof want, "%s:1:17: a NUL byte; a settings file is text", path);
+  AF_CHECK(strcmp(err, want) == 0);
+  remove(path);
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "lobe: 2\n\0bogus_key: 5\n", err, path), AF_EINVAL);
+  snprintf(want, sizeof want, "%s:2:1: a NUL byte; a settings file is text", path);
+  AF_CHECK(strcmp(err, want) == 0);
+  remove(path);
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "lobe: 2\n# a\rlobe: 3\n", err, path), AF_EINVAL);
+  snprintf(want, sizeof want,
+           "%s:2:4: a carriage return not followed by a line feed; lines end with LF or CR LF",
+           path);
+  AF_CHECK(strcmp(err, want) == 0);
+  remove(path);
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "lobe: 2\r", err, path), AF_EINVAL); /* a CR at the end too */
+  remove(path);
+  AF_CHECK(memcmp(&before, &s, sizeof s) == 0);
+  /* CR LF, a BOM, both, and a last line without its end are accepted. */
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "lobe: 2\r\nmass_max_kg: 0.3 # max\r\n", err, path), AF_OK);
+  remove(path);
+  AF_CHECK(af_settings_number(&s, AF_SETTING_LOBE) == 2.0);
+  AF_CHECK(af_settings_number(&s, AF_SETTING_MASS_MAX_KG) == 0.3);
+  AF_CHECK_STATUS(LOAD_BYTES(&s, "\xef\xbb\xbf---\r\nlobe: 3\r\ncultivar: 'Gala'", err, path),
+                  AF_OK);
+  remove(path);
+  AF_CHECK(af_settings_number(&s, AF_SETTING_LOBE) == 3.0);
+  AF_CHECK(strcmp(af_settings_string(&s, AF_SETTING_CULTIVAR), "Gala") == 0);
+  /* a BOM elsewhere is text: not a key */
+  CHECK_WORDS(LOAD_BYTES(&s, "lobe: 2\n\xef\xbb\xbflobe: 3\n", err, path), AF_EINVAL, err,
+              ":2: not a flat `key: value` line");
+  remove(path);
+  /* 1023 bytes of a line are accepted, 1024 refused (with its CR LF or not) */
+  static char line[1100];
+  memset(line, 'x', sizeof line);
+  line[0] = '#';
+  line[1023] = '\r', line[1024] = '\n';
+  AF_CHECK_STATUS(load_bytes(&s, line, 1025, err, path), AF_OK);
+  remove(path);
+  line[1023] = 'x', line[1024] = '\n';
+  AF_CHECK_STATUS(load_bytes(&s, line, 1025, err, path), AF_EINVAL);
+  snprintf(want, sizeof want, "%s:1: a line longer than 1023 bytes", path);
+  AF_CHECK(strcmp(err, want) == 0);
+  remove(path);
+  /* the size cap, 1 MiB: at it accepted (comment lines), one byte over refused */
+  static char big[1048577];
+  for (size_t k = 0; k < sizeof big; k++)
+    big[k] = k % 64 == 63 ? '\n' : '#';
+  AF_CHECK_STATUS(load_bytes(&s, big, 1048576, err, path), AF_OK);
+  remove(path);
+  AF_CHECK_STATUS(load_bytes(&s, big, 1048577, err, path), AF_EINVAL);
+  snprintf(want, sizeof want,
+           "%s: 1048577 bytes is outside the accepted size of a settings file, [0, 1048576] bytes",
+           path);
+  AF_CHECK(strcmp(err, want) == 0);
+  remove(path);
+  /* not a regular file: a device, a directory, a FIFO (never waited on) */
+  CHECK_ERROR(af_settings_load_yaml(&s, "/dev/zero", err, sizeof err), AF_EINVAL, err,
+              "/dev/zero: is a character device; a settings file must be a regular file of at "
+              "most 1048576 bytes");
+  CHECK_WORDS(af_settings_load_yaml(&s, "/tmp", err, sizeof err), AF_EINVAL, err,
+              "/tmp: is a directory");
+  write_file(path, "");
+  remove(path);
+  AF_CHECK(mkfifo(path, 0600) == 0);
+  CHECK_WORDS(af_settings_load_yaml(&s, path, err, sizeof err), AF_EINVAL, err, ": is a FIFO");
+  remove(path);
 }
 
 /* ---- af_lane_config_derive: every cross-check --------------------------------- */
@@ -945,6 +1039,7 @@ int main(void)
   test_value_errors();
   test_args();
   test_yaml();
+  test_yaml_bytes();
   test_derive_errors();
   test_yield_measured();
   test_model_ranges();

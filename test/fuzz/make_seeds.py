@@ -86,6 +86,25 @@ def yaml_seeds():
     for name in ('station.yaml', 'jonagold.yaml'):
         with open(os.path.join(ROOT, 'config', name), 'rb') as f:
             put('yaml', name.split('.')[0], f.read())
+    # The byte-level edge cases of the reader (issue 18), accepted and refused:
+    # each starts from the shipped cultivar so that fuzzing mutates around a
+    # file that otherwise reads.
+    with open(os.path.join(ROOT, 'config', 'jonagold.yaml'), 'rb') as f:
+        cultivar = f.read()
+    lines = cultivar.split(b'\n')
+    put('yaml', 'crlf', cultivar.replace(b'\n', b'\r\n'))
+    put('yaml', 'bom', b'\xef\xbb\xbf' + cultivar)
+    put('yaml', 'bom_crlf', b'\xef\xbb\xbf' + cultivar.replace(b'\n', b'\r\n'))
+    put('yaml', 'lone_cr', b'\r'.join(lines))
+    put('yaml', 'cr_at_end', b'lobe: 2\r')
+    put('yaml', 'nul_in_value', b'mass_max_kg: 0.3\0junk\n')
+    put('yaml', 'nul_before_key', b'\0bogus_key: 5\n')
+    put('yaml', 'nul_line', cultivar + b'\0' * 64 + b'\n')
+    put('yaml', 'long_line_1023', b'#' + b'x' * 1022 + b'\n' + cultivar)
+    put('yaml', 'long_line_1024', b'#' + b'x' * 1023 + b'\n' + cultivar)
+    put('yaml', 'long_value', b"cultivar: '" + b'G' * 2000 + b"'\n")
+    put('yaml', 'duplicate_key', cultivar + lines[-2] + b'\n' if lines[-1] == b'' else cultivar)
+    put('yaml', 'no_final_newline', cultivar.rstrip(b'\n'))
 
 
 def messages():
