@@ -67,7 +67,7 @@ typedef struct {
   const char *config, *cultivar, *ns, *csv, *plots;
   const char *sets[AF_SETS_MAX];
   int n_sets;
-  long jobs; /* worker threads [workers], 1..AF_JOBS_MAX */
+  long jobs; /* worker threads [workers], 1..AF_JOBS_MAX; 0: one per core online */
   bool json, bench;
 } af_report_args;
 
@@ -79,8 +79,7 @@ static af_report_args report_args_default(void)
   a.config = AF_CONFIG_DIR "/station.yaml";
   a.cultivar = AF_CONFIG_DIR "/jonagold.yaml";
   a.ns = "lane1";
-  long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  a.jobs = cores < 1 ? 1 : cores > AF_JOBS_MAX ? AF_JOBS_MAX : cores;
+  a.jobs = 0; /* one per core online (jobs_or_cores) */
   return a;
 }
 
@@ -109,8 +108,8 @@ static const af_option af_report_options[] = {
      NULL},
     {"--jobs", "N", AF_OPTION_LONG, AF_ARG(jobs), -1,
      "bags read at once, each by a worker thread of its own [workers], 1 to " AF_OPTION_STR(
-         AF_JOBS_MAX) "; the default is the cores online",
-     NULL},
+         AF_JOBS_MAX),
+     "one per core online"},
 };
 #define AF_N_OPTIONS (sizeof af_report_options / sizeof af_report_options[0])
 
@@ -233,6 +232,15 @@ static int add_argument(af_report_args *a, const char *path)
   if (!add_bag(a, path))
     return bad_flag("%s: out of memory%s", path, "");
   return 0;
+}
+
+/* The workers: --jobs, or one per core online (at least 1, at most AF_JOBS_MAX). */
+static long jobs_or_cores(long jobs)
+{
+  if (jobs > 0)
+    return jobs;
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  return cores < 1 ? 1 : cores > AF_JOBS_MAX ? AF_JOBS_MAX : cores;
 }
 
 /* --jobs: a whole number in [1, AF_JOBS_MAX]. */
@@ -614,7 +622,8 @@ static int run_report(const af_report_args *a, const char *ns, const af_lane_con
   pthread_mutex_init(&r.lock, NULL);
   pthread_mutex_init(&r.setup, NULL);
   pthread_cond_init(&r.done, NULL);
-  const long jobs = a->jobs < (long)a->n_bags ? a->jobs : (long)a->n_bags;
+  const long wanted = jobs_or_cores(a->jobs);
+  const long jobs = wanted < (long)a->n_bags ? wanted : (long)a->n_bags;
   int code = run_bags(&w, &r, (int)jobs);
   pthread_cond_destroy(&r.done);
   pthread_mutex_destroy(&r.setup);
