@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Benchmark of the node's measured strikes (not a timed test): replays a bag
 # of synthetic strikes (strike_bag: 50 kHz force + 48 kHz audio, one strike
-# every 0.5 s) at real time through station.launch and prints
+# every 0.5 s: 2 strikes/s; --rate 10: every 0.1 s, a grading line's rate)
+# at real time through station.launch and prints
 #  - the node's CPU per second of streamed input: utime + stime from
 #    /proc/<pid>/stat over the replay, divided by the bag's duration
 #    (target: under 2 % of one core), and its idle CPU before the replay;
@@ -17,7 +18,11 @@
 #    the end of the apple wait) to the publish, from /diagnostics (the last
 #    diagnostics on the replay's clock: the last strike may come after).
 #
-#   bash scripts/bench_node.sh [--seconds S]    (default 20 s of input)
+#   bash scripts/bench_node.sh [--seconds S] [--rate R]
+#     --seconds S  input replayed [s] (default 20)
+#     --rate R     strikes per second, 2 or 10 (default 2: strike_bag --spacing 0.5;
+#                  10: --spacing 0.1); the last line gives, for that rate, the
+#                  node's CPU and its max latency inside the node and end to end
 #
 # Runs its own ROS master on $AF_BENCH_PORT (default 11346) and stops it and
 # the node (by PID) on exit.
@@ -25,13 +30,21 @@ set -euo pipefail
 source "$(dirname "$0")/env.sh"
 
 seconds=20
+rate=2
 while [ $# -gt 0 ]; do
   case "$1" in
-    --seconds) seconds=$2; shift 2 ;;
-    *) echo "bench_node.sh: unknown argument $1 (--seconds S)" >&2; exit 2 ;;
+    --seconds) seconds=${2:?--seconds needs a value [s]}; shift 2 ;;
+    --rate) rate=${2:?--rate needs a value: 2 or 10 [strikes/s]}; shift 2 ;;
+    *) echo "bench_node.sh: unknown argument $1 (--seconds S, --rate 2|10)" >&2; exit 2 ;;
   esac
 done
-strikes=$(/usr/bin/python3 -c "print(max(1, round(($seconds - 1.5) / 0.5)))")
+case "$rate" in
+  2) spacing=0.5 ;;
+  10) spacing=0.1 ;;
+  *) echo "bench_node.sh: --rate $rate: 2 or 10 strikes per second" >&2; exit 2 ;;
+esac
+# strike_bag: 1 s of lead, then one strike every spacing seconds, 0.5 s of tail
+strikes=$(/usr/bin/python3 -c "print(max(1, round(($seconds - 1.5) / $spacing)))")
 
 af_ensure_station_built
 
@@ -48,7 +61,8 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --seed 11 --out "$work/bench.bag"
+"$AF_DEVEL/lib/acoustic_firmness/strike_bag" --strikes "$strikes" --spacing "$spacing" --seed 11 \
+  --out "$work/bench.bag"
 af_start_master "$port" "$work/roscore.log" || { core_pid=$AF_MASTER_PID; exit 1; }
 core_pid=$AF_MASTER_PID
 rosparam set /use_sim_time true
@@ -56,12 +70,13 @@ roslaunch acoustic_firmness station.launch >"$work/launch.log" 2>&1 &
 launch_pid=$!
 
 cat >"$work/bench.py" <<'EOF'
-import math, os, subprocess, sys, threading, time
+import math, os, re, subprocess, sys, threading, time
 import rosgraph, rospy, xmlrpc.client
 from acoustic_firmness.msg import SignalChunk, StrikeReport
 from diagnostic_msgs.msg import DiagnosticArray
 
-bag, seconds = sys.argv[1], float(sys.argv[2])
+bag, seconds, n_strikes, strike_rate = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+cpu_target = {'2': 1.0, '10': 3.0}[strike_rate]   # issue 17's targets [% of one core]
 node = '/lane1/firmness_node'
 rospy.init_node('bench_node', disable_signals=True)
 lock = threading.Lock()
@@ -128,7 +143,7 @@ c1, w1 = cpu_s(), time.time()
 end = time.time() + 5.0   # the last reports, then the diagnostics after them
 while time.time() < end:
     with lock:
-        if len(reports) >= round((seconds - 1.5) / 0.5):
+        if len(reports) >= n_strikes:
             break
     time.sleep(0.1)
 time.sleep(2.5)
@@ -166,6 +181,12 @@ print('  inside the node (target < 2 ms) [ms]: %s' % diag_.get('strike report la
 print('  strikes %s, without audio %s, queue overflows %s, force gaps %s, audio gaps %s' % (
     diag_.get('strikes'), diag_.get('strikes without audio'), diag_.get('strike queue overflows'),
     diag_.get('force gaps'), diag_.get('audio gaps')))
+inside = re.search(r'max ([0-9.]+)', diag_.get('strike report latency [ms]', ''))
+print('bench at %s strikes/s: node CPU %.2f %% of one core (target %g %%), max latency inside the '
+      'node %s ms (target 2 ms), end to end %.3f ms (with the apple wait)' % (
+          strike_rate, 100.0 * cpu / seconds, cpu_target, inside.group(1) if inside else 'n/a',
+          lat[-1] if lat else float('nan')))
 rospy.signal_shutdown('done')
 EOF
-/usr/bin/python3 "$work/bench.py" "$work/bench.bag" "$(/usr/bin/python3 -c "print(1.0 + $strikes * 0.5 + 0.5)")"
+/usr/bin/python3 "$work/bench.py" "$work/bench.bag" \
+  "$(/usr/bin/python3 -c "print(1.0 + $strikes * $spacing + 0.5)")" "$strikes" "$rate"

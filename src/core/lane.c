@@ -127,7 +127,9 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   s->late_after = late_after;
   s->used = true;
   s->apple = *a;
+  const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
   af_status st = af_prediction_execute(l->model, l->cfg, a, &s->prediction);
+  af_stage_end(l->mc->measure.stages, AF_STAGE_PREDICT, t0_ns);
   l->stats.apples++;
   l->stats.apples_refused += st != AF_OK;
   if (!l->any_apple || a->stamp_ns > l->newest_apple_ns)
@@ -342,11 +344,16 @@ static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
 static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verdict *lane_v)
 {
   af_lane_strike *o = &l->out;
+  const af_stage_hook *h = l->mc->measure.stages;
   af_apple_slot *a = apple_flags(l, p, lane_v);
+  int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
+  af_stage_end(h, AF_STAGE_WINDOW, t0_ns);
   measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
+  t0_ns = af_stage_begin(h);
   merge_verdict(&o->report, lane_v);
   af_grade_strike(&l->cfg->grade, &o->report, &o->grade); /* after the lane's flags */
+  af_stage_end(h, AF_STAGE_VERDICT, t0_ns);
   o->start_ns = p->start_ns;
   memcpy(o->frame_id, p->frame_id, sizeof o->frame_id);
   o->apple_id = a ? a->apple.apple_id : 0;
@@ -372,9 +379,11 @@ static void process(af_lane *l)
     af_verdict_clear(&v);
     if (!apple_decided(l, p))
       return;
+    const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
     af_decision d = audio_for(l, p, &v);
     if (d == AF_WAIT)
       return;
+    af_stage_end(l->mc->measure.stages, AF_STAGE_WINDOW, t0_ns);
     if (d == AF_NONE)
       v.flags |= AF_VERDICT_NO_AUDIO;
     measure_one(l, p, d == AF_READY ? l->mc->audio_window_samples : 0, &v);
@@ -446,8 +455,11 @@ af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
   af_chunk_verdict v = af_stream_push(&l->force, c, now_ns, info);
   if (v == AF_CHUNK_OK && (info->gap_samples > 0 || info->restarted))
     l->force_gap_ns[l->force_gaps++ % AF_LANE_GAPS] = c->stamp_ns;
-  if (v == AF_CHUNK_OK)
+  if (v == AF_CHUNK_OK) {
+    const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
     detect(l, c);
+    af_stage_end(l->mc->measure.stages, AF_STAGE_DETECT, t0_ns);
+  }
   /* The audio may lead the force: what is complete goes now. */
   process(l);
   return v;

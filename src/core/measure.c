@@ -42,6 +42,8 @@ struct af_measure {
   af_shear_cache shear;
   af_sphere_modes_cache sphere; /* the Lamb ratios of the 0S2's neighbours, per nu */
   af_response_result peaks[AF_RESPONSE_MAX_PEAKS]; /* af_response_execute_peaks' list */
+  af_stage_hook response_stages; /* the response's transform, passed on to cfg.stages */
+  int64_t response_fft_ns;       /* its time in this strike's audio step [ns] */
 };
 
 /* What the steps of one strike found, for the criteria and the reason. */
@@ -71,6 +73,7 @@ af_measure_config af_measure_config_default(void)
   c.range_margin = AF_DEFAULT_MEASURE_RANGE_MARGIN;
   c.modes = af_modes_config_default();
   c.modulus_prior_rel_sd = 0.10;
+  c.stages = NULL;
   return c;
 }
 
@@ -113,6 +116,15 @@ static af_status measure_spectrum_create(size_t fit_max_samples, af_spectrum **o
   return af_spectrum_create(&sc, out);
 }
 
+/* The response's transform (fft), inside the audio step (modes): passed on,
+ * and kept so that modes is reported without it. */
+static void response_stage(af_stage stage, int64_t elapsed_ns, void *user)
+{
+  af_measure *m = user;
+  m->response_fft_ns += elapsed_ns;
+  m->cfg.stages->fn(stage, elapsed_ns, m->cfg.stages->user);
+}
+
 af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
 {
   size_t window_n = 0, noise_n = 0;
@@ -126,6 +138,11 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   if (m == NULL)
     return AF_ENOMEM;
   m->cfg = *cfg;
+  if (cfg->stages != NULL && cfg->stages->fn != NULL) { /* the transform timed as fft */
+    m->response_stages.fn = response_stage;
+    m->response_stages.user = m;
+    m->cfg.response.stages = &m->response_stages;
+  }
   m->window_samples = window_n;
   m->noise_samples = noise_n;
   af_lamb_cache_reset(&m->xi);
@@ -135,7 +152,7 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   if (st == AF_OK)
     st = measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
   if (st == AF_OK)
-    st = af_response_create(&cfg->response, &m->response);
+    st = af_response_create(&m->cfg.response, &m->response);
   if (st != AF_OK) {
     af_measure_destroy(m);
     return st;
@@ -478,6 +495,19 @@ static void verdict_judge(const af_measure *m, const af_strike_event *ev,
   af_verdict_format(v, out->reason, sizeof out->reason);
 }
 
+/* The audio step timed as modes, less the response's transform (timed as fft). */
+static void timed_audio(af_measure *m, const af_measure_apple *apple, const float *audio,
+                        size_t n_audio, const float *noise, size_t n_noise, af_measure_report *out,
+                        af_measure_steps *s)
+{
+  const af_stage_hook *h = m->cfg.stages;
+  m->response_fft_ns = 0;
+  const int64_t t0_ns = af_stage_begin(h);
+  step_audio(m, apple, audio, n_audio, noise, n_noise, out, s);
+  if (h != NULL && h->fn != NULL)
+    h->fn(AF_STAGE_MODES, af_stage_now_ns() - t0_ns - m->response_fft_ns, h->user);
+}
+
 af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
                              const af_measure_apple *apple, const float *audio, size_t n_audio,
                              const float *noise, size_t n_noise, af_measure_report *out)
@@ -486,12 +516,19 @@ af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
       !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !apple_valid(apple))
     return AF_EINVAL;
   af_measure_steps s = {.band_status = AF_OK, .fit_residual = NAN, .f_lo_hz = NAN, .f_hi_hz = NAN};
+  const af_stage_hook *h = m->cfg.stages;
   report_start(ev, apple->model.lobe, out);
+  int64_t t0_ns = af_stage_begin(h);
   step_band(m, ev, apple->model.band_level, apple->model.lobe, out, &s);
+  af_stage_end(h, AF_STAGE_FFT, t0_ns);
+  t0_ns = af_stage_begin(h);
   step_fit(m, ev, apple, out, &s);
-  step_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
+  af_stage_end(h, AF_STAGE_FIT, t0_ns);
+  timed_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
+  t0_ns = af_stage_begin(h);
   step_stress(m, apple, out, &s);
   verdict_judge(m, ev, apple, &s, out);
+  af_stage_end(h, AF_STAGE_VERDICT, t0_ns);
   return AF_OK;
 }
 

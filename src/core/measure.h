@@ -35,6 +35,7 @@
 #include "model.h"
 #include "modes.h"
 #include "response.h"
+#include "stage.h"
 #include "status.h"
 #include "strike.h"
 #include "verdict.h"
@@ -60,6 +61,8 @@ typedef struct {
                                   contact's model error and the modulus_factor calibration),
                                   relative, 1 sigma, > 0; the 0S2 predicted from it carries
                                   0.5 sqrt(se^2 + this^2) in ln f (f goes as sqrt(E)) */
+  const af_stage_hook *stages; /* times the stages (stage.h), the response's transform too;
+                                  NULL (the default) = not timed; must outlive the measure */
 } af_measure_config;
 
 /* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,

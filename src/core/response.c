@@ -50,6 +50,7 @@ af_response_config af_response_config_default(void)
   c.snr_threshold_db = AF_DEFAULT_MEASURE_SNR_THRESHOLD_DB;
   c.noise_band_lo_hz = AF_DEFAULT_MEASURE_NOISE_BAND_LOW_HZ;
   c.noise_band_hi_hz = AF_DEFAULT_MEASURE_NOISE_BAND_HIGH_HZ;
+  c.stages = NULL;
   return c;
 }
 

@@ -86,6 +86,7 @@
 
 #include <stddef.h>
 
+#include "stage.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -116,6 +117,7 @@ typedef struct {
   double snr_threshold_db;       /* a peak below this SNR is not a resonance [dB] */
   double noise_band_lo_hz;       /* band of the window's own noise floor, used when no */
   double noise_band_hi_hz;       /*   reference is set [Hz]; clipped to Nyquist */
+  const af_stage_hook *stages;   /* times the transform (stage.h); NULL = not timed */
 } af_response_config;
 
 /* 48 kHz; 4096-sample window (85 ms, four 1024-sample chunks), fft_size 8192

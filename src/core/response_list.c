@@ -173,7 +173,9 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
     return AF_EINVAL;
   size_t start = 0;
   double energy = 0.0;
+  const int64_t t0_ns = af_stage_begin(r->cfg.stages);
   af_status s = af_response_begin(r, audio, n, f_lo_hz, f_hi_hz, &start, &energy);
+  af_stage_end(r->cfg.stages, AF_STAGE_FFT, t0_ns);
   if (s != AF_OK)
     return s;
   *n_peaks = 0;

@@ -1,36 +1,56 @@
-/* firmness_report — the lab's report of a recorded session.
+/* firmness_report — the lab's report of recorded sessions.
  *
- *   firmness_report BAG [--config FILE] [--cultivar FILE] [--ns NAME] [--set NAME=VALUE]
- *                   [--csv FILE] [--plots DIR] [--json] [--bench]   (flags: af_report_options)
+ *   firmness_report BAG... | DIR... [--config FILE] [--cultivar FILE] [--ns NAME]
+ *                   [--set NAME=VALUE] [--csv FILE] [--plots DIR] [--json] [--bench]
+ *                   [--jobs N]                                 (flags: af_report_options)
  *   firmness_report --fields [--json]
  *
- * Reads BAG through the shim's rosbag reader (no ROS master), runs the
- * recorded force, audio and apple topics of lane NS through the core lane
- * exactly as the node does under replay (session.h), and prints one line per
- * strike with its apple's prediction and the measurement, then the summary
- * (summary.h); --json prints the same as one JSON document, --csv writes one
- * row per strike, --plots draws the figures (report_plots.h), --bench tells
- * the recorded time processed per wall-clock second; --fields prints the
- * table of a strike's fields instead (serialize.h: name, type, unit, the
- * message field it is or report-only, meaning) as markdown, or with --json
- * as a JSON array. Configured from the
- * node's YAML files (default: the package's config/station.yaml and
- * config/jonagold.yaml) through the one parameter table; the hammer is the
- * shipped rig's (the table's rig values) unless a file or --set gives it.
+ * Reads each BAG (a folder: its *.bag files, sorted by name) through the
+ * shim's rosbag reader (no ROS master), runs the recorded force, audio and
+ * apple topics of lane NS through the core lane exactly as the node does
+ * under replay (session.h), and prints one line per strike with its apple's
+ * prediction and the measurement, then the summary (summary.h); --json
+ * prints the same as one JSON document, --csv writes one row per strike,
+ * --plots draws the figures (report_plots.h), --bench tells the recorded
+ * time processed per wall-clock second and the cost of each stage of a
+ * strike (report_bench.h); --fields prints the table of a strike's fields
+ * instead (serialize.h: name, type, unit, the message field it is or
+ * report-only, meaning) as markdown, or with --json as a JSON array.
+ * Configured from the node's YAML files (default:
+ * the package's config/station.yaml and config/jonagold.yaml) through the
+ * one parameter table; the hammer is the shipped rig's (the table's rig
+ * values) unless a file or --set gives it.
+ *
+ * Several bags: --jobs worker threads (default: one per core), each running
+ * one bag at a time through a lane of its own (lanes are never shared; the
+ * bag's opening and the lane's making and freeing, which touch process-wide
+ * state — the reader's error text, FFTW's planner — hold one lock); the
+ * bags are written in the order given as they complete, a section each,
+ * then the summary over all of them (combined.h). One bag: the output is
+ * the same as it always was.
  *
  * Exit 0; 2 with one line on stderr for bad input (a flag, a file, the bag
- * or its topics); 1 when the report cannot be made. */
+ * or its topics); 1 when the report cannot be made. Several bags: every bag
+ * that can be read is reported, one line on stderr for each that cannot,
+ * and the exit status is the worst of them. */
 #define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
+#include <limits.h>
+#include <pthread.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
+#include "combined.h"
 #include "options.h"
 #include "output.h"
+#include "report_bench.h"
 #include "report_plots.h"
 #include "serialize.h"
 #include "session.h"
@@ -44,11 +64,15 @@
 #define AF_EXIT_USAGE 2
 #define AF_ERR_MAX 512
 #define AF_SETS_MAX 64
+#define AF_JOBS_MAX 256 /* worker threads at most */
 
 typedef struct {
-  const char *bag, *config, *cultivar, *ns, *csv, *plots;
+  char **bags; /* as given, folders expanded to their *.bag files (owned) */
+  size_t n_bags, cap_bags;
+  const char *config, *cultivar, *ns, *csv, *plots;
   const char *sets[AF_SETS_MAX];
   int n_sets;
+  long jobs; /* worker threads [workers], 1..AF_JOBS_MAX; 0: one per core online */
   bool json, bench, fields;
 } af_report_args;
 
@@ -60,6 +84,7 @@ static af_report_args report_args_default(void)
   a.config = AF_CONFIG_DIR "/station.yaml";
   a.cultivar = AF_CONFIG_DIR "/jonagold.yaml";
   a.ns = "lane1";
+  a.jobs = 0; /* one per core online (jobs_or_cores) */
   return a;
 }
 
@@ -75,13 +100,21 @@ static const af_option af_report_options[] = {
      "any parameter of the two files, after them (repeatable, at most " AF_OPTION_STR(
          AF_SETS_MAX) ")",
      "the files' values"},
-    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1, "one row per strike", "no CSV"},
+    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1,
+     "one row per strike (several bags: a first column \"bag\")", "no CSV"},
     {"--plots", "DIR", AF_OPTION_TEXT, AF_ARG(plots), -1,
-     "per-strike and session figures (PNG), the folder made if missing", "no figures"},
+     "per-strike and session figures (PNG), the folder made if missing; one bag only",
+     "no figures"},
     {"--json", NULL, AF_OPTION_SWITCH, AF_ARG(json), -1,
      "the report as JSON on stdout instead of text", NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
-     "recorded time processed per wall-clock second, on stderr", NULL},
+     "recorded time processed per wall-clock second and the cost of each stage of a strike "
+     "(setup, detect, window, predict, fft, modes, fit, verdict, serialize), on stderr",
+     NULL},
+    {"--jobs", "N", AF_OPTION_LONG, AF_ARG(jobs), -1,
+     "bags read at once, each by a worker thread of its own [workers], 1 to " AF_OPTION_STR(
+         AF_JOBS_MAX),
+     "one per core online"},
     {"--fields", NULL, AF_OPTION_SWITCH, AF_ARG(fields), -1,
      "print the strike fields (name, type, unit, message field, meaning) as a markdown table, "
      "with --json as JSON, and exit; no BAG",
@@ -93,15 +126,17 @@ static void print_usage(FILE *out)
 {
   af_report_args d = report_args_default();
   fprintf(out,
-          "usage: firmness_report BAG [flags]\n"
+          "usage: firmness_report BAG... [flags]\n"
           "       firmness_report --fields [--json]\n\n"
           "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
           "through the station's lane, as the node judges it live, and reports every strike\n"
           "(its measurement, verdict flags and firmness grade) and a summary. No ROS master\n"
           "needed. Every file written is told by a line \"wrote FILE\" on stderr.\n\n"
+          "Several bags, or a folder (its *.bag files, sorted by name): one section per bag\n"
+          "in the order given, then the summary over all of them; --jobs bags at once.\n\n"
           "flags:\n");
   af_options_help(out, af_report_options, AF_N_OPTIONS, &d, NULL);
-  fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input\n");
+  fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input (several bags: the worst)\n");
 }
 
 static int bad_flag(const char *fmt, const char *a, const char *b)
@@ -133,20 +168,117 @@ static bool ns_valid(const char *ns, char *out, size_t len)
   return true;
 }
 
+/* ---- the bags ------------------------------------------------------------------ */
+
+static bool add_bag(af_report_args *a, const char *path)
+{
+  if (a->n_bags == a->cap_bags) {
+    size_t want = a->cap_bags ? 2 * a->cap_bags : 16;
+    char **q = realloc(a->bags, want * sizeof *q);
+    if (!q)
+      return false;
+    a->bags = q;
+    a->cap_bags = want;
+  }
+  if (!(a->bags[a->n_bags] = strdup(path)))
+    return false;
+  a->n_bags++;
+  return true;
+}
+
+static void free_bags(af_report_args *a)
+{
+  for (size_t k = 0; k < a->n_bags; k++)
+    free(a->bags[k]);
+  free(a->bags);
+  a->bags = NULL;
+  a->n_bags = a->cap_bags = 0;
+}
+
+static int cmp_text(const void *x, const void *y)
+{
+  return strcmp(*(char *const *)x, *(char *const *)y);
+}
+
+static bool is_bag_name(const char *name)
+{
+  size_t n = strlen(name);
+  return n > 4 && strcmp(name + n - 4, ".bag") == 0;
+}
+
+/* A folder's *.bag files (regular files), sorted by name. 0, or the exit code. */
+static int add_folder(af_report_args *a, const char *dir)
+{
+  DIR *d = opendir(dir);
+  if (!d)
+    return bad_flag("%s: cannot read the folder: %s", dir, strerror(errno));
+  size_t first = a->n_bags, len = strlen(dir);
+  const char *sep = len > 0 && dir[len - 1] == '/' ? "" : "/";
+  struct dirent *e;
+  int code = 0;
+  while (code == 0 && (e = readdir(d)) != NULL) {
+    char path[PATH_MAX];
+    struct stat st;
+    if (!is_bag_name(e->d_name) ||
+        snprintf(path, sizeof path, "%s%s%s", dir, sep, e->d_name) >= (int)sizeof path ||
+        stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+      continue;
+    if (!add_bag(a, path))
+      code = bad_flag("%s: out of memory listing the folder%s", dir, "");
+  }
+  closedir(d);
+  if (code == 0 && a->n_bags == first)
+    return bad_flag("%s: the folder holds no *.bag file%s", dir, "");
+  qsort(a->bags + first, a->n_bags - first, sizeof *a->bags, cmp_text);
+  return code;
+}
+
+/* A BAG argument: a folder's bags, or the file itself. 0, or the exit code. */
+static int add_argument(af_report_args *a, const char *path)
+{
+  struct stat st;
+  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+    return add_folder(a, path);
+  if (!add_bag(a, path))
+    return bad_flag("%s: out of memory%s", path, "");
+  return 0;
+}
+
+/* The workers: --jobs, or one per core online (at least 1, at most AF_JOBS_MAX). */
+static long jobs_or_cores(long jobs)
+{
+  if (jobs > 0)
+    return jobs;
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  return cores < 1 ? 1 : cores > AF_JOBS_MAX ? AF_JOBS_MAX : cores;
+}
+
+/* --jobs: a whole number in [1, AF_JOBS_MAX]. */
+static int parse_jobs(const char *v, long *out)
+{
+  char *end = NULL;
+  errno = 0;
+  long n = strtol(v, &end, 10);
+  if (errno != 0 || end == v || *end != '\0' || n < 1 || n > AF_JOBS_MAX)
+    return bad_flag("--jobs '%s': not a whole number of workers in [1, %s]", v,
+                    AF_OPTION_STR(AF_JOBS_MAX));
+  *out = n;
+  return 0;
+}
+
 static int parse(int argc, char **argv, af_report_args *a)
 {
   *a = report_args_default();
-  for (int k = 1; k < argc; k++) {
+  int code = 0;
+  for (int k = 1; k < argc && code == 0; k++) {
     const char *f = argv[k];
     if (strncmp(f, "--", 2) != 0) {
-      if (a->bag)
-        return bad_flag("one bag only: '%s' after '%s'", f, a->bag);
-      a->bag = f;
+      code = add_argument(a, f);
       continue;
     }
     const af_option *o = af_option_find(af_report_options, AF_N_OPTIONS, f);
     if (!o) {
-      af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "one BAG");
+      af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "BAG...");
       return AF_EXIT_USAGE;
     }
     if (o->value == NULL) {
@@ -162,16 +294,27 @@ static int parse(int argc, char **argv, af_report_args *a)
       if (a->n_sets == AF_SETS_MAX)
         return bad_flag("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
       a->sets[a->n_sets++] = v;
-    } else
+    } else if (strcmp(f, "--jobs") == 0)
+      code = parse_jobs(v, &a->jobs);
+    else
       (void)af_option_store(o, v, a);
   }
-  if (a->fields && a->bag)
-    return bad_flag("--fields takes no bag: '%s'%s", a->bag, "");
-  if (a->fields && (a->csv || a->plots || a->bench || a->n_sets))
-    return bad_flag("--fields takes only --json (not --csv, --plots, --bench or --set)%s%s", "",
-                    "");
-  if (!a->bag && !a->fields)
-    return bad_flag("a bag is required: firmness_report BAG (see --help)%s%s", "", "");
+  if (code)
+    return code;
+  if (a->fields && a->n_bags > 0)
+    return bad_flag("--fields takes no bag: '%s'%s", a->bags[0], "");
+  if (a->fields && (a->csv || a->plots || a->bench || a->n_sets || a->jobs))
+    return bad_flag("--fields takes only --json (not --csv, --plots, --bench, --jobs or --set)%s%s",
+                    "", "");
+  if (a->fields)
+    return 0;
+  if (a->n_bags == 0)
+    return bad_flag("a bag is required: firmness_report BAG... or a folder of bags (see "
+                    "--help)%s%s",
+                    "", "");
+  if (a->plots && a->n_bags > 1)
+    return bad_flag("--plots %s draws one bag's figures: give one bag (%s given)", a->plots,
+                    "several");
   return 0;
 }
 
@@ -198,52 +341,314 @@ static int configure(const af_report_args *a, af_lane_config *cfg)
   return 0;
 }
 
-static void print_bench(const af_session *s)
+/* ---- the workers ----------------------------------------------------------------- */
+
+/* One bag's run: filled by a worker, written and freed by the main thread. */
+typedef struct {
+  const char *path;
+  af_session s;
+  int code;
+  char err[AF_ERR_MAX];
+  bool done;
+} af_bag_job;
+
+typedef struct af_run af_run;
+
+typedef struct {
+  af_run *run;
+  af_lane_config *cfg; /* the run's, with this worker's stage hook */
+  af_report_bench bench;
+  pthread_t thread;
+  bool started;
+} af_worker;
+
+struct af_run {
+  af_bag_job *jobs;
+  size_t n_jobs, next;  /* next: the first bag no worker has taken */
+  pthread_mutex_t lock; /* next, every job's done */
+  pthread_cond_t done;
+  pthread_mutex_t setup; /* session.h: opening a bag, making and freeing a lane */
+  const af_lane_config *cfg;
+  const char *ns;
+  af_report_plots *plots;
+  bool bench;
+  bool progress; /* stderr is a terminal: one bag's bar, or a line per bag done */
+};
+
+/* The session's strike callback: the bench's strike, the plots. */
+static void on_strike(const af_lane_strike *ls, const af_lane *lane, void *user)
+{
+  af_worker *w = user;
+  if (w->run->bench)
+    af_report_bench_strike(&w->bench);
+  if (w->run->plots)
+    af_report_plots_strike(ls, lane, w->run->plots);
+}
+
+static void run_job(af_worker *w, af_bag_job *j)
+{
+  af_run *r = w->run;
+  af_session_options o = {j->path,  r->ns, w->cfg, on_strike, w, r->progress && r->n_jobs == 1,
+                          &r->setup};
+  j->code = af_session_execute(&o, &j->s, j->err, sizeof j->err);
+}
+
+/* Takes bags until none is left. */
+static void *work(void *user)
+{
+  af_worker *w = user;
+  af_run *r = w->run;
+  for (;;) {
+    pthread_mutex_lock(&r->lock);
+    size_t k = r->next < r->n_jobs ? r->next++ : r->n_jobs;
+    pthread_mutex_unlock(&r->lock);
+    if (k == r->n_jobs)
+      return NULL;
+    run_job(w, &r->jobs[k]);
+    pthread_mutex_lock(&r->lock);
+    r->jobs[k].done = true;
+    pthread_cond_broadcast(&r->done);
+    pthread_mutex_unlock(&r->lock);
+  }
+}
+
+static void wait_job(af_run *r, size_t k)
+{
+  pthread_mutex_lock(&r->lock);
+  while (!r->jobs[k].done)
+    pthread_cond_wait(&r->done, &r->lock);
+  pthread_mutex_unlock(&r->lock);
+}
+
+/* Makes the workers (their configurations first); false: out of memory or no thread. */
+static bool start_workers(af_run *r, af_worker *w, int n)
+{
+  for (int k = 0; k < n; k++) {
+    w[k].run = r;
+    af_report_bench_init(&w[k].bench);
+    if (!(w[k].cfg = malloc(sizeof *w[k].cfg)))
+      return false;
+    *w[k].cfg = *r->cfg;
+    w[k].cfg->measured.measure.stages = r->bench ? &w[k].bench.hook : NULL;
+  }
+  for (int k = 0; k < n; k++) {
+    if (pthread_create(&w[k].thread, NULL, work, &w[k]) != 0)
+      return k > 0; /* those started do every bag */
+    w[k].started = true;
+  }
+  return true;
+}
+
+static void stop_workers(af_worker *w, int n)
+{
+  for (int k = 0; k < n; k++) {
+    if (w[k].started)
+      pthread_join(w[k].thread, NULL);
+    free(w[k].cfg);
+  }
+}
+
+/* ---- the output ------------------------------------------------------------------ */
+
+typedef struct {
+  const af_report_args *a;
+  const char *ns;
+  FILE *csv;
+  af_report_plots *plots;
+  af_report_bench bench; /* the rows written (serialize), then the workers' */
+  af_combined all;
+  bool many;       /* several bags: sections, the combined summary, the CSV's bag column */
+  bool csv_header; /* written */
+} af_writer;
+
+static double now_s(clockid_t id)
+{
+  struct timespec ts;
+  clock_gettime(id, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void print_bench(const char *bag, const af_session *s)
 {
   fprintf(stderr,
-          "bench: %.1f s of recording (%zu strikes, %llu messages) in %.3f s wall, %.3f s CPU: "
-          "%.0f x real time (CPU: %.0f x)\n",
-          s->recorded_s, s->n_strikes, (unsigned long long)s->messages, s->wall_s, s->cpu_s,
+          "bench: %s%s%.1f s of recording (%zu strikes, %llu messages) in %.3f s wall, %.3f s "
+          "CPU: %.0f x real time (CPU: %.0f x)\n",
+          bag ? bag : "", bag ? ": " : "", s->recorded_s, s->n_strikes,
+          (unsigned long long)s->messages, s->wall_s, s->cpu_s,
           s->wall_s > 0.0 ? s->recorded_s / s->wall_s : 0.0,
           s->cpu_s > 0.0 ? s->recorded_s / s->cpu_s : 0.0);
+}
+
+static void write_failed(af_writer *w, size_t k, size_t n, const af_bag_job *j)
+{
+  if (!w->many) {
+    fprintf(stderr, "firmness_report: %s\n", j->err);
+    return;
+  }
+  bool named = strncmp(j->err, j->path, strlen(j->path)) == 0;
+  fprintf(stderr, "firmness_report: %s%s%s\n", named ? "" : j->path, named ? "" : ": ", j->err);
+  w->all.failed++;
+  if (w->a->json) {
+    fputs(k ? ",\n" : "", stdout);
+    af_output_json_failed(stdout, j->path, j->err);
+  } else
+    printf("%s== bag %zu of %zu: %s ==\nnot read: %s\n", k ? "\n" : "", k + 1, n, j->path, j->err);
+}
+
+/* One bag's section (the whole report for one bag), its CSV rows, its figures. */
+static int write_bag(af_writer *w, size_t k, size_t n, af_bag_job *j)
+{
+  const af_report_args *a = w->a;
+  const af_stage_hook *timer = a->bench ? &w->bench.serialize_hook : NULL;
+  char err[AF_ERR_MAX];
+  if (j->code != AF_SESSION_OK) {
+    write_failed(w, k, n, j);
+    return j->code;
+  }
+  af_summary m;
+  if (af_summary_compute(&j->s, &m) != AF_OK) {
+    fprintf(stderr, "firmness_report: out of memory for the summary\n");
+    return 1;
+  }
+  int code = 0;
+  if (af_combined_add(&w->all, &j->s, &m) != AF_OK) {
+    fprintf(stderr, "firmness_report: out of memory for the combined summary\n");
+    code = 1;
+  }
+  af_report_bench_pass(&w->bench);
+  if (a->json) {
+    fputs(w->many && k ? ",\n" : "", stdout);
+    af_output_json(stdout, j->path, w->ns, &j->s, &m, timer);
+  } else {
+    if (w->many)
+      printf("%s== bag %zu of %zu: %s ==\n", k ? "\n" : "", k + 1, n, j->path);
+    af_output_text(stdout, &j->s, &m, timer);
+  }
+  if (w->csv) {
+    if (!w->csv_header) /* at the first bag read: no bag read, an empty file as before */
+      af_output_csv_header(w->csv, w->many);
+    w->csv_header = true;
+    af_report_bench_pass(&w->bench);
+    af_output_csv_rows(w->csv, &j->s, w->many ? j->path : NULL, timer);
+  }
+  af_report_bench_bag_written(&w->bench, j->s.n_strikes);
+  if (w->plots && af_report_plots_session(w->plots, &j->s, &m, err, sizeof err) != AF_OK) {
+    fprintf(stderr, "firmness_report: --plots %s: %s\n", a->plots, err);
+    code = 1;
+  }
+  if (a->bench)
+    print_bench(w->many ? j->path : NULL, &j->s);
+  return code;
+}
+
+static void write_combined(af_writer *w)
+{
+  af_summary m;
+  af_combined_summary(&w->all, &m);
+  if (w->a->json) {
+    fputs("\n  ],\n  \"combined\": ", stdout);
+    af_output_json_combined(stdout, w->all.bags, w->all.failed, &w->all.totals, &m);
+    fputs("\n}\n", stdout);
+    return;
+  }
+  printf("\n== combined: %zu bags", w->all.bags);
+  if (w->all.failed)
+    printf(" (%zu more not read)", w->all.failed);
+  printf(", %zu strikes ==\n", m.strikes);
+  af_output_text_summary(stdout, &w->all.totals, &m);
+}
+
+/* ---- the run --------------------------------------------------------------------- */
+
+static int worse(int a, int b)
+{
+  return a > b ? a : b;
+}
+
+/* Runs every bag on the workers and writes each as it completes, in order. */
+static int run_bags(af_writer *w, af_run *r, int jobs)
+{
+  const size_t n = r->n_jobs;
+  af_worker *workers = calloc((size_t)jobs, sizeof *workers);
+  if (!workers) {
+    fprintf(stderr, "firmness_report: out of memory for %d workers\n", jobs);
+    return 1;
+  }
+  double wall0 = now_s(CLOCK_MONOTONIC);
+  int code = 0;
+  if (!start_workers(r, workers, jobs)) {
+    fprintf(stderr, "firmness_report: could not start the workers (--jobs %d)\n", jobs);
+    stop_workers(workers, jobs); /* none started: no bag is waited for */
+    free(workers);
+    return 1;
+  }
+  if (w->a->json && w->many)
+    fputs("{\n  \"bags\": [\n", stdout);
+  for (size_t k = 0; k < n; k++) {
+    wait_job(r, k);
+    code = worse(code, write_bag(w, k, n, &r->jobs[k]));
+    if (w->many && r->progress)
+      fprintf(stderr, "bag %zu of %zu done: %s\n", k + 1, n, r->jobs[k].path);
+    af_session_destroy(&r->jobs[k].s);
+  }
+  stop_workers(workers, jobs);
+  double run_wall_s = now_s(CLOCK_MONOTONIC) - wall0;
+  if (w->many)
+    write_combined(w);
+  if (w->a->bench) {
+    for (int k = 0; k < jobs; k++) {
+      (void)af_report_bench_merge(&w->bench, &workers[k].bench);
+      af_report_bench_free(&workers[k].bench);
+    }
+    af_report_bench_print(stderr, &w->bench, w->bench.serialize_base, w->all.totals.recorded_s,
+                          run_wall_s, w->all.totals.cpu_s, jobs);
+  }
+  free(workers);
+  return code;
 }
 
 static int run_report(const af_report_args *a, const char *ns, const af_lane_config *cfg, FILE *csv)
 {
   char err[AF_ERR_MAX];
-  af_report_plots *plots = NULL;
-  if (a->plots && af_report_plots_create(a->plots, cfg, &plots, err, sizeof err) != AF_OK)
+  af_writer w;
+  memset(&w, 0, sizeof w);
+  w.a = a;
+  w.ns = ns;
+  w.csv = csv;
+  w.many = a->n_bags > 1;
+  af_report_bench_init(&w.bench);
+  af_combined_init(&w.all);
+  if (a->plots && af_report_plots_create(a->plots, cfg, &w.plots, err, sizeof err) != AF_OK)
     return bad_flag("--plots %s: %s", a->plots, err);
-  af_session_options o = {
-      a->bag, ns, cfg, plots ? af_report_plots_strike : NULL, plots, isatty(STDERR_FILENO) != 0};
-  af_session s;
-  int code = af_session_execute(&o, &s, err, sizeof err);
-  if (code != AF_SESSION_OK) {
-    fprintf(stderr, "firmness_report: %s\n", err);
-    af_session_destroy(&s);
-    af_report_plots_destroy(plots);
-    return code;
+  af_run r;
+  memset(&r, 0, sizeof r);
+  r.jobs = calloc(a->n_bags, sizeof *r.jobs);
+  if (!r.jobs) {
+    af_report_plots_destroy(w.plots);
+    fprintf(stderr, "firmness_report: out of memory for %zu bags\n", a->n_bags);
+    return 1;
   }
-  af_summary m;
-  if (af_summary_compute(&s, &m) != AF_OK) {
-    fprintf(stderr, "firmness_report: out of memory for the summary\n");
-    code = 1;
-  } else {
-    if (a->json)
-      af_output_json(stdout, a->bag, ns, &s, &m);
-    else
-      af_output_text(stdout, &s, &m);
-    if (csv)
-      af_output_csv(csv, &s);
-    if (plots && af_report_plots_session(plots, &s, &m, err, sizeof err) != AF_OK) {
-      fprintf(stderr, "firmness_report: --plots %s: %s\n", a->plots, err);
-      code = 1;
-    }
-    if (a->bench)
-      print_bench(&s);
-  }
-  af_session_destroy(&s);
-  af_report_plots_destroy(plots);
+  for (size_t k = 0; k < a->n_bags; k++)
+    r.jobs[k].path = a->bags[k];
+  r.n_jobs = a->n_bags;
+  r.cfg = cfg;
+  r.ns = ns;
+  r.plots = w.plots;
+  r.bench = a->bench;
+  r.progress = isatty(STDERR_FILENO) != 0;
+  pthread_mutex_init(&r.lock, NULL);
+  pthread_mutex_init(&r.setup, NULL);
+  pthread_cond_init(&r.done, NULL);
+  const long wanted = jobs_or_cores(a->jobs);
+  const long jobs = wanted < (long)a->n_bags ? wanted : (long)a->n_bags;
+  int code = run_bags(&w, &r, (int)jobs);
+  pthread_cond_destroy(&r.done);
+  pthread_mutex_destroy(&r.setup);
+  pthread_mutex_destroy(&r.lock);
+  free(r.jobs);
+  af_combined_free(&w.all);
+  af_report_bench_free(&w.bench);
+  af_report_plots_destroy(w.plots);
   return code;
 }
 
@@ -255,35 +660,45 @@ int main(int argc, char **argv)
   }
   af_report_args a;
   int code = parse(argc, argv, &a);
-  if (code)
+  if (code) {
+    free_bags(&a);
     return code;
+  }
   if (a.fields) {
     if (a.json)
       af_serialize_fields_json(stdout);
     else
       af_serialize_fields_markdown(stdout);
+    free_bags(&a);
     return 0;
   }
   char ns[AF_SESSION_NS_MAX];
+  static af_lane_config cfg; /* large: not on the stack */
+  FILE *csv = NULL;
   if (!ns_valid(a.ns, ns, sizeof ns))
-    return bad_flag("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
+    code = bad_flag("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
                     "starting with a letter)%s",
                     a.ns, "");
-  FILE *probe = fopen(a.bag, "rb");
-  if (!probe)
-    return bad_flag("%s cannot be opened: %s", a.bag, strerror(errno));
-  fclose(probe);
-  static af_lane_config cfg; /* large: not on the stack */
-  if ((code = configure(&a, &cfg)) != 0)
-    return code;
-  FILE *csv = NULL;
-  if (a.csv && !(csv = fopen(a.csv, "w")))
-    return bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
-  code = run_report(&a, ns, &cfg, csv);
+  for (size_t k = 0; k < a.n_bags && code == 0; k++) {
+    FILE *probe = fopen(a.bags[k], "rb");
+    if (!probe)
+      code = bad_flag("%s cannot be opened: %s", a.bags[k], strerror(errno));
+    else
+      fclose(probe);
+  }
+  if (code == 0)
+    code = configure(&a, &cfg);
+  if (code == 0 && a.csv && !(csv = fopen(a.csv, "w")))
+    code = bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
+  if (code == 0) {
+    af_status_init(); /* GSL's handler, once, before any worker runs */
+    code = run_report(&a, ns, &cfg, csv);
+  }
   if (csv && fclose(csv) != 0 && code == 0) {
     fprintf(stderr, "firmness_report: --csv %s: write failed\n", a.csv);
     code = 1;
   } else if (csv && code == 0)
     af_options_wrote(a.csv);
+  free_bags(&a);
   return code;
 }

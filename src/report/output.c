@@ -73,7 +73,7 @@ static double share(size_t part, size_t whole)
   return whole ? 100.0 * (double)part / (double)whole : 0.0;
 }
 
-void af_output_text(FILE *out, const af_session *s, const af_summary *m)
+void af_output_text_strikes(FILE *out, const af_session *s, const af_stage_hook *timer)
 {
   fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %-13s | %s\n",
           "apple", "contact start [s]", "m [g]", "pred. band", "pred.", "0S2", "Q", "SNR", "S",
@@ -81,15 +81,25 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
   fprintf(out, "%5s %17s %6s %-11s %-8s |%7s %6s %6s %10s %7s %7s %6s %7s %7s | %-13s |\n", "", "",
           "", "[Hz]", "verdict", "[Hz]", "", "[dB]", "[Hz2kg^2/3]", "[MPa]", "[MPa]", "", "[ms]",
           "[N]", "index name");
-  for (size_t k = 0; k < s->n_strikes; k++)
+  for (size_t k = 0; k < s->n_strikes; k++) {
+    const int64_t t0_ns = af_stage_begin(timer);
     text_strike(out, &s->strikes[k]);
-  if (m->apples_without_strike > 0) {
-    fprintf(out, "apples without a strike (%zu):", m->apples_without_strike);
+    af_stage_end(timer, AF_STAGE_SERIALIZE, t0_ns);
+  }
+  size_t without = 0;
+  for (size_t k = 0; k < s->n_apples; k++)
+    without += s->apples[k].strikes == 0;
+  if (without > 0) {
+    fprintf(out, "apples without a strike (%zu):", without);
     for (size_t k = 0; k < s->n_apples; k++)
       if (s->apples[k].strikes == 0)
         fprintf(out, " %" PRIu32, s->apples[k].apple_id);
     fputc('\n', out);
   }
+}
+
+void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
+{
   fprintf(out, "\nsummary\n");
   fprintf(out,
           "  strikes %zu: %zu on an apple, %zu without apple, %zu without audio, %zu doubtful "
@@ -136,6 +146,12 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+}
+
+void af_output_text(FILE *out, const af_session *s, const af_summary *m, const af_stage_hook *timer)
+{
+  af_output_text_strikes(out, s, timer);
+  af_output_text_summary(out, s, m);
 }
 
 /* ---- JSON ----------------------------------------------------------------------- */
@@ -198,24 +214,11 @@ static void json_stream(FILE *out, const char *key, const af_session_stream *s)
           s->bad_data);
 }
 
-void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,
-                    const af_summary *m)
+/* "  \"summary\": {...}" (no newline after its closing brace). */
+static void json_summary(FILE *out, const af_session *s, const af_summary *m)
 {
-  fputs("{\n  \"bag\": ", out);
-  af_json_string(out, bag);
-  fputs(",\n  \"ns\": ", out);
-  af_json_string(out, ns);
-  fputs(",\n  \"strikes\": [\n", out);
-  for (size_t k = 0; k < s->n_strikes; k++)
-    json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);
-  fputs("  ],\n  \"apples_without_strike\": [", out);
   bool first = true;
-  for (size_t k = 0; k < s->n_apples; k++)
-    if (s->apples[k].strikes == 0) {
-      fprintf(out, "%s%" PRIu32, first ? "" : ", ", s->apples[k].apple_id);
-      first = false;
-    }
-  fputs("],\n  \"summary\": {\n", out);
+  fputs("  \"summary\": {\n", out);
   fprintf(out,
           "    \"strikes\": %zu, \"reliable\": %zu, \"with_apple\": %zu, \"without_apple\": %zu, "
           "\"without_audio\": %zu, \"doubtful\": %zu,\n",
@@ -225,7 +228,6 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
           "\"apples_predicted_reliable\": %zu,\n",
           m->apples, m->apples_refused, m->apples_without_strike, m->apples_predicted_reliable);
   fputs("    \"unreliable_by_reason\": {", out);
-  first = true;
   for (unsigned b = 0; b < AF_SUMMARY_FLAGS; b++)
     if (m->by_flag[b]) {
       fprintf(out, "%s\"%s\": %zu", first ? "" : ", ",
@@ -245,8 +247,50 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
   fputc('\n', out);
   json_stream(out, "force", &s->force);
   json_stream(out, "audio", &s->audio);
-  fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }\n}\n", s->recorded_s,
+  fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }", s->recorded_s,
           s->messages);
+}
+
+void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,
+                    const af_summary *m, const af_stage_hook *timer)
+{
+  fputs("{\n  \"bag\": ", out);
+  af_json_string(out, bag);
+  fputs(",\n  \"ns\": ", out);
+  af_json_string(out, ns);
+  fputs(",\n  \"strikes\": [\n", out);
+  for (size_t k = 0; k < s->n_strikes; k++) {
+    const int64_t t0_ns = af_stage_begin(timer);
+    json_strike(out, &s->strikes[k], k + 1 == s->n_strikes);
+    af_stage_end(timer, AF_STAGE_SERIALIZE, t0_ns);
+  }
+  fputs("  ],\n  \"apples_without_strike\": [", out);
+  bool first = true;
+  for (size_t k = 0; k < s->n_apples; k++)
+    if (s->apples[k].strikes == 0) {
+      fprintf(out, "%s%" PRIu32, first ? "" : ", ", s->apples[k].apple_id);
+      first = false;
+    }
+  fputs("],\n", out);
+  json_summary(out, s, m);
+  fputs("\n}\n", out);
+}
+
+void af_output_json_failed(FILE *out, const char *bag, const char *error)
+{
+  fputs("{\n  \"bag\": ", out);
+  af_json_string(out, bag);
+  fputs(",\n  \"error\": ", out);
+  af_json_string(out, error);
+  fputs("\n}\n", out);
+}
+
+void af_output_json_combined(FILE *out, size_t bags, size_t failed, const af_session *totals,
+                             const af_summary *m)
+{
+  fprintf(out, "{\n  \"bags\": %zu,\n  \"failed\": %zu,\n", bags, failed);
+  json_summary(out, totals, m);
+  fputs("\n}", out);
 }
 
 /* ---- CSV ------------------------------------------------------------------------ */
@@ -258,15 +302,43 @@ static void csv_num(FILE *out, double v, bool last)
   fputc(last ? '\n' : ',', out);
 }
 
-void af_output_csv(FILE *out, const af_session *s)
+/* A CSV field: as is, or quoted (quotes doubled) when it holds a comma, a
+ * quote or a line break (RFC 4180). */
+static void csv_text(FILE *out, const char *text)
 {
+  if (strpbrk(text, ",\"\r\n") == NULL) {
+    fputs(text, out);
+    return;
+  }
+  fputc('"', out);
+  for (const char *c = text; *c; c++) {
+    if (*c == '"')
+      fputc('"', out);
+    fputc(*c, out);
+  }
+  fputc('"', out);
+}
+
+void af_output_csv_header(FILE *out, bool with_bag)
+{
+  if (with_bag)
+    fputs("bag,", out);
   af_serialize_csv_header(out);
   fputs(",apple_stamp_ns,mass_kg,predicted_band_low_hz,predicted_band_high_hz,"
         "predicted_resonance_hz,predicted_reliable\n",
         out);
+}
+
+void af_output_csv_rows(FILE *out, const af_session *s, const char *bag, const af_stage_hook *timer)
+{
   for (size_t k = 0; k < s->n_strikes; k++) {
+    const int64_t t0_ns = af_stage_begin(timer);
     const af_session_strike *r = &s->strikes[k];
     const af_serial_strike v = af_session_serial(r);
+    if (bag) {
+      csv_text(out, bag);
+      fputc(',', out);
+    }
     af_serialize_csv_row(out, &v);
     fputc(',', out);
     if (r->has_apple)
@@ -277,5 +349,6 @@ void af_output_csv(FILE *out, const af_session *s)
     csv_num(out, r->predicted_band_high_hz, false);
     csv_num(out, r->predicted_resonance_hz, false);
     fprintf(out, "%s\n", r->predicted ? (r->predicted_reliable ? "1" : "0") : "");
+    af_stage_end(timer, AF_STAGE_SERIALIZE, t0_ns);
   }
 }

@@ -283,32 +283,46 @@ static af_bag_reader *open(const af_session_options *o,
   return bag;
 }
 
+/* Takes (enter) or gives back the options' setup lock, when there is one. */
+static void setup(const af_session_options *o, bool enter)
+{
+  if (o->setup_lock != NULL)
+    (void)(enter ? pthread_mutex_lock(o->setup_lock) : pthread_mutex_unlock(o->setup_lock));
+}
+
 int af_session_execute(const af_session_options *o, af_session *out, char *err, size_t len)
 {
   memset(out, 0, sizeof *out);
-  double wall0 = clock_s(CLOCK_MONOTONIC), cpu0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+  double wall0 = clock_s(CLOCK_MONOTONIC), cpu0 = clock_s(CLOCK_THREAD_CPUTIME_ID);
   char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX];
   uint64_t total = 0;
-  af_bag_reader *bag = open(o, topics, &total, err, len);
-  if (!bag)
-    return AF_SESSION_BAD_INPUT;
   af_session_ctx c = {o, out, NULL, false};
   const char *what = "the lane";
-  af_status st = af_lane_create(o->cfg, on_lane_strike, &c, &c.lane, &what);
-  if (st != AF_OK) {
+  setup(o, true);
+  af_bag_reader *bag = open(o, topics, &total, err, len);
+  const int64_t t0_ns = af_stage_begin(o->cfg->measured.measure.stages);
+  af_status st = bag ? af_lane_create(o->cfg, on_lane_strike, &c, &c.lane, &what) : AF_EINVAL;
+  af_stage_end(o->cfg->measured.measure.stages, AF_STAGE_SETUP, t0_ns);
+  if (bag && st != AF_OK) {
     af_text(err, len, "could not create %s: %s", what, af_strerror(st));
     af_bag_close_read(bag);
-    return AF_SESSION_FAILED;
   }
+  setup(o, false);
+  if (!bag)
+    return AF_SESSION_BAD_INPUT;
+  if (st != AF_OK)
+    return AF_SESSION_FAILED;
   int code = feed(&c, bag, topics, total, err, len);
   out->stats = *af_lane_get_stats(c.lane);
   copy_stream(&out->force, af_lane_force_stream(c.lane));
   copy_stream(&out->audio, af_lane_audio_stream(c.lane));
+  setup(o, true);
   af_lane_destroy(c.lane);
   af_bag_close_read(bag);
+  setup(o, false);
   out->recorded_s = (double)(out->force.end_ns - out->force.first_ns) * 1e-9;
   out->wall_s = clock_s(CLOCK_MONOTONIC) - wall0;
-  out->cpu_s = clock_s(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+  out->cpu_s = clock_s(CLOCK_THREAD_CPUTIME_ID) - cpu0;
   return code;
 }
 

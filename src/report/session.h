@@ -24,6 +24,7 @@
 #ifndef AF_REPORT_SESSION_H
 #define AF_REPORT_SESSION_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -88,7 +89,7 @@ typedef struct {
   af_session_stream force, audio;
   uint64_t messages;    /* read from the bag */
   double recorded_s;    /* recorded time: the force stream's span [s] */
-  double wall_s, cpu_s; /* spent reading and processing [s] */
+  double wall_s, cpu_s; /* spent reading and processing [s]; CPU: this thread's */
 } af_session;
 
 /* Extra work per strike (plots); lane: for its streams. Called after the
@@ -101,7 +102,10 @@ typedef struct {
   const af_lane_config *cfg;
   af_session_strike_fn *on_strike; /* may be NULL */
   void *user;
-  bool progress; /* a progress bar on stderr */
+  bool progress;               /* a progress bar on stderr */
+  pthread_mutex_t *setup_lock; /* held while the bag is opened and the lane made or freed (the
+                                  rosbag reader's error text and FFTW's planner are
+                                  process-wide); NULL: one session at a time */
 } af_session_options;
 
 /* Runs the bag through a lane made from o->cfg into *out (zeroed first).

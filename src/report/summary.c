@@ -66,24 +66,54 @@ static double col_factor(const af_session_strike *r)
   return r->modulus_factor * col_ratio(r);
 }
 
-static af_quantiles summary_column(const af_session *s, af_column_fn *fn, double *scratch)
+/* The per-strike columns of the figures, in af_summary_figures' order. */
+static af_column_fn *const columns[AF_SUMMARY_COLUMNS] = {col_e0s2,      col_efit,  col_stiffness,
+                                                          col_resonance, col_ratio, col_factor};
+
+void af_summary_columns_of(const af_session_strike *r, double out[AF_SUMMARY_COLUMNS])
 {
-  for (size_t k = 0; k < s->n_strikes; k++)
-    scratch[k] = fn(&s->strikes[k]);
-  return af_summary_quantiles(scratch, s->n_strikes);
+  for (int c = 0; c < AF_SUMMARY_COLUMNS; c++)
+    out[c] = columns[c](r);
+}
+
+void af_summary_figures(af_summary *out, double *const col[AF_SUMMARY_COLUMNS], size_t n)
+{
+  out->modulus_from_resonance_pa = af_summary_quantiles(col[0], n);
+  out->fitted_modulus_pa = af_summary_quantiles(col[1], n);
+  out->stiffness_factor = af_summary_quantiles(col[2], n);
+  out->resonance_hz = af_summary_quantiles(col[3], n);
+  out->modulus_ratio = af_summary_quantiles(col[4], n);
+  /* Spread: the median absolute deviation of the ratio (its column holds
+   * the finite ratios sorted first), scaled to a standard deviation. */
+  double *ratio = col[4];
+  const size_t m = out->modulus_ratio.n;
+  const double median = out->modulus_ratio.q[3];
+  for (size_t k = 0; k < m; k++)
+    ratio[k] = fabs(ratio[k] - median);
+  af_quantiles mad = af_summary_quantiles(ratio, m);
+  out->modulus_ratio_spread = m > 0 ? 1.4826 * mad.q[3] / median : NAN;
+  out->modulus_factor_suggested = af_summary_quantiles(col[5], n).q[3];
 }
 
 af_status af_summary_compute(const af_session *s, af_summary *out)
 {
   memset(out, 0, sizeof *out);
-  double *scratch = malloc((s->n_strikes + 1) * sizeof *scratch);
+  const size_t n = s->n_strikes;
+  double *scratch = malloc((AF_SUMMARY_COLUMNS * n + 1) * sizeof *scratch);
   if (!scratch)
     return AF_ENOMEM;
-  out->strikes = s->n_strikes;
+  double *col[AF_SUMMARY_COLUMNS];
+  for (int c = 0; c < AF_SUMMARY_COLUMNS; c++)
+    col[c] = scratch + (size_t)c * n;
+  out->strikes = n;
   out->modulus_factor_now = NAN;
-  for (size_t k = 0; k < s->n_strikes; k++) {
+  for (size_t k = 0; k < n; k++) {
     const af_session_strike *r = &s->strikes[k];
     const af_verdict *v = &r->report.verdict;
+    double row[AF_SUMMARY_COLUMNS];
+    af_summary_columns_of(r, row);
+    for (int c = 0; c < AF_SUMMARY_COLUMNS; c++)
+      col[c][k] = row[c];
     out->reliable += r->report.reliable;
     out->with_apple += r->has_apple;
     out->without_apple += (v->flags & AF_VERDICT_NO_APPLE) != 0;
@@ -103,20 +133,7 @@ af_status af_summary_compute(const af_session *s, af_summary *out)
     out->apples_without_strike += s->apples[k].strikes == 0;
     out->apples_predicted_reliable += s->apples[k].reliable;
   }
-  out->modulus_from_resonance_pa = summary_column(s, col_e0s2, scratch);
-  out->fitted_modulus_pa = summary_column(s, col_efit, scratch);
-  out->stiffness_factor = summary_column(s, col_stiffness, scratch);
-  out->resonance_hz = summary_column(s, col_resonance, scratch);
-  out->modulus_ratio = summary_column(s, col_ratio, scratch);
-  /* Spread: the median absolute deviation of the ratio (scratch holds the
-   * finite ratios sorted first), scaled to a standard deviation. */
-  const size_t n = out->modulus_ratio.n;
-  const double median = out->modulus_ratio.q[3];
-  for (size_t k = 0; k < n; k++)
-    scratch[k] = fabs(scratch[k] - median);
-  af_quantiles mad = af_summary_quantiles(scratch, n);
-  out->modulus_ratio_spread = n > 0 ? 1.4826 * mad.q[3] / median : NAN;
-  out->modulus_factor_suggested = summary_column(s, col_factor, scratch).q[3];
+  af_summary_figures(out, col, n);
   free(scratch);
   return AF_OK;
 }

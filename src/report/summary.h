@@ -38,6 +38,16 @@ typedef struct {
                                       agree with the fitted E2 on the median strike [-] */
 } af_summary;
 
+/* The per-strike columns the quantiles are taken over: E(0S2), fitted E2,
+ * stiffness factor, 0S2, their ratio, the suggested modulus factor. */
+#define AF_SUMMARY_COLUMNS 6
+void af_summary_columns_of(const af_session_strike *r, double out[AF_SUMMARY_COLUMNS]);
+
+/* The quantiles, the ratio's spread and the suggested factor of *out from
+ * the columns col[c][0..n) (af_summary_columns_of's order; each reordered in
+ * place, the ratio's overwritten): a summary over several sessions. */
+void af_summary_figures(af_summary *out, double *const col[AF_SUMMARY_COLUMNS], size_t n);
+
 /* Fills *out from s. AF_OK; AF_ENOMEM (scratch for the quantiles). */
 af_status af_summary_compute(const af_session *s, af_summary *out);
 
