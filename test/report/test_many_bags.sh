@@ -47,7 +47,7 @@ for b, sec in zip('abc', many['bags']):
         sums[k] += one['summary'][k]
     for k, v in one['summary']['unreliable_by_reason'].items():
         reasons[k] = reasons.get(k, 0) + v
-    res += [s['resonance'] for s in one['strikes'] if s['resonance'] is not None]
+    res += [s['resonance_hz'] for s in one['strikes'] if s['resonance_hz'] is not None]
 c = many['combined']
 assert c['bags'] == 3 and c['failed'] == 0, c
 s = c['summary']
@@ -64,7 +64,7 @@ def q(p):
     h = p * (len(res) - 1)
     lo = int(math.floor(h)); hi = min(lo + 1, len(res) - 1)
     return res[lo] + (h - lo) * (res[hi] - res[lo])
-got = s['resonance_Hz']
+got = s['resonance_hz']
 assert got['n'] == len(res) == 9, got
 for p, v in zip([0, 0.1, 0.25, 0.5, 0.75, 0.9, 1], got['q']):
     assert abs(v - q(p)) <= 1e-6 * abs(q(p)), (p, v, q(p))
