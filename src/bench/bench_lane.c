@@ -5,17 +5,15 @@
  *
  * The lane's configuration is the parameter table's defaults as a desk tool
  * reads them (af_lane_config_for_tool: the shipped rig's hammer). Prints, in
- * ms: the first lane of the process (it builds the tables shared by every
- * later one), then the median and the max over N runs (default 200, 1 to
- * 100000) of each stage's create + destroy, the whole lane's last. The
- * stages are the parts af_lane_create makes: the force and audio streams
- * (their rings), the strike detector, the impact workspace (the exact
- * damping law's table), the fit (its impact workspace and GSL workspace),
- * the microphone analysis (its FFTW plan), the measurement (fit + spectrum +
- * response, and af_measure_prepare's Lamb root and caches) and the model
- * (its impact workspace and spectrum). Also af_lane_config_derive, which
- * makes a trial detector and measurement. Exit 0; 2 for a bad flag; 1 when
- * a create fails (the stage named). */
+ * ms: the process's first configuration (its trial creates build the tables
+ * shared by every later lane) and first lane, then the median and the max over N runs (default 200,
+ * 1 to 100000) of each stage's create + destroy, the whole lane's last. The stages are the parts
+ * af_lane_create makes: the force and audio streams (their rings), the strike detector, the impact
+ * workspace (the exact damping law's table), the fit (its impact workspace and GSL workspace), the
+ * microphone analysis (its FFTW plan), the measurement (fit + spectrum + response, and
+ * af_measure_prepare's Lamb root and caches) and the model (its impact workspace and spectrum).
+ * Also af_lane_config_derive, which makes a trial detector and measurement. Exit 0; 2 for a bad
+ * flag; 1 when a create fails (the stage named). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <stdio.h>
 #include <stdlib.h>
@@ -195,16 +193,20 @@ int main(int argc, char **argv)
   if (code != 0)
     return code;
   char err[512];
+  /* The first configuration of the process: its trial creates build the
+   * shared tables (impact.c, fft_plan.h, memo.h, the settings' defaults). */
+  double t0 = now_ms();
   af_settings_reset(&settings);
   if (af_lane_config_for_tool(&settings, &cfg, err, sizeof err) != AF_OK) {
     fprintf(stderr, "af_bench_lane: %s\n", err);
     return 1;
   }
-  /* The first lane made after the configuration's trial creates. */
+  const double config_ms = now_ms() - t0;
   double first_ms;
   if (time_stage(&stages[sizeof stages / sizeof stages[0] - 1], 1, &first_ms) != 0)
     return 1;
-  printf("first lane in the process: %.3f ms\n", first_ms);
+  printf("first configuration in the process (builds the shared tables): %.3f ms\n", config_ms);
+  printf("first lane in the process, after it: %.3f ms\n", first_ms);
   printf("%-32s %10s %10s   (%zu runs, ms)\n", "stage (create + destroy)", "median", "max", runs);
   double *t_ms = malloc(runs * sizeof *t_ms);
   if (t_ms == NULL)
