@@ -9,7 +9,8 @@
  * so the elastic pulse is universal (tau_c = 2.94328, x_max = 1, F_max = 5/4)
  * and the restitution delivered by a given chi depends on nothing else when
  * g = 0. Tolerances are then plain numbers and the exact damping law is one
- * table, built once.
+ * table, built once per process (by the first af_impact_create, about 10 ms
+ * of ODE runs) and read by every workspace after it.
  */
 #include "impact.h"
 
@@ -20,6 +21,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <threads.h>
 
 #include "af_defaults.h"
 
@@ -585,23 +587,75 @@ static af_status exact_chi_solve(af_impact *w, double e, double *chi)
   return AF_EBUDGET_ROOT_ITER;
 }
 
-static af_status exact_table(af_impact *w)
+/* The nodes of the exact law's y(e), computed with the integrator of w. */
+static af_status exact_nodes(af_impact *w, double *e_nodes, double *y_nodes)
 {
   for (int i = 0; i < AF_EXACT_N - 1; i++) {
     double e = AF_EXACT_E_MIN + AF_EXACT_STEP * i, chi;
     af_status st = exact_chi_solve(w, e, &chi);
     if (st != AF_OK)
       return st;
-    w->exact_e[i] = e;
-    w->exact_y[i] = chi * e / (1.0 - e);
+    e_nodes[i] = e;
+    y_nodes[i] = chi * e / (1.0 - e);
   }
-  w->exact_e[AF_EXACT_N - 1] = 1.0;
-  w->exact_y[AF_EXACT_N - 1] = AF_EXACT_Y_ELASTIC;
-  return gsl_interp_init(w->exact, w->exact_e, w->exact_y, AF_EXACT_N) == GSL_SUCCESS ? AF_OK
-                                                                                      : AF_ENUMERIC;
+  e_nodes[AF_EXACT_N - 1] = 1.0;
+  y_nodes[AF_EXACT_N - 1] = AF_EXACT_Y_ELASTIC;
+  return AF_OK;
 }
 
 /* ---- workspace -------------------------------------------------------- */
+
+/* The integrator of w (w zeroed before); AF_ENOMEM, the parts made left for
+ * integrator_free. */
+static af_status integrator_alloc(af_impact *w)
+{
+  w->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rkck, 2);
+  w->control = gsl_odeiv2_control_y_new(AF_EPS_ABS, AF_EPS_REL);
+  w->evolve = gsl_odeiv2_evolve_alloc(2);
+  w->sys = (gsl_odeiv2_system){ode_rhs, NULL, 2, &w->rhs};
+  return w->step && w->control && w->evolve ? AF_OK : AF_ENOMEM;
+}
+
+static void integrator_free(af_impact *w)
+{
+  gsl_odeiv2_evolve_free(w->evolve);
+  gsl_odeiv2_control_free(w->control);
+  gsl_odeiv2_step_free(w->step);
+}
+
+/* The exact law's nodes, shared read-only by every workspace of the
+ * process. They depend on nothing but the integrator and its tolerances
+ * (every pulse_run starts from a reset stepper), so the numbers are the
+ * ones each workspace used to compute for itself, bit for bit. */
+static struct {
+  af_status status; /* of the build; AF_OK: e, y hold the nodes */
+  double e[AF_EXACT_N];
+  double y[AF_EXACT_N];
+} shared_exact;
+static once_flag shared_exact_once = ONCE_FLAG_INIT;
+
+/* Builds shared_exact in a workspace of its own (call_once: one thread, once). */
+static void shared_exact_build(void)
+{
+  af_impact w;
+  memset(&w, 0, sizeof w);
+  shared_exact.status = integrator_alloc(&w);
+  if (shared_exact.status == AF_OK)
+    shared_exact.status = exact_nodes(&w, shared_exact.e, shared_exact.y);
+  integrator_free(&w);
+}
+
+/* w's interpolant of the shared nodes (built on first use). */
+static af_status exact_table(af_impact *w)
+{
+  call_once(&shared_exact_once, shared_exact_build);
+  if (shared_exact.status != AF_OK)
+    return shared_exact.status;
+  memcpy(w->exact_e, shared_exact.e, sizeof w->exact_e);
+  memcpy(w->exact_y, shared_exact.y, sizeof w->exact_y);
+  return gsl_interp_init(w->exact, w->exact_e, w->exact_y, AF_EXACT_N) == GSL_SUCCESS ? AF_OK
+                                                                                      : AF_ENUMERIC;
+}
 
 af_status af_impact_create(af_impact **out)
 {
@@ -612,16 +666,10 @@ af_status af_impact_create(af_impact **out)
   af_impact *w = calloc(1, sizeof *w);
   if (w == NULL)
     return AF_ENOMEM;
-  w->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rkck, 2);
-  w->control = gsl_odeiv2_control_y_new(AF_EPS_ABS, AF_EPS_REL);
-  w->evolve = gsl_odeiv2_evolve_alloc(2);
   w->exact = gsl_interp_alloc(gsl_interp_cspline, AF_EXACT_N);
-  if (w->step == NULL || w->control == NULL || w->evolve == NULL || w->exact == NULL) {
-    af_impact_destroy(w);
-    return AF_ENOMEM;
-  }
-  w->sys = (gsl_odeiv2_system){ode_rhs, NULL, 2, &w->rhs};
-  af_status st = exact_table(w);
+  af_status st = w->exact == NULL ? AF_ENOMEM : integrator_alloc(w);
+  if (st == AF_OK)
+    st = exact_table(w);
   if (st != AF_OK) {
     af_impact_destroy(w);
     return st;
@@ -635,9 +683,7 @@ void af_impact_destroy(af_impact *w)
   if (w == NULL)
     return;
   gsl_interp_free(w->exact);
-  gsl_odeiv2_evolve_free(w->evolve);
-  gsl_odeiv2_control_free(w->control);
-  gsl_odeiv2_step_free(w->step);
+  integrator_free(w);
   free(w);
 }
 

@@ -66,8 +66,11 @@ double af_impact_hertz_contact_time_s(const af_impact_params *p);
 
 typedef struct af_impact af_impact;
 
-/* Allocates the ODE driver and tabulates the exact damping law. Allocates;
- * not thread-safe with itself (one workspace per thread). */
+/* Allocates the ODE driver and the exact damping law's interpolant. The
+ * law's table is built once per process, by the first create (about 10 ms
+ * of ODE runs), and shared read-only by every workspace; later creates take
+ * microseconds. Creates may run on several threads at once; a workspace is
+ * used by one thread at a time. Allocates. */
 af_status af_impact_create(af_impact **out);
 void af_impact_destroy(af_impact *w); /* NULL-safe */
 

@@ -25,6 +25,8 @@
 #include <gsl/gsl_roots.h>
 #include <gsl/gsl_sf_bessel.h>
 
+#include "memo.h"
+
 /* Spheroidal order of the 0S2 ("football") mode. */
 #define AF_LAMB_ORDER 2
 /* Scan for sign changes of D: start above the spurious root at 0, step small
@@ -222,15 +224,25 @@ void af_sphere_modes_cache_reset(af_sphere_modes_cache *c)
     c->modes.xi[i] = c->modes.ratio[i] = NAN;
 }
 
+static af_status sphere_modes_of(const void *poisson, void *out)
+{
+  return af_lamb_sphere_modes(*(const double *)poisson, out);
+}
+
 af_status af_lamb_sphere_modes_cached(af_sphere_modes_cache *c, double poisson,
                                       af_sphere_modes *out)
 {
+  static const char kind[] = "af_lamb_sphere_modes";
   if (c == NULL || out == NULL)
     return AF_EINVAL;
   if (poisson != c->modes.poisson) {
-    af_status st = af_lamb_sphere_modes(poisson, &c->modes);
+    /* A miss here (a new measurement) is most often the process's same
+     * Poisson ratio again: the process-wide copy (memo.h). */
+    af_sphere_modes m;
+    af_status st = af_memo_get(kind, &poisson, sizeof poisson, sphere_modes_of, &m, sizeof m);
     if (st != AF_OK)
       return st;
+    c->modes = m;
   }
   *out = c->modes;
   return AF_OK;
@@ -284,12 +296,21 @@ void af_lamb_cache_reset(af_lamb_cache *c)
   c->xi = NAN;
 }
 
+static af_status root_of(const void *poisson, void *xi)
+{
+  return af_lamb_root(*(const double *)poisson, xi);
+}
+
 af_status af_lamb_root_cached(af_lamb_cache *c, double poisson, double *xi)
 {
+  static const char kind[] = "af_lamb_root";
   if (poisson != c->poisson) {
-    af_status st = af_lamb_root(poisson, &c->xi);
+    /* as af_lamb_sphere_modes_cached: the process-wide copy first */
+    double root;
+    af_status st = af_memo_get(kind, &poisson, sizeof poisson, root_of, &root, sizeof root);
     if (st != AF_OK)
       return st;
+    c->xi = root;
     c->poisson = poisson;
   }
   *xi = c->xi;

@@ -162,12 +162,13 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
     af_response_destroy(r);
     return AF_ENOMEM;
   }
-  /* FFTW_ESTIMATE: no measurement, so no buffer is overwritten and the plan
-   * takes microseconds; the transform is a small fraction of the budget. */
-  r->plan = fftw_plan_dft_r2c_1d((int)cfg->fft_size, r->in, r->spec, FFTW_ESTIMATE);
-  if (r->plan == NULL) {
+  /* FFTW_ESTIMATE (no measurement, so no buffer is overwritten), one plan
+   * per size for the whole process (fft_plan.h); the transform is a small
+   * fraction of the budget. */
+  af_status st = af_fft_r2c_acquire(cfg->fft_size, &r->plan);
+  if (st != AF_OK) {
     af_response_destroy(r);
-    return AF_ENOMEM;
+    return st;
   }
   af_response_fill_window(r);
   af_response_fill_phases(r);
@@ -179,8 +180,7 @@ void af_response_destroy(af_response *r)
 {
   if (r == NULL)
     return;
-  if (r->plan != NULL)
-    fftw_destroy_plan(r->plan);
+  af_fft_r2c_release(&r->plan);
   fftw_free(r->in);
   fftw_free(r->spec);
   fftw_free(r->window);

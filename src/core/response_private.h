@@ -30,6 +30,8 @@
 #include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 
+#include "fft_plan.h"
+
 #define AF_PI 3.14159265358979323846
 /* Shortest window or noise segment accepted [samples]: below this neither a
  * mean nor a spectral peak means anything. */
@@ -84,7 +86,7 @@ struct af_response {
   double bin_hz;                       /* sample_rate_hz / fft_size [Hz] */
   double *in;                          /* fft input, fft_size samples */
   double complex *spec;                /* fft output, bins values */
-  fftw_plan plan;                      /* r2c, made once */
+  af_fft_r2c plan;                     /* r2c, shared by the process (fft_plan.h) */
   double *window;                      /* window_samples weights */
   size_t fade_samples;                 /* length of the fade-in [samples] */
   double *power;                       /* periodogram |X_k|^2 of the last transform */

@@ -5,7 +5,10 @@
 #include "response_private.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
+
+#include "memo.h"
 
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
 af_status af_response_mean(const float *x, size_t n, double *mean)
@@ -59,16 +62,44 @@ void af_response_fill_window(af_response *r)
   }
 }
 
+/* The phase tables' arguments (no padding: the key is its bytes). */
+typedef struct {
+  size_t fft_size, fade_samples, bins;
+} phase_key;
+
+/* u_k = exp(-2 pi i k / N), or (faded) u_k^L with L = fade_samples, for
+ * k < bins, into out. */
+static af_status phases(const phase_key *key, bool faded, double complex *out)
+{
+  double n_fft = (double)key->fft_size, length = (double)key->fade_samples;
+  for (size_t k = 0; k < key->bins; ++k) {
+    double w = -2.0 * AF_PI * (double)k / n_fft;
+    out[k] = faded ? cexp(I * w * length) : cexp(I * w);
+  }
+  return AF_OK;
+}
+
+static af_status phases_u(const void *key, void *out)
+{
+  return phases(key, false, out);
+}
+
+static af_status phases_ul(const void *key, void *out)
+{
+  return phases(key, true, out);
+}
+
 /* The phase factors of the peak list's exact mode spectra (u_k, u_k^L) and
- * the fade-in's constants. */
+ * the fade-in's constants. The tables depend on the configuration alone:
+ * computed once per process (memo.h: most of a lane's making otherwise). */
 void af_response_fill_phases(af_response *r)
 {
-  double n_fft = (double)r->cfg.fft_size, length = (double)r->fade_samples;
-  for (size_t k = 0; k < r->bins; ++k) {
-    double w = -2.0 * AF_PI * (double)k / n_fft;
-    r->phase_u[k] = cexp(I * w);
-    r->phase_ul[k] = cexp(I * w * length);
-  }
+  static const char kind_u[] = "response phase u", kind_ul[] = "response phase u^L";
+  const phase_key key = {r->cfg.fft_size, r->fade_samples, r->bins};
+  const size_t size = r->bins * sizeof *r->phase_u;
+  (void)af_memo_get(kind_u, &key, sizeof key, phases_u, r->phase_u, size);
+  (void)af_memo_get(kind_ul, &key, sizeof key, phases_ul, r->phase_ul, size);
+  double length = (double)r->fade_samples;
   double theta = r->fade_samples > 0 ? AF_PI / length : 0.0;
   r->fade_e = cexp(I * theta);
   r->fade_eh = cexp(0.5 * I * theta);
@@ -96,7 +127,7 @@ void af_response_transform(af_response *r, const float *x, size_t n, size_t star
     energy += r->window[k] * r->window[k];
   }
   memset(r->in + m, 0, (r->cfg.fft_size - m) * sizeof *r->in);
-  fftw_execute(r->plan);
+  af_fft_r2c_execute(&r->plan, r->in, r->spec);
   for (size_t k = 0; k < r->bins; ++k)
     r->power[k] = creal(r->spec[k] * conj(r->spec[k]));
   *window_energy = energy;

@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <threads.h>
 
 #include "settings_private.h"
 
@@ -253,14 +254,25 @@ static af_status set_default(af_settings *s, af_setting_id id)
   return af_settings_set_text(s, d->name, d->def, err, sizeof err);
 }
 
+/* The table's defaults, parsed once per process and copied by every reset:
+ * parsing every row's text took most of a fuzz input's time (issue 17). */
+static af_settings defaults;
+static once_flag defaults_once = ONCE_FLAG_INIT;
+
+static void defaults_build(void)
+{
+  memset(&defaults, 0, sizeof defaults);
+  for (int k = 0; k < AF_SETTING_COUNT; k++)
+    set_default(&defaults, (af_setting_id)k); /* the test checks every default is accepted */
+  memset(defaults.given, 0, sizeof defaults.given);
+}
+
 void af_settings_reset(af_settings *s)
 {
   if (s == NULL)
     return;
-  memset(s, 0, sizeof *s);
-  for (int k = 0; k < AF_SETTING_COUNT; k++)
-    set_default(s, (af_setting_id)k); /* the test checks every default is accepted */
-  memset(s->given, 0, sizeof s->given);
+  call_once(&defaults_once, defaults_build);
+  *s = defaults;
 }
 
 void af_settings_set_name_prefix(af_settings *s, const char *prefix)

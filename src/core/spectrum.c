@@ -47,6 +47,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fft_plan.h"
+
 /* Strict C11 <math.h> defines neither. */
 #define AF_PI 3.14159265358979323846
 #define AF_SQRT1_2 0.70710678118654752440
@@ -71,7 +73,7 @@ struct af_spectrum {
   double *min_theta; /* refined minima ending lobes 1.. [rad/sample, max_lobes] */
   double *min_g;     /* g at those minima [max_lobes] */
   size_t *min_bin;   /* grid bin of each minimum [max_lobes] */
-  fftw_plan plan;
+  af_fft_r2c plan;   /* shared by the process (fft_plan.h) */
   size_t n;          /* samples of the last pulse; 0 = no valid result */
   size_t n_dirty;    /* leading entries of in that may be nonzero */
   size_t grid_top;   /* bins of mag2 computed so far */
@@ -171,12 +173,12 @@ af_status af_spectrum_create(const af_spectrum_config *cfg, af_spectrum **out)
   if (s == NULL)
     return AF_ENOMEM;
   s->cfg = *cfg;
-  if (allocate(s) == AF_OK)
-    /* Planned before the buffers are filled (planning may scribble on them). */
-    s->plan = fftw_plan_dft_r2c_1d((int)cfg->fft_size, s->in, s->out, FFTW_ESTIMATE);
-  if (s->plan == NULL) {
+  st = allocate(s);
+  if (st == AF_OK) /* one plan per size for the whole process (fft_plan.h) */
+    st = af_fft_r2c_acquire(cfg->fft_size, &s->plan);
+  if (st != AF_OK) {
     af_spectrum_destroy(s);
-    return AF_ENOMEM;
+    return st;
   }
   memset(s->in, 0, cfg->fft_size * sizeof *s->in);
   *out = s;
@@ -187,8 +189,7 @@ void af_spectrum_destroy(af_spectrum *s)
 {
   if (s == NULL)
     return;
-  if (s->plan != NULL)
-    fftw_destroy_plan(s->plan);
+  af_fft_r2c_release(&s->plan);
   fftw_free(s->in);
   fftw_free(s->out);
   free(s->mag2);
@@ -502,7 +503,7 @@ af_status af_spectrum_execute(af_spectrum *s, const double *x, size_t n, double 
   if (st != AF_OK)
     return st;
   fold_pulse(s, n);
-  fftw_execute(s->plan);
+  af_fft_r2c_execute(&s->plan, s->in, s->out);
   s->n = n;
   s->dt_s = dt_s;
   s->grid_top = 0;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fft_plan.h"
 #include "impact.h"
 #include "spectrum.h"
 #include "text.h"
@@ -47,7 +48,7 @@ struct af_strike_view {
   size_t fft_size;
   double *fft_in;
   fftw_complex *fft_out;
-  fftw_plan plan;
+  af_fft_r2c plan; /* shared by the process (fft_plan.h) */
 };
 
 static size_t pow2_at_least(size_t n)
@@ -84,8 +85,9 @@ af_status af_strike_view_create(const af_lane_config *cfg, af_strike_view **out)
   af_status st = AF_ENOMEM;
   if (v->pulse_n && v->pulse_t_ms && v->audio && v->model_t_ms && v->model_n && v->fft_in &&
       v->fft_out) {
-    v->plan = fftw_plan_dft_r2c_1d((int)v->fft_size, v->fft_in, v->fft_out, FFTW_ESTIMATE);
-    st = v->plan ? af_impact_create(&v->impact) : AF_ENOMEM;
+    st = af_fft_r2c_acquire(v->fft_size, &v->plan);
+    if (st == AF_OK)
+      st = af_impact_create(&v->impact);
     if (st == AF_OK)
       st = af_spectrum_create(&sc, &v->spectrum);
   }
@@ -101,8 +103,7 @@ void af_strike_view_destroy(af_strike_view *v)
 {
   if (!v)
     return;
-  if (v->plan)
-    fftw_destroy_plan(v->plan);
+  af_fft_r2c_release(&v->plan);
   fftw_free(v->fft_in);
   fftw_free(v->fft_out);
   af_spectrum_destroy(v->spectrum);
@@ -218,7 +219,7 @@ static void prepare_audio_spectrum(af_strike_view *v)
   memset(v->fft_in, 0, v->fft_size * sizeof *v->fft_in);
   for (size_t k = 0; k < n; k++)
     v->fft_in[k] = v->audio[k] * 0.5 * (1.0 - cos(2.0 * M_PI * (double)k / (double)(n - 1)));
-  fftw_execute(v->plan);
+  af_fft_r2c_execute(&v->plan, v->fft_in, v->fft_out);
   const double rate = v->cfg->audio.sample_rate_hz, bin_hz = rate / (double)v->fft_size;
   const size_t bins = v->fft_size / 2 + 1;
   double peak = 0.0;

@@ -29,18 +29,24 @@ namespace
 {
 
 af_lane_config cfg;
+bool cfg_made = false;
 af_lane *lane = nullptr;
 
 // A fresh lane for every input (the node's defaults, the shipped hammer).
+// The configuration is a value the lane only reads (derived once: the same
+// for every input); the lane itself, all its state, is made anew.
 void make_lane()
 {
-  af_settings s;
-  char err[512];
-  af_settings_reset(&s);
-  if (af_settings_set_arg(&s, "hammer_mass_kg=0.01", err, sizeof err) != AF_OK ||
-      af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err) != AF_OK ||
-      af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
-    std::abort();
+  if (!cfg_made) {
+    af_settings s;
+    char err[512];
+    af_settings_reset(&s);
+    if (af_settings_set_arg(&s, "hammer_mass_kg=0.01", err, sizeof err) != AF_OK ||
+        af_settings_set_arg(&s, "hammer_tip_radius_m=0", err, sizeof err) != AF_OK ||
+        af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
+      std::abort();
+    cfg_made = true;
+  }
   const char *what = "";
   if (af_lane_create(&cfg, nullptr, nullptr, &lane, &what) != AF_OK)
     std::abort();

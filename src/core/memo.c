@@ -1,0 +1,90 @@
+/* memo.c — pure functions' outputs kept for the process (see memo.h). */
+#include "memo.h"
+
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <threads.h>
+
+/* Longest key kept [bytes]: a few arguments. */
+#define AF_MEMO_KEY_MAX 64
+
+typedef struct {
+  const char *kind;
+  unsigned char key[AF_MEMO_KEY_MAX];
+  size_t key_size;
+  size_t size;
+  void *value; /* size bytes, never freed (the process's life) */
+} entry;
+
+static entry entries[AF_MEMO_ENTRIES];
+static size_t n_entries;
+static size_t bytes_kept;
+static mtx_t lock;
+static bool lock_ok;
+static once_flag lock_once = ONCE_FLAG_INIT;
+
+static void lock_init(void)
+{
+  lock_ok = mtx_init(&lock, mtx_plain) == thrd_success;
+}
+
+static bool same(const entry *e, const char *kind, const void *key, size_t key_size, size_t size)
+{
+  return e->kind == kind && e->key_size == key_size && e->size == size &&
+         memcmp(e->key, key, key_size) == 0;
+}
+
+/* Copies the kept value into out; false when there is none. Under the lock. */
+static bool find_locked(const char *kind, const void *key, size_t key_size, void *out, size_t size)
+{
+  for (size_t k = 0; k < n_entries; k++) {
+    if (same(&entries[k], kind, key, key_size, size)) {
+      memcpy(out, entries[k].value, size);
+      return true;
+    }
+  }
+  return false;
+}
+
+/* Keeps a copy of value when there is room and no other thread kept it
+ * first. Under the lock. */
+static void keep_locked(const char *kind, const void *key, size_t key_size, const void *value,
+                        size_t size)
+{
+  for (size_t k = 0; k < n_entries; k++)
+    if (same(&entries[k], kind, key, key_size, size))
+      return;
+  if (n_entries == AF_MEMO_ENTRIES || size > AF_MEMO_BYTES - bytes_kept)
+    return;
+  void *copy = malloc(size);
+  if (copy == NULL)
+    return; /* not kept: the next caller computes it again */
+  memcpy(copy, value, size);
+  entry *e = &entries[n_entries++];
+  e->kind = kind;
+  memcpy(e->key, key, key_size);
+  e->key_size = key_size;
+  e->size = size;
+  e->value = copy;
+  bytes_kept += size;
+}
+
+af_status af_memo_get(const char *kind, const void *key, size_t key_size, af_memo_fn *fn, void *out,
+                      size_t size)
+{
+  call_once(&lock_once, lock_init);
+  const bool usable = lock_ok && key_size <= AF_MEMO_KEY_MAX && size > 0;
+  if (usable && mtx_lock(&lock) == thrd_success) {
+    bool found = find_locked(kind, key, key_size, out, size);
+    mtx_unlock(&lock);
+    if (found)
+      return AF_OK;
+  }
+  af_status st = fn(key, out);
+  if (st == AF_OK && usable && mtx_lock(&lock) == thrd_success) {
+    keep_locked(kind, key, key_size, out, size);
+    mtx_unlock(&lock);
+  }
+  return st;
+}
