@@ -281,6 +281,8 @@ static int parse(int argc, char **argv, af_report_args *a)
       af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "BAG...");
       return AF_EXIT_USAGE;
     }
+    if (strcmp(f, "--set") != 0 && !af_options_once("firmness_report", o, argv, 1, k))
+      return AF_EXIT_USAGE; /* a single-valued flag given twice: refused, not last-wins */
     if (o->value == NULL) {
       (void)af_option_store(o, NULL, a);
       continue;

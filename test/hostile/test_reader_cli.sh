@@ -147,4 +147,7 @@ hostile_case analyze_profile_twice 2 '--profile is given twice \(as argument [0-
   "${analyze[@]}" --profile paper --profile default --rate-audio 48000
 hostile_case sweep_steps_twice 2 '--steps is given twice' 2 256 -- \
   "$fm" sweep --param E2 --from 1e6 --to 1e7 --steps 3 --steps 4
+# firmness_report's flags too (a bag need not exist: the flags are read first)
+hostile_case report_ns_twice 2 '--ns is given twice \(as argument 2 and 4\); it is accepted once' 2 256 -- \
+  "$report" a.bag --ns lane1 --ns lane2
 hostile_done
