@@ -20,6 +20,7 @@ typedef struct {
   double *pulse;      /* pulse_capacity_samples, preallocated */
   int64_t start_ns;   /* contact start */
   int64_t queued_ns;  /* lane clock when queued, for the time-outs */
+  uint64_t refused;   /* refused (non-finite) force samples in the pulse */
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_pending;
 
@@ -212,6 +213,11 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
     return AF_NONE;
   v->n_audio = count_bad(l->audio_buf, n);
   v->audio_cause = AF_AUDIO_LOST_IN_WINDOW;
+  const uint64_t refused = af_stream_refused_in(s, i0, n);
+  if (refused > 0) { /* the samples were there, but not finite */
+    v->audio_cause = AF_AUDIO_REFUSED_IN_WINDOW;
+    v->n_audio = (size_t)refused;
+  }
   return v->n_audio > 0 ? AF_NONE : AF_READY;
 }
 
@@ -244,8 +250,10 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
 {
   af_verdict *v = &r->verdict;
   const uint32_t lane_flags = AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION |
-                              AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED;
+                              AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED |
+                              AF_VERDICT_REFUSED_SAMPLES;
   v->flags |= lane_v->flags & lane_flags;
+  v->refused_samples = lane_v->refused_samples;
   v->apple_id = lane_v->apple_id;
   v->apple_stale_s = lane_v->apple_stale_s;
   v->measure_status = lane_v->measure_status;
@@ -343,6 +351,10 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
 {
   af_lane_strike *o = &l->out;
   af_apple_slot *a = apple_flags(l, p, lane_v);
+  if (p->refused > 0) {
+    lane_v->flags |= AF_VERDICT_REFUSED_SAMPLES;
+    lane_v->refused_samples = p->refused;
+  }
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
   merge_verdict(&o->report, lane_v);
@@ -416,21 +428,19 @@ static void on_strike(const af_strike_event *ev, void *user)
   p->ev.n_samples = n;
   p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
   p->queued_ns = l->now_ns;
+  p->refused = af_stream_refused_in(&l->force, ev->pulse_first_sample, ev->n_samples);
   memcpy(p->frame_id, l->force.frame_id, sizeof p->frame_id);
   l->count++;
 }
 
-/* An accepted force chunk into the detector, in newtons: as sent, or (a
- * force in V) converted block by block in the stream's scratch. */
+/* An accepted force chunk into the detector, in newtons (a force in V
+ * converted), block by block in the stream's scratch, a refused
+ * (non-finite) sample as NaN: a lost sample to the detector. */
 static void detect(af_lane *l, const af_chunk *c)
 {
-  if (l->force.si == NULL) {
-    (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
-    return;
-  }
   for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
-    af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
+    (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
     (void)af_strike_write(l->detector, c->first_sample + at, l->force.si, m, on_strike, l);
   }
 }
@@ -477,8 +487,8 @@ void af_lane_finish(af_lane *l)
 
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
 {
-  if (l->force.si == NULL)
-    return af_strike_prime(l->detector, x, n);
+  if (l->cfg->force.to_si == 1.0 || l->cfg->force.to_si == 0.0)
+    return af_strike_prime(l->detector, x, n); /* it passes over non-finite samples */
   /* A recording in V: its copy in N (offline, once per recording). */
   float *si = malloc((n ? n : 1) * sizeof *si);
   if (si == NULL)

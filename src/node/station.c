@@ -379,6 +379,7 @@ static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
   unsigned long long count = v != AF_CHUNK_OK        ? af_stream_bad_chunks(s)
                              : info->gap_samples > 0 ? s->gaps
                              : info->restarted       ? s->restarts
+                             : s->last_refused > 0   ? s->refused_chunks
                                                      : 0;
   if (power_of_two(count))
     af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
@@ -413,9 +414,14 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_text(key, sizeof key, "%s restarts", s->name);
   af_diag_add(d, key, "%llu", (unsigned long long)s->restarts);
   af_text(key, sizeof key, "%s bad chunks", s->name);
-  af_diag_add(d, key, "%llu (rate %llu, unit %llu, NaN/inf %llu)",
+  af_diag_add(d, key, "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
               (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
-              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_data);
+              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_index,
+              (unsigned long long)s->malformed, (unsigned long long)s->oversized);
+  af_text(key, sizeof key, "%s refused samples", s->name);
+  af_diag_add(d, key, "%llu non-finite in %llu spans of %llu chunks",
+              (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans,
+              (unsigned long long)s->refused_chunks);
   af_text(key, sizeof key, "%s last problem", s->name);
   af_diag_add(d, key, "%s", s->last_problem);
   af_text(key, sizeof key, "%s ring [samples]", s->name);

@@ -74,10 +74,13 @@ static void text_stream(FILE *out, const char *name, const af_session_stream *s)
 {
   fprintf(out,
           "  %-5s %8" PRIu64 " chunks, %" PRIu64 " gaps (%" PRIu64 " samples lost), %" PRIu64
-          " restarts, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64 ", NaN/inf %" PRIu64
-          ")\n",
-          name, s->chunks, s->gaps, s->lost_samples, s->restarts,
-          s->bad_rate + s->bad_unit + s->bad_data, s->bad_rate, s->bad_unit, s->bad_data);
+          " restarts, %" PRIu64 " duplicates, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64
+          ", index %" PRIu64 ", malformed %" PRIu64 ", oversized %" PRIu64 "), %" PRIu64
+          " non-finite samples refused in %" PRIu64 " spans\n",
+          name, s->chunks, s->gaps, s->lost_samples, s->restarts, s->duplicates,
+          s->bad_rate + s->bad_unit + s->bad_index + s->malformed + s->oversized, s->bad_rate,
+          s->bad_unit, s->bad_index, s->malformed, s->oversized, s->refused_samples,
+          s->refused_spans);
 }
 
 static double share(size_t part, size_t whole)
@@ -205,9 +208,12 @@ static void json_stream(FILE *out, const char *key, const af_session_stream *s)
   fprintf(out,
           "    \"%s\": {\"chunks\": %" PRIu64 ", \"gaps\": %" PRIu64 ", \"lost_samples\": %" PRIu64
           ", \"restarts\": %" PRIu64 ", \"bad_rate\": %" PRIu64 ", \"bad_unit\": %" PRIu64
-          ", \"bad_data\": %" PRIu64 "},\n",
+          ", \"bad_index\": %" PRIu64 ", \"malformed\": %" PRIu64 ", \"oversized\": %" PRIu64
+          ", \"duplicates\": %" PRIu64 ", \"refused_samples\": %" PRIu64
+          ", \"refused_spans\": %" PRIu64 "},\n",
           key, s->chunks, s->gaps, s->lost_samples, s->restarts, s->bad_rate, s->bad_unit,
-          s->bad_data);
+          s->bad_index, s->malformed, s->oversized, s->duplicates, s->refused_samples,
+          s->refused_spans);
 }
 
 void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,

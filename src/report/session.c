@@ -162,7 +162,11 @@ static void copy_stream(af_session_stream *out, const af_stream *s)
   out->restarts = s->restarts;
   out->bad_rate = s->bad_rate;
   out->bad_unit = s->bad_unit;
-  out->bad_data = s->bad_data;
+  out->bad_index = s->bad_index;
+  out->malformed = s->malformed;
+  out->oversized = s->oversized;
+  out->refused_samples = s->refused_samples;
+  out->refused_spans = s->refused_spans;
 }
 
 static void show_progress(uint64_t done, uint64_t total, bool final)

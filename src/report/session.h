@@ -75,7 +75,10 @@ typedef struct {
 
 /* A stream's counters at the end of the bag. */
 typedef struct {
-  uint64_t chunks, gaps, lost_samples, restarts, bad_rate, bad_unit, bad_data;
+  uint64_t chunks, gaps, lost_samples, restarts, bad_rate, bad_unit, bad_index, malformed,
+      oversized;
+  uint64_t refused_samples, refused_spans; /* non-finite samples of accepted chunks */
+  uint64_t duplicates;                     /* chunks that repeat samples already held */
   int64_t first_ns, end_ns; /* time of the first sample, end of the last chunk [ns] */
 } af_session_stream;
 
