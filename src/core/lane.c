@@ -20,7 +20,7 @@ typedef struct {
   double *pulse;      /* pulse_capacity_samples, preallocated */
   int64_t start_ns;   /* contact start */
   int64_t queued_ns;  /* lane clock when queued, for the time-outs */
-  uint64_t refused;   /* refused (non-finite) force samples in the pulse */
+  uint64_t refused;   /* refused (non-finite) force samples in the measured span */
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_pending;
 
@@ -254,6 +254,12 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
                               AF_VERDICT_REFUSED_SAMPLES;
   v->flags |= lane_v->flags & lane_flags;
   v->refused_samples = lane_v->refused_samples;
+  if ((v->flags & AF_VERDICT_REFUSED_SAMPLES) && (v->flags & AF_VERDICT_LOST_SAMPLES)) {
+    /* The refused samples read as lost to the detector: said once, as refused. */
+    v->lost_samples -= v->lost_samples < v->refused_samples ? v->lost_samples : v->refused_samples;
+    if (v->lost_samples == 0)
+      v->flags &= ~(uint32_t)AF_VERDICT_LOST_SAMPLES;
+  }
   v->apple_id = lane_v->apple_id;
   v->apple_stale_s = lane_v->apple_stale_s;
   v->measure_status = lane_v->measure_status;
@@ -428,7 +434,7 @@ static void on_strike(const af_strike_event *ev, void *user)
   p->ev.n_samples = n;
   p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
   p->queued_ns = l->now_ns;
-  p->refused = af_stream_refused_in(&l->force, ev->pulse_first_sample, ev->n_samples);
+  p->refused = af_stream_refused_in(&l->force, ev->span_first, ev->span_end - ev->span_first);
   memcpy(p->frame_id, l->force.frame_id, sizeof p->frame_id);
   l->count++;
 }

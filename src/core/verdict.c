@@ -180,7 +180,7 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
   if (f & AF_VERDICT_LOST_SAMPLES)
     add(buf, len, "%llu samples lost", (unsigned long long)v->lost_samples);
   if (f & AF_VERDICT_REFUSED_SAMPLES)
-    add(buf, len, "%llu refused (non-finite) force samples in the pulse",
+    add(buf, len, "%llu refused (non-finite) force samples in the strike's span",
         (unsigned long long)v->refused_samples);
   if (f & AF_VERDICT_TRUNCATED)
     add(buf, len, "contact truncated");

@@ -41,7 +41,7 @@ typedef enum {
   AF_VERDICT_NO_LOBE = 1u << 16,        /* the configured lobe does not exist */
   AF_VERDICT_OUTSIDE_BAND = 1u << 17,   /* the 0S2 outside the lobe's half-power band */
   AF_VERDICT_DAMAGE = 1u << 18,         /* the shear reaches the yield: bruise */
-  AF_VERDICT_REFUSED_SAMPLES = 1u << 19 /* non-finite force samples in the pulse (refused_samples) */
+  AF_VERDICT_REFUSED_SAMPLES = 1u << 19 /* non-finite force samples measured (refused_samples) */
 } af_verdict_flag;
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
@@ -72,7 +72,7 @@ typedef struct {
   af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;
   double fit_residual; /* RMS / peak; NaN when the fit did not run */
   uint64_t lost_samples;
-  uint64_t refused_samples; /* REFUSED_SAMPLES: non-finite force samples in the pulse */
+  uint64_t refused_samples; /* REFUSED_SAMPLES: non-finite force samples in the span */
   af_audio_cause audio_cause;
   uint64_t audio_first, audio_last, audio_end; /* sample indices of the window, stream end */
   double audio_seconds;                        /* wait_s, seconds_before or ring_s */
