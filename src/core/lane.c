@@ -491,6 +491,11 @@ void af_lane_finish(af_lane *l)
   process(l);
 }
 
+void af_lane_refuse(af_lane *l, bool force, bool oversized, const char *why)
+{
+  af_stream_refuse(force ? &l->force : &l->audio, oversized, why);
+}
+
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
 {
   if (l->cfg->force.to_si == 1.0 || l->cfg->force.to_si == 0.0)

@@ -549,16 +549,42 @@ static af_status advertise(af_station *st)
   return s;
 }
 
+/* A chunk refused by the shim before deserializing (the shim logs it). */
+static void on_force_refused(bool oversized, const char *why, void *user)
+{
+  af_station *st = user;
+  af_lane_io_refuse(st->measured, true, oversized, why);
+}
+
+static void on_audio_refused(bool oversized, const char *why, void *user)
+{
+  af_station *st = user;
+  af_lane_io_refuse(st->measured, false, oversized, why);
+}
+
+/* A chunk longer than its stream's ring can never be used: the cap on the
+ * wire, so that it is never deserialized (issue 18). */
+static size_t ring_samples(const af_station *st, bool force)
+{
+  const af_lane *l = af_lane_io_lane(st->measured);
+  return (force ? af_lane_force_stream(l) : af_lane_audio_stream(l))->cfg->capacity_samples;
+}
+
 static af_status subscribe(af_station *st)
 {
   af_ros_sub *sub; /* owned by the af_ros */
   af_status s =
       af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
+  if (s == AF_OK)
+    s = af_ros_sub_limit(sub, ring_samples(st, true), on_force_refused);
   const char *what;
   if (s == AF_OK && st->cfg->audio_common) /* audio_common_msgs, decoded (audio_in.h) */
     s = af_audio_in_create(st->ros, st->cfg, on_audio, st, &st->audio_in, &what);
-  else if (s == AF_OK)
+  else if (s == AF_OK) {
     s = af_ros_subscribe(st->ros, "audio", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_audio, st, &sub);
+    if (s == AF_OK)
+      s = af_ros_sub_limit(sub, ring_samples(st, false), on_audio_refused);
+  }
   if (s == AF_OK)
     s = af_ros_subscribe(st->ros, "apple", AF_MSG_APPLE_ESTIMATE, AF_APPLE_QUEUE, on_apple, st,
                          &sub);

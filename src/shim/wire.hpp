@@ -22,6 +22,15 @@ namespace af_shim
 // then throws, as usual). False when a prefix claims more than remains.
 bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 
+// What the n serialized bytes at p are as a SignalChunk, walked strictly
+// (issue 18): every field there (else cut, an empty message included), no
+// length prefix past the end (else claims_too_much), data at most
+// max_samples float32 (0: no cap; else oversized). *samples: data's stated
+// length (0 when not reached); *why: one line naming the lengths.
+enum class chunk_wire { ok, cut, claims_too_much, oversized };
+chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_samples,
+                              uint32_t *samples, std::string *why);
+
 // rosbag trusts the lengths a bag file states: a record header or a chunk
 // that claims gigabytes makes it allocate them (rosbag::Bag::readHeader,
 // the chunk's decompression buffer) before it finds the file shorter. This
