@@ -29,6 +29,7 @@ typedef struct {
   af_apple apple;
   af_prediction prediction; /* prediction.valid false: refused (prediction.why) */
   uint64_t strikes;         /* strikes matched to it so far */
+  uint64_t order;           /* 1 for the first estimate received, 2 for the next ... */
   int64_t last_strike_ns;
   uint32_t late_after; /* its estimate came after its strike went to this apple (0: no) */
 } af_apple_slot;
@@ -53,6 +54,7 @@ struct af_lane {
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
   int64_t newest_apple_ns; /* stamp of the newest estimate received */
+  uint64_t apples_received; /* estimates so far: the slots' order */
   bool any_apple;
   int64_t now_ns;
   int64_t force_gap_ns[AF_LANE_GAPS]; /* stamps of the chunks after force gaps or restarts */
@@ -66,16 +68,27 @@ struct af_lane {
 
 /* The newest apple stamped at or before t_ns and at most apple_stale_after_s
  * before it; NULL when none. */
-static af_apple_slot *match_apple(af_lane *l, int64_t t_ns)
+static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
 {
   const int64_t stale_ns = (int64_t)llround(l->mc->apple_stale_after_s * 1e9);
   af_apple_slot *best = NULL;
+  *tie = NULL;
   for (size_t k = 0; k < AF_LANE_APPLES; k++) {
     af_apple_slot *a = &l->apples[k];
     if (!a->used || a->apple.stamp_ns > t_ns || t_ns - a->apple.stamp_ns > stale_ns)
       continue;
-    if (best == NULL || a->apple.stamp_ns >= best->apple.stamp_ns)
+    if (best == NULL || a->apple.stamp_ns > best->apple.stamp_ns) {
       best = a;
+      *tie = NULL;
+    } else if (a->apple.stamp_ns == best->apple.stamp_ns && a->apple.apple_id != best->apple.apple_id) {
+      /* Two apples at one stamp: the match is ambiguous (issue 18). The
+       * later received is taken and the other named. */
+      const bool later = a->order > best->order;
+      *tie = later ? best : a;
+      best = later ? a : best;
+    } else if (a->apple.stamp_ns == best->apple.stamp_ns && a->order > best->order) {
+      best = a; /* the same apple sent again: its newest estimate */
+    }
   }
   return best;
 }
@@ -127,6 +140,7 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   memset(s, 0, sizeof *s);
   s->late_after = late_after;
   s->used = true;
+  s->order = ++l->apples_received;
   s->apple = *a;
   af_status st = af_prediction_execute(l->model, l->cfg, a, &s->prediction);
   l->stats.apples++;
@@ -293,7 +307,8 @@ static int64_t force_lost_between(const af_lane *l, int64_t from_ns, int64_t to_
 /* The apple flags of p: none, refused, or doubtful. */
 static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v)
 {
-  af_apple_slot *a = match_apple(l, p->start_ns);
+  const af_apple_slot *tie;
+  af_apple_slot *a = match_apple(l, p->start_ns, &tie);
   if (a == NULL) {
     v->flags |= AF_VERDICT_NO_APPLE;
     v->apple_stale_s = l->mc->apple_stale_after_s;
@@ -303,6 +318,11 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   if (!a->prediction.valid) {
     v->flags |= AF_VERDICT_NO_PREDICTION;
     af_text(v->apple_why, sizeof v->apple_why, "%s", a->prediction.why);
+  } else if (tie != NULL) {
+    v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+    af_text(v->doubtful_why, sizeof v->doubtful_why,
+            "apple %u has the same stamp %.9f s; the strike may be either's", tie->apple.apple_id,
+            (double)a->apple.stamp_ns * 1e-9);
   } else if (a->strikes > 0 && !l->mc->single_apple) {
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,

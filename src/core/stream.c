@@ -27,7 +27,7 @@ af_status af_stream_create(af_stream *s, const char *name, const af_stream_confi
   memset(s, 0, sizeof *s);
   s->name = name;
   s->cfg = cfg;
-  if ((s->si = malloc(AF_STREAM_BLOCK * sizeof *s->si)) == NULL)
+  if ((s->si = malloc(2 * AF_STREAM_BLOCK * sizeof *s->si)) == NULL) /* + the ring's, to compare */
     return AF_ENOMEM;
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
@@ -88,6 +88,26 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
   return refused;
 }
 
+/* Whether c repeats samples the ring holds, value for value (a chunk sent
+ * or recorded twice): not a restart, nothing new. NaN matches NaN. */
+static bool duplicate(af_stream *s, const af_chunk *c)
+{
+  if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) ||
+      c->first_sample + c->n > af_ring_end(s->ring))
+    return false;
+  float *held = s->si + AF_STREAM_BLOCK;
+  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
+    size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
+    (void)af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    if (af_ring_read(s->ring, c->first_sample + at, m, held) != AF_OK)
+      return false;
+    for (size_t k = 0; k < m; k++)
+      if (!(s->si[k] == held[k] || (isnan(s->si[k]) && isnan(held[k]))))
+        return false;
+  }
+  return true;
+}
+
 static bool unit_accepted(const af_stream_config *cfg, const char *unit)
 {
   for (int k = 0; k < 2; k++)
@@ -135,6 +155,13 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
   af_ring_write_info w;
   memset(&w, 0, sizeof w);
   af_chunk_verdict v = check(s, c);
+  if (v == AF_CHUNK_OK && duplicate(s, c)) {
+    s->duplicates++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: %zu samples already held (a duplicate, ignored)", s->name,
+             (unsigned long long)c->first_sample, c->n);
+    v = AF_CHUNK_DUPLICATE;
+  }
   uint64_t refused = v == AF_CHUNK_OK ? write_ring(s, c, &w) : 0;
   if (v == AF_CHUNK_OK) {
     s->chunks++;

@@ -68,7 +68,8 @@ typedef enum {
   AF_CHUNK_BAD_RATE, /* sample_rate differs from the configured one */
   AF_CHUNK_BAD_UNIT, /* unit not accepted for this stream */
   AF_CHUNK_BAD_INDEX, /* first_sample + n past 2^64 */
-  AF_CHUNK_MALFORMED  /* n samples but no data */
+  AF_CHUNK_MALFORMED, /* n samples but no data */
+  AF_CHUNK_DUPLICATE  /* every sample already held, the same values: ignored, not refused */
 } af_chunk_verdict;
 
 typedef struct {
@@ -79,6 +80,7 @@ typedef struct {
   uint64_t gaps;                         /* accepted chunks that followed lost samples */
   uint64_t lost_samples;                 /* samples missing in those gaps */
   uint64_t restarts;                     /* first_sample went backwards */
+  uint64_t duplicates;                   /* chunks repeating held samples (ignored) */
   uint64_t bad_rate, bad_unit, bad_index; /* refused chunks, by reason */
   uint64_t malformed;                      /* refused before conversion: af_stream_refuse */
   uint64_t oversized;                      /* longer than the wire cap: af_stream_refuse */
@@ -98,7 +100,8 @@ typedef struct {
   af_stream_anchor anchors[AF_STREAM_ANCHORS];
   size_t anchor_next, anchor_count;
   char frame_id[AF_STREAM_FRAME_MAX];
-  float *si; /* AF_STREAM_BLOCK samples in the lane's unit, non-finite ones as NaN */
+  float *si; /* AF_STREAM_BLOCK samples in the lane's unit, non-finite ones as NaN; then
+                AF_STREAM_BLOCK of the ring's, to compare a duplicate */
 } af_stream;
 
 /* out[k] = x[k] * to_si, k < n: a sample as sent into the lane's unit (a

@@ -376,7 +376,8 @@ static bool power_of_two(unsigned long long n)
 static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
                      const af_ring_write_info *info)
 {
-  unsigned long long count = v != AF_CHUNK_OK        ? af_stream_bad_chunks(s)
+  unsigned long long count = v == AF_CHUNK_DUPLICATE ? s->duplicates
+                             : v != AF_CHUNK_OK      ? af_stream_bad_chunks(s)
                              : info->gap_samples > 0 ? s->gaps
                              : info->restarted       ? s->restarts
                              : s->last_refused > 0   ? s->refused_chunks
@@ -412,7 +413,8 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
               (unsigned long long)s->lost_samples);
   af_text(key, sizeof key, "%s restarts", s->name);
-  af_diag_add(d, key, "%llu", (unsigned long long)s->restarts);
+  af_diag_add(d, key, "%llu (duplicate chunks ignored %llu)", (unsigned long long)s->restarts,
+              (unsigned long long)s->duplicates);
   af_text(key, sizeof key, "%s bad chunks", s->name);
   af_diag_add(d, key, "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
               (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,

@@ -151,6 +151,10 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+  fprintf(out,
+          "  bag: %" PRIu64 " messages read, %" PRIu64 " refused (oversized or not their type; %" PRIu64
+          " of them apples)\n",
+          s->messages, s->refused_messages, s->refused_apples);
 }
 
 /* ---- JSON ----------------------------------------------------------------------- */
@@ -263,8 +267,10 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
   fputc('\n', out);
   json_stream(out, "force", &s->force);
   json_stream(out, "audio", &s->audio);
-  fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }\n}\n", s->recorded_s,
-          s->messages);
+  fprintf(out,
+          "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 ", \"refused_messages\": %" PRIu64
+          ", \"refused_apples\": %" PRIu64 "\n  }\n}\n",
+          s->recorded_s, s->messages, s->refused_messages, s->refused_apples);
 }
 
 /* ---- CSV ------------------------------------------------------------------------ */

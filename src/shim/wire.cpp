@@ -310,7 +310,8 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout
     } else if (r.op == 0x05) { // a chunk
       if (r.size > AF_BAG_CHUNK_MAX) {
         why = "the chunk at byte " + std::to_string(pos) + " claims " + std::to_string(r.size) +
-              " bytes uncompressed, above the 256 MiB accepted";
+              " bytes uncompressed, above the " + std::to_string(AF_BAG_CHUNK_MAX >> 20) +
+              " MiB accepted (rosbag would hold it whole)";
         return false;
       }
       layout::chunk c;

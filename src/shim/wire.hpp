@@ -49,7 +49,11 @@ chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_s
 // version 2.0 whose records or index are broken (cut short, never closed),
 // which `rosbag reindex` may recover, as opposed to no bag at all.
 constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
-constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 28;  // 256 MiB
+// rosbag holds a whole chunk in memory while its messages are read: 128 MiB
+// keeps a tool within its 256 MiB peak RSS (issue 18). rosbag's chunks are
+// 768 KiB unless one message is longer; a chunk longer than a ring is
+// refused message by message (af_bag_reader_limit).
+constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 27; // 128 MiB
 bool bag_plausible(const char *path, std::string &why, bool *reindexable = nullptr);
 
 } // namespace af_shim
