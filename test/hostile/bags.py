@@ -2,7 +2,7 @@
 """Hostile bags for test/hostile/test_data.sh, made from a good bag (strike_bag)
 with the rosbag Python API (never by hand-editing a file):
 
-  bags.py GOOD.bag OUT_DIR [BIG_SAMPLES]
+  bags.py GOOD.bag OUT_DIR [BIG_SAMPLES [big]]   (big: big_chunk.bag alone)
 
   string_on_force.bag  a std_msgs/String on the force topic, among the chunks
   duplicates.bag       every force chunk written twice
@@ -10,6 +10,9 @@ with the rosbag Python API (never by hand-editing a file):
                        at the same stamp
   big_chunk.bag        one force SignalChunk of BIG_SAMPLES zero samples
                        (default 2^24: 64 MiB), beyond any ring
+  overflow.bag         one force chunk more at first_sample 2^64 - 5
+  empty_chunk.bag      a message of 0 bytes on the force topic (SignalChunk's
+                       connection)
 """
 import struct
 import sys
@@ -32,6 +35,7 @@ def main():
     good, out = sys.argv[1], sys.argv[2]
     big = int(sys.argv[3]) if len(sys.argv) > 3 else 1 << 24
     state = {'string': False}
+    only_big = len(sys.argv) > 4 and sys.argv[4] == 'big'
 
     def string_on_force(dst, topic, raw, t):
         plain(dst, topic, raw, t)
@@ -53,9 +57,31 @@ def main():
             msg.apple_id += 1000
             dst.write(topic, msg, t)
 
-    copy(good, out + '/string_on_force.bag', string_on_force)
-    copy(good, out + '/duplicates.bag', duplicates)
-    copy(good, out + '/same_stamp.bag', same_stamp)
+    if not only_big:
+        copy(good, out + '/string_on_force.bag', string_on_force)
+        copy(good, out + '/duplicates.bag', duplicates)
+        copy(good, out + '/same_stamp.bag', same_stamp)
+
+    def overflow(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state.get('overflow'):
+            state['overflow'] = True
+            kind, data, md5, pos, cls = raw
+            msg = cls()
+            msg.deserialize(data)
+            msg.first_sample = 2 ** 64 - 5
+            dst.write(topic, msg, t)
+
+    def empty_chunk(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state.get('empty'):
+            state['empty'] = True
+            kind, data, md5, pos, cls = raw
+            dst.write(topic, (kind, b'', md5, pos, cls), t, raw=True)
+
+    if not only_big:
+        copy(good, out + '/overflow.bag', overflow)
+        copy(good, out + '/empty_chunk.bag', empty_chunk)
 
     def big_chunk(dst, topic, raw, t):
         plain(dst, topic, raw, t)
@@ -66,7 +92,6 @@ def main():
             msg.deserialize(data)
             msg.first_sample += 10 ** 9  # far ahead: refused before the ring sees it
             msg.data = [0.0] * 0
-            head = bytearray()
             buf = __import__('io').BytesIO()
             msg.serialize(buf)
             ser = buf.getvalue()
