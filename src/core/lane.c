@@ -53,7 +53,7 @@ struct af_lane {
   float *audio_buf, *noise_buf;
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
-  int64_t newest_apple_ns; /* stamp of the newest estimate received */
+  int64_t newest_apple_ns;  /* stamp of the newest estimate received */
   uint64_t apples_received; /* estimates so far: the slots' order */
   bool any_apple;
   int64_t now_ns;
@@ -80,7 +80,8 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot 
     if (best == NULL || a->apple.stamp_ns > best->apple.stamp_ns) {
       best = a;
       *tie = NULL;
-    } else if (a->apple.stamp_ns == best->apple.stamp_ns && a->apple.apple_id != best->apple.apple_id) {
+    } else if (a->apple.stamp_ns == best->apple.stamp_ns &&
+               a->apple.apple_id != best->apple.apple_id) {
       /* Two apples at one stamp: the match is ambiguous (issue 18). The
        * later received is taken and the other named. */
       const bool later = a->order > best->order;

@@ -88,6 +88,15 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
   return refused;
 }
 
+/* a[k] == b[k] for k < m, NaN matching NaN. */
+static bool same_samples(const float *a, const float *b, size_t m)
+{
+  for (size_t k = 0; k < m; k++)
+    if (!(a[k] == b[k] || (isnan(a[k]) && isnan(b[k]))))
+      return false;
+  return true;
+}
+
 /* Whether c repeats samples the ring holds, value for value (a chunk sent
  * or recorded twice): not a restart, nothing new. NaN matches NaN. */
 static bool duplicate(af_stream *s, const af_chunk *c)
@@ -99,11 +108,9 @@ static bool duplicate(af_stream *s, const af_chunk *c)
   for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     (void)af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
-    if (af_ring_read(s->ring, c->first_sample + at, m, held) != AF_OK)
+    if (af_ring_read(s->ring, c->first_sample + at, m, held) != AF_OK ||
+        !same_samples(s->si, held, m))
       return false;
-    for (size_t k = 0; k < m; k++)
-      if (!(s->si[k] == held[k] || (isnan(s->si[k]) && isnan(held[k]))))
-        return false;
   }
   return true;
 }
@@ -142,8 +149,9 @@ static af_chunk_verdict check(af_stream *s, const af_chunk *c)
   }
   if (c->n > 0 && c->x == NULL) {
     s->malformed++;
-    snprintf(s->last_problem, sizeof s->last_problem, "%s chunk at sample %llu: %zu samples, no data",
-             s->name, (unsigned long long)c->first_sample, c->n);
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: %zu samples, no data", s->name,
+             (unsigned long long)c->first_sample, c->n);
     return AF_CHUNK_MALFORMED;
   }
   return AF_CHUNK_OK;

@@ -64,9 +64,9 @@ typedef struct {
 } af_stream_span;
 
 typedef enum {
-  AF_CHUNK_OK = 0, /* accepted (its non-finite samples, if any, refused as spans) */
-  AF_CHUNK_BAD_RATE, /* sample_rate differs from the configured one */
-  AF_CHUNK_BAD_UNIT, /* unit not accepted for this stream */
+  AF_CHUNK_OK = 0,    /* accepted (its non-finite samples, if any, refused as spans) */
+  AF_CHUNK_BAD_RATE,  /* sample_rate differs from the configured one */
+  AF_CHUNK_BAD_UNIT,  /* unit not accepted for this stream */
   AF_CHUNK_BAD_INDEX, /* first_sample + n past 2^64 */
   AF_CHUNK_MALFORMED, /* n samples but no data */
   AF_CHUNK_DUPLICATE  /* every sample already held, the same values: ignored, not refused */
@@ -76,24 +76,24 @@ typedef struct {
   const char *name; /* "force" or "audio" */
   const af_stream_config *cfg;
   af_ring *ring;
-  uint64_t chunks;                       /* accepted */
-  uint64_t gaps;                         /* accepted chunks that followed lost samples */
-  uint64_t lost_samples;                 /* samples missing in those gaps */
-  uint64_t restarts;                     /* first_sample went backwards */
-  uint64_t duplicates;                   /* chunks repeating held samples (ignored) */
+  uint64_t chunks;                        /* accepted */
+  uint64_t gaps;                          /* accepted chunks that followed lost samples */
+  uint64_t lost_samples;                  /* samples missing in those gaps */
+  uint64_t restarts;                      /* first_sample went backwards */
+  uint64_t duplicates;                    /* chunks repeating held samples (ignored) */
   uint64_t bad_rate, bad_unit, bad_index; /* refused chunks, by reason */
-  uint64_t malformed;                      /* refused before conversion: af_stream_refuse */
-  uint64_t oversized;                      /* longer than the wire cap: af_stream_refuse */
+  uint64_t malformed;                     /* refused before conversion: af_stream_refuse */
+  uint64_t oversized;                     /* longer than the wire cap: af_stream_refuse */
   /* Non-finite samples (as sent or once converted to the lane's unit) of
    * accepted chunks: held as NaN in the ring (a lost sample to every reader),
    * counted, and their spans kept for af_stream_refused_in. */
   uint64_t refused_samples, refused_spans;
-  uint64_t refused_chunks; /* accepted chunks with refused samples */
-  uint64_t last_refused;   /* refused samples of the latest accepted chunk */
+  uint64_t refused_chunks;               /* accepted chunks with refused samples */
+  uint64_t last_refused;                 /* refused samples of the latest accepted chunk */
   af_stream_span spans[AF_STREAM_SPANS]; /* newest at span_next - 1 */
   size_t span_next, span_count;
-  bool seen;                             /* a chunk was accepted */
-  int64_t last_rx_ns;                    /* lane time of the last accepted chunk [ns] */
+  bool seen;          /* a chunk was accepted */
+  int64_t last_rx_ns; /* lane time of the last accepted chunk [ns] */
   char last_problem[AF_STREAM_TEXT_MAX];
   /* The recent accepted chunks (a ring, newest at anchor_next - 1) and the
    * latest one's frame. */

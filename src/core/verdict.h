@@ -46,17 +46,17 @@ typedef enum {
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
 typedef enum {
-  AF_AUDIO_NOT_GIVEN = 0,  /* no window passed (offline: none recorded) */
-  AF_AUDIO_TOO_SHORT,      /* n_audio samples, fewer than the analysis needs */
-  AF_AUDIO_NONE_RECEIVED,  /* no audio chunk within wait_s of the strike */
-  AF_AUDIO_STREAM_STALE,   /* silent for more than wait_s */
-  AF_AUDIO_BEFORE_STREAM,  /* the window starts seconds_before before the first sample */
-  AF_AUDIO_NOT_RECEIVED,   /* samples first..last not there within wait_s (stream at end) */
-  AF_AUDIO_LEFT_RING,      /* sample first no longer in the ring of ring_s */
-  AF_AUDIO_UNREADABLE,     /* first..last could not be read */
-  AF_AUDIO_LOST_IN_WINDOW, /* the window holds lost (non-finite) samples */
-  AF_AUDIO_QUEUE_FULL,     /* measured early: queue_size strikes were waiting */
-  AF_AUDIO_STREAM_ENDED,   /* offline: the recording ends before the window does */
+  AF_AUDIO_NOT_GIVEN = 0,    /* no window passed (offline: none recorded) */
+  AF_AUDIO_TOO_SHORT,        /* n_audio samples, fewer than the analysis needs */
+  AF_AUDIO_NONE_RECEIVED,    /* no audio chunk within wait_s of the strike */
+  AF_AUDIO_STREAM_STALE,     /* silent for more than wait_s */
+  AF_AUDIO_BEFORE_STREAM,    /* the window starts seconds_before before the first sample */
+  AF_AUDIO_NOT_RECEIVED,     /* samples first..last not there within wait_s (stream at end) */
+  AF_AUDIO_LEFT_RING,        /* sample first no longer in the ring of ring_s */
+  AF_AUDIO_UNREADABLE,       /* first..last could not be read */
+  AF_AUDIO_LOST_IN_WINDOW,   /* the window holds lost (non-finite) samples */
+  AF_AUDIO_QUEUE_FULL,       /* measured early: queue_size strikes were waiting */
+  AF_AUDIO_STREAM_ENDED,     /* offline: the recording ends before the window does */
   AF_AUDIO_REFUSED_IN_WINDOW /* the window holds n_audio refused (non-finite) samples */
 } af_audio_cause;
 

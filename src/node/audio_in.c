@@ -293,8 +293,7 @@ void af_audio_in_diag(const af_audio_in *a, af_diag_status *d)
   af_diag_add(d, "audio refused",
               "wrong type/md5/definition %llu, undecodable format %llu, before audio_info %llu, "
               "partial frames %llu, oversized %llu (cap %zu bytes)",
-              a->wrong_type, a->bad_format, a->before_info, a->partial, a->oversized,
-              a->max_bytes);
+              a->wrong_type, a->bad_format, a->before_info, a->partial, a->oversized, a->max_bytes);
   af_diag_add(
       d, "audio stream",
       "next sample %llu, restarts %llu (rate changes, stamps back), gaps %llu (%llu samples "

@@ -416,7 +416,8 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%llu (duplicate chunks ignored %llu)", (unsigned long long)s->restarts,
               (unsigned long long)s->duplicates);
   af_text(key, sizeof key, "%s bad chunks", s->name);
-  af_diag_add(d, key, "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
+  af_diag_add(d, key,
+              "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
               (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
               (unsigned long long)s->bad_unit, (unsigned long long)s->bad_index,
               (unsigned long long)s->malformed, (unsigned long long)s->oversized);

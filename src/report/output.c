@@ -152,8 +152,8 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m)
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
   fprintf(out,
-          "  bag: %" PRIu64 " messages read, %" PRIu64 " refused (oversized or not their type; %" PRIu64
-          " of them apples)\n",
+          "  bag: %" PRIu64 " messages read, %" PRIu64
+          " refused (oversized or not their type; %" PRIu64 " of them apples)\n",
           s->messages, s->refused_messages, s->refused_apples);
 }
 

@@ -89,11 +89,11 @@ typedef struct {
   size_t n_apples, cap_apples;
   af_lane_stats stats;
   af_session_stream force, audio;
-  uint64_t messages;    /* read from the bag */
+  uint64_t messages;         /* read from the bag */
   uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */
   uint64_t refused_apples;   /* of those, on the apple topic */
-  double recorded_s;    /* recorded time: the force stream's span [s] */
-  double wall_s, cpu_s; /* spent reading and processing [s] */
+  double recorded_s;         /* recorded time: the force stream's span [s] */
+  double wall_s, cpu_s;      /* spent reading and processing [s] */
 } af_session;
 
 /* Extra work per strike (plots); lane: for its streams. Called after the

@@ -121,12 +121,14 @@ void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
   mi.write(out);
   uint32_t samples;
   std::string why;
-  switch (af_shim::signal_chunk_check(r->raw.data(), r->raw.size(), r->max_samples, &samples, &why)) {
+  switch (
+      af_shim::signal_chunk_check(r->raw.data(), r->raw.size(), r->max_samples, &samples, &why)) {
   case af_shim::chunk_wire::ok: return;
   case af_shim::chunk_wire::oversized: throw refused_message{AF_ESIZE, on + why};
   default:
-    throw refused_message{AF_EINVAL, on + why + ": not a SignalChunk as its connection says (a "
-                                             "wrong message type on this topic, or cut)"};
+    throw refused_message{AF_EINVAL, on + why +
+                                         ": not a SignalChunk as its connection says (a "
+                                         "wrong message type on this topic, or cut)"};
   }
 }
 
@@ -217,9 +219,7 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
       }
       m->type = t;
       switch (t) {
-      case AF_MSG_SIGNAL_CHUNK:
-        try {
-          check_chunk_bytes(r, mi);
+      case AF_MSG_SIGNAL_CHUNK: try { check_chunk_bytes(r, mi);
         } catch (const refused_message &no) {
           ++r->it;
           set_error(r, no.why);

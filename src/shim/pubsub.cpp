@@ -27,14 +27,14 @@ void advertise_as(ros::NodeHandle &nh, const std::string &topic, unsigned queue,
 // Whether roscpp may deserialize these bytes as an M: every type but
 // SignalChunk has no vector a length prefix could blow up (wire.hpp). A
 // SignalChunk is walked strictly, against the subscriber's cap.
-template <class M> af_shim::chunk_wire check(const uint8_t *, std::size_t, const af_ros_sub &,
-                                             std::string *)
+template <class M>
+af_shim::chunk_wire check(const uint8_t *, std::size_t, const af_ros_sub &, std::string *)
 {
   return af_shim::chunk_wire::ok;
 }
 template <>
 af_shim::chunk_wire check<acoustic_firmness::SignalChunk>(const uint8_t *p, std::size_t n,
-                                                         const af_ros_sub &s, std::string *why)
+                                                          const af_ros_sub &s, std::string *why)
 {
   uint32_t samples;
   return af_shim::signal_chunk_check(p, n, s.max_samples.load(), &samples, why);
@@ -173,7 +173,8 @@ unsigned long long af_ros_sub_malformed(const af_ros_sub *s)
 af_status af_ros_sub_limit(af_ros_sub *s, size_t max_samples, af_ros_refused_fn fn)
 {
   if (s == nullptr || s->type != AF_MSG_SIGNAL_CHUNK)
-    return af_shim::invalid(s ? s->owner : nullptr, "af_ros_sub_limit: not a SignalChunk subscriber");
+    return af_shim::invalid(s ? s->owner : nullptr,
+                            "af_ros_sub_limit: not a SignalChunk subscriber");
   s->max_samples = max_samples;
   s->refused = fn;
   return AF_OK;

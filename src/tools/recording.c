@@ -39,7 +39,11 @@ static void swap_bytes(float *x, size_t n)
 
 af_recording_spec af_recording_spec_default(const char *rate_flag, const char *channel_flag)
 {
-  af_recording_spec s = {rate_flag, channel_flag, 0.0, -1, AF_RECORDING_SCALE_DEFAULT,
+  af_recording_spec s = {rate_flag,
+                         channel_flag,
+                         0.0,
+                         -1,
+                         AF_RECORDING_SCALE_DEFAULT,
                          AF_RECORDING_DEFAULT_MAX_SAMPLES};
   return s;
 }

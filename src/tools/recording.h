@@ -47,7 +47,7 @@ typedef struct {
   double rate_hz;           /* the rate flag's value; 0 = not given */
   long channel;             /* the channel flag's value; -1 = not given (channel 0) */
   double scale;             /* AF_RECORDING_SCALE_DEFAULT unless a flag says */
-  size_t max_samples;       /* longer is refused before allocating; in [1, AF_RECORDING_MAX_SAMPLES] */
+  size_t max_samples; /* longer is refused before allocating; in [1, AF_RECORDING_MAX_SAMPLES] */
 } af_recording_spec;
 
 /* The spec of an input whose flags were not given (max_samples
