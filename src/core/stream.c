@@ -97,12 +97,17 @@ static bool same_samples(const float *a, const float *b, size_t m)
   return true;
 }
 
-/* Whether c repeats samples the ring holds, value for value (a chunk sent
- * or recorded twice): not a restart, nothing new. NaN matches NaN. */
+/* Whether c repeats samples the ring holds, at the time they were held
+ * (within half a sample) and value for value (a chunk sent or recorded
+ * twice): not a restart, nothing new. NaN matches NaN. A stream restarted
+ * at the same indices comes at another time: a restart. */
 static bool duplicate(af_stream *s, const af_chunk *c)
 {
   if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) ||
       c->first_sample + c->n > af_ring_end(s->ring))
+    return false;
+  const double half_sample_ns = 0.5e9 / s->cfg->sample_rate_hz;
+  if (fabs((double)(af_stream_time_ns(s, (double)c->first_sample) - c->stamp_ns)) > half_sample_ns)
     return false;
   float *held = s->si + AF_STREAM_BLOCK;
   for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {

@@ -70,10 +70,24 @@ static void test_gaps_and_restarts(void)
   AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && w.gap_samples == 0);
   AF_CHECK(s.restarts == 1 && s.gaps == 2 && s.lost_samples == 100 && s.anchor_count == 1);
   AF_CHECK(strcmp(s.last_problem, "force: stream restarted at sample 449 (went backwards)") == 0);
+  /* The same chunk again, at its own stamp (issue 18: a bag with every
+   * chunk twice): a duplicate, ignored, not a restart; one value changed,
+   * or another stamp: a restart. */
+  c = chunk(449, 10, 0);
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_DUPLICATE && s.duplicates == 1);
+  AF_CHECK(s.restarts == 1 && s.chunks == 5 && af_stream_bad_chunks(&s) == 0);
+  AF_CHECK(strcmp(s.last_problem,
+                  "force chunk at sample 449: 10 samples already held (a duplicate, ignored)") == 0);
+  c = chunk(449, 10, 40000); /* 2 samples later */
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 2);
+  c = chunk(449, 10, 40000);
+  samples[3] += 1.0f;
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 3);
+  AF_CHECK(s.duplicates == 1 && s.chunks == 7);
   /* An empty chunk is accepted and counted, with no gap. */
   c = chunk(459, 0, 0);
   AF_CHECK(af_stream_push(&s, &c, 10, &w) == AF_CHUNK_OK && w.gap_samples == 0);
-  AF_CHECK(s.chunks == 6 && af_stream_bad_chunks(&s) == 0);
+  AF_CHECK(s.chunks == 8 && af_stream_bad_chunks(&s) == 0);
   af_stream_destroy(&s);
   af_stream_destroy(&s); /* twice: safe */
   af_stream z;
