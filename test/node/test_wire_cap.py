@@ -13,7 +13,13 @@ code under test), under SignalChunk's type and md5:
 Each must be refused before roscpp deserializes it: the node's VmHWM
 (/proc/PID/status) stays within 256 MiB (it reached 1.19 GB before), the
 counts show in /diagnostics (force: oversized 6, malformed 2; audio:
-oversized 2), and the node's log names the length and the cap."""
+oversized 2), and the node's log names the length and the cap.
+
+A second node takes its audio from audio_common (~audio_input audio_common,
+S16LE stereo at 48 kHz on audio_info): two AudioData of 64 MiB each, far
+beyond the 2 s ring's 384 KB, are refused before the ShapeShifter copies
+them ("audio refused": oversized 2), VmHWM within 256 MiB (a 400 MB
+message kept 412 MB before)."""
 
 import os
 import re
@@ -35,6 +41,7 @@ from acoustic_firmness.msg import SignalChunk
 from diagnostic_msgs.msg import DiagnosticArray
 
 import station_common as sc
+import test_audio_common as tac
 
 BIG = 1 << 24          # samples of an oversized chunk
 RSS_BOUND_KIB = 256 * 1024
@@ -65,27 +72,39 @@ class Raw(SignalChunk):
 
 class WireCapTest(unittest.TestCase):
 
-    def setUp(self):
+    @classmethod
+    def setUpClass(cls):
         rospy.init_node('test_wire_cap')
+
+    def start(self, ns, audio_common=False):
         pkg = rospkg.RosPack().get_path(sc.PKG)
-        params = {}
-        for name in ('station.yaml', 'jonagold.yaml'):
-            for p, _ in rosparam.load_file(os.path.join(pkg, 'config', name)):
-                params.update(p)
-        self.rates = (params['force_sample_rate_hz'], params['audio_sample_rate_hz'])
-        self.units = (params.get('force_unit', 'N'), params.get('audio_unit', 'Pa'))
-        rosparam.upload_params(NS + '/' + sc.NODE, params)
-        rospy.set_param(NS + '/robot_description',
-                        open(os.path.join(pkg, 'config', 'rig.urdf')).read())
+        if audio_common:
+            tac.node_params(ns)
+        else:
+            params = {}
+            for name in ('station.yaml', 'jonagold.yaml'):
+                for p, _ in rosparam.load_file(os.path.join(pkg, 'config', name)):
+                    params.update(p)
+            self.rates = (params['force_sample_rate_hz'], params['audio_sample_rate_hz'])
+            self.units = (params.get('force_unit', 'N'), params.get('audio_unit', 'Pa'))
+            rosparam.upload_params(ns + '/' + sc.NODE, params)
+            rospy.set_param(ns + '/robot_description',
+                            open(os.path.join(pkg, 'config', 'rig.urdf')).read())
         exe = roslib.packages.find_node(sc.PKG, sc.NODE)[0]
-        self.log = tempfile.TemporaryFile(mode='w+')
-        self.node = subprocess.Popen([exe, '__ns:=' + NS, '__name:=' + sc.NODE],
+        self.node = subprocess.Popen([exe, '__ns:=' + ns, '__name:=' + sc.NODE],
                                      stdout=self.log, stderr=subprocess.STDOUT)
+
+    def setUp(self):
+        self.node = None
+        self.log = tempfile.TemporaryFile(mode='w+')
         self.diag = []
         self.lock = threading.Lock()
         self.sub = rospy.Subscriber('/diagnostics', DiagnosticArray, self.on_diag)
 
     def tearDown(self):
+        self.sub.unregister()
+        if self.node is None:
+            return
         self.node.send_signal(signal.SIGINT)
         try:
             self.node.wait(timeout=20)
@@ -111,6 +130,7 @@ class WireCapTest(unittest.TestCase):
         return ''
 
     def test_cap(self):
+        self.start(NS)
         force = rospy.Publisher(NS + '/force', SignalChunk, queue_size=16)
         audio = rospy.Publisher(NS + '/audio', SignalChunk, queue_size=16)
         end = time.time() + 30
@@ -148,6 +168,35 @@ class WireCapTest(unittest.TestCase):
         self.assertIn('a SignalChunk of %d samples, above the cap of' % BIG, text)
         self.assertIn('an empty SignalChunk (0 bytes)', text)
         self.assertIn('data claims 1000 samples, the message holds 10', text)
+
+    def test_audio_common_cap(self):
+        ns = NS + '_ac'
+        self.start(ns, audio_common=True)
+        m = tac.classes()
+        Data, Info = m['audio_common_msgs/AudioData'], m['audio_common_msgs/AudioInfo']
+        info = rospy.Publisher(ns + '/audio_info', Info, queue_size=1, latch=True)
+        audio = rospy.Publisher(ns + '/audio', Data, queue_size=4)
+        end = time.time() + 30
+        while time.time() < end and (audio.get_num_connections() == 0 or
+                                     info.get_num_connections() == 0):
+            time.sleep(0.1)
+        self.assertGreater(audio.get_num_connections(), 0, 'the node never subscribed to audio')
+        info.publish(Info(channels=2, sample_rate=48000, sample_format='S16LE', bitrate=48000 * 32,
+                          coding_format='wave'))
+        time.sleep(0.5)
+        big = Data(data=bytes(4 * BIG))
+        for _ in range(2):
+            audio.publish(big)
+            time.sleep(0.3)
+        end = time.time() + 20
+        got = ''
+        while time.time() < end and 'oversized 2' not in got:
+            got = self.latest('audio refused')
+            time.sleep(0.2)
+        hwm = self.hwm_kib()
+        print('audio_common node VmHWM %.1f MiB; audio refused: %s' % (hwm / 1024.0, got))
+        self.assertIn('oversized 2', got)
+        self.assertLessEqual(hwm, RSS_BOUND_KIB, 'node peak RSS %.0f MiB' % (hwm / 1024.0))
 
 
 if __name__ == '__main__':
