@@ -77,7 +77,8 @@ static void test_gaps_and_restarts(void)
   AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_DUPLICATE && s.duplicates == 1);
   AF_CHECK(s.restarts == 1 && s.chunks == 5 && af_stream_bad_chunks(&s) == 0);
   AF_CHECK(strcmp(s.last_problem,
-                  "force chunk at sample 449: 10 samples already held (a duplicate, ignored)") == 0);
+                  "force chunk at sample 449: 10 samples already held (a duplicate, ignored)") ==
+           0);
   c = chunk(449, 10, 40000); /* 2 samples later */
   AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 2);
   c = chunk(449, 10, 40000);
