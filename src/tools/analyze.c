@@ -180,9 +180,8 @@ static const af_option analyze_options[] = {
     {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1,
      "cultivar parameters (YAML), as the node loads them", NULL},
     {"--max-samples", "N", AF_OPTION_LONG, AF_ARG(max_samples), -1,
-     "longest recording read, each, a whole number in [1, " AF_OPTION_STR(
-         AF_RECORDING_MAX_SAMPLES) "]; a longer one is refused before it is read (64 MiB of "
-                                   "float32 per 2^24) [samples]",
+     "longest recording read, each, a whole number in [1, 2^27]; a longer one is refused "
+     "before it is read (2^24 samples are 64 MiB of float32) [samples]",
      NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
      "CPU time and speed against real time, on stderr", NULL},
