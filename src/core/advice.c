@@ -8,8 +8,8 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-/* Below this squared length a vector counts as zero ("unknown"), and
- * |s x n| below it counts as parallel: vision axes are of order 1 or 0. */
+/* |s x n|^2 of two unit vectors below this counts as parallel. (A given
+ * vector of any finite non-zero length is a direction: see unit3.) */
 #define AF_ADVICE_TINY 1e-24
 
 static double dot3(const double u[3], const double v[3])
@@ -23,18 +23,35 @@ static void cross3(const double u[3], const double v[3], double out[3])
   memcpy(out, w, sizeof w);
 }
 
-/* Scales v to unit length into out; false (out zeroed) when v is zero or not finite. */
+/* Scales v to unit length into out; false (out zeroed) when v is zero or
+ * not finite. Any other length is a direction: v is first divided by its
+ * largest |component|, so (1e200, 0, -1e200) and (1e-170, 0, -1e-170) are
+ * (1, 0, -1) and not an overflowed or underflowed square. */
 static bool unit3(const double v[3], double out[3])
 {
-  double n2 = dot3(v, v);
-  if (!isfinite(n2) || n2 < AF_ADVICE_TINY) {
+  double m = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+  if (!(isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2])) || m == 0.0) {
     out[0] = out[1] = out[2] = 0.0;
     return false;
   }
-  double n = sqrt(n2);
+  double w[3] = {v[0] / m, v[1] / m, v[2] / m};
+  double n = sqrt(dot3(w, w)); /* in [1, sqrt 3] */
   for (int k = 0; k < 3; k++)
-    out[k] = v[k] / n;
+    out[k] = w[k] / n;
   return true;
+}
+
+/* unit3 of u x v for unit u and v; false when they are parallel (|u x v|^2
+ * below AF_ADVICE_TINY), where the cross product has no direction. */
+static bool unit_cross3(const double u[3], const double v[3], double out[3])
+{
+  double w[3];
+  cross3(u, v, w);
+  if (dot3(w, w) < AF_ADVICE_TINY) {
+    out[0] = out[1] = out[2] = 0.0;
+    return false;
+  }
+  return unit3(w, out);
 }
 
 double af_advice_polar_semi_axis_m(double mass_kg, double density_kg_m3, double equatorial_radius_m)
@@ -158,9 +175,7 @@ void af_advice_decide(const af_advice_geometry *g, const double stem[3],
   double s[3];
   bool have_s = unit3(stem, s);
   if (have_s && g->direction_known) {
-    double w[3];
-    cross3(s, g->normal, w);
-    if (unit3(w, out->axis))
+    if (unit_cross3(s, g->normal, out->axis))
       return;
   }
   /* s parallel to n, or one of them unknown: any axis perpendicular to n

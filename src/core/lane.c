@@ -20,6 +20,7 @@ typedef struct {
   double *pulse;      /* pulse_capacity_samples, preallocated */
   int64_t start_ns;   /* contact start */
   int64_t queued_ns;  /* lane clock when queued, for the time-outs */
+  uint64_t refused;   /* refused (non-finite) force samples in the measured span */
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_pending;
 
@@ -28,6 +29,7 @@ typedef struct {
   af_apple apple;
   af_prediction prediction; /* prediction.valid false: refused (prediction.why) */
   uint64_t strikes;         /* strikes matched to it so far */
+  uint64_t order;           /* 1 for the first estimate received, 2 for the next ... */
   int64_t last_strike_ns;
   uint32_t late_after; /* its estimate came after its strike went to this apple (0: no) */
 } af_apple_slot;
@@ -51,7 +53,8 @@ struct af_lane {
   float *audio_buf, *noise_buf;
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
-  int64_t newest_apple_ns; /* stamp of the newest estimate received */
+  int64_t newest_apple_ns;  /* stamp of the newest estimate received */
+  uint64_t apples_received; /* estimates so far: the slots' order */
   bool any_apple;
   int64_t now_ns;
   int64_t force_gap_ns[AF_LANE_GAPS]; /* stamps of the chunks after force gaps or restarts */
@@ -65,16 +68,28 @@ struct af_lane {
 
 /* The newest apple stamped at or before t_ns and at most apple_stale_after_s
  * before it; NULL when none. */
-static af_apple_slot *match_apple(af_lane *l, int64_t t_ns)
+static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
 {
   const int64_t stale_ns = (int64_t)llround(l->mc->apple_stale_after_s * 1e9);
   af_apple_slot *best = NULL;
+  *tie = NULL;
   for (size_t k = 0; k < AF_LANE_APPLES; k++) {
     af_apple_slot *a = &l->apples[k];
     if (!a->used || a->apple.stamp_ns > t_ns || t_ns - a->apple.stamp_ns > stale_ns)
       continue;
-    if (best == NULL || a->apple.stamp_ns >= best->apple.stamp_ns)
+    if (best == NULL || a->apple.stamp_ns > best->apple.stamp_ns) {
       best = a;
+      *tie = NULL;
+    } else if (a->apple.stamp_ns == best->apple.stamp_ns &&
+               a->apple.apple_id != best->apple.apple_id) {
+      /* Two apples at one stamp: the match is ambiguous (issue 18). The
+       * later received is taken and the other named. */
+      const bool later = a->order > best->order;
+      *tie = later ? best : a;
+      best = later ? a : best;
+    } else if (a->apple.stamp_ns == best->apple.stamp_ns && a->order > best->order) {
+      best = a; /* the same apple sent again: its newest estimate */
+    }
   }
   return best;
 }
@@ -126,6 +141,7 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   memset(s, 0, sizeof *s);
   s->late_after = late_after;
   s->used = true;
+  s->order = ++l->apples_received;
   s->apple = *a;
   const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
   af_status st = af_prediction_execute(l->model, l->cfg, a, &s->prediction);
@@ -214,6 +230,11 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
     return AF_NONE;
   v->n_audio = count_bad(l->audio_buf, n);
   v->audio_cause = AF_AUDIO_LOST_IN_WINDOW;
+  const uint64_t refused = af_stream_refused_in(s, i0, n);
+  if (refused > 0) { /* the samples were there, but not finite */
+    v->audio_cause = AF_AUDIO_REFUSED_IN_WINDOW;
+    v->n_audio = (size_t)refused;
+  }
   return v->n_audio > 0 ? AF_NONE : AF_READY;
 }
 
@@ -246,8 +267,16 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
 {
   af_verdict *v = &r->verdict;
   const uint32_t lane_flags = AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION |
-                              AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED;
+                              AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED |
+                              AF_VERDICT_REFUSED_SAMPLES;
   v->flags |= lane_v->flags & lane_flags;
+  v->refused_samples = lane_v->refused_samples;
+  if ((v->flags & AF_VERDICT_REFUSED_SAMPLES) && (v->flags & AF_VERDICT_LOST_SAMPLES)) {
+    /* The refused samples read as lost to the detector: said once, as refused. */
+    v->lost_samples -= v->lost_samples < v->refused_samples ? v->lost_samples : v->refused_samples;
+    if (v->lost_samples == 0)
+      v->flags &= ~(uint32_t)AF_VERDICT_LOST_SAMPLES;
+  }
   v->apple_id = lane_v->apple_id;
   v->apple_stale_s = lane_v->apple_stale_s;
   v->measure_status = lane_v->measure_status;
@@ -281,7 +310,8 @@ static int64_t force_lost_between(const af_lane *l, int64_t from_ns, int64_t to_
 /* The apple flags of p: none, refused, or doubtful. */
 static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v)
 {
-  af_apple_slot *a = match_apple(l, p->start_ns);
+  const af_apple_slot *tie;
+  af_apple_slot *a = match_apple(l, p->start_ns, &tie);
   if (a == NULL) {
     v->flags |= AF_VERDICT_NO_APPLE;
     v->apple_stale_s = l->mc->apple_stale_after_s;
@@ -291,6 +321,11 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   if (!a->prediction.valid) {
     v->flags |= AF_VERDICT_NO_PREDICTION;
     af_text(v->apple_why, sizeof v->apple_why, "%s", a->prediction.why);
+  } else if (tie != NULL) {
+    v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+    af_text(v->doubtful_why, sizeof v->doubtful_why,
+            "apple %u has the same stamp %.9f s; the strike may be either's", tie->apple.apple_id,
+            (double)a->apple.stamp_ns * 1e-9);
   } else if (a->strikes > 0 && !l->mc->single_apple) {
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,
@@ -346,6 +381,10 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   af_lane_strike *o = &l->out;
   const af_stage_hook *h = l->mc->measure.stages;
   af_apple_slot *a = apple_flags(l, p, lane_v);
+  if (p->refused > 0) {
+    lane_v->flags |= AF_VERDICT_REFUSED_SAMPLES;
+    lane_v->refused_samples = p->refused;
+  }
   int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);
@@ -425,21 +464,19 @@ static void on_strike(const af_strike_event *ev, void *user)
   p->ev.n_samples = n;
   p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
   p->queued_ns = l->now_ns;
+  p->refused = af_stream_refused_in(&l->force, ev->span_first, ev->span_end - ev->span_first);
   memcpy(p->frame_id, l->force.frame_id, sizeof p->frame_id);
   l->count++;
 }
 
-/* An accepted force chunk into the detector, in newtons: as sent, or (a
- * force in V) converted block by block in the stream's scratch. */
+/* An accepted force chunk into the detector, in newtons (a force in V
+ * converted), block by block in the stream's scratch, a refused
+ * (non-finite) sample as NaN: a lost sample to the detector. */
 static void detect(af_lane *l, const af_chunk *c)
 {
-  if (l->force.si == NULL) {
-    (void)af_strike_write(l->detector, c->first_sample, c->x, c->n, on_strike, l);
-    return;
-  }
   for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
-    af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
+    (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
     (void)af_strike_write(l->detector, c->first_sample + at, l->force.si, m, on_strike, l);
   }
 }
@@ -487,10 +524,15 @@ void af_lane_finish(af_lane *l)
   process(l);
 }
 
+void af_lane_refuse(af_lane *l, bool force, bool oversized, const char *why)
+{
+  af_stream_refuse(force ? &l->force : &l->audio, oversized, why);
+}
+
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
 {
-  if (l->force.si == NULL)
-    return af_strike_prime(l->detector, x, n);
+  if (l->cfg->force.to_si == 1.0 || l->cfg->force.to_si == 0.0)
+    return af_strike_prime(l->detector, x, n); /* it passes over non-finite samples */
   /* A recording in V: its copy in N (offline, once per recording). */
   float *si = malloc((n ? n : 1) * sizeof *si);
   if (si == NULL)

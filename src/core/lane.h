@@ -138,6 +138,10 @@ void af_lane_finish(af_lane *l);
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n);
 
 const af_stream *af_lane_force_stream(const af_lane *l);
+/* A force (force true) or audio chunk refused before it became an af_chunk
+ * (on the wire: oversized, cut, empty), counted in its stream (see
+ * af_stream_refuse). */
+void af_lane_refuse(af_lane *l, bool force, bool oversized, const char *why);
 const af_stream *af_lane_audio_stream(const af_lane *l);
 const af_strike *af_lane_detector(const af_lane *l);
 size_t af_lane_pending(const af_lane *l);

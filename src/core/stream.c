@@ -10,15 +10,16 @@
  * absorbs a rate that went through a float. */
 #define AF_RATE_RTOL 1e-6
 
-void af_stream_to_si(double to_si, const float *x, size_t n, float *out)
+size_t af_stream_to_si(double to_si, const float *x, size_t n, float *out)
 {
-  for (size_t k = 0; k < n; k++)
-    out[k] = (float)((double)x[k] * to_si);
-}
-
-static bool converts(const af_stream_config *cfg)
-{
-  return cfg->to_si != 1.0 && cfg->to_si != 0.0; /* 0: a config made without a unit */
+  const double k_si = to_si == 0.0 ? 1.0 : to_si; /* 0: a config made without a unit */
+  size_t refused = 0;
+  for (size_t k = 0; k < n; k++) {
+    float v = (float)((double)x[k] * k_si);
+    refused += !isfinite(v);
+    out[k] = isfinite(v) ? v : NAN;
+  }
+  return refused;
 }
 
 af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg)
@@ -26,7 +27,7 @@ af_status af_stream_create(af_stream *s, const char *name, const af_stream_confi
   memset(s, 0, sizeof *s);
   s->name = name;
   s->cfg = cfg;
-  if (converts(cfg) && (s->si = malloc(AF_STREAM_BLOCK * sizeof *s->si)) == NULL)
+  if ((s->si = malloc(2 * AF_STREAM_BLOCK * sizeof *s->si)) == NULL) /* + the ring's, to compare */
     return AF_ENOMEM;
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
@@ -39,22 +40,84 @@ void af_stream_destroy(af_stream *s)
   s->si = NULL;
 }
 
-/* The chunk into the ring, converted block by block when the unit is not
- * the lane's; *w: what the first block's write found (gaps and restarts can
- * only come before it, the blocks follow each other). */
-static af_status write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *w)
+/* The runs of NaN in the converted block y[0..m) (sample 0 has index at)
+ * as refused spans; a run that goes on from the previous block of the same
+ * chunk (*open) extends that span. */
+static void note_spans(af_stream *s, const float *y, size_t m, uint64_t at, bool *open)
 {
-  if (!converts(s->cfg))
-    return af_ring_write(s->ring, c->x, c->n, c->first_sample, w);
+  for (size_t k = 0; k < m; k++) {
+    if (!isnan(y[k])) {
+      *open = false;
+      continue;
+    }
+    s->refused_samples++;
+    if (*open) {
+      s->spans[(s->span_next + AF_STREAM_SPANS - 1) % AF_STREAM_SPANS].end = at + k + 1;
+      continue;
+    }
+    *open = true;
+    s->refused_spans++;
+    s->spans[s->span_next] = (af_stream_span){at + k, at + k + 1};
+    s->span_next = (s->span_next + 1) % AF_STREAM_SPANS;
+    s->span_count += s->span_count < AF_STREAM_SPANS;
+  }
+}
+
+/* The chunk into the ring, converted (and non-finite samples made NaN)
+ * block by block in the scratch; *w: what the first block's write found
+ * (gaps and restarts can only come before it, the blocks follow each other).
+ * Returns the samples refused. */
+static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *w)
+{
+  uint64_t refused = 0;
+  bool open = false;
   for (size_t at = 0; at < c->n || at == 0; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     af_ring_write_info block;
-    af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
-    af_status st = af_ring_write(s->ring, s->si, m, c->first_sample + at, at ? &block : w);
-    if (st != AF_OK || c->n == 0)
-      return st;
+    size_t r = af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    if (r > 0) {
+      refused += r;
+      note_spans(s, s->si, m, c->first_sample + at, &open);
+    } else {
+      open = false;
+    }
+    (void)af_ring_write(s->ring, s->si, m, c->first_sample + at, at ? &block : w);
+    if (c->n == 0)
+      break;
   }
-  return AF_OK;
+  return refused;
+}
+
+/* a[k] == b[k] for k < m, NaN matching NaN. */
+static bool same_samples(const float *a, const float *b, size_t m)
+{
+  for (size_t k = 0; k < m; k++)
+    if (!(a[k] == b[k] || (isnan(a[k]) && isnan(b[k]))))
+      return false;
+  return true;
+}
+
+/* Whether c repeats samples the ring holds, at the time they were held
+ * (within half a sample) and value for value (a chunk sent or recorded
+ * twice): not a restart, nothing new. NaN matches NaN. A stream restarted
+ * at the same indices comes at another time: a restart. */
+static bool duplicate(af_stream *s, const af_chunk *c)
+{
+  if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) ||
+      c->first_sample + c->n > af_ring_end(s->ring))
+    return false;
+  const double half_sample_ns = 0.5e9 / s->cfg->sample_rate_hz;
+  if (fabs((double)(af_stream_time_ns(s, (double)c->first_sample) - c->stamp_ns)) > half_sample_ns)
+    return false;
+  float *held = s->si + AF_STREAM_BLOCK;
+  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
+    size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
+    (void)af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    if (af_ring_read(s->ring, c->first_sample + at, m, held) != AF_OK ||
+        !same_samples(s->si, held, m))
+      return false;
+  }
+  return true;
 }
 
 static bool unit_accepted(const af_stream_config *cfg, const char *unit)
@@ -82,13 +145,19 @@ static af_chunk_verdict check(af_stream *s, const af_chunk *c)
              (unsigned long long)c->first_sample, c->unit ? c->unit : "", s->cfg->units[0]);
     return AF_CHUNK_BAD_UNIT;
   }
-  for (size_t k = 0; k < c->n; k++) {
-    if (!isfinite(c->x[k])) {
-      s->bad_data++;
-      snprintf(s->last_problem, sizeof s->last_problem, "%s chunk at sample %llu: sample %zu is %g",
-               s->name, (unsigned long long)c->first_sample, k, (double)c->x[k]);
-      return AF_CHUNK_BAD_DATA;
-    }
+  if (c->n > UINT64_MAX - c->first_sample) {
+    s->bad_index++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk: first_sample %llu + %zu samples overflows the 64-bit index", s->name,
+             (unsigned long long)c->first_sample, c->n);
+    return AF_CHUNK_BAD_INDEX;
+  }
+  if (c->n > 0 && c->x == NULL) {
+    s->malformed++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: %zu samples, no data", s->name,
+             (unsigned long long)c->first_sample, c->n);
+    return AF_CHUNK_MALFORMED;
   }
   return AF_CHUNK_OK;
 }
@@ -99,19 +168,22 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
   af_ring_write_info w;
   memset(&w, 0, sizeof w);
   af_chunk_verdict v = check(s, c);
-  if (v == AF_CHUNK_OK && write_ring(s, c, &w) != AF_OK) {
-    /* Only an index overflow gets here: first_sample + n past 2^64. */
-    s->bad_data++;
-    snprintf(s->last_problem, sizeof s->last_problem, "%s chunk: first_sample %llu + %zu overflows",
-             s->name, (unsigned long long)c->first_sample, c->n);
-    v = AF_CHUNK_BAD_DATA;
+  if (v == AF_CHUNK_OK && duplicate(s, c)) {
+    s->duplicates++;
+    snprintf(s->last_problem, sizeof s->last_problem,
+             "%s chunk at sample %llu: %zu samples already held (a duplicate, ignored)", s->name,
+             (unsigned long long)c->first_sample, c->n);
+    v = AF_CHUNK_DUPLICATE;
   }
+  uint64_t refused = v == AF_CHUNK_OK ? write_ring(s, c, &w) : 0;
   if (v == AF_CHUNK_OK) {
     s->chunks++;
     s->seen = true;
     s->last_rx_ns = now_ns;
     if (w.restarted)
-      s->anchor_count = 0; /* the old indices mean nothing now */
+      s->anchor_count = 0; /* the old indices mean nothing now (the spans' are kept: a
+                              window of the new stream that meets one is flagged, at worst
+                              needlessly) */
     s->anchors[s->anchor_next] = (af_stream_anchor){c->stamp_ns, c->first_sample};
     s->anchor_next = (s->anchor_next + 1) % AF_STREAM_ANCHORS;
     s->anchor_count += s->anchor_count < AF_STREAM_ANCHORS;
@@ -128,6 +200,14 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                "%s: stream restarted at sample %llu (went backwards)", s->name,
                (unsigned long long)c->first_sample);
     }
+    s->last_refused = refused;
+    s->refused_chunks += refused > 0;
+    if (refused > 0)
+      snprintf(s->last_problem, sizeof s->last_problem,
+               "%s chunk at sample %llu: %llu non-finite samples refused (held as lost); "
+               "%llu so far",
+               s->name, (unsigned long long)c->first_sample, (unsigned long long)refused,
+               (unsigned long long)s->refused_samples);
   }
   if (info)
     *info = w;
@@ -136,7 +216,27 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
 
 uint64_t af_stream_bad_chunks(const af_stream *s)
 {
-  return s->bad_rate + s->bad_unit + s->bad_data;
+  return s->bad_rate + s->bad_unit + s->bad_index + s->malformed + s->oversized;
+}
+
+void af_stream_refuse(af_stream *s, bool oversized, const char *why)
+{
+  if (oversized)
+    s->oversized++;
+  else
+    s->malformed++;
+  snprintf(s->last_problem, sizeof s->last_problem, "%s", why ? why : "");
+}
+
+uint64_t af_stream_refused_in(const af_stream *s, uint64_t first, uint64_t n)
+{
+  uint64_t total = 0, end = first + n < first ? UINT64_MAX : first + n;
+  for (size_t k = 0; k < s->span_count; k++) {
+    const af_stream_span *p = &s->spans[(s->span_next + AF_STREAM_SPANS - 1 - k) % AF_STREAM_SPANS];
+    uint64_t a = p->first > first ? p->first : first, b = p->end < end ? p->end : end;
+    total += b > a ? b - a : 0;
+  }
+  return total;
 }
 
 bool af_stream_stale(const af_stream *s, int64_t now_ns, double stale_after_s)

@@ -38,6 +38,9 @@ extern "C" {
 /* Samples converted at a time when the stream's unit is not the lane's
  * (cfg->to_si != 1, a force in volts): the scratch made at init. */
 #define AF_STREAM_BLOCK 4096
+/* Spans of refused samples remembered for af_stream_refused_in: more than a
+ * strike's pulse and audio window can ever meet between two strikes. */
+#define AF_STREAM_SPANS 64
 
 typedef struct {
   int64_t stamp_ns;      /* time of the chunk's first sample [ns] */
@@ -55,46 +58,69 @@ typedef struct {
   size_t n;
 } af_chunk;
 
+/* A run of refused (non-finite) samples [first, end) of one chunk. */
+typedef struct {
+  uint64_t first, end;
+} af_stream_span;
+
 typedef enum {
-  AF_CHUNK_OK = 0,
-  AF_CHUNK_BAD_RATE, /* sample_rate differs from the configured one */
-  AF_CHUNK_BAD_UNIT, /* unit not accepted for this stream */
-  AF_CHUNK_BAD_DATA  /* a NaN or infinite sample, or an index overflow */
+  AF_CHUNK_OK = 0,    /* accepted (its non-finite samples, if any, refused as spans) */
+  AF_CHUNK_BAD_RATE,  /* sample_rate differs from the configured one */
+  AF_CHUNK_BAD_UNIT,  /* unit not accepted for this stream */
+  AF_CHUNK_BAD_INDEX, /* first_sample + n past 2^64 */
+  AF_CHUNK_MALFORMED, /* n samples but no data */
+  AF_CHUNK_DUPLICATE  /* every sample already held, the same values: ignored, not refused */
 } af_chunk_verdict;
 
 typedef struct {
   const char *name; /* "force" or "audio" */
   const af_stream_config *cfg;
   af_ring *ring;
-  uint64_t chunks;                       /* accepted */
-  uint64_t gaps;                         /* accepted chunks that followed lost samples */
-  uint64_t lost_samples;                 /* samples missing in those gaps */
-  uint64_t restarts;                     /* first_sample went backwards */
-  uint64_t bad_rate, bad_unit, bad_data; /* refused chunks */
-  bool seen;                             /* a chunk was accepted */
-  int64_t last_rx_ns;                    /* lane time of the last accepted chunk [ns] */
+  uint64_t chunks;                        /* accepted */
+  uint64_t gaps;                          /* accepted chunks that followed lost samples */
+  uint64_t lost_samples;                  /* samples missing in those gaps */
+  uint64_t restarts;                      /* first_sample went backwards */
+  uint64_t duplicates;                    /* chunks repeating held samples (ignored) */
+  uint64_t bad_rate, bad_unit, bad_index; /* refused chunks, by reason */
+  uint64_t malformed;                     /* refused before conversion: af_stream_refuse */
+  uint64_t oversized;                     /* longer than the wire cap: af_stream_refuse */
+  /* Non-finite samples (as sent or once converted to the lane's unit) of
+   * accepted chunks: held as NaN in the ring (a lost sample to every reader),
+   * counted, and their spans kept for af_stream_refused_in. */
+  uint64_t refused_samples, refused_spans;
+  uint64_t refused_chunks;               /* accepted chunks with refused samples */
+  uint64_t last_refused;                 /* refused samples of the latest accepted chunk */
+  af_stream_span spans[AF_STREAM_SPANS]; /* newest at span_next - 1 */
+  size_t span_next, span_count;
+  bool seen;          /* a chunk was accepted */
+  int64_t last_rx_ns; /* lane time of the last accepted chunk [ns] */
   char last_problem[AF_STREAM_TEXT_MAX];
   /* The recent accepted chunks (a ring, newest at anchor_next - 1) and the
    * latest one's frame. */
   af_stream_anchor anchors[AF_STREAM_ANCHORS];
   size_t anchor_next, anchor_count;
   char frame_id[AF_STREAM_FRAME_MAX];
-  float *si; /* AF_STREAM_BLOCK samples in the lane's unit; NULL when cfg->to_si is 1 */
+  float *si; /* AF_STREAM_BLOCK samples in the lane's unit, non-finite ones as NaN; then
+                AF_STREAM_BLOCK of the ring's, to compare a duplicate */
 } af_stream;
 
 /* out[k] = x[k] * to_si, k < n: a sample as sent into the lane's unit (a
- * force in V times 1 / sensitivity [N/V] = N). out may be x. */
-void af_stream_to_si(double to_si, const float *x, size_t n, float *out);
+ * force in V times 1 / sensitivity [N/V] = N); NaN where that is not finite
+ * (a refused sample). to_si 0 (a config made without a unit) counts as 1.
+ * Returns the number of NaN written. out may be x. */
+size_t af_stream_to_si(double to_si, const float *x, size_t n, float *out);
 
-/* Makes the ring (capacity from cfg, which must outlive s) and, when
- * cfg->to_si is not 1, the conversion scratch. AF_ENOMEM. */
+/* Makes the ring (capacity from cfg, which must outlive s) and the
+ * conversion scratch. AF_ENOMEM. */
 af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg);
 void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
 
-/* Checks one chunk (as sent: its unit, its rate, finite samples) and
- * buffers it, times cfg->to_si, when good; a refused chunk is counted and
- * described in s->last_problem. *info (may be NULL) tells of gaps and
- * restarts. now_ns: the lane's clock at arrival. No allocation. */
+/* Checks one chunk (as sent: its unit, its rate, its indices) and buffers
+ * it, times cfg->to_si, when good; a refused chunk is counted and described
+ * in s->last_problem. A non-finite sample does not refuse the chunk: it is
+ * held as NaN and counted as refused (refused_samples, one span per run).
+ * *info (may be NULL) tells of gaps and restarts. now_ns: the lane's clock
+ * at arrival. No allocation. */
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                                 af_ring_write_info *info);
 
@@ -108,6 +134,14 @@ double af_stream_index_at(const af_stream *s, int64_t t_ns);
 
 /* Refused chunks so far, all kinds. */
 uint64_t af_stream_bad_chunks(const af_stream *s);
+
+/* Counts a chunk refused before it became an af_chunk (the wire: a cut or
+ * empty message, oversized: longer than the cap) and describes it (why, a
+ * line naming the lengths) in s->last_problem. */
+void af_stream_refuse(af_stream *s, bool oversized, const char *why);
+
+/* Refused samples of the remembered spans inside [first, first + n). */
+uint64_t af_stream_refused_in(const af_stream *s, uint64_t first, uint64_t n);
 
 /* A stream that delivered before and has been silent longer than
  * stale_after_s. A stream never seen is not stale: it may not be wired. */

@@ -239,6 +239,8 @@ static bool measure(af_strike *d, uint64_t end)
                              .n_samples = p.n_samples,
                              .dt_s = dt,
                              .pulse_first_sample = begin + (uint64_t)p.first,
+                             .span_first = begin,
+                             .span_end = end,
                              .pulse_t0_s = (p.start - (double)p.first) * dt,
                              .start_edge = p.start_edge,
                              .end_edge = p.end_edge,

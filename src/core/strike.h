@@ -213,6 +213,8 @@ typedef struct {
   size_t n_samples;
   double dt_s;                    /* 1 / sample rate */
   uint64_t pulse_first_sample;    /* = ceil(t0) */
+  uint64_t span_first, span_end;  /* the samples measured, [span_first, span_end): where
+                                     lost_samples were counted */
   double pulse_t0_s;              /* t0 relative to pulse_n[0]'s time, in (-dt_s, 0] */
   af_strike_edges start_edge;     /* which method gave t0 ... */
   af_strike_edges end_edge;       /* ... and t1 */

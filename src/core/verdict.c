@@ -58,6 +58,7 @@ const char *af_audio_cause_name(af_audio_cause c)
   case AF_AUDIO_LOST_IN_WINDOW: return "audio window holds lost samples";
   case AF_AUDIO_QUEUE_FULL: return "strike queue full";
   case AF_AUDIO_STREAM_ENDED: return "recording ends before the audio window";
+  case AF_AUDIO_REFUSED_IN_WINDOW: return "audio window holds refused (non-finite) samples";
   }
   return "unknown";
 }
@@ -95,6 +96,11 @@ static void add_no_audio(const af_verdict *v, char *buf, size_t len)
     break;
   case AF_AUDIO_LOST_IN_WINDOW:
     add(buf, len, "no audio (audio window holds %zu lost samples)", v->n_audio);
+    break;
+  case AF_AUDIO_REFUSED_IN_WINDOW:
+    add(buf, len,
+        "no audio (audio window (samples %llu..%llu) holds %zu refused (non-finite) samples)",
+        first, last, v->n_audio);
     break;
   case AF_AUDIO_QUEUE_FULL:
     add(buf, len, "no audio (strike queue full (%zu strikes waiting for audio))", v->queue_size);
@@ -173,6 +179,9 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
     add(buf, len, "clipped at full scale");
   if (f & AF_VERDICT_LOST_SAMPLES)
     add(buf, len, "%llu samples lost", (unsigned long long)v->lost_samples);
+  if (f & AF_VERDICT_REFUSED_SAMPLES)
+    add(buf, len, "%llu refused (non-finite) force samples in the strike's span",
+        (unsigned long long)v->refused_samples);
   if (f & AF_VERDICT_TRUNCATED)
     add(buf, len, "contact truncated");
   if (f & AF_VERDICT_SPECTRUM_FAILED)
@@ -210,6 +219,7 @@ const char *af_verdict_flag_name(af_verdict_flag f)
   case AF_VERDICT_NO_LOBE: return "no_lobe";
   case AF_VERDICT_OUTSIDE_BAND: return "outside_band";
   case AF_VERDICT_DAMAGE: return "damage";
+  case AF_VERDICT_REFUSED_SAMPLES: return "refused_samples";
   }
   return "unknown";
 }

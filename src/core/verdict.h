@@ -40,22 +40,24 @@ typedef enum {
   AF_VERDICT_MODE_AMBIGUOUS = 1u << 15, /* two candidates for the 0S2 (mode_text) */
   AF_VERDICT_NO_LOBE = 1u << 16,        /* the configured lobe does not exist */
   AF_VERDICT_OUTSIDE_BAND = 1u << 17,   /* the 0S2 outside the lobe's half-power band */
-  AF_VERDICT_DAMAGE = 1u << 18          /* the shear reaches the yield: bruise */
+  AF_VERDICT_DAMAGE = 1u << 18,         /* the shear reaches the yield: bruise */
+  AF_VERDICT_REFUSED_SAMPLES = 1u << 19 /* non-finite force samples measured (refused_samples) */
 } af_verdict_flag;
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
 typedef enum {
-  AF_AUDIO_NOT_GIVEN = 0,  /* no window passed (offline: none recorded) */
-  AF_AUDIO_TOO_SHORT,      /* n_audio samples, fewer than the analysis needs */
-  AF_AUDIO_NONE_RECEIVED,  /* no audio chunk within wait_s of the strike */
-  AF_AUDIO_STREAM_STALE,   /* silent for more than wait_s */
-  AF_AUDIO_BEFORE_STREAM,  /* the window starts seconds_before before the first sample */
-  AF_AUDIO_NOT_RECEIVED,   /* samples first..last not there within wait_s (stream at end) */
-  AF_AUDIO_LEFT_RING,      /* sample first no longer in the ring of ring_s */
-  AF_AUDIO_UNREADABLE,     /* first..last could not be read */
-  AF_AUDIO_LOST_IN_WINDOW, /* the window holds lost (non-finite) samples */
-  AF_AUDIO_QUEUE_FULL,     /* measured early: queue_size strikes were waiting */
-  AF_AUDIO_STREAM_ENDED    /* offline: the recording ends before the window does */
+  AF_AUDIO_NOT_GIVEN = 0,    /* no window passed (offline: none recorded) */
+  AF_AUDIO_TOO_SHORT,        /* n_audio samples, fewer than the analysis needs */
+  AF_AUDIO_NONE_RECEIVED,    /* no audio chunk within wait_s of the strike */
+  AF_AUDIO_STREAM_STALE,     /* silent for more than wait_s */
+  AF_AUDIO_BEFORE_STREAM,    /* the window starts seconds_before before the first sample */
+  AF_AUDIO_NOT_RECEIVED,     /* samples first..last not there within wait_s (stream at end) */
+  AF_AUDIO_LEFT_RING,        /* sample first no longer in the ring of ring_s */
+  AF_AUDIO_UNREADABLE,       /* first..last could not be read */
+  AF_AUDIO_LOST_IN_WINDOW,   /* the window holds lost (non-finite) samples */
+  AF_AUDIO_QUEUE_FULL,       /* measured early: queue_size strikes were waiting */
+  AF_AUDIO_STREAM_ENDED,     /* offline: the recording ends before the window does */
+  AF_AUDIO_REFUSED_IN_WINDOW /* the window holds n_audio refused (non-finite) samples */
 } af_audio_cause;
 
 #define AF_VERDICT_TEXT_MAX 160
@@ -70,6 +72,7 @@ typedef struct {
   af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;
   double fit_residual; /* RMS / peak; NaN when the fit did not run */
   uint64_t lost_samples;
+  uint64_t refused_samples; /* REFUSED_SAMPLES: non-finite force samples in the span */
   af_audio_cause audio_cause;
   uint64_t audio_first, audio_last, audio_end; /* sample indices of the window, stream end */
   double audio_seconds;                        /* wait_s, seconds_before or ring_s */

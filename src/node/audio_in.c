@@ -29,13 +29,26 @@ struct af_audio_in {
   unsigned long long messages, stamped, unstamped, definitions_sent, infos, fed;
   unsigned long long wrong_type, bad_format, before_info, partial, restarts, gaps, lost;
   unsigned long long format_changes;          /* audio_info changes at the same rate */
+  unsigned long long oversized;               /* longer than max_bytes, never copied */
   unsigned long long problems, problems_seen; /* for the warning */
   /* jitter of the AudioData stamps against the sample clock [s] */
   unsigned long long jitter_n;
   double jitter_sum2, jitter_max;
   char last_problem[AF_TEXT_MAX];
+  size_t max_bytes; /* the shim's cap on a message: the ring's samples in this format */
   float block[AF_AUDIO_IN_BLOCK];
 };
+
+/* Bytes of the largest usable message: a chunk of more frames than the
+ * audio ring holds can never be used (issue 18). Before a usable audio_info
+ * (chunks dropped anyway), one channel of the widest PCM sample. */
+#define AF_AUDIO_IN_WIDEST_SAMPLE_BYTES 8
+static size_t cap_bytes(const af_audio_in *a)
+{
+  const size_t frame = a->usable ? af_pcm_sample_bytes(a->format) * a->info.channels
+                                 : AF_AUDIO_IN_WIDEST_SAMPLE_BYTES;
+  return a->cfg->lane.audio.capacity_samples * frame + 4096; /* + the header, frame_id and all */
+}
 
 /* a and b equal but for the case of ASCII letters. */
 static bool same_word(const char *a, const char *b)
@@ -111,6 +124,7 @@ static void on_info(const af_audio_info *m, void *user)
   a->usable = why[0] == '\0';
   a->format = f;
   af_text(a->format_problem, sizeof a->format_problem, "%s", why);
+  a->max_bytes = cap_bytes(a);
   if (!a->usable) {
     a->bad_format++;
     problem(a, a->bad_format, why);
@@ -249,8 +263,9 @@ static void on_data(const af_audio_data *m, void *user)
 static void on_refused(const af_audio_refusal *r, void *user)
 {
   af_audio_in *a = user;
-  a->wrong_type++;
-  problem(a, a->wrong_type, r->why);
+  unsigned long long *n = r->oversized ? &a->oversized : &a->wrong_type;
+  ++*n;
+  problem(a, *n, r->why);
 }
 
 /* --- diagnostics ------------------------------------------------------------------ */
@@ -277,8 +292,8 @@ void af_audio_in_diag(const af_audio_in *a, af_diag_status *d)
               a->messages, a->stamped, a->unstamped, a->definitions_sent, a->fed);
   af_diag_add(d, "audio refused",
               "wrong type/md5/definition %llu, undecodable format %llu, before audio_info %llu, "
-              "partial frames %llu",
-              a->wrong_type, a->bad_format, a->before_info, a->partial);
+              "partial frames %llu, oversized %llu (cap %zu bytes)",
+              a->wrong_type, a->bad_format, a->before_info, a->partial, a->oversized, a->max_bytes);
   af_diag_add(
       d, "audio stream",
       "next sample %llu, restarts %llu (rate changes, stamps back), gaps %llu (%llu samples "
@@ -323,10 +338,11 @@ af_status af_audio_in_create(af_ros *ros, const af_node_config *cfg, af_ros_call
   a->cfg = cfg;
   a->feed = feed;
   a->user = user;
+  a->max_bytes = cap_bytes(a);
   /* As many chunks as the SignalChunk subscription queues (station.c). */
   af_status s = af_ros_subscribe_audio_info(ros, "audio_info", on_info, on_refused, a);
   if (s == AF_OK)
-    s = af_ros_subscribe_audio(ros, "audio", 1000, on_data, on_refused, a);
+    s = af_ros_subscribe_audio(ros, "audio", 1000, on_data, on_refused, &a->max_bytes, a);
   if (s != AF_OK) {
     af_audio_in_destroy(a);
     return s;

@@ -288,6 +288,11 @@ const af_lane *af_lane_io_lane(const af_lane_io *m)
   return m->lane;
 }
 
+void af_lane_io_refuse(af_lane_io *m, bool force, bool oversized, const char *why)
+{
+  af_lane_refuse(m->lane, force, oversized, why);
+}
+
 /* --- diagnostics ---------------------------------------------------------------- */
 
 const char *af_lane_io_warning(af_lane_io *m)

@@ -41,6 +41,10 @@ af_chunk_verdict af_lane_io_force(af_lane_io *m, const af_signal_chunk *c,
 af_chunk_verdict af_lane_io_audio(af_lane_io *m, const af_signal_chunk *c,
                                   af_ring_write_info *info);
 
+/* A chunk refused on the wire (af_ros_refused_fn), counted in the lane's
+ * force or audio stream. */
+void af_lane_io_refuse(af_lane_io *m, bool force, bool oversized, const char *why);
+
 /* An apple into the lane: its prediction in *pred (see af_lane_apple). */
 af_status af_lane_io_apple(af_lane_io *m, const af_apple *a, const af_prediction **pred);
 

@@ -52,14 +52,21 @@ static void quat_z_to(const double u[3], double q[4])
 
 static void apple(const af_markers_scene *s, af_marker *m)
 {
-  double len = sqrt(s->stem_axis[0] * s->stem_axis[0] + s->stem_axis[1] * s->stem_axis[1] +
-                    s->stem_axis[2] * s->stem_axis[2]);
+  /* A direction whatever its finite length (issue 18): scaled by its largest
+   * component first, so that 1e200 or 1e-170 neither overflows nor vanishes. */
+  const double *v = s->stem_axis;
+  double big = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+  bool finite = isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+  double w[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < 3 && finite && big > 0.0; k++)
+    w[k] = v[k] / big;
+  double len = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
   double a = s->equatorial_radius_m;
   double c = len > 0.0 ? s->polar_semi_axis_m : a; /* orientation unknown: a sphere */
   base(s, AF_MARKER_APPLE, AF_MARKER_SPHERE, m);
   to_vec(s->centre_m, &m->position);
   if (len > 0.0) {
-    double u[3] = {s->stem_axis[0] / len, s->stem_axis[1] / len, s->stem_axis[2] / len};
+    double u[3] = {w[0] / len, w[1] / len, w[2] / len};
     quat_z_to(u, m->orientation);
   }
   m->scale.x = m->scale.y = 2.0 * a;

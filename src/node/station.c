@@ -376,9 +376,11 @@ static bool power_of_two(unsigned long long n)
 static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
                      const af_ring_write_info *info)
 {
-  unsigned long long count = v != AF_CHUNK_OK        ? af_stream_bad_chunks(s)
+  unsigned long long count = v == AF_CHUNK_DUPLICATE ? s->duplicates
+                             : v != AF_CHUNK_OK      ? af_stream_bad_chunks(s)
                              : info->gap_samples > 0 ? s->gaps
                              : info->restarted       ? s->restarts
+                             : s->last_refused > 0   ? s->refused_chunks
                                                      : 0;
   if (power_of_two(count))
     af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
@@ -411,11 +413,18 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
               (unsigned long long)s->lost_samples);
   af_text(key, sizeof key, "%s restarts", s->name);
-  af_diag_add(d, key, "%llu", (unsigned long long)s->restarts);
+  af_diag_add(d, key, "%llu (duplicate chunks ignored %llu)", (unsigned long long)s->restarts,
+              (unsigned long long)s->duplicates);
   af_text(key, sizeof key, "%s bad chunks", s->name);
-  af_diag_add(d, key, "%llu (rate %llu, unit %llu, NaN/inf %llu)",
+  af_diag_add(d, key,
+              "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
               (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
-              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_data);
+              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_index,
+              (unsigned long long)s->malformed, (unsigned long long)s->oversized);
+  af_text(key, sizeof key, "%s refused samples", s->name);
+  af_diag_add(d, key, "%llu non-finite in %llu spans of %llu chunks",
+              (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans,
+              (unsigned long long)s->refused_chunks);
   af_text(key, sizeof key, "%s last problem", s->name);
   af_diag_add(d, key, "%s", s->last_problem);
   af_text(key, sizeof key, "%s ring [samples]", s->name);
@@ -543,16 +552,42 @@ static af_status advertise(af_station *st)
   return s;
 }
 
+/* A chunk refused by the shim before deserializing (the shim logs it). */
+static void on_force_refused(bool oversized, const char *why, void *user)
+{
+  af_station *st = user;
+  af_lane_io_refuse(st->measured, true, oversized, why);
+}
+
+static void on_audio_refused(bool oversized, const char *why, void *user)
+{
+  af_station *st = user;
+  af_lane_io_refuse(st->measured, false, oversized, why);
+}
+
+/* A chunk longer than its stream's ring can never be used: the cap on the
+ * wire, so that it is never deserialized (issue 18). */
+static size_t ring_samples(const af_station *st, bool force)
+{
+  const af_lane *l = af_lane_io_lane(st->measured);
+  return (force ? af_lane_force_stream(l) : af_lane_audio_stream(l))->cfg->capacity_samples;
+}
+
 static af_status subscribe(af_station *st)
 {
   af_ros_sub *sub; /* owned by the af_ros */
   af_status s =
       af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
+  if (s == AF_OK)
+    s = af_ros_sub_limit(sub, ring_samples(st, true), on_force_refused);
   const char *what;
   if (s == AF_OK && st->cfg->audio_common) /* audio_common_msgs, decoded (audio_in.h) */
     s = af_audio_in_create(st->ros, st->cfg, on_audio, st, &st->audio_in, &what);
-  else if (s == AF_OK)
+  else if (s == AF_OK) {
     s = af_ros_subscribe(st->ros, "audio", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_audio, st, &sub);
+    if (s == AF_OK)
+      s = af_ros_sub_limit(sub, ring_samples(st, false), on_audio_refused);
+  }
   if (s == AF_OK)
     s = af_ros_subscribe(st->ros, "apple", AF_MSG_APPLE_ESTIMATE, AF_APPLE_QUEUE, on_apple, st,
                          &sub);

@@ -45,7 +45,12 @@ static void add_stream(af_session_stream *into, const af_session_stream *s)
   into->restarts += s->restarts;
   into->bad_rate += s->bad_rate;
   into->bad_unit += s->bad_unit;
-  into->bad_data += s->bad_data;
+  into->bad_index += s->bad_index;
+  into->malformed += s->malformed;
+  into->oversized += s->oversized;
+  into->refused_samples += s->refused_samples;
+  into->refused_spans += s->refused_spans;
+  into->duplicates += s->duplicates;
 }
 
 static void add_counts(af_summary *into, const af_summary *m)
@@ -88,6 +93,8 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.late_apples += s->stats.late_apples;
   t->stats.pulse_cut += s->stats.pulse_cut;
   t->messages += s->messages;
+  t->refused_messages += s->refused_messages;
+  t->refused_apples += s->refused_apples;
   t->recorded_s += s->recorded_s;
   t->wall_s += s->wall_s;
   t->cpu_s += s->cpu_s;

@@ -62,10 +62,13 @@ static void text_stream(FILE *out, const char *name, const af_session_stream *s)
 {
   fprintf(out,
           "  %-5s %8" PRIu64 " chunks, %" PRIu64 " gaps (%" PRIu64 " samples lost), %" PRIu64
-          " restarts, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64 ", NaN/inf %" PRIu64
-          ")\n",
-          name, s->chunks, s->gaps, s->lost_samples, s->restarts,
-          s->bad_rate + s->bad_unit + s->bad_data, s->bad_rate, s->bad_unit, s->bad_data);
+          " restarts, %" PRIu64 " duplicates, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64
+          ", index %" PRIu64 ", malformed %" PRIu64 ", oversized %" PRIu64 "), %" PRIu64
+          " non-finite samples refused in %" PRIu64 " spans\n",
+          name, s->chunks, s->gaps, s->lost_samples, s->restarts, s->duplicates,
+          s->bad_rate + s->bad_unit + s->bad_index + s->malformed + s->oversized, s->bad_rate,
+          s->bad_unit, s->bad_index, s->malformed, s->oversized, s->refused_samples,
+          s->refused_spans);
 }
 
 static double share(size_t part, size_t whole)
@@ -146,6 +149,10 @@ void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+  fprintf(out,
+          "  bag: %" PRIu64 " messages read, %" PRIu64
+          " refused (oversized or not their type; %" PRIu64 " of them apples)\n",
+          s->messages, s->refused_messages, s->refused_apples);
 }
 
 void af_output_text(FILE *out, const af_session *s, const af_summary *m, const af_stage_hook *timer)
@@ -209,9 +216,12 @@ static void json_stream(FILE *out, const char *key, const af_session_stream *s)
   fprintf(out,
           "    \"%s\": {\"chunks\": %" PRIu64 ", \"gaps\": %" PRIu64 ", \"lost_samples\": %" PRIu64
           ", \"restarts\": %" PRIu64 ", \"bad_rate\": %" PRIu64 ", \"bad_unit\": %" PRIu64
-          ", \"bad_data\": %" PRIu64 "},\n",
+          ", \"bad_index\": %" PRIu64 ", \"malformed\": %" PRIu64 ", \"oversized\": %" PRIu64
+          ", \"duplicates\": %" PRIu64 ", \"refused_samples\": %" PRIu64
+          ", \"refused_spans\": %" PRIu64 "},\n",
           key, s->chunks, s->gaps, s->lost_samples, s->restarts, s->bad_rate, s->bad_unit,
-          s->bad_data);
+          s->bad_index, s->malformed, s->oversized, s->duplicates, s->refused_samples,
+          s->refused_spans);
 }
 
 /* "  \"summary\": {...}" (no newline after its closing brace). */
@@ -247,8 +257,10 @@ static void json_summary(FILE *out, const af_session *s, const af_summary *m)
   fputc('\n', out);
   json_stream(out, "force", &s->force);
   json_stream(out, "audio", &s->audio);
-  fprintf(out, "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 "\n  }", s->recorded_s,
-          s->messages);
+  fprintf(out,
+          "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 ", \"refused_messages\": %" PRIu64
+          ", \"refused_apples\": %" PRIu64 "\n  }",
+          s->recorded_s, s->messages, s->refused_messages, s->refused_apples);
 }
 
 void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,

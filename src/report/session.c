@@ -162,7 +162,12 @@ static void copy_stream(af_session_stream *out, const af_stream *s)
   out->restarts = s->restarts;
   out->bad_rate = s->bad_rate;
   out->bad_unit = s->bad_unit;
-  out->bad_data = s->bad_data;
+  out->duplicates = s->duplicates;
+  out->bad_index = s->bad_index;
+  out->malformed = s->malformed;
+  out->oversized = s->oversized;
+  out->refused_samples = s->refused_samples;
+  out->refused_spans = s->refused_spans;
 }
 
 static void show_progress(uint64_t done, uint64_t total, bool final)
@@ -190,6 +195,21 @@ static const char *type_name(af_msg_type t)
   }
 }
 
+/* A message the reader refused (too long, not its type): counted in its
+ * stream (an apple's among the session's), one line on stderr for the 1st,
+ * 2nd, 4th ... */
+static void refused(af_session_ctx *c, int which, bool oversized, const char *why)
+{
+  uint64_t n = ++c->s->refused_messages;
+  if (which == AF_TOPIC_APPLE)
+    c->s->refused_apples++;
+  else
+    af_lane_refuse(c->lane, which == AF_TOPIC_FORCE, oversized, why);
+  if ((n & (n - 1)) == 0)
+    fprintf(stderr, "firmness_report: %s: refused %s (%llu messages refused so far)\n",
+            c->o->bag_path, why, (unsigned long long)n);
+}
+
 /* Every message of the three topics into the lane. */
 static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX],
                 uint64_t total, char *err, size_t len)
@@ -198,11 +218,15 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
   af_bag_message m;
   af_status st;
   uint64_t step = total / 200 + 1;
-  while ((st = af_bag_read_next(bag, &m)) == AF_OK) {
+  while ((st = af_bag_read_next(bag, &m)) == AF_OK || st == AF_ESIZE || st == AF_EINVAL) {
     int64_t now = ns_of(m.bag_time);
     int which = strcmp(m.topic, topics[AF_TOPIC_FORCE]) == 0   ? AF_TOPIC_FORCE
                 : strcmp(m.topic, topics[AF_TOPIC_AUDIO]) == 0 ? AF_TOPIC_AUDIO
                                                                : AF_TOPIC_APPLE;
+    if (st != AF_OK) { /* one message refused: counted, said, the bag goes on */
+      refused(c, which, st == AF_ESIZE, af_bag_reader_error(bag));
+      continue;
+    }
     af_msg_type want = which == AF_TOPIC_APPLE ? AF_MSG_APPLE_ESTIMATE : AF_MSG_SIGNAL_CHUNK;
     if (m.type != want) {
       af_text(err, len, "topic %s carries %s, not %s", m.topic, type_name(m.type), type_name(want));
@@ -269,6 +293,11 @@ static af_bag_reader *open(const af_session_options *o,
     af_text(err, len, "%s", af_bag_reader_error(NULL));
     return NULL;
   }
+  /* A chunk longer than its ring can never be used: the cap (issue 18). */
+  size_t cap = o->cfg->force.capacity_samples > o->cfg->audio.capacity_samples
+                   ? o->cfg->force.capacity_samples
+                   : o->cfg->audio.capacity_samples;
+  af_bag_reader_limit(bag, cap);
   *total = 0;
   for (int k = 0; k < AF_TOPICS; k++) {
     size_t n = af_bag_topic_count(bag, topics[k]);

@@ -76,7 +76,10 @@ typedef struct {
 
 /* A stream's counters at the end of the bag. */
 typedef struct {
-  uint64_t chunks, gaps, lost_samples, restarts, bad_rate, bad_unit, bad_data;
+  uint64_t chunks, gaps, lost_samples, restarts, bad_rate, bad_unit, bad_index, malformed,
+      oversized;
+  uint64_t refused_samples, refused_spans; /* non-finite samples of accepted chunks */
+  uint64_t duplicates;                     /* chunks that repeat samples already held */
   int64_t first_ns, end_ns; /* time of the first sample, end of the last chunk [ns] */
 } af_session_stream;
 
@@ -87,9 +90,11 @@ typedef struct {
   size_t n_apples, cap_apples;
   af_lane_stats stats;
   af_session_stream force, audio;
-  uint64_t messages;    /* read from the bag */
-  double recorded_s;    /* recorded time: the force stream's span [s] */
-  double wall_s, cpu_s; /* spent reading and processing [s]; CPU: this thread's */
+  uint64_t messages;         /* read from the bag */
+  uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */
+  uint64_t refused_apples;   /* of those, on the apple topic */
+  double recorded_s;         /* recorded time: the force stream's span [s] */
+  double wall_s, cpu_s;      /* spent reading and processing [s]; CPU: this thread's */
 } af_session;
 
 /* Extra work per strike (plots); lane: for its streams. Called after the

@@ -73,6 +73,7 @@ typedef struct {
   char datatype[AF_AUDIO_TYPE_MAX];
   char md5[40];
   char why[AF_TEXT_MAX];
+  bool oversized; /* longer than the cap (max_bytes), never deserialized */
 } af_audio_refusal;
 
 typedef void (*af_audio_data_fn)(const af_audio_data *m, void *user);
@@ -80,9 +81,12 @@ typedef void (*af_audio_info_fn)(const af_audio_info *m, void *user);
 typedef void (*af_audio_refused_fn)(const af_audio_refusal *r, void *user);
 
 /* AudioData and AudioDataStamped on topic (either type; the publisher's
- * decides), queue >= 1. AF_OK; AF_EINVAL for a NULL or empty argument; AF_EROS. */
+ * decides), queue >= 1. *max_bytes (max_bytes may be NULL: no cap; read at
+ * each message, so the caller may change it): a message of more serialized
+ * bytes is refused (refused, "oversized") before it is deserialized or
+ * copied. AF_OK; AF_EINVAL for a NULL or empty argument; AF_EROS. */
 af_status af_ros_subscribe_audio(af_ros *r, const char *topic, unsigned queue, af_audio_data_fn fn,
-                                 af_audio_refused_fn refused, void *user);
+                                 af_audio_refused_fn refused, const size_t *max_bytes, void *user);
 /* AudioInfo on topic (audio_capture latches it). */
 af_status af_ros_subscribe_audio_info(af_ros *r, const char *topic, af_audio_info_fn fn,
                                       af_audio_refused_fn refused, void *user);

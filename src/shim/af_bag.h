@@ -80,9 +80,19 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
                            af_bag_reader **out);
 
 /* The next message into *m: AF_OK, AF_ENODATA at the end of the bag, AF_EIO
- * when the bag cannot be read further (truncated chunk) or a message does
- * not deserialize. */
+ * when the bag cannot be read further (truncated chunk). One message
+ * refused, the next call going on after it (m->topic and m->bag_time set,
+ * af_bag_reader_error(r) one line naming the topic and the lengths):
+ * AF_ESIZE, a SignalChunk of more than the cap (af_bag_reader_limit),
+ * refused before it is copied or deserialized; AF_EINVAL, a message on a
+ * listed topic that is not one of the types above, or whose bytes are not
+ * the type its connection states (a wrong message type on that topic, or
+ * a cut message). */
 af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m);
+
+/* SignalChunks of more than max_samples (0: no cap, the default) are
+ * refused by af_bag_read_next (AF_ESIZE). */
+void af_bag_reader_limit(af_bag_reader *r, size_t max_samples);
 
 /* Messages on topic in the bag (0 when absent or NULL). */
 size_t af_bag_topic_count(const af_bag_reader *r, const char *topic);

@@ -119,6 +119,19 @@ unsigned long long af_ros_sub_malformed(const af_ros_sub *s);
 /* The same over every subscriber of r. */
 unsigned long long af_ros_malformed(const af_ros *r);
 
+/* Told of a message refused before deserializing: oversized (longer than
+ * the cap) or malformed (cut, empty, a length beyond the message); why is
+ * one line naming the lengths (and the cap). user: the subscriber's. */
+typedef void (*af_ros_refused_fn)(bool oversized, const char *why, void *user);
+/* A SignalChunk subscriber s refuses, before deserializing, a chunk of more
+ * than max_samples samples (0: no cap): a chunk longer than the ring it
+ * feeds can never be used, and deserializing it would allocate it. Each
+ * refusal (oversized, cut or empty) is counted and passed to fn (may be
+ * NULL). AF_EINVAL for another message type. */
+af_status af_ros_sub_limit(af_ros_sub *s, size_t max_samples, af_ros_refused_fn fn);
+/* Chunks s refused as longer than its cap. */
+unsigned long long af_ros_sub_oversized(const af_ros_sub *s);
+
 /* diagnostic_updater: one updater per node, on /diagnostics.
  * hardware_id names the station (e.g. the lane). */
 typedef struct af_diag_status af_diag_status;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <sstream>
 
+#include <boost/make_shared.hpp>
 #include <topic_tools/shape_shifter.h>
 
 namespace
@@ -92,20 +93,60 @@ struct audio_sub {
   af_audio_data_fn data_fn = nullptr;
   af_audio_info_fn info_fn = nullptr;
   af_audio_refused_fn refused = nullptr;
+  const std::size_t *max_bytes = nullptr; // the caller's cap; null: none
   void *user = nullptr;
   std::vector<uint8_t> buf;
   ros::Subscriber sub;
 };
 
-void refuse(const audio_sub &s, const topic_tools::ShapeShifter &m, const std::string &why)
+void refuse(const audio_sub &s, const std::string &type, const std::string &md5,
+            const std::string &why, bool oversized = false)
 {
   af_audio_refusal r{};
-  af_shim::copy_string(m.getDataType(), r.datatype);
-  af_shim::copy_string(m.getMD5Sum(), r.md5);
+  r.oversized = oversized;
+  af_shim::copy_string(type, r.datatype);
+  af_shim::copy_string(md5, r.md5);
   af_shim::copy_string(why, r.why);
   if (s.refused)
     s.refused(&r, s.user);
 }
+
+void refuse(const audio_sub &s, const topic_tools::ShapeShifter &m, const std::string &why)
+{
+  refuse(s, m.getDataType(), m.getMD5Sum(), why);
+}
+
+// roscpp's helper with the message's size checked against the cap before
+// the ShapeShifter copies it (and on_message copies it again): a message of
+// hundreds of MB is dropped, told, and never held by us (issue 18).
+class capped_helper : public ros::SubscriptionCallbackHelperT<const Event &>
+{
+public:
+  using base = ros::SubscriptionCallbackHelperT<const Event &>;
+  capped_helper(const base::Callback &cb, audio_sub *s) : base(cb), s_(s) {}
+
+  ros::VoidConstPtr deserialize(const ros::SubscriptionCallbackHelperDeserializeParams &p) override
+  {
+    const std::size_t cap = s_->max_bytes ? *s_->max_bytes : 0;
+    if (cap == 0 || p.length <= cap)
+      return base::deserialize(p);
+    std::string type, md5;
+    if (p.connection_header) {
+      auto t = p.connection_header->find("type"), m = p.connection_header->find("md5sum");
+      type = t != p.connection_header->end() ? t->second : "";
+      md5 = m != p.connection_header->end() ? m->second : "";
+    }
+    refuse(*s_, type, md5,
+           s_->sub.getTopic() + ": oversized: a " + type + " of " + std::to_string(p.length) +
+               " bytes, above the cap of " + std::to_string(cap) +
+               " bytes (the audio ring's samples in this format; a longer chunk can never be used)",
+           true);
+    return ros::VoidConstPtr();
+  }
+
+private:
+  audio_sub *s_;
+};
 
 // Type, md5 and (when sent) definition of m against one expected message.
 // "" when they match; else why not.
@@ -178,13 +219,15 @@ af_status subscribe(af_ros *r, const char *topic, unsigned queue, std::shared_pt
   ros::SubscribeOptions ops;
   audio_sub *sp = s.get();
   // Nothing may escape into roscpp's queue (af_ros_spin_once would fail).
-  ops.initByFullCallbackType<const Event &>(topic, queue, [sp](const Event &ev) {
+  auto cb = [sp](const Event &ev) {
     try {
       on_message(*sp, ev);
     } catch (...) {
       af_shim::status_from_exception(sp->owner);
     }
-  });
+  };
+  ops.initByFullCallbackType<const Event &>(topic, queue, cb);
+  ops.helper = boost::make_shared<capped_helper>(cb, sp);
   s->sub = r->nh->subscribe(ops);
   if (!s->sub)
     return af_shim::invalid(r, std::string("could not subscribe to ") + topic);
@@ -202,7 +245,7 @@ bool af_audio_definition_matches(const char *sent, const char *expected)
 }
 
 af_status af_ros_subscribe_audio(af_ros *r, const char *topic, unsigned queue, af_audio_data_fn fn,
-                                 af_audio_refused_fn refused, void *user)
+                                 af_audio_refused_fn refused, const size_t *max_bytes, void *user)
 {
   try {
     if (r == nullptr)
@@ -211,6 +254,7 @@ af_status af_ros_subscribe_audio(af_ros *r, const char *topic, unsigned queue, a
       return af_shim::invalid(r, "af_ros_subscribe_audio: topic, fn or queue missing");
     auto s = std::make_shared<audio_sub>();
     s->owner = r, s->data_fn = fn, s->refused = refused, s->user = user;
+    s->max_bytes = max_bytes;
     return subscribe(r, topic, queue, s);
   } catch (...) {
     return af_shim::status_from_exception(r);

@@ -27,6 +27,8 @@ struct af_bag_reader {
   SignalChunk::ConstPtr chunk;
   std::vector<uint8_t> raw; // a SignalChunk's bytes, checked before deserializing
   std::map<std::string, size_t> counts;
+  std::size_t max_samples = 0; // af_bag_reader_limit; 0: none
+  bool listed = false;         // opened with topics: another type on one is refused
 };
 } // extern "C"
 
@@ -89,17 +91,45 @@ void check_topics(af_bag_reader *r, const char *const *topics, size_t n)
   }
 }
 
+// A message refused, reading may go on: AF_ESIZE or AF_EINVAL with its line.
+struct refused_message {
+  af_status status;
+  std::string why;
+};
+
+// Bytes of a SignalChunk besides its data: header, first_sample, rate,
+// unit, the length prefix; a frame_id and unit of a few KiB at most.
+constexpr std::size_t AF_CHUNK_OVERHEAD_BYTES = 8192;
+
 // roscpp's deserializer sizes SignalChunk.data from its length prefix before
-// it checks the bytes (wire.hpp): the message's own bytes are checked first.
+// it checks the bytes (wire.hpp): the message's own bytes are checked first,
+// and its size against the cap before they are copied (a chunk longer than
+// the ring can never be used; copying and deserializing it took three times
+// its size, issue 18).
 void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
 {
-  r->raw.resize(mi.size());
+  const std::size_t size = mi.size();
+  const std::string on = mi.getTopic() + ": ";
+  if (r->max_samples > 0 && size > 4 * r->max_samples + AF_CHUNK_OVERHEAD_BYTES)
+    throw refused_message{AF_ESIZE, on + "a SignalChunk of " + std::to_string(size) +
+                                        " bytes (about " + std::to_string(size / 4) +
+                                        " samples), above the cap of " +
+                                        std::to_string(r->max_samples) +
+                                        " samples (the ring; a longer chunk can never be used)"};
+  r->raw.resize(size);
   ros::serialization::OStream out(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
   mi.write(out);
-  if (!af_shim::signal_chunk_plausible(r->raw.data(), r->raw.size()))
-    throw rosbag::BagFormatException("a SignalChunk on " + mi.getTopic() + " of " +
-                                     std::to_string(r->raw.size()) +
-                                     " bytes claims more samples than it holds");
+  uint32_t samples;
+  std::string why;
+  switch (
+      af_shim::signal_chunk_check(r->raw.data(), r->raw.size(), r->max_samples, &samples, &why)) {
+  case af_shim::chunk_wire::ok: return;
+  case af_shim::chunk_wire::oversized: throw refused_message{AF_ESIZE, on + why};
+  default:
+    throw refused_message{AF_EINVAL, on + why +
+                                         ": not a SignalChunk as its connection says (a "
+                                         "wrong message type on this topic, or cut)"};
+  }
 }
 
 // rosbag's instantiate gives a null pointer when the connection's type or
@@ -146,6 +176,7 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
     r->bag.open(path, rosbag::bagmode::Read);
     check_topics(r, topics, n_topics);
     if (n_topics > 0) {
+      r->listed = true;
       std::vector<std::string> list(topics, topics + n_topics);
       r->view.reset(new rosbag::View(r->bag, rosbag::TopicQuery(list)));
     } else {
@@ -173,17 +204,27 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
     while (r->it != r->view->end()) {
       const rosbag::MessageInstance &mi = *r->it;
       af_msg_type t;
-      if (!type_of(mi.getDataType(), t)) {
-        ++r->it;
-        continue;
-      }
       r->topic = mi.getTopic();
       m->topic = r->topic.c_str();
       af_shim::from_ros(mi.getTime(), m->bag_time);
+      if (!type_of(mi.getDataType(), t) && !r->listed) {
+        ++r->it;
+        continue;
+      }
+      if (!type_of(mi.getDataType(), t)) {
+        ++r->it;
+        set_error(r, r->topic + ": a message of type " + mi.getDataType() +
+                         ", a wrong message type on this topic");
+        return AF_EINVAL;
+      }
       m->type = t;
       switch (t) {
-      case AF_MSG_SIGNAL_CHUNK:
-        check_chunk_bytes(r, mi);
+      case AF_MSG_SIGNAL_CHUNK: try { check_chunk_bytes(r, mi);
+        } catch (const refused_message &no) {
+          ++r->it;
+          set_error(r, no.why);
+          return no.status;
+        }
         r->chunk = instantiate<SignalChunk>(mi);
         af_shim::from_ros(*r->chunk, m->msg.chunk);
         break;
@@ -202,6 +243,12 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
   } catch (...) {
     return reader_status(r);
   }
+}
+
+void af_bag_reader_limit(af_bag_reader *r, size_t max_samples)
+{
+  if (r != nullptr)
+    r->max_samples = max_samples;
 }
 
 size_t af_bag_topic_count(const af_bag_reader *r, const char *topic)

@@ -25,19 +25,25 @@ void advertise_as(ros::NodeHandle &nh, const std::string &topic, unsigned queue,
 }
 
 // Whether roscpp may deserialize these bytes as an M: every type but
-// SignalChunk has no vector a length prefix could blow up (wire.hpp).
-template <class M> bool plausible(const uint8_t *, std::size_t)
+// SignalChunk has no vector a length prefix could blow up (wire.hpp). A
+// SignalChunk is walked strictly, against the subscriber's cap.
+template <class M>
+af_shim::chunk_wire check(const uint8_t *, std::size_t, const af_ros_sub &, std::string *)
 {
-  return true;
+  return af_shim::chunk_wire::ok;
 }
-template <> bool plausible<acoustic_firmness::SignalChunk>(const uint8_t *p, std::size_t n)
+template <>
+af_shim::chunk_wire check<acoustic_firmness::SignalChunk>(const uint8_t *p, std::size_t n,
+                                                          const af_ros_sub &s, std::string *why)
 {
-  return af_shim::signal_chunk_plausible(p, n);
+  uint32_t samples;
+  return af_shim::signal_chunk_check(p, n, s.max_samples.load(), &samples, why);
 }
 
 // roscpp's callback helper with the bytes checked first: a message that
-// would make the deserializer allocate what it does not hold is dropped
-// (roscpp skips a null message), counted and logged, never allocated.
+// would make the deserializer allocate what it does not hold, a cut or empty
+// one, or a chunk longer than the cap is dropped (roscpp skips a null
+// message), counted, told to the subscriber and logged, never allocated.
 template <class M>
 class checked_helper : public ros::SubscriptionCallbackHelperT<const boost::shared_ptr<const M> &>
 {
@@ -47,15 +53,18 @@ public:
 
   ros::VoidConstPtr deserialize(const ros::SubscriptionCallbackHelperDeserializeParams &p) override
   {
-    if (!plausible<M>(p.buffer, p.length)) {
-      unsigned long long n = ++s_->malformed;
-      if ((n & (n - 1)) == 0) // the 1st, 2nd, 4th, 8th ...
-        ROS_WARN("%s: dropped a malformed %s of %u bytes (a length prefix claims more than the "
-                 "message holds); %llu so far",
-                 s_->sub.getTopic().c_str(), ros::message_traits::datatype<M>(), p.length, n);
-      return ros::VoidConstPtr();
-    }
-    return base::deserialize(p);
+    std::string why;
+    af_shim::chunk_wire w = check<M>(p.buffer, p.length, *s_, &why);
+    if (w == af_shim::chunk_wire::ok)
+      return base::deserialize(p);
+    const bool oversized = w == af_shim::chunk_wire::oversized;
+    unsigned long long n = oversized ? ++s_->oversized : ++s_->malformed;
+    const std::string line = s_->sub.getTopic() + ": dropped " + why;
+    if ((n & (n - 1)) == 0) // the 1st, 2nd, 4th, 8th ...
+      ROS_WARN("%s; %llu %s so far", line.c_str(), n, oversized ? "oversized" : "malformed");
+    if (s_->refused)
+      s_->refused(oversized, line.c_str(), s_->user);
+    return ros::VoidConstPtr();
   }
 
 private:
@@ -159,6 +168,21 @@ af_status af_ros_publish(af_ros_pub *p, const void *msg)
 unsigned long long af_ros_sub_malformed(const af_ros_sub *s)
 {
   return s != nullptr ? s->malformed.load() : 0ull;
+}
+
+af_status af_ros_sub_limit(af_ros_sub *s, size_t max_samples, af_ros_refused_fn fn)
+{
+  if (s == nullptr || s->type != AF_MSG_SIGNAL_CHUNK)
+    return af_shim::invalid(s ? s->owner : nullptr,
+                            "af_ros_sub_limit: not a SignalChunk subscriber");
+  s->max_samples = max_samples;
+  s->refused = fn;
+  return AF_OK;
+}
+
+unsigned long long af_ros_sub_oversized(const af_ros_sub *s)
+{
+  return s != nullptr ? s->oversized.load() : 0ull;
 }
 
 unsigned long long af_ros_malformed(const af_ros *r)

@@ -36,6 +36,12 @@ struct af_ros_sub {
   // Messages dropped before deserializing: a length prefix claiming more
   // bytes than the message has (wire.hpp). Written in the spinning thread.
   std::atomic<unsigned long long> malformed{0};
+  // SignalChunks longer than max_samples (0: no cap), refused before
+  // deserializing (af_ros_sub_limit); refused (may be null) is told of each
+  // refusal, malformed or oversized, with its line.
+  std::atomic<std::size_t> max_samples{0};
+  std::atomic<unsigned long long> oversized{0};
+  af_ros_refused_fn refused = nullptr;
 };
 
 struct af_diag_status {

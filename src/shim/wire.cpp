@@ -68,6 +68,44 @@ bool signal_chunk_plausible(const uint8_t *p, std::size_t n)
   return static_cast<std::size_t>(len) <= c.left / 4;
 }
 
+chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_samples,
+                              uint32_t *samples, std::string *why)
+{
+  cursor c{p, n};
+  uint32_t frame = 0, unit = 0, len = 0;
+  *samples = 0;
+  const std::string bytes = " of " + std::to_string(n) + " bytes";
+  // seq, stamp, frame_id; first_sample, sample_rate; unit; data.
+  bool whole = c.skip(4 + 8) && c.length(frame);
+  if (whole && frame > c.left) {
+    *why = "a SignalChunk" + bytes + " whose frame_id claims " + std::to_string(frame) + " bytes";
+    return chunk_wire::claims_too_much;
+  }
+  whole = whole && c.skip(frame) && c.skip(8 + 8) && c.length(unit);
+  if (whole && unit > c.left) {
+    *why = "a SignalChunk" + bytes + " whose unit claims " + std::to_string(unit) + " bytes";
+    return chunk_wire::claims_too_much;
+  }
+  whole = whole && c.skip(unit) && c.length(len);
+  if (!whole) {
+    *why = n == 0 ? std::string("an empty SignalChunk (0 bytes)")
+                  : "a cut SignalChunk" + bytes + " (it ends before its data)";
+    return chunk_wire::cut;
+  }
+  *samples = len;
+  if (static_cast<std::size_t>(len) > c.left / 4) {
+    *why = "a cut SignalChunk" + bytes + ": data claims " + std::to_string(len) +
+           " samples, the message holds " + std::to_string(c.left / 4);
+    return chunk_wire::claims_too_much;
+  }
+  if (max_samples > 0 && len > max_samples) {
+    *why = "a SignalChunk of " + std::to_string(len) + " samples, above the cap of " +
+           std::to_string(max_samples) + " (the ring; a longer chunk can never be used)";
+    return chunk_wire::oversized;
+  }
+  return chunk_wire::ok;
+}
+
 namespace
 {
 
@@ -272,7 +310,8 @@ bool walk(std::FILE *f, uint64_t pos, uint64_t end, layout::chunk *inner, layout
     } else if (r.op == 0x05) { // a chunk
       if (r.size > AF_BAG_CHUNK_MAX) {
         why = "the chunk at byte " + std::to_string(pos) + " claims " + std::to_string(r.size) +
-              " bytes uncompressed, above the 256 MiB accepted";
+              " bytes uncompressed, above the " + std::to_string(AF_BAG_CHUNK_MAX >> 20) +
+              " MiB accepted (rosbag would hold it whole)";
         return false;
       }
       layout::chunk c;

@@ -22,6 +22,15 @@ namespace af_shim
 // then throws, as usual). False when a prefix claims more than remains.
 bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 
+// What the n serialized bytes at p are as a SignalChunk, walked strictly
+// (issue 18): every field there (else cut, an empty message included), no
+// length prefix past the end (else claims_too_much), data at most
+// max_samples float32 (0: no cap; else oversized). *samples: data's stated
+// length (0 when not reached); *why: one line naming the lengths.
+enum class chunk_wire { ok, cut, claims_too_much, oversized };
+chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_samples,
+                              uint32_t *samples, std::string *why);
+
 // rosbag trusts the lengths a bag file states: a record header or a chunk
 // that claims gigabytes makes it allocate them (rosbag::Bag::readHeader,
 // the chunk's decompression buffer) before it finds the file shorter. This
@@ -40,7 +49,11 @@ bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 // version 2.0 whose records or index are broken (cut short, never closed),
 // which `rosbag reindex` may recover, as opposed to no bag at all.
 constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
-constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 28;  // 256 MiB
+// rosbag holds a whole chunk in memory while its messages are read: 128 MiB
+// keeps a tool within its 256 MiB peak RSS (issue 18). rosbag's chunks are
+// 768 KiB unless one message is longer; a chunk longer than a ring is
+// refused message by message (af_bag_reader_limit).
+constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 27; // 128 MiB
 bool bag_plausible(const char *path, std::string &why, bool *reindexable = nullptr);
 
 } // namespace af_shim

@@ -54,6 +54,7 @@ typedef struct {
   af_recording_spec force_spec, audio_spec; /* channel and scale flags */
   double audio_offset_s;                    /* audio start time minus force start time [s] */
   double mass_kg, r2_m, equatorial_radius_m;
+  long max_samples; /* per recording, checked before reading it [samples] */
   bool bench;
 } af_analyze_args;
 
@@ -101,6 +102,24 @@ static bool parse_value(const char *flag, const char *text, bool positive, doubl
   return true;
 }
 
+/* --max-samples: a whole number in [1, AF_RECORDING_MAX_SAMPLES]. */
+static bool parse_max_samples(const char *text, long *out)
+{
+  char *end;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  if (end == text || *end != '\0' || errno == ERANGE || v < 1 ||
+      (unsigned long)v > AF_RECORDING_MAX_SAMPLES) {
+    fprintf(stderr,
+            "firmness_model analyze: --max-samples '%.40s' must be a whole number in [1, %zu] "
+            "[samples]\n",
+            text, AF_RECORDING_MAX_SAMPLES);
+    return false;
+  }
+  *out = v;
+  return true;
+}
+
 /* The defaults the parser starts from: the shipped YAML files, the
  * recordings' channels and scales as recording.h leaves them; the
  * recordings and the apple are required (0 / NULL), the rates when a
@@ -111,6 +130,7 @@ static af_analyze_args analyze_args_default(void)
   memset(&a, 0, sizeof a);
   a.force_spec = af_recording_spec_default("--rate-force", "--force-channel");
   a.audio_spec = af_recording_spec_default("--rate-audio", "--audio-channel");
+  a.max_samples = (long)AF_RECORDING_DEFAULT_MAX_SAMPLES;
   a.config_path = AF_CONFIG_DIR "/station.yaml";
   a.cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
   return a;
@@ -159,6 +179,10 @@ static const af_option analyze_options[] = {
      "station parameters (YAML), as the node loads them", NULL},
     {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1,
      "cultivar parameters (YAML), as the node loads them", NULL},
+    {"--max-samples", "N", AF_OPTION_LONG, AF_ARG(max_samples), -1,
+     "longest recording read, each, a whole number in [1, 2^27]; a longer one is refused "
+     "before it is read (2^24 samples are 64 MiB of float32) [samples]",
+     NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
      "CPU time and speed against real time, on stderr", NULL},
     {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
@@ -274,6 +298,8 @@ static bool analyze_flag(const char *flag, const char *value, af_analyze_args *a
     return parse_value(flag, value, true, &a->r2_m);
   else if (strcmp(flag, "--equatorial-radius") == 0)
     return parse_value(flag, value, true, &a->equatorial_radius_m);
+  else if (strcmp(flag, "--max-samples") == 0)
+    return parse_max_samples(value, &a->max_samples);
   else
     return false;
   return true;
@@ -411,7 +437,29 @@ static void json_row(FILE *out, const af_lane_strike *row, bool last)
   fprintf(out, "\n    }%s\n", last ? "" : ",");
 }
 
-static void json_print(FILE *out, const af_analyze_ctx *c, const char *no_strike)
+/* A stream's counts: what was refused is never silent. */
+static void json_stream(FILE *out, const char *key, const af_stream *s, bool last)
+{
+  fprintf(out,
+          "    \"%s\": {\"chunks\": %llu, \"refused_samples\": %llu, \"refused_spans\": %llu, "
+          "\"bad_chunks\": %llu, \"gaps\": %llu, \"lost_samples\": %llu}%s\n",
+          key, (unsigned long long)s->chunks, (unsigned long long)s->refused_samples,
+          (unsigned long long)s->refused_spans, (unsigned long long)af_stream_bad_chunks(s),
+          (unsigned long long)s->gaps, (unsigned long long)s->lost_samples, last ? "" : ",");
+}
+
+/* One line on stderr per stream with refused samples. */
+static void warn_refused(const af_stream *s, const char *path)
+{
+  if (s->refused_samples > 0)
+    fprintf(stderr,
+            "firmness_model analyze: %s: %llu non-finite samples refused in %llu spans (held as "
+            "lost; a strike that meets them is flagged)\n",
+            path, (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans);
+}
+
+static void json_print(FILE *out, const af_analyze_ctx *c, const af_lane *lane,
+                       const char *no_strike)
 {
   fputs("{\n  \"strikes\": [", out);
   if (c->n_rows > 0)
@@ -419,7 +467,10 @@ static void json_print(FILE *out, const af_analyze_ctx *c, const char *no_strike
   for (size_t k = 0; k < c->n_rows; k++)
     json_row(out, &c->rows[k], k + 1 == c->n_rows);
   fputs(c->n_rows > 0 ? "  ],\n" : "],\n", out);
-  fputs("  \"no_strike_reason\": ", out);
+  fputs("  \"streams\": {\n", out);
+  json_stream(out, "force", af_lane_force_stream(lane), false);
+  json_stream(out, "audio", af_lane_audio_stream(lane), true);
+  fputs("  },\n  \"no_strike_reason\": ", out);
   if (no_strike)
     af_json_string(out, no_strike);
   else
@@ -530,7 +581,9 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
         (void)af_strike_explain(af_lane_detector(lane), why, sizeof why);
       fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
     }
-    json_print(stdout, &c, c.n_rows == 0 ? why : NULL);
+    warn_refused(af_lane_force_stream(lane), a->force_path);
+    warn_refused(af_lane_audio_stream(lane), a->audio_path);
+    json_print(stdout, &c, lane, c.n_rows == 0 ? why : NULL);
     if (c.dropped > 0) {
       fprintf(stderr, "firmness_model analyze: %zu strikes beyond the %zu expected at most\n",
               c.dropped, c.cap_rows);
@@ -550,6 +603,7 @@ static bool analyze_load(af_analyze_args *a, af_recording *force, af_recording *
   char rerr[AF_ERR_MAX];
   a->force_spec.rate_hz = a->rate_force_hz;
   a->audio_spec.rate_hz = a->rate_audio_hz;
+  a->force_spec.max_samples = a->audio_spec.max_samples = (size_t)a->max_samples;
   if (af_recording_load(a->force_path, &a->force_spec, force, &a->rate_force_hz, rerr,
                         sizeof rerr) != AF_OK) {
     print_usage("--force %s", rerr, "");

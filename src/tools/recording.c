@@ -39,7 +39,12 @@ static void swap_bytes(float *x, size_t n)
 
 af_recording_spec af_recording_spec_default(const char *rate_flag, const char *channel_flag)
 {
-  af_recording_spec s = {rate_flag, channel_flag, 0.0, -1, AF_RECORDING_SCALE_DEFAULT};
+  af_recording_spec s = {rate_flag,
+                         channel_flag,
+                         0.0,
+                         -1,
+                         AF_RECORDING_SCALE_DEFAULT,
+                         AF_RECORDING_DEFAULT_MAX_SAMPLES};
   return s;
 }
 
@@ -80,19 +85,32 @@ static bool ends_with(const char *path, const char *ext)
 }
 
 /* Raw float32 from f (size_bytes long, already at its start). */
-static af_status read_raw(FILE *f, const char *path, uint64_t size_bytes, af_recording *out,
-                          char *err, size_t len)
+/* The cap of spec (0: the default), at most AF_RECORDING_MAX_SAMPLES. */
+static size_t cap_of(const af_recording_spec *spec)
+{
+  size_t m = spec->max_samples ? spec->max_samples : AF_RECORDING_DEFAULT_MAX_SAMPLES;
+  return m < AF_RECORDING_MAX_SAMPLES ? m : AF_RECORDING_MAX_SAMPLES;
+}
+
+static af_status too_long(const char *path, const char *what, uint64_t n,
+                          const af_recording_spec *spec, char *err, size_t len)
+{
+  snprintf(err, len,
+           "%s: %llu %s, above --max-samples %zu (at most %zu; split the recording or raise it)",
+           path, (unsigned long long)n, what, cap_of(spec), AF_RECORDING_MAX_SAMPLES);
+  return AF_ESIZE;
+}
+
+static af_status read_raw(FILE *f, const char *path, uint64_t size_bytes,
+                          const af_recording_spec *spec, af_recording *out, char *err, size_t len)
 {
   if (size_bytes % 4 != 0) {
     snprintf(err, len, "%s: %llu bytes is not a whole number of float32 samples", path,
              (unsigned long long)size_bytes);
     return AF_EINVAL;
   }
-  if (size_bytes / 4 > AF_RECORDING_MAX_SAMPLES) {
-    snprintf(err, len, "%s: %llu samples, above the %zu accepted (split the recording)", path,
-             (unsigned long long)size_bytes / 4, AF_RECORDING_MAX_SAMPLES);
-    return AF_ESIZE;
-  }
+  if (size_bytes / 4 > cap_of(spec))
+    return too_long(path, "samples", size_bytes / 4, spec, err, len);
   out->n = (size_t)size_bytes / 4;
   out->x = malloc(out->n > 0 ? out->n * sizeof *out->x : 1);
   if (out->x == NULL || fread(out->x, 4, out->n, f) != out->n) {
@@ -143,11 +161,8 @@ static af_status check_wav_flags(const char *path, const af_wav_info *w,
              w->channels - 1);
     return AF_EINVAL;
   }
-  if (w->frames > AF_RECORDING_MAX_SAMPLES) {
-    snprintf(err, len, "%s: %llu frames, above the %zu accepted (split the recording)", path,
-             (unsigned long long)w->frames, AF_RECORDING_MAX_SAMPLES);
-    return AF_ESIZE;
-  }
+  if (w->frames > cap_of(spec))
+    return too_long(path, "frames", w->frames, spec, err, len);
   return AF_OK;
 }
 
@@ -202,7 +217,7 @@ static af_status load_raw(FILE *f, const char *path, uint64_t size_bytes,
     snprintf(err, len, "%s: cannot read: %s", path, strerror(errno));
     return AF_EIO;
   }
-  af_status s = read_raw(f, path, size_bytes, out, err, len);
+  af_status s = read_raw(f, path, size_bytes, spec, out, err, len);
   for (size_t k = 0; s == AF_OK && spec->scale != 1.0 && k < out->n; k++)
     out->x[k] = (float)(spec->scale * out->x[k]);
   *rate_hz = spec->rate_hz;

@@ -18,8 +18,13 @@
 extern "C" {
 #endif
 
-/* 2^27 samples (512 MiB; 45 min at 50 kHz): a longer recording is split. */
+/* 2^27 samples (512 MiB; 45 min at 50 kHz): a longer recording is split;
+ * the largest --max-samples. */
 #define AF_RECORDING_MAX_SAMPLES ((size_t)1 << 27)
+/* The default --max-samples, per recording: 2^24 samples (64 MiB of float32;
+ * 5.6 min at 50 kHz, 6.3 min at 44.1 kHz), so that two recordings and the
+ * lane stay under the tools' 256 MiB peak RSS. Checked before allocating. */
+#define AF_RECORDING_DEFAULT_MAX_SAMPLES ((size_t)1 << 24)
 /* --force-channel / --audio-channel: 0-based, as the node's audio_channel;
  * a WAV header holds at most 65535 channels. */
 #define AF_RECORDING_CHANNEL_MAX 65535L
@@ -42,9 +47,11 @@ typedef struct {
   double rate_hz;           /* the rate flag's value; 0 = not given */
   long channel;             /* the channel flag's value; -1 = not given (channel 0) */
   double scale;             /* AF_RECORDING_SCALE_DEFAULT unless a flag says */
+  size_t max_samples; /* longer is refused before allocating; in [1, AF_RECORDING_MAX_SAMPLES] */
 } af_recording_spec;
 
-/* The spec of an input whose flags were not given. */
+/* The spec of an input whose flags were not given (max_samples
+ * AF_RECORDING_DEFAULT_MAX_SAMPLES). */
 af_recording_spec af_recording_spec_default(const char *rate_flag, const char *channel_flag);
 
 /* A channel flag's value: a whole number in [0, AF_RECORDING_CHANNEL_MAX];
@@ -61,7 +68,8 @@ bool af_recording_parse_scale(const char *flag, const char *text, double *out, c
  * such as MP3, a WAV that is not accepted or whose sizes lie, raw float32
  * that is not whole samples or has no rate flag, a rate flag that disagrees
  * with the WAV header, a channel beyond the file's, not a regular file),
- * AF_ESIZE (over AF_RECORDING_MAX_SAMPLES); *out is then empty. */
+ * AF_ESIZE (over spec->max_samples: the line names --max-samples, the
+ * length and the cap); *out is then empty. */
 af_status af_recording_load(const char *path, const af_recording_spec *spec, af_recording *out,
                             double *rate_hz, char *err, size_t len);
 

@@ -173,7 +173,7 @@ expect_bounded 1 "the model failed on this apple: model evaluation failed: impac
   --E2 1e5 --set modulus_min_pa=1e5
 # a 2 GiB file (sparse: no disk used) is refused before it is read
 truncate -s 2G "$tmp/huge.f32"
-expect_bounded 2 "huge.f32: 536870912 samples, above the 134217728 accepted" \
+expect_bounded 2 "huge.f32: 536870912 samples, above --max-samples 16777216" \
   analyze --force "$tmp/huge.f32" "${A[@]}" "${base[@]}"
 expect_bounded 2 "huge.f32: 536870912 samples" analyze "${F[@]}" --audio "$tmp/huge.f32" "${base[@]}"
 rm -f "$tmp/huge.f32"

@@ -145,6 +145,29 @@ static void test_geometry(void)
   AF_CHECK_STATUS(af_advice_geometry_eval(&in, &g), AF_EINVAL);
 }
 
+/* A stem axis is a direction whatever its finite length (issue 18, finding
+ * 8): (1e200, 0, -1e200) and (1e-170, 0, -1e-170), whose squares overflow or
+ * underflow, give what (1, 0, -1) gives: 45 degrees, and the closed-form
+ * spheroid radius there, R = a^2 c / (a^2 cos^2 + c^2 sin^2). */
+static void test_extreme_stem_length(void)
+{
+  const double a = 0.040, c = 0.031, w2 = 0.5 * (a * a + c * c);
+  const double scale[3] = {1.0, 1e200, 1e-170};
+  for (int k = 0; k < 3; k++) {
+    af_advice_geometry g;
+    af_advice_input in = input(scale[k], 0, -scale[k], -1, 0, 0);
+    AF_CHECK_STATUS(af_advice_geometry_eval(&in, &g), AF_OK);
+    AF_CHECK(g.direction_known && g.latitude_known);
+    AF_CHECK_ABS(g.latitude_rad, M_PI / 4, 1e-15);
+    AF_CHECK_REL(g.strike_radius_m, a * a * c / w2, 1e-12);
+  }
+  /* Zero and non-finite stay unknown. */
+  af_advice_geometry g;
+  af_advice_input in = input(INFINITY, 0, -1, -1, 0, 0);
+  AF_CHECK_STATUS(af_advice_geometry_eval(&in, &g), AF_OK);
+  AF_CHECK(g.direction_known && !g.latitude_known);
+}
+
 /* Whatever the stem direction, turning s by the advised rotation leaves it
  * perpendicular to n (the equator under the hammer). */
 static void test_rotation_brings_equator(void)
@@ -229,6 +252,7 @@ int main(void)
   test_spheroid_radii();
   test_surface_point();
   test_latitude();
+  test_extreme_stem_length();
   test_geometry();
   test_rotation_brings_equator();
   test_decide();

@@ -1,6 +1,7 @@
 /* test_stream.c — one input stream (stream.h) fed hand-built chunk
  * sequences: gaps and lost samples counted against the hand-summed holes,
- * restarts, refused chunks (rate, unit, non-finite sample, index overflow)
+ * restarts, refused chunks (rate, unit, index overflow, wire), refused
+ * non-finite samples as counted spans
  * with their one-line messages, the unit conversion across its blocks
  * (ring contents against x times to_si), the time <-> index mapping through
  * the holding chunk against hand-computed stamps, the anchor ring's limit,
@@ -69,10 +70,25 @@ static void test_gaps_and_restarts(void)
   AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && w.gap_samples == 0);
   AF_CHECK(s.restarts == 1 && s.gaps == 2 && s.lost_samples == 100 && s.anchor_count == 1);
   AF_CHECK(strcmp(s.last_problem, "force: stream restarted at sample 449 (went backwards)") == 0);
+  /* The same chunk again, at its own stamp (issue 18: a bag with every
+   * chunk twice): a duplicate, ignored, not a restart; one value changed,
+   * or another stamp: a restart. */
+  c = chunk(449, 10, 0);
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_DUPLICATE && s.duplicates == 1);
+  AF_CHECK(s.restarts == 1 && s.chunks == 5 && af_stream_bad_chunks(&s) == 0);
+  AF_CHECK(strcmp(s.last_problem,
+                  "force chunk at sample 449: 10 samples already held (a duplicate, ignored)") ==
+           0);
+  c = chunk(449, 10, 40000); /* 2 samples later */
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 2);
+  c = chunk(449, 10, 40000);
+  samples[3] += 1.0f;
+  AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 3);
+  AF_CHECK(s.duplicates == 1 && s.chunks == 7);
   /* An empty chunk is accepted and counted, with no gap. */
   c = chunk(459, 0, 0);
   AF_CHECK(af_stream_push(&s, &c, 10, &w) == AF_CHUNK_OK && w.gap_samples == 0);
-  AF_CHECK(s.chunks == 6 && af_stream_bad_chunks(&s) == 0);
+  AF_CHECK(s.chunks == 8 && af_stream_bad_chunks(&s) == 0);
   af_stream_destroy(&s);
   af_stream_destroy(&s); /* twice: safe */
   af_stream z;
@@ -106,29 +122,45 @@ static void test_refused(void)
   AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: unit '', expected 'N'") == 0);
   c.unit = "n"; /* units are case-sensitive */
   AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_UNIT);
+  /* Refused chunks: counted by kind, nothing else changes. */
+  AF_CHECK(s.bad_rate == 3 && s.bad_unit == 3 && s.chunks == 1 && s.anchor_count == 1);
+  /* Non-finite samples (issue 18): the chunk is kept, the samples refused
+   * as counted spans (42; 98..99) and held as NaN; the rest as sent. */
   c.unit = "V"; /* the second accepted unit */
   samples[42] = NAN;
-  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
-  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: sample 42 is nan") == 0);
-  samples[42] = 142.25f;
+  samples[98] = INFINITY;
   samples[99] = -INFINITY;
-  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
-  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: sample 99 is -inf") == 0);
-  /* Index overflow: first_sample + n past 2^64. */
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_OK);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 100: 3 non-finite samples refused (held "
+                                  "as lost); 3 so far") == 0);
+  AF_CHECK(s.refused_samples == 3 && s.refused_spans == 2 && s.refused_chunks == 1);
+  AF_CHECK(s.chunks == 2 && af_ring_end(s.ring) == 200);
+  float got[100];
+  AF_CHECK_STATUS(af_ring_read(s.ring, 100, 100, got), AF_OK);
+  AF_CHECK(isnan(got[42]) && isnan(got[98]) && isnan(got[99]));
+  AF_CHECK(got[41] == 141.25f && got[43] == 143.25f && got[97] == 197.25f);
+  AF_CHECK(af_stream_refused_in(&s, 100, 100) == 3 && af_stream_refused_in(&s, 142, 1) == 1);
+  AF_CHECK(af_stream_refused_in(&s, 143, 55) == 0 && af_stream_refused_in(&s, 99, 100) == 2);
+  AF_CHECK(af_stream_refused_in(&s, 199, 1000) == 1 && af_stream_refused_in(&s, 0, 142) == 0);
+  AF_CHECK(af_stream_bad_chunks(&s) == 6);
+  /* Index overflow: first_sample + n past 2^64, its own reason. */
   c = chunk(0, 10, 0);
   c.first_sample = UINT64_MAX - 5;
-  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_DATA);
-  AF_CHECK(strcmp(s.last_problem, "force chunk: first_sample 18446744073709551610 + 10 "
-                                  "overflows") == 0);
-  /* Refused chunks: counted by kind, nothing else changes. */
-  AF_CHECK(s.bad_rate == 3 && s.bad_unit == 3 && s.bad_data == 3);
-  AF_CHECK(af_stream_bad_chunks(&s) == 9);
-  AF_CHECK(s.chunks == 1 && s.last_rx_ns == 0 && s.anchor_count == 1 && s.gaps == 0);
-  AF_CHECK(af_ring_end(s.ring) == 100);
-  /* The good chunk after them: no gap, it follows sample 99. */
-  c = chunk(100, CHUNK, 0);
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_INDEX);
+  AF_CHECK(strcmp(s.last_problem, "force chunk: first_sample 18446744073709551610 + 10 samples "
+                                  "overflows the 64-bit index") == 0);
+  AF_CHECK(s.bad_index == 1 && s.refused_samples == 3);
+  /* A chunk refused on the wire (cut or empty, oversized): counted. */
+  af_stream_refuse(&s, false, "force: a cut SignalChunk of 7 bytes");
+  af_stream_refuse(&s, true, "force: a SignalChunk of 9 samples, cap 8");
+  AF_CHECK(s.malformed == 1 && s.oversized == 1 && af_stream_bad_chunks(&s) == 9);
+  AF_CHECK(strcmp(s.last_problem, "force: a SignalChunk of 9 samples, cap 8") == 0);
+  AF_CHECK(s.chunks == 2 && s.last_rx_ns == 1 && s.gaps == 0);
+  /* The good chunk after them: no gap, it follows sample 199. */
+  c = chunk(200, CHUNK, 0);
   c.unit = "V";
-  AF_CHECK(af_stream_push(&s, &c, 2, NULL) == AF_CHUNK_OK && s.gaps == 0 && s.chunks == 2);
+  AF_CHECK(af_stream_push(&s, &c, 2, NULL) == AF_CHUNK_OK && s.gaps == 0 && s.chunks == 3);
+  AF_CHECK(s.last_refused == 0 && s.refused_chunks == 1);
   af_stream_destroy(&s);
 }
 
@@ -167,10 +199,11 @@ static void test_conversion(void)
   af_stream_destroy(&s);
   AF_CHECK(s.si == NULL && s.ring == NULL);
 
-  /* to_si 1 (or 0, a config without a unit): no scratch, samples as sent. */
+  /* to_si 1 (or 0, a config without a unit): samples as sent (the scratch
+   * is there for the non-finite check). */
   cfg = config(cap, 0.0);
   AF_CHECK_STATUS(af_stream_create(&s, "audio", &cfg), AF_OK);
-  AF_CHECK(s.si == NULL);
+  AF_CHECK(s.si != NULL);
   c = chunk(0, 10, 0);
   AF_CHECK(af_stream_push(&s, &c, 0, NULL) == AF_CHUNK_OK);
   AF_CHECK_STATUS(af_ring_read(s.ring, 3, 1, back), AF_OK);

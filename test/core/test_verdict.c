@@ -136,7 +136,7 @@ static void test_audio_causes(void)
   AF_CHECK(strcmp(af_audio_cause_name(AF_AUDIO_STREAM_ENDED),
                   "recording ends before the audio window") == 0);
   AF_CHECK(strcmp(af_audio_cause_name((af_audio_cause)99), "unknown") == 0);
-  for (int a = AF_AUDIO_NOT_GIVEN; a <= AF_AUDIO_STREAM_ENDED; a++)
+  for (int a = AF_AUDIO_NOT_GIVEN; a <= AF_AUDIO_REFUSED_IN_WINDOW; a++)
     for (int b = AF_AUDIO_NOT_GIVEN; b < a; b++)
       AF_CHECK(strcmp(af_audio_cause_name((af_audio_cause)a),
                       af_audio_cause_name((af_audio_cause)b)) != 0);
@@ -249,10 +249,10 @@ static void test_flag_names(void)
       "no_apple",       "no_prediction", "apple_doubtful", "measure_failed",  "double_hit",
       "clipped",        "lost_samples",  "truncated",      "spectrum_failed", "fit_failed",
       "poisson",        "no_audio",      "no_resonance",   "range_nyquist",   "audio_failed",
-      "mode_ambiguous", "no_lobe",       "outside_band",   "damage"};
+      "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples"};
   for (unsigned k = 0; k < sizeof names / sizeof names[0]; k++)
     AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << k)), names[k]) == 0);
-  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 19)), "unknown") == 0);
+  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 20)), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)0), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)3), "unknown") == 0); /* two bits */
 }

@@ -221,10 +221,15 @@ class StationTest(unittest.TestCase):
         force.publish(chunk(150, rate, 'N', [1.0] * 100))    # 50 lost
         force.publish(chunk(250, rate / 2, 'N', [1.0] * 10))  # wrong rate
         force.publish(chunk(250, rate, 'V', [1.0] * 10))      # wrong unit
-        force.publish(chunk(250, rate, 'N', [float('nan')] * 10))
+        # Issue 18: non-finite samples are refused as a counted span, the
+        # chunk kept (3 chunks); an index overflow is its own reason.
+        force.publish(chunk(250, rate, 'N', [1.0] * 3 + [float('nan')] * 5 + [float('inf')] * 2))
+        force.publish(chunk(2 ** 64 - 5, rate, 'N', [1.0] * 10))  # first_sample + n overflows
         audio.publish(chunk(0, float(sc.param('audio_sample_rate_hz')), sc.param('audio_unit'), [0.0] * 10))
-        want = {'force gaps': '1 (50 samples lost)', 'force bad chunks': '3 (rate 1, unit 1, NaN/inf 1)',
-                'force chunks': '2', 'audio chunks': '1'}
+        want = {'force gaps': '1 (50 samples lost)',
+                'force bad chunks': '3 (rate 1, unit 1, index overflow 1, malformed 0, oversized 0)',
+                'force refused samples': '7 non-finite in 1 spans of 1 chunks',
+                'force chunks': '3', 'audio chunks': '1'}
         values = self.node_diag(lambda v: all(v.get(k) == w for k, w in want.items()))
         for key, value in want.items():
             self.assertEqual(values.get(key), value, key)

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""Hostile bags for test/hostile/test_data.sh, made from a good bag (strike_bag)
+with the rosbag Python API (never by hand-editing a file):
+
+  bags.py GOOD.bag OUT_DIR [BIG_SAMPLES [big]]   (big: big_chunk.bag alone)
+
+  string_on_force.bag  a std_msgs/String on the force topic, among the chunks
+  duplicates.bag       every force chunk written twice
+  same_stamp.bag       every AppleEstimate followed by a second, another id,
+                       at the same stamp
+  big_chunk.bag        one force SignalChunk of BIG_SAMPLES zero samples
+                       (default 2^24: 64 MiB), beyond any ring
+  overflow.bag         one force chunk more at first_sample 2^64 - 5
+  empty_chunk.bag      a message of 0 bytes on the force topic (SignalChunk's
+                       connection)
+"""
+import struct
+import sys
+
+import rosbag
+from std_msgs.msg import String
+
+
+def copy(good, out, edit):
+    with rosbag.Bag(good) as src, rosbag.Bag(out, 'w') as dst:
+        for topic, raw, t in src.read_messages(raw=True):
+            edit(dst, topic, raw, t)
+
+
+def plain(dst, topic, raw, t):
+    dst.write(topic, raw, t, raw=True)
+
+
+def main():
+    good, out = sys.argv[1], sys.argv[2]
+    big = int(sys.argv[3]) if len(sys.argv) > 3 else 1 << 24
+    state = {'string': False}
+    only_big = len(sys.argv) > 4 and sys.argv[4] == 'big'
+
+    def string_on_force(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state['string']:
+            state['string'] = True
+            dst.write(topic, String(data='not a chunk'), t)
+
+    def duplicates(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force'):
+            plain(dst, topic, raw, t)
+
+    def same_stamp(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/apple'):
+            kind, data, md5, pos, cls = raw
+            msg = cls()
+            msg.deserialize(data)
+            msg.apple_id += 1000
+            dst.write(topic, msg, t)
+
+    if not only_big:
+        copy(good, out + '/string_on_force.bag', string_on_force)
+        copy(good, out + '/duplicates.bag', duplicates)
+        copy(good, out + '/same_stamp.bag', same_stamp)
+
+    def overflow(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state.get('overflow'):
+            state['overflow'] = True
+            kind, data, md5, pos, cls = raw
+            msg = cls()
+            msg.deserialize(data)
+            msg.first_sample = 2 ** 64 - 5
+            dst.write(topic, msg, t)
+
+    def empty_chunk(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state.get('empty'):
+            state['empty'] = True
+            kind, data, md5, pos, cls = raw
+            dst.write(topic, (kind, b'', md5, pos, cls), t, raw=True)
+
+    if not only_big:
+        copy(good, out + '/overflow.bag', overflow)
+        copy(good, out + '/empty_chunk.bag', empty_chunk)
+
+    def big_chunk(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if topic.endswith('/force') and not state.get('big'):
+            state['big'] = True
+            kind, data, md5, pos, cls = raw
+            msg = cls()
+            msg.deserialize(data)
+            msg.first_sample += 10 ** 9  # far ahead: refused before the ring sees it
+            msg.data = [0.0] * 0
+            buf = __import__('io').BytesIO()
+            msg.serialize(buf)
+            ser = buf.getvalue()
+            # The empty data's length prefix (the last 4 bytes) replaced by
+            # BIG_SAMPLES zero samples.
+            ser = ser[:-4] + struct.pack('<I', big) + bytes(4 * big)
+            dst.write(topic, (kind, ser, md5, pos, cls), t, raw=True)
+    copy(good, out + '/big_chunk.bag', big_chunk)
+
+
+if __name__ == '__main__':
+    main()
