@@ -291,8 +291,7 @@ void af_serialize_csv_header(FILE *out)
     fprintf(out, "%s%s", k ? "," : "", fields[k].name);
 }
 
-/* Text in double quotes, its quotes doubled (RFC 4180). */
-static void csv_text(FILE *out, const char *text)
+void af_serialize_csv_text(FILE *out, const char *text)
 {
   fputc('"', out);
   for (const char *c = text; *c; c++) {
@@ -316,7 +315,7 @@ void af_serialize_csv_row(FILE *out, const af_serial_strike *s)
       break;
     case AF_SERIAL_INT: fprintf(out, "%lld", v.integer); break;
     case AF_SERIAL_BOOL: fputc(v.boolean ? '1' : '0', out); break;
-    case AF_SERIAL_TEXT: csv_text(out, v.text ? v.text : ""); break;
+    case AF_SERIAL_TEXT: af_serialize_csv_text(out, v.text ? v.text : ""); break;
     case AF_SERIAL_FLAGS:
       fputc('"', out);
       af_serialize_flags(out, v.flags, "|");

@@ -98,6 +98,8 @@ void af_serialize_real(FILE *out, double x);
 /* The names of the verdict flags set in flags (verdict.h), in flag order,
  * separated by sep (nothing when none is set). */
 void af_serialize_flags(FILE *out, uint32_t flags, const char *sep);
+/* A CSV cell of text: in double quotes, its quotes doubled (RFC 4180). */
+void af_serialize_csv_text(FILE *out, const char *text);
 
 /* The CSV header cells (the table's names), comma separated, no line end. */
 void af_serialize_csv_header(FILE *out);

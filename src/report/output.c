@@ -314,23 +314,6 @@ static void csv_num(FILE *out, double v, bool last)
   fputc(last ? '\n' : ',', out);
 }
 
-/* A CSV field: as is, or quoted (quotes doubled) when it holds a comma, a
- * quote or a line break (RFC 4180). */
-static void csv_text(FILE *out, const char *text)
-{
-  if (strpbrk(text, ",\"\r\n") == NULL) {
-    fputs(text, out);
-    return;
-  }
-  fputc('"', out);
-  for (const char *c = text; *c; c++) {
-    if (*c == '"')
-      fputc('"', out);
-    fputc(*c, out);
-  }
-  fputc('"', out);
-}
-
 void af_output_csv_header(FILE *out, bool with_bag)
 {
   if (with_bag)
@@ -348,7 +331,7 @@ void af_output_csv_rows(FILE *out, const af_session *s, const char *bag, const a
     const af_session_strike *r = &s->strikes[k];
     const af_serial_strike v = af_session_serial(r);
     if (bag) {
-      csv_text(out, bag);
+      af_serialize_csv_text(out, bag);
       fputc(',', out);
     }
     af_serialize_csv_row(out, &v);
