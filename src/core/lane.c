@@ -62,6 +62,7 @@ struct af_lane {
   bool finished;
   af_lane_strike out; /* callback scratch */
   af_lane_stats stats;
+  af_hammer_health *health; /* the hammer's running statistics (hammer_health.h) */
 };
 
 /* --- the apple match -------------------------------------------------------- */
@@ -352,9 +353,31 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   return a;
 }
 
+/* The strike's figures for the hammer health: the detector's pulse, the
+ * fit's v0 and e; clean when nothing spoilt its impulse. */
+static void watch_hammer(af_lane *l, const af_pending *p, const af_lane_strike *o)
+{
+  const af_strike_event *ev = &p->ev;
+  const af_hammer_strike h = {
+      .impulse_n_s = ev->impulse_n_s,
+      .contact_time_s = ev->contact_time_s,
+      .peak_force_n = ev->peak_force_n,
+      .baseline_n = ev->baseline_n,
+      .noise_rms_n = ev->noise_rms_n,
+      .fitted_velocity_m_s = o->report.fitted_velocity_m_s,
+      .fitted_restitution = o->report.fitted_restitution,
+      .clipped = ev->clipped,
+      .clean = !ev->double_hit && !ev->clipped && !ev->truncated && ev->lost_samples == 0 &&
+               p->refused == 0,
+  };
+  (void)af_hammer_health_push(l->health, &h); /* both pointers are the lane's own */
+  l->stats.health = *af_hammer_health_get_stats(l->health);
+}
+
 static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
 {
   af_lane_stats *s = &l->stats;
+  watch_hammer(l, p, o);
   const uint32_t f = o->report.verdict.flags;
   s->strikes++;
   s->double_hits += p->ev.double_hit;
@@ -550,7 +573,13 @@ af_status af_lane_reconfigured(af_lane *l, const char **what)
   /* The measurement holds a copy of its configuration: made anew (an
    * operator's change, not a chunk or a strike). */
   *what = "the strike measurement";
-  af_status s = af_measure_create(&l->mc->measure, &m);
+  char err[AF_HAMMER_HEALTH_TEXT_MAX];
+  af_status s = af_hammer_health_check(&l->cfg->health, err, sizeof err);
+  if (s != AF_OK) {
+    *what = "the hammer health";
+    return s;
+  }
+  s = af_measure_create(&l->mc->measure, &m);
   if (s == AF_OK)
     s = af_measure_prepare(m, &l->cfg->model);
   if (s == AF_OK && memcmp(&l->detector_cfg, &l->mc->strike, sizeof l->detector_cfg) != 0) {
@@ -564,6 +593,7 @@ af_status af_lane_reconfigured(af_lane *l, const char **what)
   }
   af_measure_destroy(l->measure);
   l->measure = m;
+  (void)af_hammer_health_configure(l->health, &l->cfg->health); /* checked above */
   if (d) {
     af_strike_destroy(l->detector);
     l->detector = d;
@@ -604,6 +634,10 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   *what = "the model";
   if ((s = af_model_create(&l->model)) != AF_OK)
     goto fail;
+  *what = "the hammer health";
+  if ((s = af_hammer_health_create(&cfg->health, &l->health)) != AF_OK)
+    goto fail;
+  l->stats.health = *af_hammer_health_get_stats(l->health);
   *what = "the strike queue";
   s = AF_ENOMEM;
   const size_t n = l->mc->pending_size, cap = l->mc->pulse_capacity_samples;
@@ -635,6 +669,7 @@ void af_lane_destroy(af_lane *l)
   af_strike_destroy(l->detector);
   af_measure_destroy(l->measure);
   af_model_destroy(l->model);
+  af_hammer_health_destroy(l->health);
   free(l->pending);
   free(l->pulses);
   free(l->audio_buf);

@@ -85,6 +85,8 @@ typedef struct {
   char last_no_audio[AF_LANE_TEXT_MAX];   /* the latest strike without audio, and why */
   char last_late_apple[AF_LANE_TEXT_MAX]; /* the latest estimate that came too late */
   char last_unreliable[AF_LANE_TEXT_MAX]; /* "apple N: reason" */
+  af_hammer_health_stats health;          /* the hammer over the latest strikes and its verdict
+                                             (hammer_health.h): every measured strike feeds it */
 } af_lane_stats;
 
 typedef struct af_lane af_lane;

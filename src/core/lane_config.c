@@ -496,9 +496,9 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
   const double ms = n > 1024.0 ? n : 1024.0, sfft = pow2_at_least(4.0 * ms);
   m->fit_spectrum = 16.0 * (4.0 * n * over + 1.0) + 16.0 * n + 8.0 * n * 20.0 + 8.0 * sfft +
                     (sfft / 2.0 + 1.0) * 24.0 + 16.0 * sfft + 64.0 * (ms / 2.0 + 1.0);
-  /* the model workspace (fixed: 4096-point FFT, 1024 samples) and the
-   * objects themselves */
-  m->fixed = 1048576.0;
+  /* the model workspace (fixed: 4096-point FFT, 1024 samples), the
+   * objects themselves and the hammer health's ring */
+  m->fixed = 1048576.0 + (double)af_hammer_health_bytes();
   m->total = m->rings + m->detector_queue + m->microphone + m->fit_spectrum + m->fixed;
 }
 
@@ -600,6 +600,32 @@ static af_status check_model(const af_settings *s, const af_lane_config *c, char
   return AF_OK;
 }
 
+/* The hammer health's limits (hammer_health_*) and the strike they watch:
+ * the hammer's mass, the gravity, the set velocity and the cultivar's
+ * restitution, from the model template (its hammer mass already set). */
+static af_status derive_health(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
+  af_hammer_health_config *h = &c->health;
+  const af_impact_params *i = &c->model.impact;
+  h->hammer_mass_kg = i->hammer_mass_kg;
+  h->gravity_m_s2 = i->gravity_m_s2;
+  h->velocity_m_s = i->velocity_m_s;
+  h->restitution = i->restitution;
+  h->window = (size_t)num(s, AF_SETTING_HAMMER_HEALTH_WINDOW);
+  h->min_strikes = (size_t)num(s, AF_SETTING_HAMMER_HEALTH_MIN_STRIKES);
+  h->velocity_band = num(s, AF_SETTING_HAMMER_HEALTH_VELOCITY_BAND);
+  h->baseline_drift_limit_n = num(s, AF_SETTING_HAMMER_HEALTH_BASELINE_DRIFT_N);
+  h->clip_rate_limit = num(s, AF_SETTING_HAMMER_HEALTH_CLIP_RATE);
+  if (h->min_strikes > h->window) {
+    af_settings_say(err, len, "%s = %zu must be at most %s = %zu",
+                    af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_MIN_STRIKES).text,
+                    h->min_strikes, af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_WINDOW).text,
+                    h->window);
+    return AF_EINVAL;
+  }
+  return af_hammer_health_check(h, err, len);
+}
+
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len)
 {
   if (s == NULL || out == NULL) {
@@ -630,5 +656,6 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
     return st;
   out->model.impact.hammer_mass_kg = num(s, AF_SETTING_HAMMER_MASS_KG);
   out->model.impact.hammer_radius_m = num(s, AF_SETTING_HAMMER_TIP_RADIUS_M);
-  return check_model(s, out, err, len);
+  st = check_model(s, out, err, len);
+  return st == AF_OK ? derive_health(s, out, err, len) : st;
 }

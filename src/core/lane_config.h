@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "grade.h"
+#include "hammer_health.h"
 #include "measure.h"
 #include "model.h"
 #include "settings.h"
@@ -72,6 +73,8 @@ typedef struct {
   double aspect_ratio_min, aspect_ratio_max; /* polar / equatorial semi-axis */
   double resonance_xi;                       /* Lamb root of the cultivar's Poisson ratio */
   af_grade_config grade; /* firmness classes of measured strikes (grade_quantity, grade_classes) */
+  /* --- hammer health --- */
+  af_hammer_health_config health; /* hammer_health_* with the model's hammer, velocity, e */
 } af_lane_config;
 
 /* Fills *out from the settings s (every row present: the hammer's mass and

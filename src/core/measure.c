@@ -211,6 +211,7 @@ static void report_start(const af_strike_event *ev, unsigned lobe, af_measure_re
   out->stiffness_factor = out->modulus_from_resonance_pa = NAN;
   out->fitted_modulus_pa = out->fitted_restitution = out->fit_residual = NAN;
   out->fitted_modulus_se_pa = out->fitted_restitution_se = NAN;
+  out->fitted_velocity_m_s = NAN;
   out->max_shear_stress_pa = out->yield_shear_stress_pa = NAN;
   out->double_hit = ev->double_hit;
   out->clipped = ev->clipped;
@@ -252,6 +253,8 @@ static void step_fit(af_measure *m, const af_strike_event *ev, const af_measure_
   out->fitted_modulus_se_pa = r.modulus_se_pa;
   out->fitted_restitution = r.restitution;
   out->fitted_restitution_se = r.restitution_se;
+  if (m->cfg.fit.fit_velocity) /* else r.velocity_m_s is the start's, the set value */
+    out->fitted_velocity_m_s = r.velocity_m_s;
   /* The fitted model's contact time uses every sample of the pulse: 0.3 %
    * RMS at 40 dB against the detector's 1 % from its two edges alone
    * (strike.h), whose figure stays the fallback when the fit fails. */

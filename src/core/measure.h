@@ -95,6 +95,8 @@ typedef struct {
   double modulus_from_resonance_pa;         /* Lamb, divided by the modulus factor */
   double fitted_modulus_pa, fitted_restitution, fit_residual; /* residual: RMS / peak */
   double fitted_modulus_se_pa, fitted_restitution_se;
+  double fitted_velocity_m_s; /* v0 of the fit when measure_fit_velocity frees it; NaN when
+                                 the rig sets it or the fit failed [m/s] */
   bool double_hit, clipped;
   uint32_t lost_samples;
   bool excites_mode, no_damage, reliable;

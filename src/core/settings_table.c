@@ -7,11 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lane_config.h" /* AF_LANE_NAME_MAX */
+#include "hammer_health.h" /* AF_HAMMER_HEALTH_WINDOW_MAX */
+#include "lane_config.h"   /* AF_LANE_NAME_MAX */
 #include "settings_private.h"
 
 /* ---- the table ------------------------------------------------------------ */
 
+#define HEALTH_STR_(x) #x
+#define HEALTH_STR(x) HEALTH_STR_(x) /* a macro's value as text */
 #define S AF_SETTINGS_STATION
 #define C AF_SETTINGS_CULTIVAR
 #define NUM(name, def, range, file, help)                                                          \
@@ -213,6 +216,26 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         WHOLE("measure_fft_padding", "4", "[1, 16]", S,
               "the audio FFT size is the power of two at least this many times the analysed "
               "window (zero padding: finer bins)"),
+    [AF_SETTING_HAMMER_HEALTH_WINDOW] = WHOLE(
+        "hammer_health_window", "20", "[2, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
+        "hammer health: the statistics and checks are taken over this many latest "
+        "measured strikes"),
+    [AF_SETTING_HAMMER_HEALTH_MIN_STRIKES] =
+        WHOLE("hammer_health_min_strikes", "10",
+              "[1, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
+              "hammer health: no check before this many strikes (clean ones for the velocity), "
+              "at most hammer_health_window; the first ones also set the baseline reference"),
+    [AF_SETTING_HAMMER_HEALTH_VELOCITY_BAND] =
+        NUM("hammer_health_velocity_band", "0.03", "(0, 1]", S,
+            "hammer health: warn when the window's mean contact velocity from the impulse is "
+            "further than this fraction from strike_velocity_m_s"),
+    [AF_SETTING_HAMMER_HEALTH_BASELINE_DRIFT_N] =
+        NUM("hammer_health_baseline_drift_n", "5.0", "(0, 1e6] N", S,
+            "hammer health: warn when the window's mean force baseline has moved further than "
+            "this from the first strikes' (1 % of the default strike_full_scale_n)"),
+    [AF_SETTING_HAMMER_HEALTH_CLIP_RATE] =
+        NUM("hammer_health_clip_rate", "0.05", "[0, 1]", S,
+            "hammer health: warn when more than this fraction of the window's strikes clipped"),
     [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_LANE_NAME_MAX - 1, C,
                                    "cultivar name, for the diagnostics"),
     [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "[1e5, 1e9] Pa", C,
