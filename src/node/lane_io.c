@@ -309,8 +309,41 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes measured without audio since the last report";
   else if (s->no_apple != m->seen.no_apple)
     w = "strikes without an apple estimate since the last report";
+  else if (s->health.warnings != 0)
+    w = s->health.text; /* held while it lasts: the lane's stats outlive the report */
   m->seen = *s;
   return w;
+}
+
+/* The hammer health's figures (hammer_health.h): each with its limit. */
+static void health_diag(const af_lane_io *m, af_diag_status *d)
+{
+  const af_hammer_health_stats *h = &af_lane_get_stats(m->lane)->health;
+  const af_hammer_health_config *c = &m->cfg->lane.health;
+  if (h->warnings != 0)
+    af_diag_add(d, "hammer health", "WARN: %s", h->text);
+  else
+    af_diag_add(d, "hammer health", "OK (%zu strikes in the window of %zu; checks from %zu)",
+                h->window_strikes, c->window, c->min_strikes);
+  af_diag_add(d, "hammer contact velocity [m/s]",
+              "%.4f from the impulse (mean of %zu clean strikes, SD %.4f, %+.2f %% of "
+              "strike_velocity_m_s %.4g, band +- %.1f %%); fitted %.4f (%zu strikes%s)",
+              h->velocity_m_s, h->velocity_strikes, h->velocity_sd_m_s,
+              100.0 * h->velocity_deviation, c->velocity_m_s, 100.0 * c->velocity_band,
+              h->fit_velocity_m_s, h->fit_velocity_strikes,
+              h->fit_velocity_strikes ? "" : "; measure_fit_velocity false or no fit");
+  af_diag_add(d, "hammer delivered restitution [-]", "%.3f fitted (mean of %zu), cultivar's %.3f",
+              h->restitution, h->restitution_strikes, c->restitution);
+  af_diag_add(d, "force baseline [N]", "%.4f (reference %.4f, drift %+.4f, limit %.4g)",
+              h->baseline_n, h->baseline_reference_n, h->baseline_drift_n,
+              c->baseline_drift_limit_n);
+  af_diag_add(d, "force noise RMS [N]", "%.4f (mean of %zu strikes)", h->noise_rms_n,
+              h->window_strikes);
+  af_diag_add(d, "hammer peak force [N]", "mean %.3f, SD %.3f, %.3f .. %.3f", h->peak_force_n,
+              h->peak_force_sd_n, h->peak_force_min_n, h->peak_force_max_n);
+  af_diag_add(d, "hammer clipping", "%zu of %zu strikes (%.1f %%, limit %.1f %%)",
+              h->clipped_strikes, h->window_strikes, 100.0 * h->clip_rate,
+              100.0 * c->clip_rate_limit);
 }
 
 void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
@@ -360,6 +393,7 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
     af_diag_add(d, "strike pulses cut", "%llu (longer than the pending slot)",
                 (unsigned long long)s->pulse_cut);
   grade_diag(m, d);
+  health_diag(m, d);
 }
 
 /* --- life cycle ------------------------------------------------------------------ */

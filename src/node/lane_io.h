@@ -67,9 +67,14 @@ void af_lane_io_poll(af_lane_io *m);
 
 /* A short reason to WARN when something new went wrong since the last call
  * (queue overflow, doubtful matches, late estimates, strikes without audio
- * or apple); NULL when nothing did. Call once per diagnostic report. */
+ * or apple), else while the hammer health warns (its text, with each figure
+ * and its limit: hammer_health.h); NULL when none. Call once per diagnostic
+ * report. */
 const char *af_lane_io_warning(af_lane_io *m);
-/* Adds the measured-strike keys to d. */
+/* Adds the measured-strike keys to d, the hammer health's too ("hammer
+ * health", "hammer contact velocity [m/s]", "hammer delivered restitution
+ * [-]", "force baseline [N]", "force noise RMS [N]", "hammer peak force
+ * [N]", "hammer clipping"). */
 void af_lane_io_diag(const af_lane_io *m, af_diag_status *d);
 
 /* ROS time in integer nanoseconds. */
