@@ -101,6 +101,51 @@ void af_output_text_strikes(FILE *out, const af_session *s, const af_stage_hook 
   }
 }
 
+/* "strike N" or "never" of a first warning. */
+static const char *first_at(uint64_t strike, char *buf, size_t len)
+{
+  if (strike == 0)
+    return "never";
+  snprintf(buf, len, "strike %" PRIu64, strike);
+  return buf;
+}
+
+/* The hammer health at the end of the session (hammer_health.h): the last
+ * window's figures with their limits, and when each check first warned. */
+static void text_health(FILE *out, const af_session *s)
+{
+  const af_hammer_health_stats *h = &s->stats.health;
+  const af_hammer_health_config *c = &s->health_cfg;
+  char b[3][32];
+  if (h->strikes == 0)
+    return; /* no strike, or a combined summary (per bag only) */
+  fprintf(out, "  hammer health (the last %zu strikes): %s%s\n", h->window_strikes,
+          h->warnings ? "WARN: " : "OK", h->text);
+  fprintf(
+      out,
+      "    contact velocity %.4f m/s from the impulse (SD %.4f over %zu clean strikes; %+.2f %% "
+      "of strike_velocity_m_s %.4g, band +- %.1f %%), fitted %.4f m/s (%zu strikes)\n",
+      h->velocity_m_s, h->velocity_sd_m_s, h->velocity_strikes, 100.0 * h->velocity_deviation,
+      c->velocity_m_s, 100.0 * c->velocity_band, h->fit_velocity_m_s, h->fit_velocity_strikes);
+  fprintf(out,
+          "    delivered restitution %.3f fitted (%zu strikes; cultivar's %.3f); baseline %.4f N "
+          "(reference %.4f, drift %+.4f, limit %.4g N); noise %.4f N RMS\n",
+          h->restitution, h->restitution_strikes, c->restitution, h->baseline_n,
+          h->baseline_reference_n, h->baseline_drift_n, c->baseline_drift_limit_n, h->noise_rms_n);
+  fprintf(
+      out,
+      "    peak force mean %.3f N, SD %.3f, %.3f .. %.3f; clipping %zu of %zu strikes (%.1f %%, "
+      "limit %.1f %%)\n",
+      h->peak_force_n, h->peak_force_sd_n, h->peak_force_min_n, h->peak_force_max_n,
+      h->clipped_strikes, h->window_strikes, 100.0 * h->clip_rate, 100.0 * c->clip_rate_limit);
+  fprintf(out,
+          "    first warned: velocity %s, baseline %s, clipping %s (warned after %" PRIu64
+          " of %" PRIu64 " strikes)\n",
+          first_at(h->first_warning_strike[0], b[0], sizeof b[0]),
+          first_at(h->first_warning_strike[1], b[1], sizeof b[1]),
+          first_at(h->first_warning_strike[2], b[2], sizeof b[2]), h->warned_strikes, h->strikes);
+}
+
 void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
 {
   fprintf(out, "\nsummary\n");
@@ -149,6 +194,7 @@ void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+  text_health(out, s);
   fprintf(out,
           "  bag: %" PRIu64 " messages read, %" PRIu64
           " refused (oversized or not their type; %" PRIu64 " of them apples)\n",
@@ -224,6 +270,56 @@ static void json_stream(FILE *out, const char *key, const af_session_stream *s)
           s->refused_spans);
 }
 
+/* A first warning's strike number, null for never. */
+static void json_first(FILE *out, const char *key, uint64_t strike, const char *sep)
+{
+  if (strike == 0)
+    fprintf(out, "\"%s\": null%s", key, sep);
+  else
+    fprintf(out, "\"%s\": %" PRIu64 "%s", key, strike, sep);
+}
+
+/* "    \"hammer_health\": {...},\n" (hammer_health.h): the last window's
+ * figures, the limits, the first warnings; nothing in a combined summary. */
+static void json_health(FILE *out, const af_session *s)
+{
+  const af_hammer_health_stats *h = &s->stats.health;
+  const af_hammer_health_config *c = &s->health_cfg;
+  if (h->strikes == 0)
+    return;
+  fprintf(out,
+          "    \"hammer_health\": {\"status\": \"%s\", \"text\": ", h->warnings ? "warn" : "ok");
+  af_json_string(out, h->text);
+  fprintf(out, ", \"strikes\": %" PRIu64 ", \"window_strikes\": %zu, ", h->strikes,
+          h->window_strikes);
+  json_num(out, "velocity_m_s", h->velocity_m_s);
+  json_num(out, "velocity_sd_m_s", h->velocity_sd_m_s);
+  fprintf(out, "\"velocity_strikes\": %zu, ", h->velocity_strikes);
+  json_num(out, "velocity_deviation", h->velocity_deviation);
+  json_num(out, "velocity_set_m_s", c->velocity_m_s);
+  json_num(out, "velocity_band", c->velocity_band);
+  json_num(out, "fit_velocity_m_s", h->fit_velocity_m_s);
+  json_num(out, "restitution", h->restitution);
+  json_num(out, "restitution_set", c->restitution);
+  json_num(out, "baseline_n", h->baseline_n);
+  json_num(out, "baseline_reference_n", h->baseline_reference_n);
+  json_num(out, "baseline_drift_n", h->baseline_drift_n);
+  json_num(out, "baseline_drift_limit_n", c->baseline_drift_limit_n);
+  json_num(out, "noise_rms_n", h->noise_rms_n);
+  json_num(out, "peak_force_n", h->peak_force_n);
+  json_num(out, "peak_force_sd_n", h->peak_force_sd_n);
+  json_num(out, "peak_force_min_n", h->peak_force_min_n);
+  json_num(out, "peak_force_max_n", h->peak_force_max_n);
+  fprintf(out, "\"clipped_strikes\": %zu, ", h->clipped_strikes);
+  json_num(out, "clip_rate", h->clip_rate);
+  json_num(out, "clip_rate_limit", c->clip_rate_limit);
+  fputs("\"first_warning_strike\": {", out);
+  json_first(out, "velocity", h->first_warning_strike[0], ", ");
+  json_first(out, "baseline", h->first_warning_strike[1], ", ");
+  json_first(out, "clipping", h->first_warning_strike[2], "");
+  fprintf(out, "}, \"warned_strikes\": %" PRIu64 "},\n", h->warned_strikes);
+}
+
 /* "  \"summary\": {...}" (no newline after its closing brace). */
 static void json_summary(FILE *out, const af_session *s, const af_summary *m)
 {
@@ -257,6 +353,7 @@ static void json_summary(FILE *out, const af_session *s, const af_summary *m)
   fputc('\n', out);
   json_stream(out, "force", &s->force);
   json_stream(out, "audio", &s->audio);
+  json_health(out, s);
   fprintf(out,
           "    \"recorded_s\": %.9g, \"messages\": %" PRIu64 ", \"refused_messages\": %" PRIu64
           ", \"refused_apples\": %" PRIu64 "\n  }",

@@ -74,6 +74,9 @@ static void on_lane_strike(const af_lane_strike *ls, void *user)
   r->mass_kg = NAN;
   r->predicted_band_low_hz = r->predicted_band_high_hz = r->predicted_resonance_hz = NAN;
   r->modulus_factor = c->o->cfg->model.modulus_factor;
+  const af_hammer_health_stats *h = &af_lane_get_stats(c->lane)->health; /* after this strike */
+  r->hammer_velocity_m_s = h->last_velocity_m_s;
+  r->hammer_warnings = h->warnings;
   if (ls->apple) {
     r->apple_stamp_ns = ls->apple->stamp_ns;
     r->mass_kg = ls->apple->mass_kg;
@@ -343,6 +346,7 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
     return AF_SESSION_FAILED;
   int code = feed(&c, bag, topics, total, err, len);
   out->stats = *af_lane_get_stats(c.lane);
+  out->health_cfg = o->cfg->health;
   copy_stream(&out->force, af_lane_force_stream(c.lane));
   copy_stream(&out->audio, af_lane_audio_stream(c.lane));
   setup(o, true);

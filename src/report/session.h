@@ -52,11 +52,14 @@ typedef struct {
   double predicted_band_low_hz, predicted_band_high_hz, predicted_resonance_hz;
   bool predicted_reliable;
   char predicted_reason[AF_PREDICTION_TEXT_MAX];
-  bool with_audio;          /* an audio window was analysed */
-  double modulus_factor;    /* the apple's (dynamic / quasi-static), to suggest a new one */
-  af_measure_report report; /* the StrikeReport figures and the measured verdict */
-  af_grade grade;           /* its firmness class, as the lane graded it (lane.h): the node's
-                               StrikeReport grade_index, grade, grade_reason */
+  bool with_audio;            /* an audio window was analysed */
+  double modulus_factor;      /* the apple's (dynamic / quasi-static), to suggest a new one */
+  af_measure_report report;   /* the StrikeReport figures and the measured verdict */
+  af_grade grade;             /* its firmness class, as the lane graded it (lane.h): the node's
+                                 StrikeReport grade_index, grade, grade_reason */
+  double hammer_velocity_m_s; /* its contact velocity from the impulse (hammer_health.h; NaN:
+                                 not a clean strike) */
+  uint32_t hammer_warnings;   /* the hammer health's AF_HAMMER_WARN_* after it */
 } af_session_strike;
 
 /* The view of r that serialize.h writes (borrowed: valid while r is). */
@@ -88,7 +91,8 @@ typedef struct {
   size_t n_strikes, cap_strikes;
   af_session_apple *apples;
   size_t n_apples, cap_apples;
-  af_lane_stats stats;
+  af_lane_stats stats;                /* the lane's at the end (the hammer health's last window) */
+  af_hammer_health_config health_cfg; /* what the hammer health was judged with */
   af_session_stream force, audio;
   uint64_t messages;         /* read from the bag */
   uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */
