@@ -2,7 +2,7 @@
  * strikes rostest, with the truth it was made from.
  *
  *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
- *              [--spacing S]          (flags: the table `options`; --help)
+ *              [--spacing S] [--velocity-drift X]   (flags: the table `options`; --help)
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
  * 1 s lead-in, with a random sub-millisecond offset:
@@ -19,7 +19,10 @@
  *    GSL integrator the station's fit inverts, so the demo is no round
  *    trip) for the table's strike (the rig's hammer, strike_velocity_m_s,
  *    restitution, fruit_poisson, gravity, damping_law; R2 = model.c's
- *    example apple's) on that apple; plus white noise at 40 dB below the
+ *    example apple's) on that apple, the contact velocity of strike k of n
+ *    being strike_velocity_m_s (1 + X k / (n - 1)) with --velocity-drift X
+ *    (default 0: constant; a hammer heating over a shift, for the hammer
+ *    health); plus white noise at 40 dB below the
  *    smallest peak of the bag, mains hum at the station's measure_hum_hz,
  *    an offset and a slow drift;
  *  - audio (audio_sample_rate_hz, Pa, frame microphone): the apple's 0S2
@@ -35,7 +38,8 @@
  * start 1700000000 s + first_sample / rate) and whose bag time is that of
  * their last. The truth CSV (default: FILE without .bag + .truth.csv) has
  * one row per strike: apple_id, modulus_pa, mass_kg, resonance_hz (0S2),
- * contact_time_s and peak_force_n (the model's), contact_start_s (stamp).
+ * contact_time_s and peak_force_n (the model's), contact_start_s (stamp),
+ * velocity_m_s (the strike's contact velocity).
  *
  * Seeded (af_synth_rng, splitmix64): the same seed gives the same bag on
  * every machine. Exit 0, 2 on bad arguments, 1 on failure. */
@@ -88,7 +92,8 @@ typedef struct {
 /* ---- the strikes ----------------------------------------------------------- */
 
 typedef struct {
-  double t_s; /* contact start, from the bag start [s] */
+  double t_s;          /* contact start, from the bag start [s] */
+  double velocity_m_s; /* contact velocity v0 of this strike [m/s] */
   double modulus_pa, mass_kg, radius_m;
   double resonance_hz, tau_s; /* 0S2 and its amplitude decay time */
   af_synth_pulse pulse;       /* the RK4 force at fine_dt_s, in force_n */
@@ -106,6 +111,7 @@ static af_impact_params impact_for(const station *st, const strike *s)
 {
   af_impact_params p = st->model.impact;
   p.fruit_modulus_pa = s->modulus_pa;
+  p.velocity_m_s = s->velocity_m_s;
   return p;
 }
 
@@ -116,14 +122,16 @@ typedef struct {
   const char *out, *truth, *ns;
   uint64_t seed;
   double spacing_s;
+  double velocity_drift; /* relative change of v0 from the first strike to the last [-] */
 } args;
 
 #define STRIKES_MAX 100000 /* strikes in one bag */
 #define SPACING_MIN_S 0.1  /* [s] */
 #define SPACING_MAX_S 60   /* [s] */
+#define DRIFT_MAX 0.5      /* |--velocity-drift| [-] */
 
 /* The defaults the parser starts from; --strikes and --out are required. */
-static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5};
+static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0};
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
@@ -139,6 +147,10 @@ static const af_option options[] = {
     {"--spacing", "S", AF_OPTION_NUMBER, AF_ARG(spacing_s), -1,
      "time between strikes, in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
          SPACING_MAX_S) "] [s]",
+     NULL},
+    {"--velocity-drift", "X", AF_OPTION_NUMBER, AF_ARG(velocity_drift), -1,
+     "contact velocity of strike k of N: strike_velocity_m_s (1 + X k / (N - 1)), X in "
+     "[-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(DRIFT_MAX) "] (0.05: +5 % over the bag) [-]",
      NULL},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
@@ -191,6 +203,12 @@ static int parse(int argc, char **argv, args *a)
       if (errno || *end || !(a->spacing_s >= SPACING_MIN_S && a->spacing_s <= SPACING_MAX_S))
         return usage("--spacing must be in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
                          SPACING_MAX_S) "] s, got",
+                     v);
+    } else if (strcmp(flag, "--velocity-drift") == 0) {
+      a->velocity_drift = strtod(v, &end);
+      if (errno || *end || end == v || !(fabs(a->velocity_drift) <= DRIFT_MAX))
+        return usage("--velocity-drift must be in [-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(
+                         DRIFT_MAX) "], got",
                      v);
     } else {
       (void)af_option_store(o, v, a);
@@ -292,6 +310,8 @@ static int make_strikes(const args *a, const station *st, af_impact *w, double *
     sk->resonance_hz =
         af_lamb_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson, density, sk->mass_kg);
     sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
+    const double ramp = n > 1 ? (double)k / (double)(n - 1) : 0.0;
+    sk->velocity_m_s = nominal.velocity_m_s * (1.0 + a->velocity_drift * ramp);
     af_impact_params p = impact_for(st, sk);
     af_status rc = af_synth_pulse_rk4(w, &p, fine_dt_s(st), fine, FINE_CAP, &sk->pulse);
     if (rc != AF_OK)
@@ -314,11 +334,11 @@ static int write_truth(const char *path, const strike *s, size_t n)
     return 1;
   }
   fprintf(tf, "apple_id,modulus_pa,mass_kg,resonance_hz,contact_time_s,peak_force_n,"
-              "contact_start_s\n");
+              "contact_start_s,velocity_m_s\n");
   for (size_t k = 0; k < n; k++)
-    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f\n", k + 1, s[k].modulus_pa, s[k].mass_kg,
+    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f,%.6f\n", k + 1, s[k].modulus_pa, s[k].mass_kg,
             s[k].resonance_hz, s[k].pulse.res.contact_time_s, s[k].pulse.res.peak_force_n,
-            BAG_START_S + s[k].t_s);
+            BAG_START_S + s[k].t_s, s[k].velocity_m_s);
   if (fclose(tf) != 0) {
     fprintf(stderr, "strike_bag: cannot write %s\n", path);
     return 1;

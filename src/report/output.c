@@ -124,9 +124,14 @@ static void text_health(FILE *out, const af_session *s)
   fprintf(
       out,
       "    contact velocity %.4f m/s from the impulse (SD %.4f over %zu clean strikes; %+.2f %% "
-      "of strike_velocity_m_s %.4g, band +- %.1f %%), fitted %.4f m/s (%zu strikes)\n",
+      "of strike_velocity_m_s %.4g, band +- %.1f %%)\n",
       h->velocity_m_s, h->velocity_sd_m_s, h->velocity_strikes, 100.0 * h->velocity_deviation,
-      c->velocity_m_s, 100.0 * c->velocity_band, h->fit_velocity_m_s, h->fit_velocity_strikes);
+      c->velocity_m_s, 100.0 * c->velocity_band);
+  if (h->fit_velocity_strikes > 0)
+    fprintf(out, "    contact velocity fitted to the pulse %.4f m/s (mean of %zu strikes)\n",
+            h->fit_velocity_m_s, h->fit_velocity_strikes);
+  else
+    fprintf(out, "    contact velocity not fitted (measure_fit_velocity false, or no fit)\n");
   fprintf(out,
           "    delivered restitution %.3f fitted (%zu strikes; cultivar's %.3f); baseline %.4f N "
           "(reference %.4f, drift %+.4f, limit %.4g N); noise %.4f N RMS\n",
