@@ -285,7 +285,8 @@ static void json_first(FILE *out, const char *key, uint64_t strike, const char *
 }
 
 /* "    \"hammer_health\": {...},\n" (hammer_health.h): the last window's
- * figures, the limits, the first warnings; nothing in a combined summary. */
+ * figures, the limits, the first warnings, each strike's v0 from its impulse
+ * (velocity_m_s_per_strike, null where not clean); nothing in a combined summary. */
 static void json_health(FILE *out, const af_session *s)
 {
   const af_hammer_health_stats *h = &s->stats.health;
@@ -322,7 +323,17 @@ static void json_health(FILE *out, const af_session *s)
   json_first(out, "velocity", h->first_warning_strike[0], ", ");
   json_first(out, "baseline", h->first_warning_strike[1], ", ");
   json_first(out, "clipping", h->first_warning_strike[2], "");
-  fprintf(out, "}, \"warned_strikes\": %" PRIu64 "},\n", h->warned_strikes);
+  fprintf(out, "}, \"warned_strikes\": %" PRIu64 ", \"velocity_m_s_per_strike\": [",
+          h->warned_strikes);
+  for (size_t k = 0; k < s->n_strikes; k++) { /* each strike's v0 from its impulse */
+    const double v = s->strikes[k].hammer_velocity_m_s;
+    fputs(k ? ", " : "", out);
+    if (isfinite(v))
+      fprintf(out, "%.6f", v);
+    else
+      fputs("null", out);
+  }
+  fputs("]},\n", out);
 }
 
 /* "  \"summary\": {...}" (no newline after its closing brace). */
