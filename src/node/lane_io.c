@@ -327,11 +327,15 @@ static void health_diag(const af_lane_io *m, af_diag_status *d)
                 h->window_strikes, c->window, c->min_strikes);
   af_diag_add(d, "hammer contact velocity [m/s]",
               "%.4f from the impulse (mean of %zu clean strikes, SD %.4f, %+.2f %% of "
-              "strike_velocity_m_s %.4g, band +- %.1f %%); fitted %.4f (%zu strikes%s)",
+              "strike_velocity_m_s %.4g, band +- %.1f %%)",
               h->velocity_m_s, h->velocity_strikes, h->velocity_sd_m_s,
-              100.0 * h->velocity_deviation, c->velocity_m_s, 100.0 * c->velocity_band,
-              h->fit_velocity_m_s, h->fit_velocity_strikes,
-              h->fit_velocity_strikes ? "" : "; measure_fit_velocity false or no fit");
+              100.0 * h->velocity_deviation, c->velocity_m_s, 100.0 * c->velocity_band);
+  if (h->fit_velocity_strikes > 0)
+    af_diag_add(d, "hammer contact velocity fitted [m/s]", "%.4f (mean of %zu strikes)",
+                h->fit_velocity_m_s, h->fit_velocity_strikes);
+  else
+    af_diag_add(d, "hammer contact velocity fitted [m/s]",
+                "none (measure_fit_velocity false, or no fit)");
   af_diag_add(d, "hammer delivered restitution [-]", "%.3f fitted (mean of %zu), cultivar's %.3f",
               h->restitution, h->restitution_strikes, c->restitution);
   af_diag_add(d, "force baseline [N]", "%.4f (reference %.4f, drift %+.4f, limit %.4g)",

@@ -72,9 +72,9 @@ void af_lane_io_poll(af_lane_io *m);
  * report. */
 const char *af_lane_io_warning(af_lane_io *m);
 /* Adds the measured-strike keys to d, the hammer health's too ("hammer
- * health", "hammer contact velocity [m/s]", "hammer delivered restitution
- * [-]", "force baseline [N]", "force noise RMS [N]", "hammer peak force
- * [N]", "hammer clipping"). */
+ * health", "hammer contact velocity [m/s]", "hammer contact velocity fitted
+ * [m/s]", "hammer delivered restitution [-]", "force baseline [N]", "force
+ * noise RMS [N]", "hammer peak force [N]", "hammer clipping"). */
 void af_lane_io_diag(const af_lane_io *m, af_diag_status *d);
 
 /* ROS time in integer nanoseconds. */
