@@ -298,6 +298,66 @@ static af_status plot_band(af_report_plots *p, const af_session *s, char *err, s
   return st;
 }
 
+/* The hammer health's v0 over the session: each strike's from its impulse
+ * (green while the velocity check is quiet, red while it warns), the
+ * window's mean, the set velocity and its band. */
+static af_status plot_hammer(af_report_plots *p, const af_session *s, char *err, size_t len)
+{
+  const size_t n = s->n_strikes;
+  double *buf = malloc((6 * n + 1) * sizeof *buf);
+  if (!buf) {
+    af_text(err, len, "out of memory");
+    return AF_ENOMEM;
+  }
+  double *idx = buf, *mean = buf + n, *xok = buf + 2 * n, *yok = buf + 3 * n;
+  double *xw = buf + 4 * n, *yw = buf + 5 * n;
+  size_t nok = 0, nw = 0;
+  for (size_t k = 0; k < n; k++) {
+    const af_session_strike *r = &s->strikes[k];
+    idx[k] = (double)(k + 1);
+    mean[k] = r->hammer_velocity_mean_m_s;
+    if (!isfinite(r->hammer_velocity_m_s))
+      continue;
+    const bool warned = (r->hammer_warnings & AF_HAMMER_WARN_VELOCITY) != 0;
+    (warned ? xw : xok)[warned ? nw : nok] = (double)(k + 1);
+    (warned ? yw : yok)[warned ? nw++ : nok++] = r->hammer_velocity_m_s;
+  }
+  const af_hammer_health_config *c = &s->health_cfg;
+  char lok[64], lw[64], lmean[64], lset[64], lband[64], lfirst[64], title[160];
+  af_text(lok, sizeof lok, "strike, velocity check OK (%zu)", nok);
+  af_text(lw, sizeof lw, "strike, velocity check WARN (%zu)", nw);
+  af_text(lmean, sizeof lmean, "mean of the last %zu strikes", c->window);
+  af_text(lset, sizeof lset, "strike_velocity_m_s %.4g m/s", c->velocity_m_s);
+  af_text(lband, sizeof lband, "band +- %.1f %%", 100.0 * c->velocity_band);
+  af_plot_series ser[3] = {{lok, xok, yok, nok, AF_PLOT_GREEN, AF_PLOT_POINTS},
+                           {lw, xw, yw, nw, AF_PLOT_RED, AF_PLOT_POINTS},
+                           {lmean, idx, mean, n, AF_PLOT_BLUE, AF_PLOT_LINE}};
+  const af_plot_rule rules[3] = {
+      {lset, c->velocity_m_s, AF_PLOT_BLACK, false},
+      {lband, c->velocity_m_s * (1.0 + c->velocity_band), AF_PLOT_ORANGE, true},
+      {NULL, c->velocity_m_s * (1.0 - c->velocity_band), AF_PLOT_ORANGE, true}};
+  const uint64_t first = s->stats.health.first_warning_strike[0];
+  af_text(lfirst, sizeof lfirst, "first velocity warning, strike %llu", (unsigned long long)first);
+  const af_plot_rule marker = {lfirst, (double)first, AF_PLOT_RED, true};
+  af_text(title, sizeof title, "hammer contact velocity from the impulse, %zu strikes", n);
+  af_plot_panel panel = af_plot_panel_empty();
+  panel.title = title;
+  panel.x_label = "strike (in recorded order)";
+  panel.y_label = "contact velocity v#d0#u [m/s]";
+  panel.series = ser;
+  panel.n_series = 3;
+  panel.y_rules = rules;
+  panel.n_y_rules = 3;
+  panel.x_rules = &marker;
+  panel.n_x_rules = first > 0;
+  panel.x_min = 0.0;
+  panel.x_max = (double)n + 1.0;
+  panel.legend = AF_PLOT_LEGEND_BELOW;
+  af_status st = draw_one(p, "hammer_velocity.png", &panel, err, len);
+  free(buf);
+  return st;
+}
+
 af_status af_report_plots_session(af_report_plots *p, const af_session *s, const af_summary *m,
                                   char *err, size_t len)
 {
@@ -306,6 +366,8 @@ af_status af_report_plots_session(af_report_plots *p, const af_session *s, const
     st = plot_stiffness(p, s, err, len);
   if (st == AF_OK)
     st = plot_band(p, s, err, len);
+  if (st == AF_OK)
+    st = plot_hammer(p, s, err, len);
   if (st == AF_OK && p->failed > 0) {
     af_text(err, len, "%zu of %zu strike figures could not be drawn, the first %s", p->failed,
             p->strikes, p->first_error);

@@ -7,7 +7,11 @@
  *                              measured 0S2;
  *   firmness_histogram.png     the modulus from the 0S2 and the fitted E2;
  *   stiffness_vs_mass.png      the stiffness factor against the mass, by verdict;
- *   resonance_vs_band.png      the 0S2 against the band edges, strike by strike. */
+ *   resonance_vs_band.png      the 0S2 against the band edges, strike by strike;
+ *   hammer_velocity.png        the contact velocity of each strike from its
+ *                              impulse and the window's mean (hammer_health.h)
+ *                              against strike_velocity_m_s and its band, the
+ *                              first velocity warning marked. */
 #ifndef AF_REPORT_PLOTS_H
 #define AF_REPORT_PLOTS_H
 

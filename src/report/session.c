@@ -76,6 +76,7 @@ static void on_lane_strike(const af_lane_strike *ls, void *user)
   r->modulus_factor = c->o->cfg->model.modulus_factor;
   const af_hammer_health_stats *h = &af_lane_get_stats(c->lane)->health; /* after this strike */
   r->hammer_velocity_m_s = h->last_velocity_m_s;
+  r->hammer_velocity_mean_m_s = h->velocity_m_s;
   r->hammer_warnings = h->warnings;
   if (ls->apple) {
     r->apple_stamp_ns = ls->apple->stamp_ns;

@@ -52,14 +52,15 @@ typedef struct {
   double predicted_band_low_hz, predicted_band_high_hz, predicted_resonance_hz;
   bool predicted_reliable;
   char predicted_reason[AF_PREDICTION_TEXT_MAX];
-  bool with_audio;            /* an audio window was analysed */
-  double modulus_factor;      /* the apple's (dynamic / quasi-static), to suggest a new one */
-  af_measure_report report;   /* the StrikeReport figures and the measured verdict */
-  af_grade grade;             /* its firmness class, as the lane graded it (lane.h): the node's
-                                 StrikeReport grade_index, grade, grade_reason */
-  double hammer_velocity_m_s; /* its contact velocity from the impulse (hammer_health.h; NaN:
-                                 not a clean strike) */
-  uint32_t hammer_warnings;   /* the hammer health's AF_HAMMER_WARN_* after it */
+  bool with_audio;                 /* an audio window was analysed */
+  double modulus_factor;           /* the apple's (dynamic / quasi-static), to suggest a new one */
+  af_measure_report report;        /* the StrikeReport figures and the measured verdict */
+  af_grade grade;                  /* its firmness class, as the lane graded it (lane.h): the node's
+                                      StrikeReport grade_index, grade, grade_reason */
+  double hammer_velocity_m_s;      /* its contact velocity from the impulse (hammer_health.h; NaN:
+                                      not a clean strike) */
+  double hammer_velocity_mean_m_s; /* the window's mean v0 the health judged after it [m/s] */
+  uint32_t hammer_warnings;        /* the hammer health's AF_HAMMER_WARN_* after it */
 } af_session_strike;
 
 /* The view of r that serialize.h writes (borrowed: valid while r is). */
