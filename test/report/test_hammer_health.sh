@@ -132,6 +132,14 @@ assert lo <= h['clipped_strikes'] <= hi and h['clipped_strikes'] / W > 0.05, h
 assert h['first_warning_strike']['clipping'] is not None and 'hammer_health_clip_rate' in h['text']
 EOF
 
+# --- the plot over the session: a PNG ------------------------------------------------
+"$FM" "$tmp/u.bag" --jobs 1 --plots "$tmp/plots" >/dev/null 2>"$tmp/err" || bad "--plots exited $?: $(cat "$tmp/err")"
+if [ "$(head -c 4 "$tmp/plots/hammer_velocity.png" 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then
+  ok
+else
+  bad "--plots drew no hammer_velocity.png"
+fi
+
 # --- bad input ---------------------------------------------------------------------
 "$SB" --strikes 3 --out "$tmp/x.bag" --velocity-drift 0.9 >"$tmp/out" 2>"$tmp/err"
 code=$?

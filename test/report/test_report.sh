@@ -84,7 +84,7 @@ expect_usage "--fields takes only --json" --fields --csv "$tmp/f.csv"
 
 "$FM" "$tmp/s.bag" --plots "$tmp/plots" >/dev/null 2>"$tmp/err" || bad "--plots exited $?: $(cat "$tmp/err")"
 n_png=$(ls "$tmp/plots"/*.png 2>/dev/null | wc -l)
-if [ "$n_png" -eq $((N + 3)) ] && [ "$(head -c 4 "$tmp/plots/firmness_histogram.png" | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then ok; else bad "--plots made $n_png PNGs, expected $((N + 3))"; fi
+if [ "$n_png" -eq $((N + 4)) ] && [ "$(head -c 4 "$tmp/plots/firmness_histogram.png" | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then ok; else bad "--plots made $n_png PNGs, expected $((N + 4))"; fi
 
 # --- bad bags ------------------------------------------------------------------------
 echo "not a bag" >"$tmp/text.bag"
