@@ -151,7 +151,7 @@ static const af_option options[] = {
     {"--velocity-drift", "X", AF_OPTION_NUMBER, AF_ARG(velocity_drift), -1,
      "contact velocity of strike k of N: strike_velocity_m_s (1 + X k / (N - 1)), X in "
      "[-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(DRIFT_MAX) "] (0.05: +5 % over the bag) [-]",
-     NULL},
+     "0: a constant contact velocity"},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
