@@ -124,6 +124,12 @@ void af_factor_learn_reset(af_factor_learn *f)
   estimate(f);
 }
 
+void af_factor_learn_set_applied(af_factor_learn *f, double factor)
+{
+  if (f != NULL && isfinite(factor) && factor > 0.0)
+    f->state.applied = factor;
+}
+
 static bool config_ok(const af_factor_learn_config *c)
 {
   return c->window_strikes >= 1 && c->min_strikes >= 1 && c->min_strikes <= c->window_strikes &&

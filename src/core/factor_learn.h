@@ -79,6 +79,10 @@ void af_factor_learn_destroy(af_factor_learn *f); /* NULL-safe */
 /* Empties the window and restores the initial applied value. */
 void af_factor_learn_reset(af_factor_learn *f);
 
+/* An operator's value (a reconfigured modulus_factor) becomes the applied
+ * one; the window is kept. Not counted as a change. */
+void af_factor_learn_set_applied(af_factor_learn *f, double factor);
+
 /* One measured strike: reliable, its modulus from the 0S2 and fitted E2 [Pa]
  * (NaN when not measured) and the factor it was measured with [-]. *changed
  * (may be NULL) true when the applied value changed with it. AF_OK, also

@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "factor_learn.h"
 #include "grade.h"
 #include "measure.h"
 #include "model.h"
@@ -72,6 +73,8 @@ typedef struct {
   double aspect_ratio_min, aspect_ratio_max; /* polar / equatorial semi-axis */
   double resonance_xi;                       /* Lamb root of the cultivar's Poisson ratio */
   af_grade_config grade; /* firmness classes of measured strikes (grade_quantity, grade_classes) */
+  af_factor_learn_config factor_learn; /* the modulus factor learned on the line
+                                          (modulus_factor_learn_*; initial = modulus_factor) */
 } af_lane_config;
 
 /* Fills *out from the settings s (every row present: the hammer's mass and

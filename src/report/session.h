@@ -89,6 +89,7 @@ typedef struct {
   af_session_apple *apples;
   size_t n_apples, cap_apples;
   af_lane_stats stats;
+  af_factor_learn_state factor; /* the lane's learned modulus factor at the end (lane.h) */
   af_session_stream force, audio;
   uint64_t messages;         /* read from the bag */
   uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */
