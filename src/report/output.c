@@ -197,6 +197,7 @@ static void json_learned(FILE *out, const af_factor_learn_state *f)
   json_num(out, "modulus_factor_learned_ci95_low", f->ci_low_95);
   json_num(out, "modulus_factor_learned_ci95_high", f->ci_high_95);
   fprintf(out, "\"modulus_factor_learned_strikes\": %zu, ", f->n);
+  fprintf(out, "\"modulus_factor_learned_refused\": %llu, ", (unsigned long long)f->refused);
   json_num(out, "modulus_factor_applied", f->applied);
   fprintf(out, "\"modulus_factor_changes\": %llu,", (unsigned long long)f->changes);
 }
