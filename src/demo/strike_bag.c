@@ -169,11 +169,11 @@ static const af_option options[] = {
     {"--modulus-factor-spread", "S", AF_OPTION_NUMBER, AF_ARG(factor_spread), -1,
      "relative SD of the true factor between apples (lognormal), in [0, " AF_OPTION_STR(
          FACTOR_SPREAD_MAX) "] [-]",
-     NULL},
+     "0: every apple has F"},
     {"--unreliable-fraction", "P", AF_OPTION_NUMBER, AF_ARG(unreliable_fraction), -1,
      "share of strikes clipped (too hard for the transducer), in [0, " AF_OPTION_STR(
          UNRELIABLE_MAX) "] [-]",
-     NULL},
+     "0: none clipped"},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
