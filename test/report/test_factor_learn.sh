@@ -125,5 +125,20 @@ check(len(after) >= 10 and rel(m, 1.0) <= 0.02,
 check(rel(s['modulus_factor_learned'], 1.15) <= 0.02, 'apply: the learned value is still of the true factor: %.4f' % s['modulus_factor_learned'])
 sys.exit(1 if failed else 0)
 EOF
+# Bad input: one line naming the row or flag, exit 2.
+expect_usage "modulus_factor_learn_min_strikes = 300 must be at most modulus_factor_learn_window = 200" \
+  "$tmp/a.bag" --set modulus_factor_learn_min_strikes=300
+expect_usage "modulus_factor_learn_min_change = 0.9 is outside the accepted range \[0, 0.5\]" \
+  "$tmp/a.bag" --set modulus_factor_learn_min_change=0.9
+for args in "--modulus-factor 0.01" "--modulus-factor-spread 0.5" "--unreliable-fraction 1"; do
+  # shellcheck disable=SC2086
+  "$SB" --strikes 2 --out "$tmp/x.bag" $args >/dev/null 2>"$tmp/err"
+  code=$?
+  if [ $code -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q -- "${args%% *} must be in" "$tmp/err"; then
+    ok
+  else
+    bad "strike_bag $args: exit $code, $(cat "$tmp/err")"
+  fi
+done
 echo "test_factor_learn: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
