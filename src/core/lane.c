@@ -47,6 +47,8 @@ struct af_lane {
   af_strike_config detector_cfg; /* what the detector was made with */
   af_measure *measure;
   af_model *model;
+  af_factor_learn *factor;  /* the modulus factor learned from the reliable strikes */
+  double factor_configured; /* cfg->model.modulus_factor when last seen (reconfigure) */
   af_pending *pending;
   double *pulses;
   size_t head, count;
@@ -250,6 +252,7 @@ static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a
   af_status st = AF_EINVAL;
   if (pr && pr->valid) {
     af_measure_apple apple = {pr->params, l->cfg->modulus_min_pa, l->cfg->modulus_max_pa};
+    apple.model.modulus_factor = l->out.modulus_factor;
     st = af_measure_execute(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL, n_audio,
                             n_noise ? l->noise_buf : NULL, n_noise, r);
     if (st != AF_OK) {
@@ -411,6 +414,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);
+  o->modulus_factor = af_factor_learn_get(l->factor)->applied;
   measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
   t0_ns = af_stage_begin(h);
   merge_verdict(&o->report, lane_v);
@@ -428,6 +432,11 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
     a->last_strike_ns = p->start_ns;
   }
   count(l, p, o);
+  /* Only a strike whose 0S2 and E2 were both measured and judged reliable
+   * feeds the learned factor (af_factor_learn_push refuses the others). */
+  (void)af_factor_learn_push(l->factor, o->report.reliable && o->with_audio,
+                             o->report.modulus_from_resonance_pa, o->report.fitted_modulus_pa,
+                             o->modulus_factor, &o->factor_changed);
   if (l->fn)
     l->fn(o, l->user);
 }
@@ -594,6 +603,10 @@ af_status af_lane_reconfigured(af_lane *l, const char **what)
   af_measure_destroy(l->measure);
   l->measure = m;
   (void)af_hammer_health_configure(l->health, &l->cfg->health); /* checked above */
+  if (l->cfg->model.modulus_factor != l->factor_configured) {   /* the operator's value wins */
+    l->factor_configured = l->cfg->model.modulus_factor;
+    af_factor_learn_set_applied(l->factor, l->factor_configured);
+  }
   if (d) {
     af_strike_destroy(l->detector);
     l->detector = d;
@@ -638,6 +651,10 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   if ((s = af_hammer_health_create(&cfg->health, &l->health)) != AF_OK)
     goto fail;
   l->stats.health = *af_hammer_health_get_stats(l->health);
+  *what = "the learned modulus factor";
+  if ((s = af_factor_learn_create(&cfg->factor_learn, &l->factor)) != AF_OK)
+    goto fail;
+  l->factor_configured = cfg->model.modulus_factor;
   *what = "the strike queue";
   s = AF_ENOMEM;
   const size_t n = l->mc->pending_size, cap = l->mc->pulse_capacity_samples;
@@ -670,6 +687,7 @@ void af_lane_destroy(af_lane *l)
   af_measure_destroy(l->measure);
   af_model_destroy(l->model);
   af_hammer_health_destroy(l->health);
+  af_factor_learn_destroy(l->factor);
   free(l->pending);
   free(l->pulses);
   free(l->audio_buf);
@@ -700,4 +718,9 @@ size_t af_lane_pending(const af_lane *l)
 const af_lane_stats *af_lane_get_stats(const af_lane *l)
 {
   return &l->stats;
+}
+
+const af_factor_learn_state *af_lane_factor(const af_lane *l)
+{
+  return af_factor_learn_get(l->factor);
 }

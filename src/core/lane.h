@@ -47,6 +47,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "factor_learn.h"
 #include "lane_config.h"
 #include "measure.h"
 #include "prediction.h"
@@ -72,6 +73,10 @@ typedef struct {
   af_grade grade; /* the firmness grade of report (grade.h) by the configuration's grade:
                      what the StrikeReport carries and the desk tools print */
   const af_strike_event *event; /* the detector's event (pulse included) */
+  double modulus_factor;        /* the factor this strike's 0S2 was turned into a modulus with:
+                                   the cultivar's, or the learned one applied [-] */
+  bool factor_changed; /* the learned factor applied from the next strike on changed with this
+                          one (af_lane_factor: the new value and the previous) */
 } af_lane_strike;
 
 typedef void af_lane_strike_fn(const af_lane_strike *s, void *user);
@@ -148,6 +153,9 @@ const af_stream *af_lane_audio_stream(const af_lane *l);
 const af_strike *af_lane_detector(const af_lane *l);
 size_t af_lane_pending(const af_lane *l);
 const af_lane_stats *af_lane_get_stats(const af_lane *l);
+/* The modulus factor learned from this lane's reliable strikes
+ * (factor_learn.h): estimate, 95 % interval, count, applied value. */
+const af_factor_learn_state *af_lane_factor(const af_lane *l);
 
 #ifdef __cplusplus
 }

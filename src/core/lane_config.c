@@ -499,6 +499,8 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
   /* the model workspace (fixed: 4096-point FFT, 1024 samples), the
    * objects themselves and the hammer health's ring */
   m->fixed = 1048576.0 + (double)af_hammer_health_bytes();
+  /* the learned modulus factor: its ring and sorted copy (factor_learn.c) */
+  m->fixed += 16.0 * (double)c->factor_learn.window_strikes;
   m->total = m->rings + m->detector_queue + m->microphone + m->fit_spectrum + m->fixed;
 }
 
@@ -626,6 +628,33 @@ static af_status derive_health(const af_settings *s, af_lane_config *c, char *er
   return af_hammer_health_check(h, err, len);
 }
 
+/* The learned modulus factor (factor_learn.h): window, minimum count,
+ * apply, hysteresis; it starts from the cultivar's modulus_factor and is
+ * applied only within that row's range. After derive_cultivar. */
+static af_status derive_factor_learn(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
+  af_factor_learn_config *f = &c->factor_learn;
+  const af_setting_id window = AF_SETTING_MODULUS_FACTOR_LEARN_WINDOW,
+                      min = AF_SETTING_MODULUS_FACTOR_LEARN_MIN_STRIKES;
+  f->window_strikes = (size_t)num(s, window);
+  f->min_strikes = (size_t)num(s, min);
+  f->apply = af_settings_bool(s, AF_SETTING_MODULUS_FACTOR_LEARN_APPLY);
+  f->min_change = num(s, AF_SETTING_MODULUS_FACTOR_LEARN_MIN_CHANGE);
+  f->initial_factor = c->model.modulus_factor;
+  af_setting_range r;
+  if (af_setting_range_of(AF_SETTING_MODULUS_FACTOR, &r) != AF_OK) {
+    af_settings_say(err, len, "the modulus_factor row has no range");
+    return AF_EINVAL;
+  }
+  f->factor_min = r.lo;
+  f->factor_max = r.hi;
+  if (f->min_strikes <= f->window_strikes)
+    return AF_OK;
+  af_settings_say(err, len, "%s = %zu must be at most %s = %zu", af_settings_name_of(s, min).text,
+                  f->min_strikes, af_settings_name_of(s, window).text, f->window_strikes);
+  return AF_EINVAL;
+}
+
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len)
 {
   if (s == NULL || out == NULL) {
@@ -638,6 +667,8 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
     st = derive_strike(s, out, err, len);
   if (st == AF_OK)
     st = derive_cultivar(s, out, err, len);
+  if (st == AF_OK)
+    st = derive_factor_learn(s, out, err, len);
   if (st == AF_OK)
     st = derive_streams(s, out, err, len);
   if (st == AF_OK)

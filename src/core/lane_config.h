@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "factor_learn.h"
 #include "grade.h"
 #include "hammer_health.h"
 #include "measure.h"
@@ -74,7 +75,9 @@ typedef struct {
   double resonance_xi;                       /* Lamb root of the cultivar's Poisson ratio */
   af_grade_config grade; /* firmness classes of measured strikes (grade_quantity, grade_classes) */
   /* --- hammer health --- */
-  af_hammer_health_config health; /* hammer_health_* with the model's hammer, velocity, e */
+  af_hammer_health_config health;      /* hammer_health_* with the model's hammer, velocity, e */
+  af_factor_learn_config factor_learn; /* the modulus factor learned on the line
+                                          (modulus_factor_learn_*; initial = modulus_factor) */
 } af_lane_config;
 
 /* Fills *out from the settings s (every row present: the hammer's mass and

@@ -236,6 +236,22 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
     [AF_SETTING_HAMMER_HEALTH_CLIP_RATE] =
         NUM("hammer_health_clip_rate", "0.05", "[0, 1]", S,
             "hammer health: warn when more than this fraction of the window's strikes clipped"),
+    [AF_SETTING_MODULUS_FACTOR_LEARN_WINDOW] =
+        WHOLE("modulus_factor_learn_window", "200", "[5, 10000]", S,
+              "the learned modulus factor is the median of E(0S2) / fitted E2 x the factor in "
+              "use over this many newest reliable strikes"),
+    [AF_SETTING_MODULUS_FACTOR_LEARN_MIN_STRIKES] =
+        WHOLE("modulus_factor_learn_min_strikes", "30", "[3, 10000]", S,
+              "reliable strikes before there is an estimate (at most "
+              "modulus_factor_learn_window)"),
+    [AF_SETTING_MODULUS_FACTOR_LEARN_APPLY] =
+        BOOLEAN("modulus_factor_learn_apply", "false", S,
+                "the learned factor replaces the cultivar's modulus_factor for the following "
+                "strikes (each change logged); false = only published"),
+    [AF_SETTING_MODULUS_FACTOR_LEARN_MIN_CHANGE] =
+        NUM("modulus_factor_learn_min_change", "0.01", "[0, 0.5]", S,
+            "relative change of the learned factor from the applied one before it is applied "
+            "(hysteresis)"),
     [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_LANE_NAME_MAX - 1, C,
                                    "cultivar name, for the diagnostics"),
     [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "[1e5, 1e9] Pa", C,

@@ -2,7 +2,9 @@
  * strikes rostest, with the truth it was made from.
  *
  *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
- *              [--spacing S] [--velocity-drift X]   (flags: the table `options`; --help)
+ *              [--spacing S] [--velocity-drift X] [--modulus-factor F]
+ *              [--modulus-factor-spread S] [--unreliable-fraction P]
+ *                                     (flags: the table `options`; --help)
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
  * 1 s lead-in, with a random sub-millisecond offset:
@@ -26,10 +28,13 @@
  *    smallest peak of the bag, mains hum at the station's measure_hum_hz,
  *    an offset and a slow drift;
  *  - audio (audio_sample_rate_hz, Pa, frame microphone): the apple's 0S2
- *    mode at Lamb's frequency (modulus factor 1) ringing from the contact start with
- *    Q 30, a mode twice as loud at 2.6 kHz (above every apple's 0S2 range:
- *    the support, say) with Q 60, and white noise 30 dB below the 0S2
- *    amplitude;
+ *    mode at Lamb's frequency of F x E2 (F = --modulus-factor, default 1:
+ *    the true dynamic / quasi-static factor the station should learn;
+ *    times exp(S g), g standard normal, per apple with
+ *    --modulus-factor-spread S: apples unlike the model's homogeneous
+ *    sphere) ringing from the contact start with Q 30, a mode twice as loud
+ *    at 2.6 kHz (above every apple's 0S2 range: the support, say) with Q 60,
+ *    and white noise 30 dB below the 0S2 amplitude;
  *  - an AppleEstimate 0.2 s before the strike (camera_optical_frame,
  *    strike_radius = the model's R2, stem axis (1, 0, 0): perpendicular to the rig's
  *    strike direction, +z of that frame).
@@ -39,7 +44,15 @@
  * their last. The truth CSV (default: FILE without .bag + .truth.csv) has
  * one row per strike: apple_id, modulus_pa, mass_kg, resonance_hz (0S2),
  * contact_time_s and peak_force_n (the model's), contact_start_s (stamp),
- * velocity_m_s (the strike's contact velocity).
+ * velocity_m_s (the strike's contact velocity), modulus_factor (F) and
+ * clipped (1: an unreliable strike, below).
+ *
+ * --unreliable-fraction P: each strike is, with probability P (its own
+ * seeded stream, so that the apples are those of P = 0), struck too hard for
+ * the transducer: its force pulse scaled so that its peak is 1.25 x
+ * strike_full_scale_n and saturated there (the detector flags it clipped,
+ * the fit of E2 on it is wrong, its 0S2 is the apple's: a strike that must
+ * not feed the learned modulus factor).
  *
  * Seeded (af_synth_rng, splitmix64): the same seed gives the same bag on
  * every machine. Exit 0, 2 on bad arguments, 1 on failure. */
@@ -57,6 +70,7 @@
 #include "model_table.h"
 #include "tool_config.h"
 #include "options.h"
+#include "settings.h"
 #include "lamb.h"
 #include "synth.h"
 
@@ -96,7 +110,10 @@ typedef struct {
   double velocity_m_s; /* contact velocity v0 of this strike [m/s] */
   double modulus_pa, mass_kg, radius_m;
   double resonance_hz, tau_s; /* 0S2 and its amplitude decay time */
+  double modulus_factor;      /* this apple's true E_dyn / E2 [-] */
   af_synth_pulse pulse;       /* the RK4 force at fine_dt_s, in force_n */
+  bool clipped;               /* --unreliable-fraction: gain x pulse saturated at full scale */
+  double force_gain;          /* 1, or 1.25 full scale / peak for a clipped strike */
   double *force_n;            /* owned: pulse.n samples */
 } strike;
 
@@ -122,16 +139,22 @@ typedef struct {
   const char *out, *truth, *ns;
   uint64_t seed;
   double spacing_s;
-  double velocity_drift; /* relative change of v0 from the first strike to the last [-] */
+  double velocity_drift;      /* relative change of v0 from the first strike to the last [-] */
+  double modulus_factor;      /* true E_dyn / E2 of the 0S2 [-] */
+  double unreliable_fraction; /* share of clipped strikes [-] */
+  double factor_spread;       /* relative SD (log) of the factor between apples [-] */
 } args;
 
-#define STRIKES_MAX 100000 /* strikes in one bag */
-#define SPACING_MIN_S 0.1  /* [s] */
-#define SPACING_MAX_S 60   /* [s] */
-#define DRIFT_MAX 0.5      /* |--velocity-drift| [-] */
+#define STRIKES_MAX 100000    /* strikes in one bag */
+#define SPACING_MIN_S 0.1     /* [s] */
+#define SPACING_MAX_S 60      /* [s] */
+#define DRIFT_MAX 0.5         /* |--velocity-drift| [-] */
+#define UNRELIABLE_MAX 0.9    /* share of clipped strikes */
+#define FACTOR_SPREAD_MAX 0.3 /* relative SD of the factor between apples */
+#define CLIP_OVERDRIVE 1.25   /* a clipped strike's peak / strike_full_scale_n */
 
 /* The defaults the parser starts from; --strikes and --out are required. */
-static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0};
+static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0, 1.0, 0.0, 0.0};
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
@@ -152,6 +175,17 @@ static const af_option options[] = {
      "contact velocity of strike k of N: strike_velocity_m_s (1 + X k / (N - 1)), X in "
      "[-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(DRIFT_MAX) "] (0.05: +5 % over the bag) [-]",
      "0: a constant contact velocity"},
+    {"--modulus-factor", "F", AF_OPTION_NUMBER, AF_ARG(modulus_factor), -1,
+     "true dynamic / quasi-static modulus of the 0S2 (within the modulus_factor row's range) [-]",
+     NULL},
+    {"--modulus-factor-spread", "S", AF_OPTION_NUMBER, AF_ARG(factor_spread), -1,
+     "relative SD of the true factor between apples (lognormal), in [0, " AF_OPTION_STR(
+         FACTOR_SPREAD_MAX) "] [-]",
+     "0: every apple has F"},
+    {"--unreliable-fraction", "P", AF_OPTION_NUMBER, AF_ARG(unreliable_fraction), -1,
+     "share of strikes clipped (too hard for the transducer), in [0, " AF_OPTION_STR(
+         UNRELIABLE_MAX) "] [-]",
+     "0: none clipped"},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -210,6 +244,27 @@ static int parse(int argc, char **argv, args *a)
         return usage("--velocity-drift must be in [-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(
                          DRIFT_MAX) "], got",
                      v);
+    } else if (strcmp(flag, "--modulus-factor") == 0) {
+      af_setting_range r;
+      a->modulus_factor = strtod(v, &end);
+      if (af_setting_range_of(AF_SETTING_MODULUS_FACTOR, &r) != AF_OK || errno || *end ||
+          !af_setting_range_contains(&r, a->modulus_factor)) {
+        char msg[96];
+        snprintf(msg, sizeof msg,
+                 "--modulus-factor must be in [%g, %g] (the modulus_factor row), got", r.lo, r.hi);
+        return usage(msg, v);
+      }
+    } else if (strcmp(flag, "--modulus-factor-spread") == 0) {
+      a->factor_spread = strtod(v, &end);
+      if (errno || *end || !(a->factor_spread >= 0.0 && a->factor_spread <= FACTOR_SPREAD_MAX))
+        return usage(
+            "--modulus-factor-spread must be in [0, " AF_OPTION_STR(FACTOR_SPREAD_MAX) "], got", v);
+    } else if (strcmp(flag, "--unreliable-fraction") == 0) {
+      a->unreliable_fraction = strtod(v, &end);
+      if (errno || *end ||
+          !(a->unreliable_fraction >= 0.0 && a->unreliable_fraction <= UNRELIABLE_MAX))
+        return usage("--unreliable-fraction must be in [0, " AF_OPTION_STR(UNRELIABLE_MAX) "], got",
+                     v);
     } else {
       (void)af_option_store(o, v, a);
     }
@@ -261,9 +316,11 @@ static void make_chunk(const station *st, const strike *s, size_t n_strikes, boo
   for (size_t j = 0; j < n_strikes && n_near < 16; j++)
     if (s[j].t_s < t_last && s[j].t_s + (force ? s[j].pulse.res.contact_time_s : 0.5) > t_first)
       near[n_near++] = j;
+  const double full_scale_n = st->lane.measured.strike.full_scale_n;
   for (size_t k = 0; k < CHUNK; k++) {
     double t = (double)(first + k) / rate;
     double x = noise_rms * af_synth_gauss(g);
+    bool saturate = false;
     if (force)
       x += 0.5 * noise_rms * sin(two_pi * hum_hz * t + 0.3) + 0.4 + 0.01 * t;
     for (size_t i = 0; i < n_near; i++) {
@@ -272,14 +329,15 @@ static void make_chunk(const station *st, const strike *s, size_t n_strikes, boo
       if (u <= 0.0 || u > (force ? s[j].pulse.res.contact_time_s : 0.5))
         continue;
       if (force) {
-        x += af_synth_pulse_at(&s[j].pulse, u);
+        x += s[j].force_gain * af_synth_pulse_at(&s[j].pulse, u);
+        saturate = saturate || s[j].clipped;
       } else {
         x += MODE_AMPLITUDE_PA * exp(-u / s[j].tau_s) * sin(two_pi * s[j].resonance_hz * u);
         x += LOUD_MODE_GAIN * MODE_AMPLITUDE_PA * exp(-u * M_PI * LOUD_MODE_HZ / LOUD_MODE_Q) *
              sin(two_pi * LOUD_MODE_HZ * u + 1.0);
       }
     }
-    buf[k] = (float)x;
+    buf[k] = (float)(saturate && x > full_scale_n ? full_scale_n : x);
   }
 }
 
@@ -296,8 +354,9 @@ static int make_strikes(const args *a, const station *st, af_impact *w, double *
   const af_lane_config *c = &st->lane;
   const af_impact_params nominal = st->model.impact;
   const double xi = c->resonance_xi, density = st->model.fruit_density_kg_m3;
-  af_synth_rng g;
+  af_synth_rng g, clip;
   af_synth_rng_seed(&g, a->seed);
+  af_synth_rng_seed(&clip, a->seed ^ 0x636c6970u); /* "clip": its own stream */
   *min_peak_n = INFINITY;
   for (size_t k = 0; k < n; k++) {
     strike *sk = &s[k];
@@ -307,8 +366,10 @@ static int make_strikes(const args *a, const station *st, af_impact *w, double *
     sk->radius_m = af_lamb_sphere_radius_m(sk->mass_kg, density);
     /* sub-sample offsets */
     sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * af_synth_uniform(&g);
-    sk->resonance_hz =
-        af_lamb_frequency_hz(xi, sk->modulus_pa, nominal.fruit_poisson, density, sk->mass_kg);
+    sk->modulus_factor = a->modulus_factor * exp(a->factor_spread * af_synth_gauss(&clip));
+    sk->resonance_hz = af_lamb_frequency_hz(xi, sk->modulus_factor * sk->modulus_pa,
+                                            nominal.fruit_poisson, density, sk->mass_kg);
+    sk->clipped = af_synth_uniform(&clip) < a->unreliable_fraction;
     sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
     const double ramp = n > 1 ? (double)k / (double)(n - 1) : 0.0;
     sk->velocity_m_s = nominal.velocity_m_s * (1.0 + a->velocity_drift * ramp);
@@ -322,6 +383,9 @@ static int make_strikes(const args *a, const station *st, af_impact *w, double *
     memcpy(sk->force_n, fine, sk->pulse.n * sizeof *fine);
     sk->pulse.force_n = sk->force_n; /* off the shared scratch buffer */
     *min_peak_n = fmin(*min_peak_n, sk->pulse.res.peak_force_n);
+    sk->force_gain =
+        sk->clipped ? CLIP_OVERDRIVE * c->measured.strike.full_scale_n / sk->pulse.res.peak_force_n
+                    : 1.0;
   }
   return 0;
 }
@@ -334,11 +398,12 @@ static int write_truth(const char *path, const strike *s, size_t n)
     return 1;
   }
   fprintf(tf, "apple_id,modulus_pa,mass_kg,resonance_hz,contact_time_s,peak_force_n,"
-              "contact_start_s,velocity_m_s\n");
+              "contact_start_s,velocity_m_s,modulus_factor,clipped\n");
   for (size_t k = 0; k < n; k++)
-    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f,%.6f\n", k + 1, s[k].modulus_pa, s[k].mass_kg,
-            s[k].resonance_hz, s[k].pulse.res.contact_time_s, s[k].pulse.res.peak_force_n,
-            BAG_START_S + s[k].t_s, s[k].velocity_m_s);
+    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f,%.6f,%.6f,%d\n", k + 1, s[k].modulus_pa,
+            s[k].mass_kg, s[k].resonance_hz, s[k].pulse.res.contact_time_s,
+            s[k].pulse.res.peak_force_n, BAG_START_S + s[k].t_s, s[k].velocity_m_s,
+            s[k].modulus_factor, s[k].clipped);
   if (fclose(tf) != 0) {
     fprintf(stderr, "strike_bag: cannot write %s\n", path);
     return 1;

@@ -48,6 +48,10 @@ static const section station_sections[] = {
      NULL},
     {"strike_full_scale_n", "measured strikes: the detector on the force stream", NULL},
     {"measure_fit_velocity", "measured strikes: the measurement", NULL},
+    {"modulus_factor_learn_window",
+     "the modulus factor learned on the line (src/core/factor_learn.h)",
+     "# The median of E(0S2) / fitted E2 x the factor in use over the newest\n"
+     "# reliable strikes, with its 95 % interval, in /diagnostics and the report.\n"},
 };
 
 static const section cultivar_sections[] = {

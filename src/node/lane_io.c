@@ -197,6 +197,14 @@ static void on_lane_strike(const af_lane_strike *s, void *user)
   const af_label_place *place = label_place(m, s->apple_id);
   if (m->markers_pub && s->prediction && s->prediction->valid && place)
     publish_label(m, place);
+  if (s->factor_changed) {
+    const af_factor_learn_state *f = af_lane_factor(m->lane);
+    af_ros_log(m->ros, AF_LOG_INFO,
+               "modulus_factor applied: %.4f (was %.4f), the median of %zu reliable strikes "
+               "(95 %% interval [%.4f, %.4f]); change %llu",
+               f->applied, f->previous, f->n, f->ci_low_95, f->ci_high_95,
+               (unsigned long long)f->changes);
+  }
   af_strike_plot_capture(m->plot, s, m->lane); /* a copy; drawn in the node's loop */
   m->have_last = true;
   m->last = *r;
@@ -350,6 +358,24 @@ static void health_diag(const af_lane_io *m, af_diag_status *d)
               100.0 * c->clip_rate_limit);
 }
 
+/* The modulus factor learned on the line (factor_learn.h); NaN = none yet. */
+static void factor_diag(const af_lane_io *m, af_diag_status *d)
+{
+  const af_factor_learn_state *f = af_lane_factor(m->lane);
+  const af_factor_learn_config *c = &m->cfg->lane.factor_learn;
+  af_diag_add(d, "modulus factor learned", "%.4f", f->estimate);
+  af_diag_add(d, "modulus factor learned 95% interval", "[%.4f, %.4f]", f->ci_low_95,
+              f->ci_high_95);
+  af_diag_add(d, "modulus factor learned strikes",
+              "%zu (estimate from %zu, window %zu; %llu "
+              "refused: unreliable or without 0S2 or fit)",
+              f->n, c->min_strikes, c->window_strikes, (unsigned long long)f->refused);
+  af_diag_add(d, "modulus factor applied", "%.4f (%s)", f->applied,
+              c->apply ? "learned values applied: modulus_factor_learn_apply true"
+                       : "the cultivar's: modulus_factor_learn_apply false");
+  af_diag_add(d, "modulus factor changes", "%llu", (unsigned long long)f->changes);
+}
+
 void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
 {
   const af_lane_stats *s = af_lane_get_stats(m->lane);
@@ -398,6 +424,7 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
                 (unsigned long long)s->pulse_cut);
   grade_diag(m, d);
   health_diag(m, d);
+  factor_diag(m, d);
 }
 
 /* --- life cycle ------------------------------------------------------------------ */

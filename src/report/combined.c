@@ -69,8 +69,10 @@ static void add_counts(af_summary *into, const af_summary *m)
     into->by_flag[b] += m->by_flag[b];
   for (int k = 0; k < AF_SUMMARY_AUDIO_CAUSES; k++)
     into->by_audio_cause[k] += m->by_audio_cause[k];
-  if (m->strikes > 0) /* the latest bag's, as a bag's is its latest strike's */
+  if (m->strikes > 0) { /* the latest bag's, as a bag's is its latest strike's */
     into->modulus_factor_now = m->modulus_factor_now;
+    into->factor_learned = m->factor_learned; /* each bag's lane learns from its start */
+  }
 }
 
 af_status af_combined_add(af_combined *c, const af_session *s, const af_summary *m)

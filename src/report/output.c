@@ -49,6 +49,22 @@ static void text_strike(FILE *out, const af_session_strike *r)
   fprintf(out, "]: %s\n", q->reason);
 }
 
+/* The modulus factor the lane learned on the line (factor_learn.h). */
+static void text_learned(FILE *out, const af_factor_learn_state *f)
+{
+  if (isnan(f->estimate))
+    fprintf(out,
+            "  modulus_factor learned on the line: none yet (%zu reliable strikes), "
+            "applied %.4f\n",
+            f->n, f->applied);
+  else
+    fprintf(out,
+            "  modulus_factor learned on the line: %.4f (95 %% interval %.4f-%.4f, the newest "
+            "%zu reliable strikes); applied %.4f after %llu changes\n",
+            f->estimate, f->ci_low_95, f->ci_high_95, f->n, f->applied,
+            (unsigned long long)f->changes);
+}
+
 static void text_quantiles(FILE *out, const char *name, const af_quantiles *q, double scale,
                            const char *fmt)
 {
@@ -192,6 +208,7 @@ void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
             m->modulus_factor_now);
   else
     fprintf(out, "  modulus agreement: no strike has both moduli\n");
+  text_learned(out, &m->factor_learned);
   fprintf(out, "  streams (recorded %.1f s of force):\n", s->recorded_s);
   text_stream(out, "force", &s->force);
   text_stream(out, "audio", &s->audio);
@@ -222,6 +239,18 @@ static void json_num(FILE *out, const char *key, double v)
   else
     fputs("null", out);
   fputs(", ", out);
+}
+
+/* The modulus factor the lane learned on the line (factor_learn.h). */
+static void json_learned(FILE *out, const af_factor_learn_state *f)
+{
+  json_num(out, "modulus_factor_learned", f->estimate);
+  json_num(out, "modulus_factor_learned_ci95_low", f->ci_low_95);
+  json_num(out, "modulus_factor_learned_ci95_high", f->ci_high_95);
+  fprintf(out, "\"modulus_factor_learned_strikes\": %zu, ", f->n);
+  fprintf(out, "\"modulus_factor_learned_refused\": %llu, ", (unsigned long long)f->refused);
+  json_num(out, "modulus_factor_applied", f->applied);
+  fprintf(out, "\"modulus_factor_changes\": %llu,", (unsigned long long)f->changes);
 }
 
 /* The strike's fields (serialize.h), then what the station knew of its apple. */
@@ -366,6 +395,8 @@ static void json_summary(FILE *out, const af_session *s, const af_summary *m)
   json_num(out, "modulus_ratio_spread", m->modulus_ratio_spread);
   json_num(out, "modulus_factor_now", m->modulus_factor_now);
   json_num(out, "modulus_factor_suggested", m->modulus_factor_suggested);
+  fputs("\n    ", out);
+  json_learned(out, &m->factor_learned);
   fputc('\n', out);
   json_stream(out, "force", &s->force);
   json_stream(out, "audio", &s->audio);

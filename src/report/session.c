@@ -73,7 +73,7 @@ static void on_lane_strike(const af_lane_strike *ls, void *user)
   r->has_apple = ls->apple != NULL;
   r->mass_kg = NAN;
   r->predicted_band_low_hz = r->predicted_band_high_hz = r->predicted_resonance_hz = NAN;
-  r->modulus_factor = c->o->cfg->model.modulus_factor;
+  r->modulus_factor = ls->modulus_factor; /* the cultivar's or the learned one applied */
   const af_hammer_health_stats *h = &af_lane_get_stats(c->lane)->health; /* after this strike */
   r->hammer_velocity_m_s = h->last_velocity_m_s;
   r->hammer_velocity_mean_m_s = h->velocity_m_s;
@@ -89,7 +89,6 @@ static void on_lane_strike(const af_lane_strike *ls, void *user)
     r->predicted_band_high_hz = pr->result.band.band_high_hz;
     r->predicted_resonance_hz = pr->result.resonance_hz;
     r->predicted_reliable = pr->reliable;
-    r->modulus_factor = pr->params.modulus_factor;
     af_text(r->predicted_reason, sizeof r->predicted_reason, "%s", pr->reason);
   }
   r->with_audio = ls->with_audio;
@@ -348,6 +347,7 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
   int code = feed(&c, bag, topics, total, err, len);
   out->stats = *af_lane_get_stats(c.lane);
   out->health_cfg = o->cfg->health;
+  out->factor = *af_lane_factor(c.lane);
   copy_stream(&out->force, af_lane_force_stream(c.lane));
   copy_stream(&out->audio, af_lane_audio_stream(c.lane));
   setup(o, true);

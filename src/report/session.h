@@ -94,6 +94,7 @@ typedef struct {
   size_t n_apples, cap_apples;
   af_lane_stats stats;                /* the lane's at the end (the hammer health's last window) */
   af_hammer_health_config health_cfg; /* what the hammer health was judged with */
+  af_factor_learn_state factor;       /* the lane's learned modulus factor at the end (lane.h) */
   af_session_stream force, audio;
   uint64_t messages;         /* read from the bag */
   uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */

@@ -134,6 +134,7 @@ af_status af_summary_compute(const af_session *s, af_summary *out)
     out->apples_predicted_reliable += s->apples[k].reliable;
   }
   af_summary_figures(out, col, n);
+  out->factor_learned = s->factor;
   free(scratch);
   return AF_OK;
 }

@@ -36,6 +36,9 @@ typedef struct {
   double modulus_factor_now;       /* the cultivar's, as run [-] */
   double modulus_factor_suggested; /* median of factor x ratio: makes the 0S2's modulus
                                       agree with the fitted E2 on the median strike [-] */
+  af_factor_learn_state factor_learned; /* the lane's online estimate at the end of the bag
+                                           (factor_learn.h): the newest window of reliable
+                                           strikes, its 95 % interval, the applied value */
 } af_summary;
 
 /* The per-strike columns the quantiles are taken over: E(0S2), fitted E2,

@@ -214,6 +214,26 @@ class StrikesTest(unittest.TestCase):
                     'strike force samples lost'):
             self.assertEqual(diag.get(key), '0', key)
 
+    def test_03a_modulus_factor_learned(self):
+        # strike_bag's true modulus factor is 1 (its default): the median of
+        # E(0S2) / fitted E2 over the reliable strikes must find it within 2 %;
+        # apply is off, so the cultivar's 1 stays applied and nothing changes.
+        reports, rels, diag = self.played
+        reliable = sum(1 for r in rels if r.reliable)
+        learned = float(diag['modulus factor learned'])
+        n = int(diag['modulus factor learned strikes'].split(' ', 1)[0])
+        print('learned modulus factor %.4f from %d reliable strikes (%d reliable reports); '
+              'interval %s' % (learned, n, reliable, diag['modulus factor learned 95% interval']))
+        self.assertLessEqual(abs(learned - 1.0), 0.02)
+        self.assertLessEqual(n, reliable)
+        self.assertGreaterEqual(n, min(reliable, 200) - 5)  # the last report may lag
+        low, high = (float(x) for x in
+                     diag['modulus factor learned 95% interval'].strip('[]').split(', '))
+        self.assertTrue(low <= learned <= high, diag['modulus factor learned 95% interval'])
+        self.assertTrue(diag['modulus factor applied'].startswith('1.0000 '),
+                        diag['modulus factor applied'])
+        self.assertEqual(diag['modulus factor changes'], '0')
+
     def test_03b_offline_report_judges_alike(self):
         """The same bag through firmness_report --json (the core lane
         offline, no ROS master: the lab's desk tool): for every strike the
