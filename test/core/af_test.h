@@ -4,6 +4,7 @@
 #define AF_TEST_H
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 static int af_test_passed;
@@ -62,6 +63,27 @@ static inline int af_test_summary(const char *name)
 {
   printf("%s: %d passed, %d failed\n", name, af_test_passed, af_test_failed);
   return af_test_failed == 0 && af_test_passed > 0 ? 0 : 1;
+}
+
+/* Seeded test noise independent of the package's synth (synth.c):
+ * splitmix64 for uniforms in (0, 1), Box-Muller for normals. One
+ * generator per test file: static af_test_rng rng = {SEED}. */
+typedef struct {
+  uint64_t state;
+} af_test_rng;
+
+static inline double af_test_uniform(af_test_rng *g)
+{
+  uint64_t z = (g->state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return ((double)((z ^ (z >> 31)) >> 11) + 0.5) / 9007199254740992.0;
+}
+
+static inline double af_test_gauss(af_test_rng *g)
+{
+  return sqrt(-2.0 * log(af_test_uniform(g))) *
+         cos(2.0 * 3.14159265358979323846 * af_test_uniform(g));
 }
 
 #endif

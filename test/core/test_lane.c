@@ -50,19 +50,7 @@ static void on_strike(const af_lane_strike *s, void *user)
   out->r[out->n++] = s->report;
 }
 
-/* splitmix64 + Box-Muller: seeded noise independent of the package's synth. */
-static uint64_t rng_state;
-static double uniform(void)
-{
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return ((double)((z ^ (z >> 31)) >> 11) + 0.5) / 9007199254740992.0;
-}
-static double gauss(void)
-{
-  return sqrt(-2.0 * log(uniform())) * cos(2.0 * PI * uniform());
-}
+static af_test_rng rng = {0}; /* test noise (af_test.h) */
 
 /* Strikes at strikes_s[k] (contact start, seconds from the session start). */
 static session make_session(const double *strikes_s, size_t n_strikes)
@@ -72,9 +60,9 @@ static session make_session(const double *strikes_s, size_t n_strikes)
   s.n_audio = (size_t)(SPAN_S * FS_AUDIO);
   s.force = malloc(s.n_force * sizeof *s.force);
   s.audio = malloc(s.n_audio * sizeof *s.audio);
-  rng_state = 20261122;
+  rng.state = 20261122;
   for (size_t k = 0; k < s.n_force; k++) {
-    double t = (double)k / FS_FORCE, x = 0.3 + 0.02 * gauss();
+    double t = (double)k / FS_FORCE, x = 0.3 + 0.02 * af_test_gauss(&rng);
     for (size_t j = 0; j < n_strikes; j++) {
       double u = t - strikes_s[j];
       if (u > 0.0 && u < 0.5e-3)
@@ -83,7 +71,7 @@ static session make_session(const double *strikes_s, size_t n_strikes)
     s.force[k] = (float)x;
   }
   for (size_t k = 0; k < s.n_audio; k++) {
-    double t = (double)k / FS_AUDIO, x = 0.01 * gauss();
+    double t = (double)k / FS_AUDIO, x = 0.01 * af_test_gauss(&rng);
     for (size_t j = 0; j < n_strikes; j++) {
       double u = t - strikes_s[j];
       if (u >= 0.0)

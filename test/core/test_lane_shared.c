@@ -35,19 +35,7 @@ static float *force, *audio;
 static size_t n_force, n_audio;
 static af_lane_config cfg;
 
-/* splitmix64 + Box-Muller: seeded noise independent of the package's synth. */
-static uint64_t rng_state = 20261124;
-static double uniform(void)
-{
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return ((double)((z ^ (z >> 31)) >> 11) + 0.5) / 9007199254740992.0;
-}
-static double gauss(void)
-{
-  return sqrt(-2.0 * log(uniform())) * cos(2.0 * PI * uniform());
-}
+static af_test_rng rng = {20261124}; /* test noise (af_test.h) */
 
 static void make_signals(void)
 {
@@ -56,13 +44,13 @@ static void make_signals(void)
   force = malloc(n_force * sizeof *force);
   audio = malloc(n_audio * sizeof *audio);
   for (size_t k = 0; k < n_force; k++) {
-    double u = (double)k / FS_FORCE - STRIKE_S, x = 0.3 + 0.02 * gauss();
+    double u = (double)k / FS_FORCE - STRIKE_S, x = 0.3 + 0.02 * af_test_gauss(&rng);
     if (u > 0.0 && u < 0.5e-3)
       x += 40.0 * sin(PI * u / 0.5e-3);
     force[k] = (float)x;
   }
   for (size_t k = 0; k < n_audio; k++) {
-    double u = (double)k / FS_AUDIO - STRIKE_S, x = 0.01 * gauss();
+    double u = (double)k / FS_AUDIO - STRIKE_S, x = 0.01 * af_test_gauss(&rng);
     if (u >= 0.0)
       x += exp(-PI * TONE_HZ / TONE_Q * u) * sin(2.0 * PI * TONE_HZ * u);
     audio[k] = (float)x;

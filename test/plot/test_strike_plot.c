@@ -46,18 +46,7 @@ typedef struct {
   int strikes;
 } capture;
 
-static uint64_t rng_state = 20261122;
-static double uniform(void)
-{
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return ((double)((z ^ (z >> 31)) >> 11) + 0.5) / 9007199254740992.0;
-}
-static double gauss(void)
-{
-  return sqrt(-2.0 * log(uniform())) * cos(2.0 * PI * uniform());
-}
+static af_test_rng rng = {20261122}; /* test noise (af_test.h) */
 
 /* The lane's callback, as the node's: a copy into the view, nothing drawn. */
 static void on_strike(const af_lane_strike *s, void *user)
@@ -101,13 +90,14 @@ static void feed(af_lane *l)
                            &pulse) != AF_OK)
     exit(1);
   for (size_t k = 0; k < nf; k++)
-    force[k] =
-        (float)(0.3 + 0.02 * gauss() + af_synth_pulse_at(&pulse, (double)k / FS_FORCE - STRIKE_S));
+    force[k] = (float)(0.3 + 0.02 * af_test_gauss(&rng) +
+                       af_synth_pulse_at(&pulse, (double)k / FS_FORCE - STRIKE_S));
   af_impact_destroy(w);
   const double f0 = 682.0, tau = 30.0 / (PI * f0);
   for (size_t k = 0; k < na; k++) {
     double u = (double)k / FS_AUDIO - STRIKE_S;
-    audio[k] = (float)(0.01 * gauss() + (u > 0.0 ? exp(-u / tau) * sin(2.0 * PI * f0 * u) : 0.0));
+    audio[k] = (float)(0.01 * af_test_gauss(&rng) +
+                       (u > 0.0 ? exp(-u / tau) * sin(2.0 * PI * f0 * u) : 0.0));
   }
   af_apple a;
   memset(&a, 0, sizeof a);
