@@ -108,6 +108,16 @@ static af_status draw_one(af_report_plots *p, const char *name, const af_plot_pa
   return st;
 }
 
+/* k columns of n doubles for one session figure (one block, freed by the
+ * caller), or NULL with "out of memory" in err. */
+static double *columns(size_t n, size_t k, char *err, size_t len)
+{
+  double *buf = malloc((k * n + 1) * sizeof *buf);
+  if (!buf)
+    af_text(err, len, "out of memory");
+  return buf;
+}
+
 /* Histogram counts of x [Pa] in AF_HIST_BIN_MPA bins from 0; edges in MPa. */
 static void histogram(const af_session *s, bool from_resonance, double *edges, double *counts,
                       size_t bins)
@@ -134,11 +144,9 @@ static af_status plot_histogram(af_report_plots *p, const af_session *s, const a
   if (!isfinite(top))
     top = p->cfg->modulus_max_pa * 1e-6;
   size_t bins = (size_t)ceil(top / AF_HIST_BIN_MPA) + 2;
-  double *buf = malloc(4 * bins * sizeof *buf);
-  if (!buf) {
-    af_text(err, len, "out of memory");
+  double *buf = columns(bins, 4, err, len);
+  if (!buf)
     return AF_ENOMEM;
-  }
   histogram(s, true, buf, buf + bins, bins);
   histogram(s, false, buf + 2 * bins, buf + 3 * bins, bins);
   char title[160], l1[96], l2[96];
@@ -195,11 +203,9 @@ static double stiffness_of(const af_lane_config *c, double xi, double e_pa)
 static af_status plot_stiffness(af_report_plots *p, const af_session *s, char *err, size_t len)
 {
   const size_t n = s->n_strikes;
-  double *buf = malloc((2 * AF_CLASSES * n + 1) * sizeof *buf);
-  if (!buf) {
-    af_text(err, len, "out of memory");
+  double *buf = columns(n, 2 * AF_CLASSES, err, len);
+  if (!buf)
     return AF_ENOMEM;
-  }
   size_t count[AF_CLASSES] = {0};
   for (size_t k = 0; k < n; k++) {
     const af_session_strike *r = &s->strikes[k];
@@ -251,11 +257,9 @@ static af_status plot_stiffness(af_report_plots *p, const af_session *s, char *e
 static af_status plot_band(af_report_plots *p, const af_session *s, char *err, size_t len)
 {
   const size_t n = s->n_strikes;
-  double *buf = malloc((7 * n + 1) * sizeof *buf);
-  if (!buf) {
-    af_text(err, len, "out of memory");
+  double *buf = columns(n, 7, err, len);
+  if (!buf)
     return AF_ENOMEM;
-  }
   double *idx = buf, *lo = buf + n, *hi = buf + 2 * n, *xin = buf + 3 * n, *yin = buf + 4 * n;
   double *xout = buf + 5 * n, *yout = buf + 6 * n;
   size_t nin = 0, nout = 0;
@@ -304,11 +308,9 @@ static af_status plot_band(af_report_plots *p, const af_session *s, char *err, s
 static af_status plot_hammer(af_report_plots *p, const af_session *s, char *err, size_t len)
 {
   const size_t n = s->n_strikes;
-  double *buf = malloc((6 * n + 1) * sizeof *buf);
-  if (!buf) {
-    af_text(err, len, "out of memory");
+  double *buf = columns(n, 6, err, len);
+  if (!buf)
     return AF_ENOMEM;
-  }
   double *idx = buf, *mean = buf + n, *xok = buf + 2 * n, *yok = buf + 3 * n;
   double *xw = buf + 4 * n, *yw = buf + 5 * n;
   size_t nok = 0, nw = 0;
@@ -358,6 +360,62 @@ static af_status plot_hammer(af_report_plots *p, const af_session *s, char *err,
   return st;
 }
 
+/* The learned modulus factor over the session (factor_learn.h): each
+ * strike's own factor (green: reliable, fed to the estimate; grey: not
+ * reliable, never fed), the running median and its 95 % interval, and the
+ * applied value. */
+static af_status plot_factor(af_report_plots *p, const af_session *s, char *err, size_t len)
+{
+  const size_t n = s->n_strikes;
+  double *buf = columns(n, 9, err, len);
+  if (!buf)
+    return AF_ENOMEM;
+  double *idx = buf, *est = buf + n, *lo = buf + 2 * n, *hi = buf + 3 * n, *app = buf + 4 * n;
+  double *xr = buf + 5 * n, *yr = buf + 6 * n, *xu = buf + 7 * n, *yu = buf + 8 * n;
+  size_t nr = 0, nu = 0;
+  for (size_t k = 0; k < n; k++) {
+    const af_session_strike *r = &s->strikes[k];
+    idx[k] = (double)(k + 1);
+    est[k] = r->factor_estimate;
+    lo[k] = r->factor_ci_low_95;
+    hi[k] = r->factor_ci_high_95;
+    app[k] = r->factor_applied;
+    if (!isfinite(r->factor_true) || !(r->factor_true > 0.0))
+      continue;
+    const bool fed = r->report.reliable;
+    (fed ? xr : xu)[fed ? nr : nu] = (double)(k + 1);
+    (fed ? yr : yu)[fed ? nr++ : nu++] = r->factor_true;
+  }
+  char lr[64], lu[64], title[160], lstart[64];
+  af_text(lr, sizeof lr, "strike's factor, reliable: learned from (%zu)", nr);
+  af_text(lu, sizeof lu, "strike's factor, not reliable: never used (%zu)", nu);
+  af_text(lstart, sizeof lstart, "cultivar's modulus_factor %.4g", p->cfg->model.modulus_factor);
+  af_plot_series ser[6] = {
+      {lu, xu, yu, nu, AF_PLOT_GREY, AF_PLOT_POINTS},
+      {lr, xr, yr, nr, AF_PLOT_GREEN, AF_PLOT_POINTS},
+      {"learned estimate (running median)", idx, est, n, AF_PLOT_BLUE, AF_PLOT_LINE},
+      {"its 95 % interval", idx, lo, n, AF_PLOT_BLUE, AF_PLOT_DASHED},
+      {NULL, idx, hi, n, AF_PLOT_BLUE, AF_PLOT_DASHED},
+      {"applied from the next strike", idx, app, n, AF_PLOT_ORANGE, AF_PLOT_LINE}};
+  const af_plot_rule start = {lstart, p->cfg->model.modulus_factor, AF_PLOT_BLACK, true};
+  af_text(title, sizeof title, "modulus factor E(0S2) / fitted E2 learned on the line, %zu strikes",
+          n);
+  af_plot_panel panel = af_plot_panel_empty();
+  panel.title = title;
+  panel.x_label = "strike (in recorded order)";
+  panel.y_label = "modulus factor (dynamic / quasi-static) [-]";
+  panel.series = ser;
+  panel.n_series = 6;
+  panel.y_rules = &start;
+  panel.n_y_rules = 1;
+  panel.x_min = 0.0;
+  panel.x_max = (double)n + 1.0;
+  panel.legend = AF_PLOT_LEGEND_BELOW;
+  af_status st = draw_one(p, "modulus_factor.png", &panel, err, len);
+  free(buf);
+  return st;
+}
+
 af_status af_report_plots_session(af_report_plots *p, const af_session *s, const af_summary *m,
                                   char *err, size_t len)
 {
@@ -368,6 +426,8 @@ af_status af_report_plots_session(af_report_plots *p, const af_session *s, const
     st = plot_band(p, s, err, len);
   if (st == AF_OK)
     st = plot_hammer(p, s, err, len);
+  if (st == AF_OK)
+    st = plot_factor(p, s, err, len);
   if (st == AF_OK && p->failed > 0) {
     af_text(err, len, "%zu of %zu strike figures could not be drawn, the first %s", p->failed,
             p->strikes, p->first_error);

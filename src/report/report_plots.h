@@ -11,7 +11,12 @@
  *   hammer_velocity.png        the contact velocity of each strike from its
  *                              impulse and the window's mean (hammer_health.h)
  *                              against strike_velocity_m_s and its band, the
- *                              first velocity warning marked. */
+ *                              first velocity warning marked;
+ *   modulus_factor.png         each strike's own factor E(0S2) / fitted E2
+ *                              (reliable ones, learned from; the others,
+ *                              never used), the learned estimate with its
+ *                              95 % interval, the applied value and the
+ *                              cultivar's modulus_factor (factor_learn.h). */
 #ifndef AF_REPORT_PLOTS_H
 #define AF_REPORT_PLOTS_H
 

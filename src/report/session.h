@@ -61,6 +61,11 @@ typedef struct {
                                       not a clean strike) */
   double hammer_velocity_mean_m_s; /* the window's mean v0 the health judged after it [m/s] */
   uint32_t hammer_warnings;        /* the hammer health's AF_HAMMER_WARN_* after it */
+  double factor_true; /* its own dynamic / quasi-static factor, modulus_factor x E(0S2) / E2
+                         [-] (factor_learn.h); NaN without both moduli */
+  double factor_estimate, factor_ci_low_95, factor_ci_high_95; /* the learned factor after it
+                                                                  [-] (NaN while too few) */
+  double factor_applied; /* the factor applied from the next strike on [-] */
 } af_session_strike;
 
 /* The view of r that serialize.h writes (borrowed: valid while r is). */

@@ -31,16 +31,30 @@ def plain(dst, topic, raw, t):
     dst.write(topic, raw, t, raw=True)
 
 
+def message(raw):
+    """The message of a raw (kind, data, md5, pos, cls) record."""
+    msg = raw[4]()
+    msg.deserialize(raw[1])
+    return msg
+
+
+def first_force(state, key, topic):
+    """True once: for the first force message seen under this key."""
+    if not topic.endswith('/force') or state.get(key):
+        return False
+    state[key] = True
+    return True
+
+
 def main():
     good, out = sys.argv[1], sys.argv[2]
     big = int(sys.argv[3]) if len(sys.argv) > 3 else 1 << 24
-    state = {'string': False}
+    state = {}
     only_big = len(sys.argv) > 4 and sys.argv[4] == 'big'
 
     def string_on_force(dst, topic, raw, t):
         plain(dst, topic, raw, t)
-        if topic.endswith('/force') and not state['string']:
-            state['string'] = True
+        if first_force(state, 'string', topic):
             dst.write(topic, String(data='not a chunk'), t)
 
     def duplicates(dst, topic, raw, t):
@@ -51,9 +65,7 @@ def main():
     def same_stamp(dst, topic, raw, t):
         plain(dst, topic, raw, t)
         if topic.endswith('/apple'):
-            kind, data, md5, pos, cls = raw
-            msg = cls()
-            msg.deserialize(data)
+            msg = message(raw)
             msg.apple_id += 1000
             dst.write(topic, msg, t)
 
@@ -64,18 +76,14 @@ def main():
 
     def overflow(dst, topic, raw, t):
         plain(dst, topic, raw, t)
-        if topic.endswith('/force') and not state.get('overflow'):
-            state['overflow'] = True
-            kind, data, md5, pos, cls = raw
-            msg = cls()
-            msg.deserialize(data)
+        if first_force(state, 'overflow', topic):
+            msg = message(raw)
             msg.first_sample = 2 ** 64 - 5
             dst.write(topic, msg, t)
 
     def empty_chunk(dst, topic, raw, t):
         plain(dst, topic, raw, t)
-        if topic.endswith('/force') and not state.get('empty'):
-            state['empty'] = True
+        if first_force(state, 'empty', topic):
             kind, data, md5, pos, cls = raw
             dst.write(topic, (kind, b'', md5, pos, cls), t, raw=True)
 
@@ -85,11 +93,9 @@ def main():
 
     def big_chunk(dst, topic, raw, t):
         plain(dst, topic, raw, t)
-        if topic.endswith('/force') and not state.get('big'):
-            state['big'] = True
+        if first_force(state, 'big', topic):
             kind, data, md5, pos, cls = raw
-            msg = cls()
-            msg.deserialize(data)
+            msg = message(raw)
             msg.first_sample += 10 ** 9  # far ahead: refused before the ring sees it
             msg.data = [0.0] * 0
             buf = __import__('io').BytesIO()

@@ -125,6 +125,34 @@ check(len(after) >= 10 and rel(m, 1.0) <= 0.02,
 check(rel(s['modulus_factor_learned'], 1.15) <= 0.02, 'apply: the learned value is still of the true factor: %.4f' % s['modulus_factor_learned'])
 sys.exit(1 if failed else 0)
 EOF
+# 5. the plot over the session (--plots): modulus_factor.png, 900 x 560 px,
+# decoded by ImageMagick; inside the frame (above the legend, right of the
+# tick labels): the reliable strikes' green points (44, 160, 44) and the
+# estimate's blue lines (31, 119, 180). (The grey of the unreliable points
+# is not checked: anti-aliased black text gives the same grey.)
+"$FM" "$tmp/u20.bag" --jobs 1 --plots "$tmp/plots" >/dev/null 2>"$tmp/err" ||
+  bad "--plots exited $?: $(cat "$tmp/err")"
+if convert "$tmp/plots/modulus_factor.png" -depth 8 "$tmp/mf.ppm" 2>"$tmp/err" &&
+  $PY - "$tmp/mf.ppm" 2>"$tmp/err" <<'EOF'; then ok; else bad "modulus_factor.png: $(cat "$tmp/err")"; fi
+import sys
+data = open(sys.argv[1], 'rb').read()
+head = data.split(maxsplit=4)
+w, h = int(head[1]), int(head[2])
+px = head[4]
+assert (w, h) == (900, 560), (w, h)
+def count(rgb, tol=12):
+    n = 0
+    for y in range(60, 320):
+        row = px[3 * w * y:3 * w * (y + 1)]
+        for x in range(125, 855):
+            if all(abs(row[3 * x + i] - rgb[i]) <= tol for i in range(3)):
+                n += 1
+    return n
+green, blue = count((44, 160, 44)), count((31, 119, 180))
+print('modulus_factor.png: %d green, %d blue px' % (green, blue))
+assert green >= 300 and blue >= 300, (green, blue)
+EOF
+
 # Bad input: one line naming the row or flag, exit 2.
 expect_usage "modulus_factor_learn_min_strikes = 300 must be at most modulus_factor_learn_window = 200" \
   "$tmp/a.bag" --set modulus_factor_learn_min_strikes=300
