@@ -40,7 +40,9 @@ hostile_case() {
   if [ "${AF_SANITIZED:-0}" != 1 ]; then
     /usr/bin/python3 -c "import sys; sys.exit(0 if $rss <= $rss_mib else 1)" || ok=0
   fi
-  if [ -n "$regex" ] && ! cat "$tmp/$name.out" "$tmp/$name.err" | grep -Eq -- "$regex"; then
+  # grep reads the files itself: `cat | grep -q` under pipefail fails when grep
+  # stops at a match before cat has written everything (SIGPIPE, exit 141).
+  if [ -n "$regex" ] && ! grep -Eqs -- "$regex" "$tmp/$name.out" "$tmp/$name.err"; then
     line=MISSING
     ok=0
   fi
