@@ -85,6 +85,11 @@
  * More-scaled curvature [-] (GSL's), and the rejected trials in a row that
  * end it (GSL's 16 before GSL_ENOPROG). */
 #define AF_LM_MU_START 1e-3
+/* The check's model runs at dt / this (when the pulse fits the model
+ * buffer, else at the ODE path's dt / oversample), so that the cubic
+ * interpolant's own error (~(h / t_c)^3) stays far below the table's: it
+ * checks the table against the ODE, not against a coarse sampling of it. */
+#define AF_FIT_CHECK_OVERSAMPLE 4
 #define AF_LM_MAX_REJECTS 16
 
 struct af_fit {
@@ -337,33 +342,43 @@ static void table_sample(af_fit *w, const af_fit_scales *sc, size_t k, double t0
   w->res_n[k] = w->scale * (w->base_at_n[k] - w->pulse_n[k]);
 }
 
-/* The table's model at x: values and slopes at the data times, Jacobian
- * columns, base_res's contact time, peak and sample count (as the ODE would
- * write them) and the contact time's gradient. AF_EINVAL (and left_table)
- * off the grid; AF_ESIZE when the ODE's pulse would overflow its buffer, as
- * on the ODE path. */
-static af_status table_model(af_fit *w, const double *x)
+/* The table's figures at x: the shape, base_res's contact time, peak and
+ * sample count (as the ODE would write them) and the contact time's
+ * gradient. AF_EINVAL (and left_table) off the grid; AF_ESIZE when the
+ * ODE's pulse would overflow its buffer, as on the ODE path. */
+static af_status table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
 {
   af_impact_params p;
-  af_fit_scales sc;
-  double t0_s;
-  fit_unpack(w, x, &p, &t0_s);
-  if (table_scales(w, &p, x, &sc) != AF_OK ||
-      af_pulse_table_shape(w->table, sc.chi, sc.gamma, &w->shape) != AF_OK) {
+  fit_unpack(w, x, &p, t0_s);
+  if (table_scales(w, &p, x, sc) != AF_OK ||
+      af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
     w->left_table = true;
     return AF_EINVAL;
   }
-  double tc_s = w->shape.tau_c * sc.t_s, samples = floor(tc_s / w->h_s) + 1.0;
+  double tc_s = w->shape.tau_c * sc->t_s, samples = floor(tc_s / w->h_s) + 1.0;
   if (!(samples <= (double)w->model_cap))
     return AF_ESIZE;
   w->base_res = (af_impact_result){.contact_time_s = tc_s,
-                                   .peak_force_n = w->shape.peak * sc.f0_n,
+                                   .peak_force_n = w->shape.peak * sc->f0_n,
                                    .dt_s = w->h_s,
                                    .n_samples = (size_t)samples};
   for (size_t j = 0; j < w->n_params; j++)
-    w->tc_grad_s[j] = j == w->ix_time ? 0.0
-                                      : tc_s * (sc.dln_t[j] + w->shape.dln_tau_c[0] * sc.dchi[j] +
-                                                w->shape.dln_tau_c[1] * sc.gamma * sc.dln_gamma[j]);
+    w->tc_grad_s[j] = j == w->ix_time
+                          ? 0.0
+                          : tc_s * (sc->dln_t[j] + w->shape.dln_tau_c[0] * sc->dchi[j] +
+                                    w->shape.dln_tau_c[1] * sc->gamma * sc->dln_gamma[j]);
+  return AF_OK;
+}
+
+/* ... and the model at the data times: values, slopes, Jacobian rows and
+ * the scaled residual. */
+static af_status table_model(af_fit *w, const double *x)
+{
+  af_fit_scales sc;
+  double t0_s;
+  af_status st = table_figures(w, x, &sc, &t0_s);
+  if (st != AF_OK)
+    return st;
   for (size_t k = 0; k < w->n; k++)
     table_sample(w, &sc, k, t0_s);
   return AF_OK;
@@ -636,7 +651,16 @@ static af_status fit_start(af_fit *w)
 {
   gsl_vector_set_zero(w->x_start);
   gsl_vector_set(w->x_start, AF_IX_RESTITUTION, restitution_to_x(w->start.restitution));
-  af_status st = fit_base(w, w->x_start);
+  af_status st;
+  if (w->on_table && w->cfg.match_start) { /* the match needs the figures only */
+    af_fit_scales sc;
+    double x[AF_FIT_MAX_PARAMS] = {0}, t0_s;
+    for (size_t i = 0; i < w->n_params; i++)
+      x[i] = gsl_vector_get(w->x_start, i);
+    st = table_figures(w, x, &sc, &t0_s);
+  } else {
+    st = fit_base(w, w->x_start);
+  }
   if (st != AF_OK && w->left_table)
     return st; /* the caller falls back */
   if (st != AF_OK)
@@ -902,14 +926,21 @@ static double fit_contact_time_se(const af_fit *w)
  * (the ODE's, as on the ODE path). */
 static af_status check_run(af_fit *w, const double *x, af_fit_result *out)
 {
+  af_impact_params p;
   af_impact_result res;
-  double t0_s, slope;
-  af_status st = fit_model(w, x, w->model_n, &res, &t0_s);
+  double t0_s, slope, h_s = w->dt_s / AF_FIT_CHECK_OVERSAMPLE;
+  fit_unpack(w, x, &p, &t0_s);
+  w->model_runs++;
+  af_status st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
+  if (st == AF_ESIZE && h_s < w->h_s) { /* a long pulse: the search's step */
+    h_s = w->h_s;
+    w->model_runs++;
+    st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
+  }
   if (st != AF_OK)
     return st;
   for (size_t k = 0; k < w->n; k++)
-    fit_interp(w->model_n, res.n_samples, w->h_s, (double)k * w->dt_s - t0_s, &w->check_n[k],
-               &slope);
+    fit_interp(w->model_n, res.n_samples, h_s, (double)k * w->dt_s - t0_s, &w->check_n[k], &slope);
   out->contact_time_s = res.contact_time_s;
   out->peak_force_n = res.peak_force_n;
   return AF_OK;

@@ -118,7 +118,7 @@ bool af_pulse_table_covers(double chi, double gamma)
 
 /* Four-point Lagrange weights on the nodes -1, 0, 1, 2 at u, and their
  * derivatives in u. */
-static void lagrange4(double u, double w[4], double dw[4])
+static inline void lagrange4(double u, double w[4], double dw[4])
 {
   double a = u + 1.0, b = u, c = u - 1.0, d = u - 2.0;
   w[0] = -b * c * d / 6.0;
@@ -184,8 +184,11 @@ void af_pulse_shape_eval(const af_pulse_shape *s, double tau, double *f, double 
   double v = 0.0, v_tau = 0.0, v_chi = 0.0, v_gamma = 0.0;
   double x = tau / s->tau_c;
   if (x > 0.0 && x < 1.0) {
-    double w[4], dw[4];
-    int j0 = stencil(x, 1.0 / AF_PULSE_TABLE_INTERVALS, AF_PULSE_TABLE_NODES, w, dw);
+    /* stencil() on the s axis, written out: this runs for every sample */
+    double w[4], dw[4], pos = x * AF_PULSE_TABLE_INTERVALS;
+    int j0 = (int)pos - 1; /* pos > 0: truncation is floor */
+    j0 = j0 < 0 ? 0 : j0 > AF_PULSE_TABLE_INTERVALS - 3 ? AF_PULSE_TABLE_INTERVALS - 3 : j0;
+    lagrange4(pos - (double)(j0 + 1), w, dw);
     double g = 0.0, g_s = 0.0, g_chi = 0.0, g_gamma = 0.0;
     for (int a = 0; a < 4; a++) {
       g += w[a] * s->g[j0 + a];
@@ -193,6 +196,7 @@ void af_pulse_shape_eval(const af_pulse_shape *s, double tau, double *f, double 
       g_chi += w[a] * s->g_chi[j0 + a];
       g_gamma += w[a] * s->g_gamma[j0 + a];
     }
+    g_s *= AF_PULSE_TABLE_INTERVALS; /* per unit s */
     double q = x * (1.0 - x), rq = sqrt(q), phi = q * rq, dphi = 1.5 * rq * (1.0 - 2.0 * x);
     double p_s = dphi * g + phi * g_s; /* dP/ds */
     v = phi * g;

@@ -406,12 +406,11 @@ static void check_same(const af_fit_result *t, const af_fit_result *o)
 }
 
 /* One noise-free strike of the synthesizer in a detector-like window: the
- * contact from sample 2, 6 quiet samples after it, 50 kHz. */
-static size_t window_of(const rk4_strike *s, double *pulse_n, size_t cap, double *t0_s)
+ * contact from sample 2.3, 6 quiet samples after it, sampled every dt. */
+static size_t window_of(const rk4_strike *s, double dt, double *pulse_n, size_t cap, double *t0_s)
 {
   double tc_s, v_end;
   size_t n_fine = rk4_pulse(s, &tc_s, &v_end);
-  const double dt = 20e-6;
   *t0_s = 2.3 * dt;
   size_t n = (size_t)ceil((*t0_s + tc_s) / dt) + 6;
   n = n < cap ? n : cap;
@@ -439,7 +438,7 @@ static void test_fallbacks(void)
   rk4_strike s = {
       .m1_kg = 0.010, .v0_m_s = 1.4, .e2_pa = 5e6, .nu2 = 0.35, .r2_m = 0.04, .g_m_s2 = 9.80665};
   s.chi = rk4_chi_for(s, 0.15);
-  size_t n = window_of(&s, pulse_n, 256, &t0_s);
+  size_t n = window_of(&s, 20e-6, pulse_n, 256, &t0_s);
   af_impact_params start = af_impact_params_default();
   start.restitution = 0.2;
   af_fit_execute(table, &start, pulse_n, n, 20e-6, t0_s, &rt);
@@ -448,21 +447,22 @@ static void test_fallbacks(void)
   AF_CHECK_STATUS(rt.status, AF_OK);
   AF_CHECK_ABS(rt.restitution, 0.15, 0.005);
   check_same(&rt, &ro);
-  AF_CHECK(rt.model_runs > ro.model_runs - 1); /* the table's runs, then the ODE fit's */
+  AF_CHECK(rt.model_runs >= ro.model_runs); /* the table's check (none here), then the ODE fit's */
   af_fit_counts(table, &from_table, &fallbacks);
   AF_CHECK(from_table == 0 && fallbacks == 1);
 
-  /* beyond gamma: 100 g at 0.4 m/s on 1.5 MPa (gamma 0.08) */
+  /* beyond gamma: 100 g at 0.4 m/s on 1.5 MPa (gamma 0.07; a 10 ms contact,
+   * sampled at 10 kHz) */
   s = (rk4_strike){
       .m1_kg = 0.1, .v0_m_s = 0.4, .e2_pa = 1.5e6, .nu2 = 0.35, .r2_m = 0.04, .g_m_s2 = 9.80665};
   s.chi = rk4_chi_for(s, 0.7);
-  n = window_of(&s, pulse_n, 256, &t0_s);
+  n = window_of(&s, 100e-6, pulse_n, 256, &t0_s);
   start = af_impact_params_default();
   start.hammer_mass_kg = 0.1;
   start.velocity_m_s = 0.4;
   start.fruit_modulus_pa = 1.5e6;
-  af_fit_execute(table, &start, pulse_n, n, 20e-6, t0_s, &rt);
-  af_fit_execute(ode, &start, pulse_n, n, 20e-6, t0_s, &ro);
+  af_fit_execute(table, &start, pulse_n, n, 100e-6, t0_s, &rt);
+  af_fit_execute(ode, &start, pulse_n, n, 100e-6, t0_s, &ro);
   AF_CHECK(rt.path == AF_FIT_PATH_FALLBACK_RANGE);
   AF_CHECK_STATUS(rt.status, AF_OK);
   AF_CHECK_REL(rt.modulus_pa, 1.5e6, 0.01);
@@ -474,7 +474,7 @@ static void test_fallbacks(void)
   s = (rk4_strike){
       .m1_kg = 0.010, .v0_m_s = 1.4, .e2_pa = 6e6, .nu2 = 0.35, .r2_m = 0.04, .g_m_s2 = 9.80665};
   s.chi = rk4_chi_for(s, 0.65);
-  n = window_of(&s, pulse_n, 256, &t0_s);
+  n = window_of(&s, 20e-6, pulse_n, 256, &t0_s);
   start = af_impact_params_default();
   af_fit_execute(table, &start, pulse_n, n, 20e-6, t0_s, &rt);
   AF_CHECK(rt.path == AF_FIT_PATH_TABLE && rt.model_runs == 1);
