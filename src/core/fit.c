@@ -285,7 +285,7 @@ typedef struct {
 static af_status chi_slope(const af_fit *w, double e, double *slope)
 {
   double lo = fmax(e - AF_FIT_CHI_STEP, AF_FIT_RESTITUTION_MIN);
-  double hi = fmin(e + AF_FIT_CHI_STEP, 1.0), chi_lo, chi_hi;
+  double hi = fmin(e + AF_FIT_CHI_STEP, 1.0), chi_lo = NAN, chi_hi = NAN;
   af_status st = af_impact_chi(w->impact, w->cfg.damping, lo, &chi_lo);
   if (st == AF_OK)
     st = af_impact_chi(w->impact, w->cfg.damping, hi, &chi_hi);
@@ -746,7 +746,7 @@ static const gsl_vector *fit_residual(const af_fit *w)
 static bool lm_solve(size_t p, const double *a, const double *d2, double mu, const double *g,
                      double *dx)
 {
-  double l[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS] = {0}, y[AF_FIT_MAX_PARAMS];
+  double l[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS] = {0}, y[AF_FIT_MAX_PARAMS] = {0};
   for (size_t i = 0; i < p; i++) {
     for (size_t j = 0; j <= i; j++) {
       double v = a[i * p + j] + (i == j ? mu * d2[i] : 0.0);
