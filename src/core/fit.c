@@ -28,6 +28,24 @@
  * (Catmull-Rom) interpolant, which is C1 in t0, so the t0 column of J is its
  * analytic slope. The E2, e and v0 columns are forward differences of whole
  * model runs, step AF_FIT_FD_STEP in x.
+ *
+ * The table path (cfg.use_table, the default) searches the same scaled
+ * parameters, from the same matched start, on the normalised pulse of
+ * pulse_table.h: F(t) = F0 f((t - t0) / T; chi, gamma), with F0, T and gamma
+ * from E2 and v0 by impact.c's scaling and chi from e by the damping law.
+ * The table gives f and its slopes in tau, chi and gamma, so every column of
+ * J is analytic (table_sample), and with J in hand at every evaluation the
+ * Levenberg-Marquardt step is solved on the p x p normal equations
+ * (table_search) instead of GSL's QR of the max_samples x p Jacobian, which
+ * cost more than the model. At the optimum one ODE run (at dt / 4) checks
+ * the table: the Gauss-Newton step that the ODE model's residual would add
+ * from there, (J^T J)^-1 J^T (F_ODE - F_table), must stay within
+ * table_check_se of every parameter's standard error (floored at 1e-3 in x).
+ * The result then reports the ODE run's contact time, peak and residual, the
+ * table's parameters and standard errors. A point of the search off the
+ * table's grid, or a failed check, reruns the whole fit on the ODE path
+ * (af_fit_path, af_fit_counts): the fallback's result is the ODE fit's, bit
+ * for bit.
  */
 #include "fit.h"
 

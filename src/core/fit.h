@@ -100,7 +100,9 @@ typedef struct af_fit af_fit;
 
 /* Validates cfg (AF_EINVAL), then allocates the GSL workspace, the impact
  * workspace (which tabulates the exact damping law, ~10 ms) and the model
- * buffers. AF_ENOMEM when an allocation fails; *out is NULL on error. */
+ * buffers; with use_table it takes the process's pulse table, which the
+ * first such create builds (~35 ms CPU, once per process; its status if the
+ * build fails). AF_ENOMEM when an allocation fails; *out is NULL on error. */
 af_status af_fit_create(const af_fit_config *cfg, af_fit **out);
 void af_fit_destroy(af_fit *f); /* NULL-safe */
 
