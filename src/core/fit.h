@@ -64,7 +64,8 @@ typedef struct {
   bool fit_time_offset;         /* t0 free; false to trust the detector's t0_s */
   bool match_start;             /* move the start's E2 (and v0 when free) so that the start
                                    model's impulse and peak match the pulse's (one model run) */
-  bool accelerate;              /* geodesic acceleration (one more model run per trial step) */
+  bool accelerate;              /* geodesic acceleration (one more model run per trial step;
+                                   the ODE path only) */
   af_damping_law damping;       /* maps e to chi; overrides start->damping */
   size_t max_iterations;        /* accepted trust-region steps before AF_EBUDGET_FIT_ITER (>= 1) */
   double step_tol;              /* converged when every step of the scaled parameters (ln E2,
@@ -101,7 +102,7 @@ typedef struct af_fit af_fit;
 /* Validates cfg (AF_EINVAL), then allocates the GSL workspace, the impact
  * workspace (which tabulates the exact damping law, ~10 ms) and the model
  * buffers; with use_table it takes the process's pulse table, which the
- * first such create builds (~35 ms CPU, once per process; its status if the
+ * first such create builds (~20 ms CPU, once per process; its status if the
  * build fails). AF_ENOMEM when an allocation fails; *out is NULL on error. */
 af_status af_fit_create(const af_fit_config *cfg, af_fit **out);
 void af_fit_destroy(af_fit *f); /* NULL-safe */

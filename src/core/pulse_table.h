@@ -29,21 +29,21 @@ extern "C" {
 #endif
 
 /* The grid: chi 0 .. 5 in steps of 0.05 (the exact law's e down to 0.2,
- * Hu-Guo's to 0.23), gamma 0 .. 0.06 in steps of 0.02 (the station's strike:
+ * Hu-Guo's to 0.23), gamma 0 .. 0.06 in steps of 0.01 (the station's strike:
  * 0.003 to 0.006; a 100 g hammer at 0.5 m/s on 2 MPa: 0.05. Under strong
  * gravity and heavy damping the hammer comes to rest on the fruit, a
  * contact without end: from chi 5.5 at gamma 0.06, chi 1 at gamma 0.25),
  * the contact time cut into 64 intervals. */
 #define AF_PULSE_TABLE_NCHI 101
 #define AF_PULSE_TABLE_CHI_STEP 0.05
-#define AF_PULSE_TABLE_NGAMMA 13
-#define AF_PULSE_TABLE_GAMMA_STEP 0.005
+#define AF_PULSE_TABLE_NGAMMA 7
+#define AF_PULSE_TABLE_GAMMA_STEP 0.01
 #define AF_PULSE_TABLE_INTERVALS 64
 #define AF_PULSE_TABLE_NODES (AF_PULSE_TABLE_INTERVALS + 1)
 
 typedef struct af_pulse_table af_pulse_table;
 
-/* The process's table, built by the first call (call_once; 808 ODE runs).
+/* The process's table, built by the first call (call_once; 1,414 ODE runs).
  * AF_OK and *out set, or the build's status (then *out is NULL). */
 af_status af_pulse_table_get(const af_pulse_table **out);
 
