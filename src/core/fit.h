@@ -111,7 +111,8 @@ void af_fit_destroy(af_fit *f); /* NULL-safe */
  * the whole fit on the ODE from the same start, so their result is the ODE
  * fit's, bit for bit. */
 typedef enum {
-  AF_FIT_PATH_ODE = 0,        /* use_table false: the ODE at every iteration */
+  AF_FIT_PATH_ODE = 0,        /* use_table false: the ODE at every iteration (also said
+                                 of a fit refused before any search) */
   AF_FIT_PATH_TABLE,          /* the search on the table, confirmed by the ODE check */
   AF_FIT_PATH_FALLBACK_RANGE, /* a point of the search (or the start) left the table's
                                  grid (chi > 6, gamma > 0.3, scales not finite): ODE fit */

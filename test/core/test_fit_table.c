@@ -491,6 +491,16 @@ static void test_fallbacks(void)
   af_fit_counts(strict, &from_table, &fallbacks);
   AF_CHECK(from_table == 0 && fallbacks == 1);
   AF_CHECK(strcmp(af_fit_path_name(AF_FIT_PATH_FALLBACK_CHECK), "fallback-check") == 0);
+  /* the check's tolerance: >= 0 and finite */
+  af_fit *bad = (af_fit *)&bad;
+  cfg = af_fit_config_default();
+  cfg.table_check_se = -0.1;
+  AF_CHECK_STATUS(af_fit_create(&cfg, &bad), AF_EINVAL);
+  AF_CHECK(bad == NULL);
+  cfg.table_check_se = NAN;
+  AF_CHECK_STATUS(af_fit_create(&cfg, &bad), AF_EINVAL);
+  af_fit_counts(NULL, &from_table, &fallbacks);
+  AF_CHECK(from_table == 0 && fallbacks == 0);
   printf("fallbacks: beyond chi, beyond gamma and a failed check give the ODE fit's result\n");
   af_fit_destroy(table);
   af_fit_destroy(strict);
