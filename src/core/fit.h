@@ -17,10 +17,16 @@
  * delivered value by about 0.003 for the nominal apple.
  *
  * Method: GSL multifit_nlinear, trust region (Levenberg-Marquardt), from a
- * start matched to the pulse's impulse and peak by the model's scaling laws;
- * Jacobian by forward differences of the model (one impact run per free
- * physical parameter) and analytically for t0. Cost: about 30 impact runs
- * per fit with v0 free, 17 with v0 measured (see af_fit_result.model_runs).
+ * start matched to the pulse's impulse and peak by the model's scaling laws.
+ * By default (use_table) the model is the normalised pulse of pulse_table.h
+ * scaled back to newtons and seconds, its Jacobian analytic; one impact run
+ * at the optimum checks it, and the whole fit reruns on the ODE (the
+ * reference path, below) when a point of the search leaves the table or
+ * the check fails (af_fit_path, af_fit_counts). The reference path runs
+ * the impact model at every evaluation, its Jacobian by forward differences
+ * (one impact run per free physical parameter) and analytically for t0:
+ * about 30 impact runs per fit with v0 free, 17 with v0 measured (see
+ * af_fit_result.model_runs).
  * Conventions of status.h: all memory in af_fit_create, none in
  * af_fit_execute; one af_fit per thread.
  *
@@ -58,7 +64,8 @@ typedef struct {
   bool fit_time_offset;         /* t0 free; false to trust the detector's t0_s */
   bool match_start;             /* move the start's E2 (and v0 when free) so that the start
                                    model's impulse and peak match the pulse's (one model run) */
-  bool accelerate;              /* geodesic acceleration (one more model run per trial step) */
+  bool accelerate;              /* geodesic acceleration (one more model run per trial step;
+                                   the ODE path only) */
   af_damping_law damping;       /* maps e to chi; overrides start->damping */
   size_t max_iterations;        /* accepted trust-region steps before AF_EBUDGET_FIT_ITER (>= 1) */
   double step_tol;              /* converged when every step of the scaled parameters (ln E2,
@@ -70,10 +77,20 @@ typedef struct {
   double window_margin;         /* the fitted contact [t0, t0 + t_c] must lie within
                                    [-dt, n dt] widened by this fraction of n dt on
                                    each side, else AF_ENODATA (>= 0) */
+  bool use_table;               /* search on the normalised pulse table (pulse_table.h)
+                                   with one ODE check at the optimum; false: the ODE at
+                                   every iteration (the reference the table is checked
+                                   against) */
+  double table_check_se;        /* the table's result stands when the ODE model at its
+                                   optimum moves no scaled parameter (to first order) by
+                                   more than this many of its standard errors, each at
+                                   least 1e-3 (>= 0; 0 fails every check: the fallback's
+                                   test) */
 } af_fit_config;
 
 /* max_samples 256 (5.1 ms at 50 kHz), oversample 2, v0 and t0 free, matched
- * start, no acceleration, AF_DAMPING_EXACT, 50 iterations, step_tol 1e-6,
+ * start, no acceleration, AF_DAMPING_EXACT, the table path checked at 0.1
+ * standard error, 50 iterations, step_tol 1e-6,
  * gradient_tol 1e-6, max_relative_residual 0.2 (a strike at 20 dB SNR fits
  * at 0.10 at most, white noise alone at 0.24 and above), window_margin 0.5
  * (a noise fit lasts 3 to 100 windows; a v0-free fit at e 0.4 may overrun
@@ -84,9 +101,29 @@ typedef struct af_fit af_fit;
 
 /* Validates cfg (AF_EINVAL), then allocates the GSL workspace, the impact
  * workspace (which tabulates the exact damping law, ~10 ms) and the model
- * buffers. AF_ENOMEM when an allocation fails; *out is NULL on error. */
+ * buffers; with use_table it takes the process's pulse table, which the
+ * first such create builds (~20 ms CPU, once per process; its status if the
+ * build fails). AF_ENOMEM when an allocation fails; *out is NULL on error. */
 af_status af_fit_create(const af_fit_config *cfg, af_fit **out);
 void af_fit_destroy(af_fit *f); /* NULL-safe */
+
+/* Which model the result comes from (cfg.use_table). The fallbacks rerun
+ * the whole fit on the ODE from the same start, so their result is the ODE
+ * fit's, bit for bit. */
+typedef enum {
+  AF_FIT_PATH_ODE = 0,        /* use_table false: the ODE at every iteration (also said
+                                 of a fit refused before any search) */
+  AF_FIT_PATH_TABLE,          /* the search on the table, confirmed by the ODE check */
+  AF_FIT_PATH_FALLBACK_RANGE, /* a point of the search (or the start) left the table's
+                                 grid (chi > 6, gamma > 0.3, scales not finite): ODE fit */
+  AF_FIT_PATH_FALLBACK_CHECK  /* the check failed: the ODE model at the table's optimum
+                                 would move a parameter by more than table_check_se (0.1)
+                                 standard errors (and 1e-4 relative), or the ODE run
+                                 there failed: ODE fit */
+} af_fit_path;
+
+/* "ode", "table", "fallback-range", "fallback-check". */
+const char *af_fit_path_name(af_fit_path path);
 
 typedef struct {
   double modulus_pa;        /* fitted E2 */
@@ -103,7 +140,14 @@ typedef struct {
   double residual_rms_n;    /* RMS of r_k over the n samples */
   double relative_residual; /* residual_rms_n / max_k pulse_k */
   size_t iterations;        /* accepted trust-region steps */
-  size_t model_runs;        /* impact-model integrations spent (the cost) */
+  size_t model_runs;        /* impact-model integrations spent (the cost): 1 on the table
+                               path (the check; 2 when the pulse is too long for the check's
+                               dt / 4), the check's + the ODE fit's on a fallback */
+  af_fit_path path;         /* the model the result comes from */
+  double check_shift;       /* table path: the check's largest first-order move of a
+                               scaled parameter, in its standard errors (each floored at
+                               1e-3 in the scaled parameters); the table's result stands
+                               at <= table_check_se. NaN when no check ran */
   af_status status;         /* as returned */
 } af_fit_result;
 
@@ -144,6 +188,11 @@ typedef struct {
  * No allocation. */
 af_status af_fit_execute(af_fit *f, const af_impact_params *start, const double *pulse_n, size_t n,
                          double dt_s, double t0_s, af_fit_result *out);
+
+/* Fits of f since create that the table answered, and that fell back to the
+ * ODE fit (AF_FIT_PATH_FALLBACK_*); fits refused before any search (AF_EINVAL,
+ * AF_ESIZE from the checks, AF_ENODATA without a peak) count in neither. */
+void af_fit_counts(const af_fit *f, size_t *from_table, size_t *fallbacks);
 
 #ifdef __cplusplus
 }
