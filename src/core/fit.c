@@ -29,25 +29,9 @@
  * analytic slope. The E2, e and v0 columns are forward differences of whole
  * model runs, step AF_FIT_FD_STEP in x.
  *
- * The table path (cfg.use_table, the default) searches the same scaled
- * parameters, from the same matched start, on the normalised pulse of
- * pulse_table.h: F(t) = F0 f((t - t0) / T; chi, gamma), with F0, T and gamma
- * from E2 and v0 by impact.c's scaling and chi from e by the damping law.
- * The table gives f and its slopes in tau, chi and gamma, so every column of
- * J is analytic (table_sample), and with J in hand at every evaluation the
- * Levenberg-Marquardt step is solved on the p x p normal equations
- * (table_search) instead of GSL's QR of the max_samples x p Jacobian, which
- * cost more than the model. At the optimum one ODE run (at dt / 4) checks
- * the table: the Gauss-Newton step that the ODE model's residual would add
- * from there, (J^T J)^-1 J^T (F_ODE - F_table), must stay within
- * table_check_se of every parameter's standard error (floored at 1e-3 in x).
- * The result then reports the ODE run's contact time, peak and residual, the
- * table's parameters and standard errors. A point of the search off the
- * table's grid, or a failed check, reruns the whole fit on the ODE path
- * (af_fit_path, af_fit_counts): the fallback's result is the ODE fit's, bit
- * for bit.
+ * The table path (cfg.use_table, the default): fit_table.c.
  */
-#include "fit.h"
+#include "fit_private.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -61,12 +45,6 @@
 #include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 
-#include "pulse_table.h"
-
-#define AF_FIT_MAX_PARAMS 4
-#define AF_IX_MODULUS 0
-#define AF_IX_RESTITUTION 1
-#define AF_IX_NONE SIZE_MAX
 /* Forward-difference step in the scaled parameters. The sampled model is
  * smooth in E2 at the 1e-10 N level (no adaptive-step decision jumps over a
  * 2 % sweep in steps of 1e-6; impact.c's tolerance is 1e-9 relative), so the
@@ -89,77 +67,8 @@
 /* The table path's check: the ODE model at the table's optimum, as a first
  * order (Gauss-Newton) step from there, must move every scaled parameter by
  * at most this many of its standard errors [-] (the default of
- * table_check_se) ... */
+ * table_check_se; fit_table.c floors the standard errors). */
 #define AF_FIT_CHECK_SHIFT_SE 0.1
-/* ... each standard error taken as at least this much in the scaled
- * parameters [-] (1e-3 relative on E2 and v0, 1e-3 dt on t0): the floor for
- * noise-free pulses, whose standard errors are ~0, so that they may move by
- * 1e-4. */
-#define AF_FIT_CHECK_SE_FLOOR 1e-3
-/* Step of the central difference of chi(e) [-]: the laws are smooth (the
- * exact one a spline), so the error is ~1e-12 relative. */
-#define AF_FIT_CHI_STEP 1e-6
-/* The table search's Levenberg-Marquardt: the first damping relative to the
- * More-scaled curvature [-] (GSL's), and the rejected trials in a row that
- * end it (GSL's 16 before GSL_ENOPROG). */
-#define AF_LM_MU_START 1e-3
-/* The check's model runs at dt / this (when the pulse fits the model
- * buffer, else at the ODE path's dt / oversample), so that the cubic
- * interpolant's own error (~(h / t_c)^3) stays far below the table's: it
- * checks the table against the ODE, not against a coarse sampling of it. */
-#define AF_FIT_CHECK_OVERSAMPLE 4
-#define AF_LM_MAX_REJECTS 16
-
-struct af_fit {
-  af_fit_config cfg;
-  size_t n_params;    /* p */
-  size_t ix_velocity; /* index of ln v0 in x, or AF_IX_NONE */
-  size_t ix_time;     /* index of t0 / dt in x, or AF_IX_NONE */
-  size_t model_cap;   /* samples per model buffer */
-  af_impact *impact;
-  gsl_multifit_nlinear_workspace *nls;
-  gsl_multifit_nlinear_fdf fdf;
-  gsl_vector *x_start;                            /* start point */
-  gsl_vector *x_prev;                             /* position before the last iteration */
-  gsl_matrix *normal;                             /* p x p: scaled J^T J, then its inverse */
-  double *model_n;                                /* model at the base point, every h [N] */
-  double *probe_n;                                /* model at a perturbed point, every h [N] */
-  double *base_at_n;                              /* base model at k dt - t0 [N] */
-  double *base_slope_n_s;                         /* its time derivative [N/s] */
-  double probe_contact_time_s[AF_FIT_MAX_PARAMS]; /* at x + step e_j, last Jacobian */
-
-  /* The table path. */
-  const af_pulse_table *table;         /* the process's, shared read-only */
-  af_pulse_shape shape;                /* the base point's interpolated pulse */
-  double *jac_n;                       /* max_samples x n_params, row-major: the base's
-                                          Jacobian [scaled residual per unit x] */
-  double *res_n;                       /* the base's scaled residual [-] */
-  gsl_matrix_view jac_view;            /* n x p over jac_n, for this fit */
-  gsl_vector_view res_view;            /* n over res_n */
-  double lm_x[AF_FIT_MAX_PARAMS];      /* the table search's position */
-  size_t lm_iterations;                /* its accepted steps */
-  double *check_n;                     /* the ODE model at k dt - t0, the check [N] */
-  double tc_grad_s[AF_FIT_MAX_PARAMS]; /* d t_c / d x_j at the base [s] */
-  size_t from_table, fallbacks;        /* af_fit_counts */
-
-  /* The problem of the current af_fit_execute call. */
-  af_impact_params start; /* damping overridden by cfg */
-  const double *pulse_n;
-  size_t n;
-  double dt_s, h_s, t0_start_s;
-  double peak_n; /* max_k pulse_k */
-  double scale;  /* 1 / (peak sqrt(n)) [1/N] */
-  size_t model_runs;
-  bool on_table;     /* this search's model: the table (else the ODE) */
-  bool left_table;   /* a point of this search left the table's grid */
-  bool check_failed; /* the ODE check at the table's optimum failed */
-
-  /* The base point: last parameters the model was evaluated at. */
-  bool base_valid;  /* base_x, base_* describe the current problem */
-  bool base_failed; /* the model run failed there */
-  double base_x[AF_FIT_MAX_PARAMS];
-  af_impact_result base_res;
-};
 
 /* ---- configuration ---------------------------------------------------- */
 
@@ -184,7 +93,7 @@ af_fit_config af_fit_config_default(void)
   return c;
 }
 
-static bool is_positive(double v)
+bool af_fit_is_positive(double v)
 {
   return isfinite(v) && v > 0.0;
 }
@@ -195,8 +104,8 @@ static bool fit_config_valid(const af_fit_config *c)
   const size_t limit = SIZE_MAX / 16 / AF_FIT_MODEL_SPAN / AF_FIT_MAX_OVERSAMPLE;
   return c->max_samples >= AF_FIT_MIN_SAMPLES && c->max_samples <= limit && c->oversample >= 1 &&
          c->oversample <= AF_FIT_MAX_OVERSAMPLE && c->max_iterations >= 1 &&
-         is_positive(c->step_tol) && is_positive(c->gradient_tol) &&
-         is_positive(c->max_relative_residual) && isfinite(c->window_margin) &&
+         af_fit_is_positive(c->step_tol) && af_fit_is_positive(c->gradient_tol) &&
+         af_fit_is_positive(c->max_relative_residual) && isfinite(c->window_margin) &&
          c->window_margin >= 0.0 && isfinite(c->table_check_se) && c->table_check_se >= 0.0 &&
          (c->damping == AF_DAMPING_PAPER || c->damping == AF_DAMPING_EXACT ||
           c->damping == AF_DAMPING_HU_GUO);
@@ -215,7 +124,7 @@ static double restitution_of(double x)
 }
 
 /* de/dx, for the standard error. */
-static double restitution_slope(double x)
+double af_fit_restitution_slope(double x)
 {
   double s = logistic(x);
   return (1.0 - AF_FIT_RESTITUTION_MIN) * s * (1.0 - s);
@@ -228,7 +137,7 @@ static double restitution_to_x(double e)
 }
 
 /* The model parameters and contact start at the scaled point x. */
-static void fit_unpack(const af_fit *w, const double *x, af_impact_params *p, double *t0_s)
+void af_fit_unpack(const af_fit *w, const double *x, af_impact_params *p, double *t0_s)
 {
   *p = w->start;
   p->fruit_modulus_pa = w->start.fruit_modulus_pa * exp(x[AF_IX_MODULUS]);
@@ -250,8 +159,8 @@ static void fit_unpack(const af_fit *w, const double *x, af_impact_params *p, do
  * whenever the contact end crossed a grid point and the last sample (then
  * ~0) dropped out, which corrupted forward-difference columns; this way the
  * model is continuous in the parameters. */
-static void fit_interp(const double *g, size_t n_g, double h_s, double tau_s, double *value,
-                       double *slope)
+void af_fit_interp(const double *g, size_t n_g, double h_s, double tau_s, double *value,
+                   double *slope)
 {
   *value = 0.0;
   *slope = 0.0;
@@ -281,131 +190,15 @@ static af_status fit_model(af_fit *w, const double *x, double *buf, af_impact_re
                            double *t0_s)
 {
   af_impact_params p;
-  fit_unpack(w, x, &p, t0_s);
+  af_fit_unpack(w, x, &p, t0_s);
   w->model_runs++;
   return af_impact_execute(w->impact, &p, w->h_s, buf, NULL, w->model_cap, res);
-}
-
-/* ---- the table's model -------------------------------------------------- */
-
-/* The scales of one point and their logarithmic derivatives per unit of
- * each scaled parameter (impact.c's scaling: D ~ (m1 v0^2 / E*)^0.4, so
- * d ln T = -0.4 d ln E* - 0.2 d ln v0, d ln F0 = 0.4 d ln E* + 1.2 d ln v0,
- * d ln gamma = -0.4 d ln E* - 1.2 d ln v0). */
-typedef struct {
-  double t_s, f0_n, chi, gamma;
-  double dln_t[AF_FIT_MAX_PARAMS], dln_f0[AF_FIT_MAX_PARAMS];
-  double dln_gamma[AF_FIT_MAX_PARAMS], dchi[AF_FIT_MAX_PARAMS];
-} af_fit_scales;
-
-/* dchi/de of the fit's damping law by a central difference (one-sided at
- * e = 1). */
-static af_status chi_slope(const af_fit *w, double e, double *slope)
-{
-  double lo = fmax(e - AF_FIT_CHI_STEP, AF_FIT_RESTITUTION_MIN);
-  double hi = fmin(e + AF_FIT_CHI_STEP, 1.0), chi_lo = NAN, chi_hi = NAN;
-  af_status st = af_impact_chi(w->impact, w->cfg.damping, lo, &chi_lo);
-  if (st == AF_OK)
-    st = af_impact_chi(w->impact, w->cfg.damping, hi, &chi_hi);
-  *slope = (chi_hi - chi_lo) / (hi - lo);
-  return st;
-}
-
-/* AF_EINVAL when p's scales are not finite or (chi, gamma) is off the grid:
- * the table cannot answer (the ODE path names bad parameters). */
-static af_status table_scales(const af_fit *w, const af_impact_params *p, const double *x,
-                              af_fit_scales *sc)
-{
-  memset(sc, 0, sizeof *sc);
-  double m1 = p->hammer_mass_kg, v0 = p->velocity_m_s, chi_de = 0.0;
-  double d_m = pow(1.25 * m1 * v0 * v0 / af_impact_stiffness(p), 0.4); /* D [m] */
-  sc->t_s = d_m / v0;
-  sc->f0_n = m1 * v0 * v0 / d_m;
-  sc->gamma = p->gravity_m_s2 * d_m / (v0 * v0);
-  if (af_impact_chi(w->impact, w->cfg.damping, p->restitution, &sc->chi) != AF_OK ||
-      chi_slope(w, p->restitution, &chi_de) != AF_OK)
-    return AF_EINVAL;
-  if (!is_positive(sc->t_s) || !is_positive(sc->f0_n) || !isfinite(chi_de) || !isfinite(sc->gamma))
-    return AF_EINVAL; /* the grid is af_pulse_table_shape's to judge */
-  /* d ln E* / d ln E2: the fruit's share of the contact compliance */
-  double share = af_impact_effective_modulus_pa(p) * (1.0 - p->fruit_poisson * p->fruit_poisson) /
-                 p->fruit_modulus_pa;
-  sc->dln_t[AF_IX_MODULUS] = -0.4 * share;
-  sc->dln_f0[AF_IX_MODULUS] = 0.4 * share;
-  sc->dln_gamma[AF_IX_MODULUS] = -0.4 * share;
-  sc->dchi[AF_IX_RESTITUTION] = chi_de * restitution_slope(x[AF_IX_RESTITUTION]);
-  if (w->ix_velocity != AF_IX_NONE) {
-    sc->dln_t[w->ix_velocity] = -0.2;
-    sc->dln_f0[w->ix_velocity] = 1.2;
-    sc->dln_gamma[w->ix_velocity] = -1.2;
-  }
-  return AF_OK;
-}
-
-/* Sample k of the table's model: its value and slope into base_*, its
- * Jacobian row into jac_n. */
-static void table_sample(af_fit *w, const af_fit_scales *sc, size_t k, double t0_s)
-{
-  double tau = ((double)k * w->dt_s - t0_s) / sc->t_s, f, f_tau, f_chi, f_gamma;
-  af_pulse_shape_eval(&w->shape, tau, &f, &f_tau, &f_chi, &f_gamma);
-  w->base_at_n[k] = sc->f0_n * f;
-  w->base_slope_n_s[k] = sc->f0_n * f_tau / sc->t_s;
-  for (size_t j = 0; j < w->n_params; j++) {
-    double d = j == w->ix_time ? -w->dt_s * w->base_slope_n_s[k]
-                               : w->base_at_n[k] * sc->dln_f0[j] +
-                                     sc->f0_n * (-f_tau * tau * sc->dln_t[j] + f_chi * sc->dchi[j] +
-                                                 f_gamma * sc->gamma * sc->dln_gamma[j]);
-    w->jac_n[k * w->n_params + j] = w->scale * d;
-  }
-  w->res_n[k] = w->scale * (w->base_at_n[k] - w->pulse_n[k]);
-}
-
-/* The table's figures at x: the shape, base_res's contact time, peak and
- * sample count (as the ODE would write them) and the contact time's
- * gradient. AF_EINVAL (and left_table) off the grid; AF_ESIZE when the
- * ODE's pulse would overflow its buffer, as on the ODE path. */
-static af_status table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
-{
-  af_impact_params p;
-  fit_unpack(w, x, &p, t0_s);
-  if (table_scales(w, &p, x, sc) != AF_OK ||
-      af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
-    w->left_table = true;
-    return AF_EINVAL;
-  }
-  double tc_s = w->shape.tau_c * sc->t_s, samples = floor(tc_s / w->h_s) + 1.0;
-  if (!(samples <= (double)w->model_cap))
-    return AF_ESIZE;
-  w->base_res = (af_impact_result){.contact_time_s = tc_s,
-                                   .peak_force_n = w->shape.peak * sc->f0_n,
-                                   .dt_s = w->h_s,
-                                   .n_samples = (size_t)samples};
-  for (size_t j = 0; j < w->n_params; j++)
-    w->tc_grad_s[j] = j == w->ix_time
-                          ? 0.0
-                          : tc_s * (sc->dln_t[j] + w->shape.dln_tau_c[0] * sc->dchi[j] +
-                                    w->shape.dln_tau_c[1] * sc->gamma * sc->dln_gamma[j]);
-  return AF_OK;
-}
-
-/* ... and the model at the data times: values, slopes, Jacobian rows and
- * the scaled residual. */
-static af_status table_model(af_fit *w, const double *x)
-{
-  af_fit_scales sc;
-  double t0_s;
-  af_status st = table_figures(w, x, &sc, &t0_s);
-  if (st != AF_OK)
-    return st;
-  for (size_t k = 0; k < w->n; k++)
-    table_sample(w, &sc, k, t0_s);
-  return AF_OK;
 }
 
 /* Makes x the base point: the model and its values and slopes at the data
  * times. Reuses the last run when x has not moved (GSL asks for J right
  * after f at the same point). */
-static af_status fit_base(af_fit *w, const gsl_vector *xv)
+af_status af_fit_base(af_fit *w, const gsl_vector *xv)
 {
   double x[AF_FIT_MAX_PARAMS] = {0};
   for (size_t i = 0; i < w->n_params; i++)
@@ -415,7 +208,7 @@ static af_status fit_base(af_fit *w, const gsl_vector *xv)
   memcpy(w->base_x, x, w->n_params * sizeof x[0]);
   w->base_valid = true;
   if (w->on_table) {
-    af_status st = table_model(w, x);
+    af_status st = af_fit_table_model(w, x);
     w->base_failed = st != AF_OK;
     return st;
   }
@@ -425,8 +218,8 @@ static af_status fit_base(af_fit *w, const gsl_vector *xv)
   if (st != AF_OK)
     return st;
   for (size_t k = 0; k < w->n; k++)
-    fit_interp(w->model_n, w->base_res.n_samples, w->h_s, (double)k * w->dt_s - t0_s,
-               &w->base_at_n[k], &w->base_slope_n_s[k]);
+    af_fit_interp(w->model_n, w->base_res.n_samples, w->h_s, (double)k * w->dt_s - t0_s,
+                  &w->base_at_n[k], &w->base_slope_n_s[k]);
   return AF_OK;
 }
 
@@ -436,7 +229,7 @@ static int fit_f(const gsl_vector *x, void *params, gsl_vector *f)
 {
   af_fit *w = params;
   gsl_vector_set_zero(f);
-  if (fit_base(w, x) != AF_OK) {
+  if (af_fit_base(w, x) != AF_OK) {
     double r = AF_FIT_PENALTY / sqrt((double)w->n);
     for (size_t k = 0; k < w->n; k++)
       gsl_vector_set(f, k, r);
@@ -460,7 +253,7 @@ static int fit_column_fd(af_fit *w, const gsl_vector *x, size_t j, gsl_matrix *J
   w->probe_contact_time_s[j] = res.contact_time_s;
   for (size_t k = 0; k < w->n; k++) {
     double v, s;
-    fit_interp(w->probe_n, res.n_samples, w->h_s, (double)k * w->dt_s - t0_s, &v, &s);
+    af_fit_interp(w->probe_n, res.n_samples, w->h_s, (double)k * w->dt_s - t0_s, &v, &s);
     gsl_matrix_set(J, k, j, w->scale * (v - w->base_at_n[k]) / AF_FIT_FD_STEP);
   }
   return GSL_SUCCESS;
@@ -470,7 +263,7 @@ static int fit_df(const gsl_vector *x, void *params, gsl_matrix *J)
 {
   af_fit *w = params;
   gsl_matrix_set_zero(J);
-  if (fit_base(w, x) != AF_OK)
+  if (af_fit_base(w, x) != AF_OK)
     return GSL_EFAILED;
   for (size_t j = 0; j < w->n_params; j++) {
     w->probe_contact_time_s[j] = w->base_res.contact_time_s; /* t0 leaves t_c alone */
@@ -573,10 +366,10 @@ static af_status fit_check(const af_fit *w, const af_impact_params *start, const
                            size_t n, double dt_s, double t0_s)
 {
   if (w == NULL || start == NULL || pulse_n == NULL || n < AF_FIT_MIN_SAMPLES ||
-      !is_positive(dt_s) || !isfinite(t0_s))
+      !af_fit_is_positive(dt_s) || !isfinite(t0_s))
     return AF_EINVAL;
   if (!(start->restitution > AF_FIT_RESTITUTION_MIN && start->restitution < 1.0) ||
-      !is_positive(start->fruit_modulus_pa) || !is_positive(start->velocity_m_s))
+      !af_fit_is_positive(start->fruit_modulus_pa) || !af_fit_is_positive(start->velocity_m_s))
     return AF_EINVAL;
   if (n > w->cfg.max_samples)
     return AF_ESIZE;
@@ -655,7 +448,7 @@ static void fit_match(af_fit *w)
   l_modulus = fmax(-AF_FIT_MATCH_MAX_LN_MODULUS, fmin(AF_FIT_MATCH_MAX_LN_MODULUS, l_modulus));
   double e2 =
       fit_modulus_for(&w->start, af_impact_effective_modulus_pa(&w->start) * exp(l_modulus));
-  if (!is_positive(e2))
+  if (!af_fit_is_positive(e2))
     return;
   gsl_vector_set(w->x_start, AF_IX_MODULUS, log(e2 / w->start.fruit_modulus_pa));
   if (w->ix_velocity != AF_IX_NONE)
@@ -675,9 +468,9 @@ static af_status fit_start(af_fit *w)
     double x[AF_FIT_MAX_PARAMS] = {0}, t0_s;
     for (size_t i = 0; i < w->n_params; i++)
       x[i] = gsl_vector_get(w->x_start, i);
-    st = table_figures(w, x, &sc, &t0_s);
+    st = af_fit_table_figures(w, x, &sc, &t0_s);
   } else {
-    st = fit_base(w, w->x_start);
+    st = af_fit_base(w, w->x_start);
   }
   if (st != AF_OK && w->left_table)
     return st; /* the caller falls back */
@@ -685,14 +478,14 @@ static af_status fit_start(af_fit *w)
     return st == AF_ESIZE || st == AF_EINVAL ? st : AF_ENUMERIC;
   if (w->cfg.match_start) {
     fit_match(w);
-    st = fit_base(w, w->x_start);
+    st = af_fit_base(w, w->x_start);
     if (st != AF_OK && w->left_table)
       return st;
     if (st != AF_OK)
       return st == AF_ESIZE ? st : AF_ENUMERIC;
   }
   if (w->on_table)
-    return AF_OK; /* table_search takes over from x_start */
+    return AF_OK; /* af_fit_table_search takes over from x_start */
   return gsl_multifit_nlinear_init(w->x_start, &w->fdf, w->nls) == GSL_SUCCESS ? AF_OK
                                                                                : AF_ENUMERIC;
 }
@@ -700,8 +493,8 @@ static af_status fit_start(af_fit *w)
 /* The convergence test, a pure function of the last step dx, the Jacobian J
  * and the residual r at the new point: every |dx_i| <= step_tol, or every
  * column of J within gradient_tol (as a cosine) of orthogonal to r. */
-static bool fit_converged(const gsl_vector *dx, const gsl_matrix *J, const gsl_vector *r,
-                          double step_tol, double gradient_tol)
+bool af_fit_converged(const gsl_vector *dx, const gsl_matrix *J, const gsl_vector *r,
+                      double step_tol, double gradient_tol)
 {
   bool small_step = true;
   for (size_t i = 0; i < dx->size; i++)
@@ -738,8 +531,9 @@ static af_status fit_iterate(af_fit *w)
       return AF_ENOCONV;
     gsl_vector *dx = w->x_prev; /* reused: the step, up to its sign */
     gsl_vector_sub(dx, gsl_multifit_nlinear_position(w->nls));
-    if (fit_converged(dx, gsl_multifit_nlinear_jac(w->nls), gsl_multifit_nlinear_residual(w->nls),
-                      w->cfg.step_tol, w->cfg.gradient_tol))
+    if (af_fit_converged(dx, gsl_multifit_nlinear_jac(w->nls),
+                         gsl_multifit_nlinear_residual(w->nls), w->cfg.step_tol,
+                         w->cfg.gradient_tol))
       return AF_OK;
   }
   return AF_EBUDGET_FIT_ITER;
@@ -747,149 +541,14 @@ static af_status fit_iterate(af_fit *w)
 
 /* The Jacobian and residual at the final point: GSL's on the ODE path
  * (max_samples rows, 0 beyond n), the table search's (n rows). */
-static const gsl_matrix *fit_jacobian(const af_fit *w)
+const gsl_matrix *af_fit_jacobian(const af_fit *w)
 {
   return w->on_table ? &w->jac_view.matrix : gsl_multifit_nlinear_jac(w->nls);
 }
 
-static const gsl_vector *fit_residual(const af_fit *w)
+const gsl_vector *af_fit_residual(const af_fit *w)
 {
   return w->on_table ? &w->res_view.vector : gsl_multifit_nlinear_residual(w->nls);
-}
-
-/* ---- the table path's search --------------------------------------------- */
-
-/* Solves (A + mu D^2) dx = -g for the p x p symmetric A by Cholesky; false
- * when the matrix is not positive definite. */
-static bool lm_solve(size_t p, const double *a, const double *d2, double mu, const double *g,
-                     double *dx)
-{
-  double l[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS] = {0}, y[AF_FIT_MAX_PARAMS] = {0};
-  for (size_t i = 0; i < p; i++) {
-    for (size_t j = 0; j <= i; j++) {
-      double v = a[i * p + j] + (i == j ? mu * d2[i] : 0.0);
-      for (size_t k = 0; k < j; k++)
-        v -= l[i * p + k] * l[j * p + k];
-      if (i == j) {
-        if (!(v > 0.0))
-          return false;
-        l[i * p + i] = sqrt(v);
-      } else {
-        l[i * p + j] = v / l[j * p + j];
-      }
-    }
-  }
-  for (size_t i = 0; i < p; i++) { /* L y = -g */
-    double v = -g[i];
-    for (size_t k = 0; k < i; k++)
-      v -= l[i * p + k] * y[k];
-    y[i] = v / l[i * p + i];
-  }
-  for (size_t i = p; i-- > 0;) { /* L^T dx = y */
-    double v = y[i];
-    for (size_t k = i + 1; k < p; k++)
-      v -= l[k * p + i] * dx[k];
-    dx[i] = v / l[i * p + i];
-  }
-  return true;
-}
-
-/* J^T J into a (p x p), J^T r into g and |r|^2, at the base. */
-static double lm_normal(const af_fit *w, double *a, double *g)
-{
-  const size_t p = w->n_params;
-  double cost = 0.0;
-  memset(a, 0, p * p * sizeof *a);
-  memset(g, 0, p * sizeof *g);
-  for (size_t k = 0; k < w->n; k++) {
-    const double *row = w->jac_n + k * p;
-    for (size_t i = 0; i < p; i++) {
-      g[i] += row[i] * w->res_n[k];
-      for (size_t j = 0; j <= i; j++)
-        a[i * p + j] += row[i] * row[j];
-    }
-    cost += w->res_n[k] * w->res_n[k];
-  }
-  for (size_t i = 0; i < p; i++)
-    for (size_t j = 0; j < i; j++)
-      a[j * p + i] = a[i * p + j];
-  return cost;
-}
-
-/* The cost |r|^2 at x, the base moved there; infinite when the model
- * cannot run there (a rejected step). */
-static double lm_cost_at(af_fit *w, const double *x)
-{
-  gsl_vector_const_view xv = gsl_vector_const_view_array(x, w->n_params);
-  if (fit_base(w, &xv.vector) != AF_OK)
-    return INFINITY;
-  double cost = 0.0;
-  for (size_t k = 0; k < w->n; k++)
-    cost += w->res_n[k] * w->res_n[k];
-  return cost;
-}
-
-/* The table path's search: Levenberg-Marquardt as GSL's (More scaling, the
- * damping mu updated by Nielsen's rule, a step accepted when it lowers the
- * cost), on the p x p normal equations, which are cheap here because the
- * table gives J analytically with every evaluation. The same ends as
- * fit_iterate: fit_converged, or AF_LM_MAX_REJECTS rejected trials in a
- * row (a minimum to the model's precision: AF_OK), or max_iterations
- * accepted steps (AF_EBUDGET_FIT_ITER). Leaving the table stops it
- * (left_table). From x_start, which fit_start has made the base. */
-static af_status table_search(af_fit *w)
-{
-  const size_t p = w->n_params;
-  double a[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS], g[AF_FIT_MAX_PARAMS];
-  double d2[AF_FIT_MAX_PARAMS] = {0}, dx[AF_FIT_MAX_PARAMS], trial[AF_FIT_MAX_PARAMS];
-  double mu = AF_LM_MU_START, nu = 2.0;
-  for (size_t i = 0; i < p; i++)
-    w->lm_x[i] = gsl_vector_get(w->x_start, i);
-  w->lm_iterations = 0;
-  w->jac_view = gsl_matrix_view_array(w->jac_n, w->n, p);
-  w->res_view = gsl_vector_view_array(w->res_n, w->n);
-  if (!isfinite(lm_cost_at(w, w->lm_x)))
-    return AF_ENUMERIC;
-  double cost = lm_normal(w, a, g);
-  for (size_t it = 0; it < w->cfg.max_iterations; it++) {
-    for (size_t i = 0; i < p; i++)
-      d2[i] = fmax(d2[i], a[i * p + i]);
-    size_t rejects = 0;
-    for (;;) {
-      if (!lm_solve(p, a, d2, mu, g, dx))
-        return AF_ENUMERIC;
-      double pred = 0.0; /* cost - |r + J dx|^2 */
-      for (size_t i = 0; i < p; i++) {
-        trial[i] = w->lm_x[i] + dx[i];
-        double adx = 0.0;
-        for (size_t j = 0; j < p; j++)
-          adx += a[i * p + j] * dx[j];
-        pred -= 2.0 * g[i] * dx[i] + dx[i] * adx;
-      }
-      double trial_cost = lm_cost_at(w, trial);
-      if (w->left_table)
-        return AF_ENOCONV; /* the caller falls back */
-      double rho = (cost - trial_cost) / pred;
-      if (pred > 0.0 && rho > 0.0) {
-        double c = 2.0 * rho - 1.0;
-        mu *= fmax(1.0 / 3.0, 1.0 - c * c * c);
-        nu = 2.0;
-        break;
-      }
-      mu *= nu;
-      nu *= 2.0;
-      if (++rejects >= AF_LM_MAX_REJECTS)
-        return AF_OK; /* no step lowers the cost: a minimum (as GSL_ENOPROG) */
-    }
-    memcpy(w->lm_x, trial, p * sizeof trial[0]);
-    w->lm_iterations++;
-    cost = lm_normal(w, a, g); /* the base is the accepted trial */
-    gsl_vector_view dxv = gsl_vector_view_array(dx, p);
-    if (fit_converged(&dxv.vector, &w->jac_view.matrix, &w->res_view.vector, w->cfg.step_tol,
-                      w->cfg.gradient_tol))
-      return AF_OK;
-  }
-  return AF_EBUDGET_FIT_ITER;
 }
 
 /* The covariance of the scaled parameters, s^2 (J^T J)^-1 with
@@ -900,8 +559,8 @@ static af_status table_search(af_fit *w)
  * costs is then only that of the parameter correlations). */
 static af_status fit_covariance(af_fit *w)
 {
-  const gsl_matrix *J = fit_jacobian(w);
-  const gsl_vector *r = fit_residual(w);
+  const gsl_matrix *J = af_fit_jacobian(w);
+  const gsl_vector *r = af_fit_residual(w);
   const size_t p = w->n_params;
   double norm[AF_FIT_MAX_PARAMS] = {0};
   for (size_t j = 0; j < p; j++) {
@@ -939,58 +598,6 @@ static double fit_contact_time_se(const af_fit *w)
   return sqrt(fmax(var, 0.0));
 }
 
-/* The table path's check, part 1: one ODE run at the table's optimum x,
- * read at the data times into check_n; its contact time and peak into out
- * (the ODE's, as on the ODE path). */
-static af_status check_run(af_fit *w, const double *x, af_fit_result *out)
-{
-  af_impact_params p;
-  af_impact_result res;
-  double t0_s, slope, h_s = w->dt_s / AF_FIT_CHECK_OVERSAMPLE;
-  fit_unpack(w, x, &p, &t0_s);
-  w->model_runs++;
-  af_status st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  if (st == AF_ESIZE && h_s < w->h_s) { /* a long pulse: the search's step */
-    h_s = w->h_s;
-    w->model_runs++;
-    st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  }
-  if (st != AF_OK)
-    return st;
-  for (size_t k = 0; k < w->n; k++)
-    fit_interp(w->model_n, res.n_samples, h_s, (double)k * w->dt_s - t0_s, &w->check_n[k], &slope);
-  out->contact_time_s = res.contact_time_s;
-  out->peak_force_n = res.peak_force_n;
-  return AF_OK;
-}
-
-/* Part 2, after the covariance: the first-order move of the scaled
- * parameters, (J^T J)^-1 J^T (ODE - table), when the ODE model replaces the
- * table's at its optimum: the largest component in standard errors, each
- * floored at AF_FIT_CHECK_SE_FLOOR. Infinite when it cannot be computed. */
-static double check_shift(const af_fit *w)
-{
-  const gsl_matrix *J = fit_jacobian(w);
-  const size_t p = w->n_params;
-  double g[AF_FIT_MAX_PARAMS] = {0};
-  for (size_t k = 0; k < w->n; k++)
-    for (size_t j = 0; j < p; j++)
-      g[j] += gsl_matrix_get(J, k, j) * w->scale * (w->check_n[k] - w->base_at_n[k]);
-  double r_norm = gsl_blas_dnrm2(fit_residual(w));
-  double s2 = r_norm * r_norm / (double)(w->n - p); /* normal holds s2 (J^T J)^-1 */
-  if (!(s2 > 0.0))
-    return INFINITY;
-  double worst = 0.0;
-  for (size_t i = 0; i < p; i++) {
-    double shift = 0.0;
-    for (size_t j = 0; j < p; j++)
-      shift += gsl_matrix_get(w->normal, i > j ? i : j, i > j ? j : i) * g[j] / s2;
-    double se = sqrt(gsl_matrix_get(w->normal, i, i));
-    worst = fmax(worst, fabs(shift) / fmax(se, AF_FIT_CHECK_SE_FLOOR));
-  }
-  return isnan(worst) ? INFINITY : worst;
-}
-
 /* Fills out from the final point; the status says whether the standard
  * errors could be computed. On the table path it also runs the check
  * (check_failed). */
@@ -1002,16 +609,16 @@ static af_status fit_report(af_fit *w, af_fit_result *out)
   for (size_t i = 0; i < w->n_params; i++)
     x[i] = gsl_vector_get(xv, i);
   af_impact_params p;
-  fit_unpack(w, x, &p, &out->time_offset_s);
+  af_fit_unpack(w, x, &p, &out->time_offset_s);
   out->modulus_pa = p.fruit_modulus_pa;
   out->restitution = p.restitution;
   out->velocity_m_s = p.velocity_m_s;
   out->iterations = w->on_table ? w->lm_iterations : gsl_multifit_nlinear_niter(w->nls);
-  if (fit_base(w, xv) != AF_OK) /* reruns only if the last run was a rejected trial */
+  if (af_fit_base(w, xv) != AF_OK) /* reruns only if the last run was a rejected trial */
     return AF_ENUMERIC;
   const double *model_at_n = w->base_at_n;
   if (w->on_table) {
-    af_status st = check_run(w, x, out);
+    af_status st = af_fit_check_run(w, x, out);
     w->check_failed = st != AF_OK;
     if (st != AF_OK)
       return st;
@@ -1028,7 +635,7 @@ static af_status fit_report(af_fit *w, af_fit_result *out)
 
   af_status st = fit_covariance(w);
   if (w->on_table) {
-    out->check_shift = st == AF_OK ? check_shift(w) : INFINITY;
+    out->check_shift = st == AF_OK ? af_fit_check_shift(w) : INFINITY;
     w->check_failed = !(out->check_shift <= w->cfg.table_check_se);
   }
   if (st != AF_OK)
@@ -1038,7 +645,7 @@ static af_status fit_report(af_fit *w, af_fit_result *out)
     se[j] = sqrt(gsl_matrix_get(w->normal, j, j));
   out->contact_time_se_s = fit_contact_time_se(w);
   out->modulus_se_pa = p.fruit_modulus_pa * se[AF_IX_MODULUS];
-  out->restitution_se = restitution_slope(x[AF_IX_RESTITUTION]) * se[AF_IX_RESTITUTION];
+  out->restitution_se = af_fit_restitution_slope(x[AF_IX_RESTITUTION]) * se[AF_IX_RESTITUTION];
   out->velocity_se_m_s = w->ix_velocity == AF_IX_NONE ? 0.0 : p.velocity_m_s * se[w->ix_velocity];
   out->time_offset_se_s = w->ix_time == AF_IX_NONE ? 0.0 : w->dt_s * se[w->ix_time];
   return AF_OK;
@@ -1100,7 +707,7 @@ static af_status fit_search(af_fit *w, bool on_table, af_fit_result *out, af_fit
   }
   if (st != AF_OK)
     return st;
-  af_status fit_st = on_table ? table_search(w) : fit_iterate(w);
+  af_status fit_st = on_table ? af_fit_table_search(w) : fit_iterate(w);
   if (on_table && w->left_table) {
     *path = AF_FIT_PATH_FALLBACK_RANGE;
     return fit_st;

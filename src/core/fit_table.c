@@ -1,0 +1,340 @@
+/* fit_table.c — the fit's table path (fit.h, fit.c).
+ *
+ * The table path (cfg.use_table, the default) searches the same scaled
+ * parameters, from the same matched start, on the normalised pulse of
+ * pulse_table.h: F(t) = F0 f((t - t0) / T; chi, gamma), with F0, T and gamma
+ * from E2 and v0 by impact.c's scaling and chi from e by the damping law.
+ * The table gives f and its slopes in tau, chi and gamma, so every column of
+ * J is analytic (table_sample), and with J in hand at every evaluation the
+ * Levenberg-Marquardt step is solved on the p x p normal equations
+ * (af_fit_table_search) instead of GSL's QR of the max_samples x p Jacobian, which
+ * cost more than the model. At the optimum one ODE run (at dt / 4) checks
+ * the table: the Gauss-Newton step that the ODE model's residual would add
+ * from there, (J^T J)^-1 J^T (F_ODE - F_table), must stay within
+ * table_check_se of every parameter's standard error (floored at 1e-3 in x).
+ * The result then reports the ODE run's contact time, peak and residual, the
+ * table's parameters and standard errors. A point of the search off the
+ * table's grid, or a failed check, reruns the whole fit on the ODE path
+ * (af_fit_path, af_fit_counts): the fallback's result is the ODE fit's, bit
+ * for bit.
+ */
+#include "fit_private.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+
+/* The check's floor: each standard error taken as at least this much in the scaled
+ * parameters [-] (1e-3 relative on E2 and v0, 1e-3 dt on t0): the floor for
+ * noise-free pulses, whose standard errors are ~0, so that they may move by
+ * 1e-4. */
+#define AF_FIT_CHECK_SE_FLOOR 1e-3
+/* Step of the central difference of chi(e) [-]: the laws are smooth (the
+ * exact one a spline), so the error is ~1e-12 relative. */
+#define AF_FIT_CHI_STEP 1e-6
+/* The table search's Levenberg-Marquardt: the first damping relative to the
+ * More-scaled curvature [-] (GSL's), and the rejected trials in a row that
+ * end it (GSL's 16 before GSL_ENOPROG). */
+#define AF_LM_MU_START 1e-3
+#define AF_LM_MAX_REJECTS 16
+/* The check's model runs at dt / this (when the pulse fits the model
+ * buffer, else at the ODE path's dt / oversample), so that the cubic
+ * interpolant's own error (~(h / t_c)^3) stays far below the table's: it
+ * checks the table against the ODE, not against a coarse sampling of it. */
+#define AF_FIT_CHECK_OVERSAMPLE 4
+
+/* ---- the table's model -------------------------------------------------- */
+
+/* dchi/de of the fit's damping law by a central difference (one-sided at
+ * e = 1). */
+static af_status chi_slope(const af_fit *w, double e, double *slope)
+{
+  double lo = fmax(e - AF_FIT_CHI_STEP, AF_FIT_RESTITUTION_MIN);
+  double hi = fmin(e + AF_FIT_CHI_STEP, 1.0), chi_lo = NAN, chi_hi = NAN;
+  af_status st = af_impact_chi(w->impact, w->cfg.damping, lo, &chi_lo);
+  if (st == AF_OK)
+    st = af_impact_chi(w->impact, w->cfg.damping, hi, &chi_hi);
+  *slope = (chi_hi - chi_lo) / (hi - lo);
+  return st;
+}
+
+/* AF_EINVAL when p's scales are not finite or (chi, gamma) is off the grid:
+ * the table cannot answer (the ODE path names bad parameters). */
+static af_status table_scales(const af_fit *w, const af_impact_params *p, const double *x,
+                              af_fit_scales *sc)
+{
+  memset(sc, 0, sizeof *sc);
+  double m1 = p->hammer_mass_kg, v0 = p->velocity_m_s, chi_de = 0.0;
+  double d_m = pow(1.25 * m1 * v0 * v0 / af_impact_stiffness(p), 0.4); /* D [m] */
+  sc->t_s = d_m / v0;
+  sc->f0_n = m1 * v0 * v0 / d_m;
+  sc->gamma = p->gravity_m_s2 * d_m / (v0 * v0);
+  if (af_impact_chi(w->impact, w->cfg.damping, p->restitution, &sc->chi) != AF_OK ||
+      chi_slope(w, p->restitution, &chi_de) != AF_OK)
+    return AF_EINVAL;
+  if (!af_fit_is_positive(sc->t_s) || !af_fit_is_positive(sc->f0_n) || !isfinite(chi_de) ||
+      !isfinite(sc->gamma))
+    return AF_EINVAL; /* the grid is af_pulse_table_shape's to judge */
+  /* d ln E* / d ln E2: the fruit's share of the contact compliance */
+  double share = af_impact_effective_modulus_pa(p) * (1.0 - p->fruit_poisson * p->fruit_poisson) /
+                 p->fruit_modulus_pa;
+  sc->dln_t[AF_IX_MODULUS] = -0.4 * share;
+  sc->dln_f0[AF_IX_MODULUS] = 0.4 * share;
+  sc->dln_gamma[AF_IX_MODULUS] = -0.4 * share;
+  sc->dchi[AF_IX_RESTITUTION] = chi_de * af_fit_restitution_slope(x[AF_IX_RESTITUTION]);
+  if (w->ix_velocity != AF_IX_NONE) {
+    sc->dln_t[w->ix_velocity] = -0.2;
+    sc->dln_f0[w->ix_velocity] = 1.2;
+    sc->dln_gamma[w->ix_velocity] = -1.2;
+  }
+  return AF_OK;
+}
+
+/* Sample k of the table's model: its value and slope into base_*, its
+ * Jacobian row into jac_n. */
+static void table_sample(af_fit *w, const af_fit_scales *sc, size_t k, double t0_s)
+{
+  double tau = ((double)k * w->dt_s - t0_s) / sc->t_s, f, f_tau, f_chi, f_gamma;
+  af_pulse_shape_eval(&w->shape, tau, &f, &f_tau, &f_chi, &f_gamma);
+  w->base_at_n[k] = sc->f0_n * f;
+  w->base_slope_n_s[k] = sc->f0_n * f_tau / sc->t_s;
+  for (size_t j = 0; j < w->n_params; j++) {
+    double d = j == w->ix_time ? -w->dt_s * w->base_slope_n_s[k]
+                               : w->base_at_n[k] * sc->dln_f0[j] +
+                                     sc->f0_n * (-f_tau * tau * sc->dln_t[j] + f_chi * sc->dchi[j] +
+                                                 f_gamma * sc->gamma * sc->dln_gamma[j]);
+    w->jac_n[k * w->n_params + j] = w->scale * d;
+  }
+  w->res_n[k] = w->scale * (w->base_at_n[k] - w->pulse_n[k]);
+}
+
+/* The table's figures at x: the shape, base_res's contact time, peak and
+ * sample count (as the ODE would write them) and the contact time's
+ * gradient. AF_EINVAL (and left_table) off the grid; AF_ESIZE when the
+ * ODE's pulse would overflow its buffer, as on the ODE path. */
+af_status af_fit_table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
+{
+  af_impact_params p;
+  af_fit_unpack(w, x, &p, t0_s);
+  if (table_scales(w, &p, x, sc) != AF_OK ||
+      af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
+    w->left_table = true;
+    return AF_EINVAL;
+  }
+  double tc_s = w->shape.tau_c * sc->t_s, samples = floor(tc_s / w->h_s) + 1.0;
+  if (!(samples <= (double)w->model_cap))
+    return AF_ESIZE;
+  w->base_res = (af_impact_result){.contact_time_s = tc_s,
+                                   .peak_force_n = w->shape.peak * sc->f0_n,
+                                   .dt_s = w->h_s,
+                                   .n_samples = (size_t)samples};
+  for (size_t j = 0; j < w->n_params; j++)
+    w->tc_grad_s[j] = j == w->ix_time
+                          ? 0.0
+                          : tc_s * (sc->dln_t[j] + w->shape.dln_tau_c[0] * sc->dchi[j] +
+                                    w->shape.dln_tau_c[1] * sc->gamma * sc->dln_gamma[j]);
+  return AF_OK;
+}
+
+/* ... and the model at the data times: values, slopes, Jacobian rows and
+ * the scaled residual. */
+af_status af_fit_table_model(af_fit *w, const double *x)
+{
+  af_fit_scales sc;
+  double t0_s;
+  af_status st = af_fit_table_figures(w, x, &sc, &t0_s);
+  if (st != AF_OK)
+    return st;
+  for (size_t k = 0; k < w->n; k++)
+    table_sample(w, &sc, k, t0_s);
+  return AF_OK;
+}
+
+/* ---- the table path's search --------------------------------------------- */
+
+/* Solves (A + mu D^2) dx = -g for the p x p symmetric A by Cholesky; false
+ * when the matrix is not positive definite. */
+static bool lm_solve(size_t p, const double *a, const double *d2, double mu, const double *g,
+                     double *dx)
+{
+  double l[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS] = {0}, y[AF_FIT_MAX_PARAMS] = {0};
+  for (size_t i = 0; i < p; i++) {
+    for (size_t j = 0; j <= i; j++) {
+      double v = a[i * p + j] + (i == j ? mu * d2[i] : 0.0);
+      for (size_t k = 0; k < j; k++)
+        v -= l[i * p + k] * l[j * p + k];
+      if (i == j) {
+        if (!(v > 0.0))
+          return false;
+        l[i * p + i] = sqrt(v);
+      } else {
+        l[i * p + j] = v / l[j * p + j];
+      }
+    }
+  }
+  for (size_t i = 0; i < p; i++) { /* L y = -g */
+    double v = -g[i];
+    for (size_t k = 0; k < i; k++)
+      v -= l[i * p + k] * y[k];
+    y[i] = v / l[i * p + i];
+  }
+  for (size_t i = p; i-- > 0;) { /* L^T dx = y */
+    double v = y[i];
+    for (size_t k = i + 1; k < p; k++)
+      v -= l[k * p + i] * dx[k];
+    dx[i] = v / l[i * p + i];
+  }
+  return true;
+}
+
+/* J^T J into a (p x p), J^T r into g and |r|^2, at the base. */
+static double lm_normal(const af_fit *w, double *a, double *g)
+{
+  const size_t p = w->n_params;
+  double cost = 0.0;
+  memset(a, 0, p * p * sizeof *a);
+  memset(g, 0, p * sizeof *g);
+  for (size_t k = 0; k < w->n; k++) {
+    const double *row = w->jac_n + k * p;
+    for (size_t i = 0; i < p; i++) {
+      g[i] += row[i] * w->res_n[k];
+      for (size_t j = 0; j <= i; j++)
+        a[i * p + j] += row[i] * row[j];
+    }
+    cost += w->res_n[k] * w->res_n[k];
+  }
+  for (size_t i = 0; i < p; i++)
+    for (size_t j = 0; j < i; j++)
+      a[j * p + i] = a[i * p + j];
+  return cost;
+}
+
+/* The cost |r|^2 at x, the base moved there; infinite when the model
+ * cannot run there (a rejected step). */
+static double lm_cost_at(af_fit *w, const double *x)
+{
+  gsl_vector_const_view xv = gsl_vector_const_view_array(x, w->n_params);
+  if (af_fit_base(w, &xv.vector) != AF_OK)
+    return INFINITY;
+  double cost = 0.0;
+  for (size_t k = 0; k < w->n; k++)
+    cost += w->res_n[k] * w->res_n[k];
+  return cost;
+}
+
+/* The table path's search: Levenberg-Marquardt as GSL's (More scaling, the
+ * damping mu updated by Nielsen's rule, a step accepted when it lowers the
+ * cost), on the p x p normal equations, which are cheap here because the
+ * table gives J analytically with every evaluation. The same ends as
+ * fit_iterate: af_fit_converged, or AF_LM_MAX_REJECTS rejected trials in a
+ * row (a minimum to the model's precision: AF_OK), or max_iterations
+ * accepted steps (AF_EBUDGET_FIT_ITER). Leaving the table stops it
+ * (left_table). From x_start, which fit_start has made the base. */
+af_status af_fit_table_search(af_fit *w)
+{
+  const size_t p = w->n_params;
+  double a[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS], g[AF_FIT_MAX_PARAMS];
+  double d2[AF_FIT_MAX_PARAMS] = {0}, dx[AF_FIT_MAX_PARAMS], trial[AF_FIT_MAX_PARAMS];
+  double mu = AF_LM_MU_START, nu = 2.0;
+  for (size_t i = 0; i < p; i++)
+    w->lm_x[i] = gsl_vector_get(w->x_start, i);
+  w->lm_iterations = 0;
+  w->jac_view = gsl_matrix_view_array(w->jac_n, w->n, p);
+  w->res_view = gsl_vector_view_array(w->res_n, w->n);
+  if (!isfinite(lm_cost_at(w, w->lm_x)))
+    return AF_ENUMERIC;
+  double cost = lm_normal(w, a, g);
+  for (size_t it = 0; it < w->cfg.max_iterations; it++) {
+    for (size_t i = 0; i < p; i++)
+      d2[i] = fmax(d2[i], a[i * p + i]);
+    size_t rejects = 0;
+    for (;;) {
+      if (!lm_solve(p, a, d2, mu, g, dx))
+        return AF_ENUMERIC;
+      double pred = 0.0; /* cost - |r + J dx|^2 */
+      for (size_t i = 0; i < p; i++) {
+        trial[i] = w->lm_x[i] + dx[i];
+        double adx = 0.0;
+        for (size_t j = 0; j < p; j++)
+          adx += a[i * p + j] * dx[j];
+        pred -= 2.0 * g[i] * dx[i] + dx[i] * adx;
+      }
+      double trial_cost = lm_cost_at(w, trial);
+      if (w->left_table)
+        return AF_ENOCONV; /* the caller falls back */
+      double rho = (cost - trial_cost) / pred;
+      if (pred > 0.0 && rho > 0.0) {
+        double c = 2.0 * rho - 1.0;
+        mu *= fmax(1.0 / 3.0, 1.0 - c * c * c);
+        nu = 2.0;
+        break;
+      }
+      mu *= nu;
+      nu *= 2.0;
+      if (++rejects >= AF_LM_MAX_REJECTS)
+        return AF_OK; /* no step lowers the cost: a minimum (as GSL_ENOPROG) */
+    }
+    memcpy(w->lm_x, trial, p * sizeof trial[0]);
+    w->lm_iterations++;
+    cost = lm_normal(w, a, g); /* the base is the accepted trial */
+    gsl_vector_view dxv = gsl_vector_view_array(dx, p);
+    if (af_fit_converged(&dxv.vector, &w->jac_view.matrix, &w->res_view.vector, w->cfg.step_tol,
+                         w->cfg.gradient_tol))
+      return AF_OK;
+  }
+  return AF_EBUDGET_FIT_ITER;
+}
+
+/* The table path's check, part 1: one ODE run at the table's optimum x,
+ * read at the data times into check_n; its contact time and peak into out
+ * (the ODE's, as on the ODE path). */
+af_status af_fit_check_run(af_fit *w, const double *x, af_fit_result *out)
+{
+  af_impact_params p;
+  af_impact_result res;
+  double t0_s, slope, h_s = w->dt_s / AF_FIT_CHECK_OVERSAMPLE;
+  af_fit_unpack(w, x, &p, &t0_s);
+  w->model_runs++;
+  af_status st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
+  if (st == AF_ESIZE && h_s < w->h_s) { /* a long pulse: the search's step */
+    h_s = w->h_s;
+    w->model_runs++;
+    st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
+  }
+  if (st != AF_OK)
+    return st;
+  for (size_t k = 0; k < w->n; k++)
+    af_fit_interp(w->model_n, res.n_samples, h_s, (double)k * w->dt_s - t0_s, &w->check_n[k],
+                  &slope);
+  out->contact_time_s = res.contact_time_s;
+  out->peak_force_n = res.peak_force_n;
+  return AF_OK;
+}
+
+/* Part 2, after the covariance: the first-order move of the scaled
+ * parameters, (J^T J)^-1 J^T (ODE - table), when the ODE model replaces the
+ * table's at its optimum: the largest component in standard errors, each
+ * floored at AF_FIT_CHECK_SE_FLOOR. Infinite when it cannot be computed. */
+double af_fit_check_shift(const af_fit *w)
+{
+  const gsl_matrix *J = af_fit_jacobian(w);
+  const size_t p = w->n_params;
+  double g[AF_FIT_MAX_PARAMS] = {0};
+  for (size_t k = 0; k < w->n; k++)
+    for (size_t j = 0; j < p; j++)
+      g[j] += gsl_matrix_get(J, k, j) * w->scale * (w->check_n[k] - w->base_at_n[k]);
+  double r_norm = gsl_blas_dnrm2(af_fit_residual(w));
+  double s2 = r_norm * r_norm / (double)(w->n - p); /* normal holds s2 (J^T J)^-1 */
+  if (!(s2 > 0.0))
+    return INFINITY;
+  double worst = 0.0;
+  for (size_t i = 0; i < p; i++) {
+    double shift = 0.0;
+    for (size_t j = 0; j < p; j++)
+      shift += gsl_matrix_get(w->normal, i > j ? i : j, i > j ? j : i) * g[j] / s2;
+    double se = sqrt(gsl_matrix_get(w->normal, i, i));
+    worst = fmax(worst, fabs(shift) / fmax(se, AF_FIT_CHECK_SE_FLOOR));
+  }
+  return isnan(worst) ? INFINITY : worst;
+}
