@@ -134,8 +134,8 @@ static bool duplicate(af_stream *s, const af_chunk *c)
 static size_t overlap_held(af_stream *s, const af_chunk *c)
 {
   const uint64_t end = af_ring_end(s->ring);
-  if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) ||
-      c->first_sample >= end || c->first_sample + c->n <= end)
+  if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) || c->first_sample >= end ||
+      c->first_sample + c->n <= end)
     return 0;
   const size_t m = (size_t)(end - c->first_sample);
   return repeats(s, c, m) ? m : 0;

@@ -76,11 +76,11 @@ typedef struct {
   const char *name; /* "force" or "audio" */
   const af_stream_config *cfg;
   af_ring *ring;
-  uint64_t chunks;                        /* accepted */
-  uint64_t gaps;                          /* accepted chunks that followed lost samples */
-  uint64_t lost_samples;                  /* samples missing in those gaps */
-  uint64_t restarts;                      /* first_sample went backwards */
-  uint64_t duplicates;                    /* chunks repeating held samples (ignored) */
+  uint64_t chunks;            /* accepted */
+  uint64_t gaps;              /* accepted chunks that followed lost samples */
+  uint64_t lost_samples;      /* samples missing in those gaps */
+  uint64_t restarts;          /* first_sample went backwards */
+  uint64_t duplicates;        /* chunks repeating held samples (ignored) */
   uint64_t overlaps;          /* chunks whose head repeats the ring's last samples (tail kept) */
   uint64_t duplicate_samples; /* samples already held, sent again: of duplicates and overlaps */
   uint64_t bad_rate, bad_unit, bad_index; /* refused chunks, by reason */

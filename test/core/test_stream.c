@@ -1,11 +1,10 @@
 /* test_stream.c — one input stream (stream.h) fed hand-built chunk
  * sequences: gaps and lost samples counted against the hand-summed holes,
- * restarts, partial overlaps (the new tail kept), refused chunks (rate, unit, index overflow, wire), refused
- * non-finite samples as counted spans
- * with their one-line messages, the unit conversion across its blocks
- * (ring contents against x times to_si), the time <-> index mapping through
- * the holding chunk against hand-computed stamps, the anchor ring's limit,
- * and staleness around its threshold. */
+ * restarts, partial overlaps (the new tail kept), refused chunks (rate, unit, index overflow,
+ * wire), refused non-finite samples as counted spans with their one-line messages, the unit
+ * conversion across its blocks (ring contents against x times to_si), the time <-> index mapping
+ * through the holding chunk against hand-computed stamps, the anchor ring's limit, and staleness
+ * around its threshold. */
 #include <math.h>
 #include <string.h>
 
