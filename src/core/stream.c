@@ -239,6 +239,7 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                (unsigned long long)c->first_sample);
     }
     s->last_refused = refused;
+    s->last_held = held;
     s->refused_chunks += refused > 0;
     if (refused > 0)
       snprintf(s->last_problem, sizeof s->last_problem,

@@ -90,8 +90,10 @@ typedef struct {
    * accepted chunks: held as NaN in the ring (a lost sample to every reader),
    * counted, and their spans kept for af_stream_refused_in. */
   uint64_t refused_samples, refused_spans;
-  uint64_t refused_chunks;               /* accepted chunks with refused samples */
-  uint64_t last_refused;                 /* refused samples of the latest accepted chunk */
+  uint64_t refused_chunks; /* accepted chunks with refused samples */
+  uint64_t last_refused;   /* refused samples of the latest accepted chunk */
+  size_t last_held;        /* samples at the head of the latest accepted chunk already held (an
+                              overlap): its new samples start at x[last_held] */
   af_stream_span spans[AF_STREAM_SPANS]; /* newest at span_next - 1 */
   size_t span_next, span_count;
   bool seen;          /* a chunk was accepted */

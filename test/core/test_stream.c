@@ -311,7 +311,7 @@ static void test_overlap(void)
   AF_CHECK(af_stream_push(&s, &c, 2, &w) == AF_CHUNK_OK);
   AF_CHECK(!w.restarted && w.gap_samples == 0);
   AF_CHECK(s.restarts == 0 && s.gaps == 0 && s.overlaps == 1 && s.duplicate_samples == 40);
-  AF_CHECK(s.chunks == 2 && s.duplicates == 0 && af_ring_end(s.ring) == 160);
+  AF_CHECK(s.chunks == 2 && s.duplicates == 0 && af_ring_end(s.ring) == 160 && s.last_held == 40);
   AF_CHECK(strcmp(s.last_problem, "force chunk at sample 60: its first 40 of 100 samples already "
                                   "held (an overlap: the 60 new ones kept)") == 0);
   float got[160];
@@ -330,7 +330,7 @@ static void test_overlap(void)
   c = chunk(250, CHUNK, 1000 + 250 * 20000);
   samples[3] += 1.0f;
   AF_CHECK(af_stream_push(&s, &c, 4, &w) == AF_CHUNK_OK && w.restarted);
-  AF_CHECK(s.restarts == 1 && s.overlaps == 2 && s.duplicate_samples == 41);
+  AF_CHECK(s.restarts == 1 && s.overlaps == 2 && s.duplicate_samples == 41 && s.last_held == 0);
   /* The same samples 2 samples later in time: another stream, a restart. */
   c = chunk(340, CHUNK, 1000 + 342 * 20000);
   AF_CHECK(af_stream_push(&s, &c, 5, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 2);
