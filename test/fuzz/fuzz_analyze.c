@@ -28,12 +28,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   static char force[64], audio[64];
   static const char *const rates[] = {"25600", "44100", "48000", "50000"};
   if (force[0] == '\0') {
-    /* In /dev/shm (tmpfs) when there is one: on ext4, rewriting a truncated
-     * file forces its blocks out at close (auto_da_alloc), a disk wait per
-     * input. */
-    const char *dir = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-    snprintf(force, sizeof force, "%s/af_fuzz_force_%ld.f32", dir, (long)getpid());
-    snprintf(audio, sizeof audio, "%s/af_fuzz_audio_%ld.f32", dir, (long)getpid());
+    snprintf(force, sizeof force, "/tmp/af_fuzz_force_%ld.f32", (long)getpid());
+    snprintf(audio, sizeof audio, "/tmp/af_fuzz_audio_%ld.f32", (long)getpid());
     if (freopen("/dev/null", "w", stdout) == NULL)
       abort();
   }
