@@ -1,6 +1,8 @@
 // bag_pool.cpp — reused rosbag::Bag objects (bag_pool.hpp).
 #include "bag_pool.hpp"
 
+#include <dlfcn.h>
+
 #include <mutex>
 #include <vector>
 
@@ -24,6 +26,24 @@ bag_pool &pool()
 // workers); more are deleted when given back.
 constexpr std::size_t AF_BAG_POOL_MAX = 16;
 
+// rosbag's encryptor plugins (the soname of rosbag_storage's plugin library):
+// loaded by the first Bag, kept mapped for the process. pluginlib unloads
+// the library whenever no ClassLoader holds it (a Bag destroyed, and inside
+// each lookup of the library's path): every unload and reload costs a
+// mapping and its relocations, and the AES encryptor's library keeps
+// strdup'd strings that LeakSanitizer reports as lost once it is unmapped.
+constexpr const char *AF_BAG_ENCRYPTOR_LIBRARY = "librosbag_default_encryption_plugins.so";
+
+// Marks the already loaded library RTLD_NODELETE; nothing when it is not
+// loaded under that name (another rosbag build): as before, then.
+void keep_encryptor_library()
+{
+  static std::once_flag once;
+  std::call_once(once, [] {
+    (void)dlopen(AF_BAG_ENCRYPTOR_LIBRARY, RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
+  });
+}
+
 } // namespace
 
 namespace af_shim
@@ -39,7 +59,9 @@ rosbag::Bag *bag_take()
       return b;
     }
   }
-  return new rosbag::Bag;
+  rosbag::Bag *b = new rosbag::Bag;
+  keep_encryptor_library();
+  return b;
 }
 
 void bag_give(rosbag::Bag *bag) noexcept
