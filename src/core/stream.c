@@ -97,27 +97,48 @@ static bool same_samples(const float *a, const float *b, size_t m)
   return true;
 }
 
-/* Whether c repeats samples the ring holds, at the time they were held
- * (within half a sample) and value for value (a chunk sent or recorded
- * twice): not a restart, nothing new. NaN matches NaN. A stream restarted
- * at the same indices comes at another time: a restart. */
+/* Whether the first m samples of c repeat samples the ring holds, at the
+ * time they were held (within half a sample) and value for value. NaN
+ * matches NaN; a hole (NaN) never matches a sample. */
+static bool repeats(af_stream *s, const af_chunk *c, size_t m)
+{
+  const double half_sample_ns = 0.5e9 / s->cfg->sample_rate_hz;
+  if (fabs((double)(af_stream_time_ns(s, (double)c->first_sample) - c->stamp_ns)) > half_sample_ns)
+    return false;
+  float *held = s->si + AF_STREAM_BLOCK;
+  for (size_t at = 0; at < m; at += AF_STREAM_BLOCK) {
+    size_t k = m - at < AF_STREAM_BLOCK ? m - at : AF_STREAM_BLOCK;
+    (void)af_stream_to_si(s->cfg->to_si, c->x + at, k, s->si);
+    if (af_ring_read(s->ring, c->first_sample + at, k, held) != AF_OK ||
+        !same_samples(s->si, held, k))
+      return false;
+  }
+  return true;
+}
+
+/* Whether c repeats samples the ring holds, every one (a chunk sent or
+ * recorded twice): not a restart, nothing new. A stream restarted at the
+ * same indices comes at another time: a restart. */
 static bool duplicate(af_stream *s, const af_chunk *c)
 {
   if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) ||
       c->first_sample + c->n > af_ring_end(s->ring))
     return false;
-  const double half_sample_ns = 0.5e9 / s->cfg->sample_rate_hz;
-  if (fabs((double)(af_stream_time_ns(s, (double)c->first_sample) - c->stamp_ns)) > half_sample_ns)
-    return false;
-  float *held = s->si + AF_STREAM_BLOCK;
-  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
-    size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
-    (void)af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
-    if (af_ring_read(s->ring, c->first_sample + at, m, held) != AF_OK ||
-        !same_samples(s->si, held, m))
-      return false;
-  }
-  return true;
+  return repeats(s, c, c->n);
+}
+
+/* The samples at the head of c that the ring holds already, when c starts
+ * inside the held samples, runs past their end and repeats them (a sender
+ * that resends the last samples with each new chunk, or a recording cut
+ * into chunks that overlap); 0 otherwise (a gap, a restart, or in order). */
+static size_t overlap_held(af_stream *s, const af_chunk *c)
+{
+  const uint64_t end = af_ring_end(s->ring);
+  if (!s->seen || c->n == 0 || c->first_sample < af_ring_begin(s->ring) || c->first_sample >= end ||
+      c->first_sample + c->n <= end)
+    return 0;
+  const size_t m = (size_t)(end - c->first_sample);
+  return repeats(s, c, m) ? m : 0;
 }
 
 static bool unit_accepted(const af_stream_config *cfg, const char *unit)
@@ -175,7 +196,16 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
              (unsigned long long)c->first_sample, c->n);
     v = AF_CHUNK_DUPLICATE;
   }
-  uint64_t refused = v == AF_CHUNK_OK ? write_ring(s, c, &w) : 0;
+  if (v == AF_CHUNK_DUPLICATE)
+    s->duplicate_samples += c->n;
+  /* An overlap: only the new tail goes into the ring (its first sample is
+   * the ring's end, so no gap and no restart). */
+  const size_t held = v == AF_CHUNK_OK ? overlap_held(s, c) : 0;
+  af_chunk tail = *c;
+  tail.first_sample += held;
+  tail.n -= held;
+  tail.x = held > 0 ? c->x + held : c->x;
+  uint64_t refused = v == AF_CHUNK_OK ? write_ring(s, &tail, &w) : 0;
   if (v == AF_CHUNK_OK) {
     s->chunks++;
     s->seen = true;
@@ -194,6 +224,14 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
       snprintf(s->last_problem, sizeof s->last_problem, "%s: %llu samples lost before sample %llu",
                s->name, (unsigned long long)w.gap_samples, (unsigned long long)c->first_sample);
     }
+    if (held > 0) {
+      s->overlaps++;
+      s->duplicate_samples += held;
+      snprintf(s->last_problem, sizeof s->last_problem,
+               "%s chunk at sample %llu: its first %zu of %zu samples already held (an "
+               "overlap: the %zu new ones kept)",
+               s->name, (unsigned long long)c->first_sample, held, c->n, c->n - held);
+    }
     if (w.restarted) {
       s->restarts++;
       snprintf(s->last_problem, sizeof s->last_problem,
@@ -201,6 +239,7 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                (unsigned long long)c->first_sample);
     }
     s->last_refused = refused;
+    s->last_held = held;
     s->refused_chunks += refused > 0;
     if (refused > 0)
       snprintf(s->last_problem, sizeof s->last_problem,

@@ -76,11 +76,13 @@ typedef struct {
   const char *name; /* "force" or "audio" */
   const af_stream_config *cfg;
   af_ring *ring;
-  uint64_t chunks;                        /* accepted */
-  uint64_t gaps;                          /* accepted chunks that followed lost samples */
-  uint64_t lost_samples;                  /* samples missing in those gaps */
-  uint64_t restarts;                      /* first_sample went backwards */
-  uint64_t duplicates;                    /* chunks repeating held samples (ignored) */
+  uint64_t chunks;            /* accepted */
+  uint64_t gaps;              /* accepted chunks that followed lost samples */
+  uint64_t lost_samples;      /* samples missing in those gaps */
+  uint64_t restarts;          /* first_sample went backwards */
+  uint64_t duplicates;        /* chunks repeating held samples (ignored) */
+  uint64_t overlaps;          /* chunks whose head repeats the ring's last samples (tail kept) */
+  uint64_t duplicate_samples; /* samples already held, sent again: of duplicates and overlaps */
   uint64_t bad_rate, bad_unit, bad_index; /* refused chunks, by reason */
   uint64_t malformed;                     /* refused before conversion: af_stream_refuse */
   uint64_t oversized;                     /* longer than the wire cap: af_stream_refuse */
@@ -88,8 +90,10 @@ typedef struct {
    * accepted chunks: held as NaN in the ring (a lost sample to every reader),
    * counted, and their spans kept for af_stream_refused_in. */
   uint64_t refused_samples, refused_spans;
-  uint64_t refused_chunks;               /* accepted chunks with refused samples */
-  uint64_t last_refused;                 /* refused samples of the latest accepted chunk */
+  uint64_t refused_chunks; /* accepted chunks with refused samples */
+  uint64_t last_refused;   /* refused samples of the latest accepted chunk */
+  size_t last_held;        /* samples at the head of the latest accepted chunk already held (an
+                              overlap): its new samples start at x[last_held] */
   af_stream_span spans[AF_STREAM_SPANS]; /* newest at span_next - 1 */
   size_t span_next, span_count;
   bool seen;          /* a chunk was accepted */
@@ -119,6 +123,11 @@ void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
  * it, times cfg->to_si, when good; a refused chunk is counted and described
  * in s->last_problem. A non-finite sample does not refuse the chunk: it is
  * held as NaN and counted as refused (refused_samples, one span per run).
+ * A chunk that starts inside the ring's last samples and runs past them,
+ * with those samples as held (value for value, at the same time within half
+ * a sample), is an overlap: the new tail is buffered, the repeated head
+ * counted in duplicate_samples (not a restart). Otherwise a chunk that goes
+ * back is a restart.
  * *info (may be NULL) tells of gaps and restarts. now_ns: the lane's clock
  * at arrival. No allocation. */
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,

@@ -44,8 +44,8 @@ af_status af_bag_write(af_bag *bag, const char *topic, af_msg_type type, const v
  * af_bag_last_error(NULL)); bag is freed either way. */
 af_status af_bag_close(af_bag *bag);
 
-/* The last error of bag, or of the last handle-less call when bag is NULL
- * ("" when none). Never NULL. */
+/* The last error of bag, or of the last handle-less call of the calling
+ * thread when bag is NULL ("" when none). Never NULL. */
 const char *af_bag_last_error(const af_bag *bag);
 
 /* --- reading ------------------------------------------------------------------ */
@@ -100,7 +100,9 @@ size_t af_bag_topic_count(const af_bag_reader *r, const char *topic);
 /* Closes and frees r; NULL-safe. */
 void af_bag_close_read(af_bag_reader *r);
 
-/* The last error of r, or of the last reader-less call when r is NULL. */
+/* The last error of r, or, when r is NULL, of the last reader-less call
+ * (af_bag_open_read) made by the calling thread: readers on several threads
+ * each see their own. */
 const char *af_bag_reader_error(const af_bag_reader *r);
 
 #ifdef __cplusplus

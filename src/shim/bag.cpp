@@ -22,8 +22,9 @@ struct af_bag {
 namespace
 {
 
-// The error of the last call that had no bag to keep it (open, close).
-std::string g_bag_error;
+// The error of the last call that had no bag to keep it (open, close), one
+// per thread.
+thread_local std::string g_bag_error;
 
 void set_bag_error(af_bag *b, const std::string &msg)
 {

@@ -11,6 +11,7 @@
 #include <rosbag/view.h>
 
 #include "af_bag.h"
+#include "bag_pool.hpp"
 #include "convert.hpp"
 #include "errors.hpp"
 #include "wire.hpp"
@@ -19,7 +20,9 @@ using namespace acoustic_firmness;
 
 extern "C" {
 struct af_bag_reader {
-  rosbag::Bag bag;
+  // From the process's pool (bag_pool.hpp): a new rosbag::Bag loads the
+  // encryptor plugin, most of the cost of opening a small bag.
+  rosbag::Bag *bag = nullptr;
   std::unique_ptr<rosbag::View> view;
   rosbag::View::iterator it;
   std::string topic, last_error;
@@ -35,7 +38,9 @@ struct af_bag_reader {
 namespace
 {
 
-std::string g_reader_error;
+// The error of the last reader-less call (af_bag_open_read) of this thread:
+// firmness_report opens bags on several threads at once.
+thread_local std::string g_reader_error;
 
 void set_error(af_bag_reader *r, const std::string &msg)
 {
@@ -76,7 +81,7 @@ bool type_of(const std::string &datatype, af_msg_type &t)
 // Every listed topic must be in the bag with a type we read.
 void check_topics(af_bag_reader *r, const char *const *topics, size_t n)
 {
-  rosbag::View all(r->bag);
+  rosbag::View all(*r->bag);
   std::map<std::string, std::string> types;
   for (const rosbag::ConnectionInfo *c : all.getConnections())
     types[c->topic] = c->datatype;
@@ -173,14 +178,15 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
       return AF_EIO;
     }
     r = new af_bag_reader;
-    r->bag.open(path, rosbag::bagmode::Read);
+    r->bag = af_shim::bag_take();
+    r->bag->open(path, rosbag::bagmode::Read);
     check_topics(r, topics, n_topics);
     if (n_topics > 0) {
       r->listed = true;
       std::vector<std::string> list(topics, topics + n_topics);
-      r->view.reset(new rosbag::View(r->bag, rosbag::TopicQuery(list)));
+      r->view.reset(new rosbag::View(*r->bag, rosbag::TopicQuery(list)));
     } else {
-      r->view.reset(new rosbag::View(r->bag));
+      r->view.reset(new rosbag::View(*r->bag));
     }
     r->it = r->view->begin();
     *out = r;
@@ -189,6 +195,10 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
     af_status s = reader_status(nullptr);
     set_error(nullptr,
               std::string(path) + (s == AF_EIO ? ": not a readable bag: " : ": ") + g_reader_error);
+    if (r != nullptr) {
+      r->view.reset();
+      af_shim::bag_give(r->bag);
+    }
     delete r;
     return s;
   }
@@ -265,10 +275,10 @@ void af_bag_close_read(af_bag_reader *r)
     return;
   try {
     r->view.reset();
-    r->bag.close();
   } catch (...) {
     (void)reader_status(r);
   }
+  af_shim::bag_give(r->bag);
   delete r;
 }
 

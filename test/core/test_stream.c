@@ -1,11 +1,10 @@
 /* test_stream.c — one input stream (stream.h) fed hand-built chunk
  * sequences: gaps and lost samples counted against the hand-summed holes,
- * restarts, refused chunks (rate, unit, index overflow, wire), refused
- * non-finite samples as counted spans
- * with their one-line messages, the unit conversion across its blocks
- * (ring contents against x times to_si), the time <-> index mapping through
- * the holding chunk against hand-computed stamps, the anchor ring's limit,
- * and staleness around its threshold. */
+ * restarts, partial overlaps (the new tail kept), refused chunks (rate, unit, index overflow,
+ * wire), refused non-finite samples as counted spans with their one-line messages, the unit
+ * conversion across its blocks (ring contents against x times to_si), the time <-> index mapping
+ * through the holding chunk against hand-computed stamps, the anchor ring's limit, and staleness
+ * around its threshold. */
 #include <math.h>
 #include <string.h>
 
@@ -295,9 +294,65 @@ static void test_stale(void)
   af_stream_destroy(&s);
 }
 
+/* A chunk whose head repeats the ring's last samples (issue 18: a partial
+ * overlap was a restart): the new tail kept, the head counted as duplicate
+ * samples. Stamps by hand: sample k at 1000 ns + k / 50 kHz = 1000 + 20000 k
+ * ns. The ring's contents are checked against x[k] = k + 0.25. */
+static void test_overlap(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
+  af_ring_write_info w;
+  af_chunk c = chunk(0, CHUNK, 1000);
+  AF_CHECK(af_stream_push(&s, &c, 1, &w) == AF_CHUNK_OK);
+  /* Samples 60..159: 40 held (60..99), 60 new. */
+  c = chunk(60, CHUNK, 1000 + 60 * 20000);
+  AF_CHECK(af_stream_push(&s, &c, 2, &w) == AF_CHUNK_OK);
+  AF_CHECK(!w.restarted && w.gap_samples == 0);
+  AF_CHECK(s.restarts == 0 && s.gaps == 0 && s.overlaps == 1 && s.duplicate_samples == 40);
+  AF_CHECK(s.chunks == 2 && s.duplicates == 0 && af_ring_end(s.ring) == 160 && s.last_held == 40);
+  AF_CHECK(strcmp(s.last_problem, "force chunk at sample 60: its first 40 of 100 samples already "
+                                  "held (an overlap: the 60 new ones kept)") == 0);
+  float got[160];
+  AF_CHECK_STATUS(af_ring_read(s.ring, 0, 160, got), AF_OK);
+  bool as_sent = true;
+  for (size_t k = 0; k < 160; k++)
+    as_sent &= got[k] == (float)((double)k + 0.25);
+  AF_CHECK(as_sent);
+  /* The time of the new tail, through the overlapping chunk's stamp. */
+  AF_CHECK(af_stream_time_ns(&s, 150.0) == 1000 + 150 * 20000);
+  /* Off by 0.4 of a sample: still the same samples (one held, 99 new). */
+  c = chunk(159, CHUNK, 1000 + 159 * 20000 + 8000);
+  AF_CHECK(af_stream_push(&s, &c, 3, &w) == AF_CHUNK_OK && !w.restarted);
+  AF_CHECK(s.overlaps == 2 && s.duplicate_samples == 41 && af_ring_end(s.ring) == 259);
+  /* One held value different: a restart, as before. */
+  c = chunk(250, CHUNK, 1000 + 250 * 20000);
+  samples[3] += 1.0f;
+  AF_CHECK(af_stream_push(&s, &c, 4, &w) == AF_CHUNK_OK && w.restarted);
+  AF_CHECK(s.restarts == 1 && s.overlaps == 2 && s.duplicate_samples == 41 && s.last_held == 0);
+  /* The same samples 2 samples later in time: another stream, a restart. */
+  c = chunk(340, CHUNK, 1000 + 342 * 20000);
+  AF_CHECK(af_stream_push(&s, &c, 5, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 2);
+  /* Over a hole: a hole never matches a sample (a restart). After 340..439,
+   * 450..549 leaves 440..449 lost; 445..564 overlaps 445..549, 5 of them
+   * lost. */
+  c = chunk(450, CHUNK, 1000 + 452 * 20000);
+  AF_CHECK(af_stream_push(&s, &c, 6, &w) == AF_CHUNK_OK && w.gap_samples == 10);
+  c = chunk(445, CHUNK + 20, 1000 + 447 * 20000);
+  AF_CHECK(af_stream_push(&s, &c, 7, &w) == AF_CHUNK_OK && w.restarted && s.restarts == 3);
+  AF_CHECK(s.overlaps == 2 && s.duplicate_samples == 41);
+  /* A whole duplicate counts its samples too. */
+  c = chunk(445, 20, 1000 + 447 * 20000);
+  AF_CHECK(af_stream_push(&s, &c, 8, &w) == AF_CHUNK_DUPLICATE);
+  AF_CHECK(s.duplicates == 1 && s.duplicate_samples == 61 && s.overlaps == 2);
+  af_stream_destroy(&s);
+}
+
 int main(void)
 {
   test_gaps_and_restarts();
+  test_overlap();
   test_refused();
   test_conversion();
   test_time_mapping();
