@@ -21,8 +21,9 @@ struct af_onset {
   bool bad;           /* a non-finite sample in this frame */
   uint64_t frame_start, next_sample;
   bool started;
-  double floor;  /* mean square of the noise; NaN: none yet */
-  uint64_t warm; /* frames averaged so far in the warm-up */
+  double floor;     /* mean square of the noise; NaN: none yet */
+  uint64_t warm;    /* frames averaged so far in the warm-up */
+  double before[2]; /* the energies of the two frames before this one; NaN: none */
   bool armed;
   bool fired_once;
   uint64_t last_onset;
@@ -105,6 +106,7 @@ void af_onset_reset(af_onset *o)
   o->started = false;
   o->floor = NAN;
   o->warm = 0;
+  o->before[0] = o->before[1] = NAN;
   o->armed = true;
   o->fired_once = false;
   o->count = 0;
@@ -158,6 +160,9 @@ static uint64_t onset_sample(const af_onset *o, double level)
 static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
 {
   const double e = o->sum / (double)o->frame_n;
+  const double two_before = o->before[1];
+  o->before[1] = o->before[0];
+  o->before[0] = e;
   if (o->warm < AF_ONSET_WARMUP_FRAMES) { /* the first floor: a plain mean */
     o->warm++;
     o->floor = isnan(o->floor) ? e : o->floor + (e - o->floor) / (double)o->warm;
@@ -172,7 +177,10 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
     }
     return;
   }
-  if (!o->armed || held)
+  /* A rise: e reaches the threshold over the frame two before too (the one
+   * before may hold the start of the tap); the swell of a ring already
+   * sounding (beats of two close modes) does not. */
+  if (!o->armed || held || e < o->threshold * two_before)
     return;
   af_onset_event ev = {
       .sample = onset_sample(o, level), .snr_db = 10.0 * log10(e / o->floor), .floor_ms = o->floor};
@@ -207,6 +215,8 @@ af_status af_onset_write(af_onset *o, uint64_t first_sample, const float *x, siz
     if (o->fill == o->frame_n) {
       if (!o->bad)
         frame_done(o, fn, user);
+      else
+        o->before[0] = o->before[1] = NAN; /* no rise judged across lost samples */
       o->fill = 0;
       o->sum = 0.0;
       o->bad = false;

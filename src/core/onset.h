@@ -6,7 +6,9 @@
  *             above the threshold, time constant floor_time_constant_s
  *             (the first AF_ONSET_WARMUP_FRAMES frames: their plain mean, no
  *             onset; af_onset_prime sets it from a whole recording instead)
- *         ──> onset when e >= floor x 10^(snr_db / 10), the detector armed:
+ *         ──> onset when e >= floor x 10^(snr_db / 10) and e >= the frame two
+ *             before x 10^(snr_db / 10) (a rise, not the swell of a ring
+ *             already sounding), the detector armed:
  *             armed again once holdoff_s has passed since the last onset AND a
  *             frame has fallen below the threshold (the ring-down of a tap
  *             longer than the hold-off does not fire a second time).
