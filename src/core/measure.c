@@ -595,6 +595,7 @@ static void tap_judge(const af_measure *m, const af_model_result *pred, const af
   }
   out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
   af_verdict_format(v, out->reason, sizeof out->reason);
+  af_verdict_format_model_only(v, out->model_only_text, sizeof out->model_only_text);
 }
 
 af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,

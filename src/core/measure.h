@@ -104,7 +104,9 @@ typedef struct {
   bool tap_only;      /* measured from the microphone alone (af_measure_execute_tap): no pulse, no
                          fit; band and shear the prediction's (verdict.model_only says so) */
   af_verdict verdict; /* why not reliable, as flags and values */
-  char reason[AF_MEASURE_REASON_MAX]; /* af_verdict_format of verdict: "" when reliable */
+  char model_only_text[AF_MEASURE_REASON_MAX]; /* af_verdict_format_model_only: "" when
+                                                   everything was measured */
+  char reason[AF_MEASURE_REASON_MAX];          /* af_verdict_format of verdict: "" when reliable */
 } af_measure_report;
 
 typedef struct af_measure af_measure;
