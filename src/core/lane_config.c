@@ -671,9 +671,9 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
   if (af_onset_config_check(o, &field) == AF_OK)
     return AF_OK;
   if (strcmp(field, "onset_frame_s") == 0)
-    af_settings_say(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least 4",
+    af_settings_say(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least %d",
                     af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s,
-                    o->frame_s * o->sample_rate_hz, o->sample_rate_hz);
+                    o->frame_s * o->sample_rate_hz, o->sample_rate_hz, AF_ONSET_MIN_FRAME_SAMPLES);
   else
     af_settings_say(err, len, "%s must be at least %s = %g s", field,
                     af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s);

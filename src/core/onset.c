@@ -33,7 +33,7 @@ struct af_onset {
 af_onset_config af_onset_config_default(void)
 {
   af_onset_config c = {
-      .sample_rate_hz = 48000.0,
+      .sample_rate_hz = AF_DEFAULT_AUDIO_SAMPLE_RATE_HZ,
       .frame_s = AF_DEFAULT_ONSET_FRAME_S,
       .snr_db = AF_DEFAULT_ONSET_SNR_DB,
       .holdoff_s = AF_DEFAULT_ONSET_HOLDOFF_S,
@@ -49,14 +49,13 @@ af_status af_onset_config_check(const af_onset_config *c, const char **field)
     f = "config";
   else if (!(isfinite(c->sample_rate_hz) && c->sample_rate_hz > 0.0))
     f = "sample_rate_hz";
-  else if (!(isfinite(c->frame_s) && c->frame_s * c->sample_rate_hz >= 4.0 && c->frame_s <= 1.0))
+  else if (!(isfinite(c->frame_s) && c->frame_s * c->sample_rate_hz >= AF_ONSET_MIN_FRAME_SAMPLES))
     f = "onset_frame_s";
-  else if (!(isfinite(c->snr_db) && c->snr_db > 0.0 && c->snr_db <= 100.0))
+  else if (!(isfinite(c->snr_db) && c->snr_db > 0.0))
     f = "onset_snr_db";
-  else if (!(isfinite(c->holdoff_s) && c->holdoff_s >= c->frame_s && c->holdoff_s <= 60.0))
+  else if (!(isfinite(c->holdoff_s) && c->holdoff_s >= c->frame_s))
     f = "onset_holdoff_s";
-  else if (!(isfinite(c->floor_time_constant_s) && c->floor_time_constant_s >= c->frame_s &&
-             c->floor_time_constant_s <= 3600.0))
+  else if (!(isfinite(c->floor_time_constant_s) && c->floor_time_constant_s >= c->frame_s))
     f = "onset_floor_time_constant_s";
   if (field != NULL)
     *field = f;

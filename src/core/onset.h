@@ -21,11 +21,13 @@
  * identification then finds no 0S2 and says so.
  *
  * Figures (test/core/test_onset.c, signals of the test's own generators, at
- * the defaults frame 1 ms, 12 dB, hold-off 0.1 s, floor 0.5 s, 48 kHz):
- * no false onset in 10 min of white or of pink noise; every tap whose ring
- * starts 15 dB above the noise (initial mean square over the noise variance)
- * found, its onset within 1 ms of the true start. Buffers: none (the state is
- * a few numbers); no allocation after af_onset_create. Not thread-safe. */
+ * the table's defaults and 48 kHz): no false onset in 10 min of white or of
+ * pink noise (pink: 16 at 9 dB, 1963 at 6 dB); every tap whose first
+ * millisecond is 18 dB above the noise (its mean square over the noise
+ * variance) found, its onset within 1 ms of the true start; 3 dB weaker, 193
+ * of 200 (a tap split over two frames may stay below the threshold in both).
+ * Buffers: one frame's samples, made in af_onset_create; no allocation after
+ * it (af_onset_prime, offline only, excepted). Not thread-safe. */
 #ifndef AF_ONSET_H
 #define AF_ONSET_H
 
@@ -40,16 +42,18 @@ extern "C" {
 
 /* Frames averaged plainly into the first floor before any onset may fire. */
 #define AF_ONSET_WARMUP_FRAMES 16
+/* The shortest frame [samples]: a mean square of fewer scatters too much. */
+#define AF_ONSET_MIN_FRAME_SAMPLES 4
 
 typedef struct {
   double sample_rate_hz;        /* audio rate [Hz], > 0 */
-  double frame_s;               /* energy frame [s]: at least 4 samples */
+  double frame_s;               /* energy frame [s]: at least AF_ONSET_MIN_FRAME_SAMPLES */
   double snr_db;                /* minimum frame energy over the floor [dB], > 0 */
   double holdoff_s;             /* no onset this long after one [s], >= frame_s */
   double floor_time_constant_s; /* the floor's averaging time [s], >= frame_s */
 } af_onset_config;
 
-/* The table's defaults (onset_* rows) at 48 kHz. */
+/* The table's defaults (onset_* rows, audio_sample_rate_hz). */
 af_onset_config af_onset_config_default(void);
 
 typedef struct {
