@@ -668,7 +668,9 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
   o->snr_db = num(s, AF_SETTING_ONSET_SNR_DB);
   o->holdoff_s = num(s, AF_SETTING_ONSET_HOLDOFF_S);
   o->floor_time_constant_s = num(s, AF_SETTING_ONSET_FLOOR_TIME_CONSTANT_S);
-  if (af_onset_config_check(o, &field) == AF_OK)
+  /* Checked only when used: a slow audio rate need not suit a detector that
+   * does not run. */
+  if (!mc->tap_only || af_onset_config_check(o, &field) == AF_OK)
     return AF_OK;
   if (strcmp(field, "onset_frame_s") == 0)
     af_settings_say(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least %d",
