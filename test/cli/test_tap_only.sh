@@ -89,6 +89,7 @@ expect_usage "onset_snr_db" analyze --tap-only --audio "$tmp/tap1.wav" --mass 0.
   --set onset_snr_db=1
 # A frame of fewer than 4 samples at a slow audio rate: refused only in tap-only mode.
 expect_usage "onset_frame_s = 0.001 gives 1.0 audio samples at 1000 Hz: at least 4" analyze \
-  --tap-only --audio "$tmp/raw.f32" --rate-audio 1000 --mass 0.18 --R2 0.035
+  --tap-only --audio "$tmp/raw.f32" --rate-audio 1000 --mass 0.18 --R2 0.035 \
+  --set measure_noise_band_low_hz=200
 
 summary test_tap_only
