@@ -24,7 +24,6 @@ struct af_onset {
   double floor;     /* mean square of the noise; NaN: none yet */
   uint64_t warm;    /* frames averaged so far in the warm-up */
   double before[2]; /* the energies of the two frames before this one; NaN: none */
-  bool armed;
   bool fired_once;
   uint64_t last_onset;
   uint64_t count;
@@ -106,7 +105,6 @@ void af_onset_reset(af_onset *o)
   o->floor = NAN;
   o->warm = 0;
   o->before[0] = o->before[1] = NAN;
-  o->armed = true;
   o->fired_once = false;
   o->count = 0;
 }
@@ -170,20 +168,18 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
   const double level = o->floor * o->threshold;
   const bool held = o->fired_once && o->frame_start < o->last_onset + o->holdoff_n;
   if (e < level) {
-    if (!held) {
-      o->armed = true;
+    if (!held)
       o->floor += o->alpha * (e - o->floor);
-    }
     return;
   }
   /* A rise: e reaches the threshold over the frame two before too (the one
    * before may hold the start of the tap); the swell of a ring already
-   * sounding (beats of two close modes) does not. */
-  if (!o->armed || held || e < o->threshold * two_before)
+   * sounding (beats of two close modes) does not; a new tap over the tail
+   * of the last one does. */
+  if (held || e < o->threshold * two_before)
     return;
   af_onset_event ev = {
       .sample = onset_sample(o, level), .snr_db = 10.0 * log10(e / o->floor), .floor_ms = o->floor};
-  o->armed = false;
   o->fired_once = true;
   o->last_onset = ev.sample;
   o->count++;

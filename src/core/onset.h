@@ -8,10 +8,10 @@
  *             onset; af_onset_prime sets it from a whole recording instead)
  *         ──> onset when e >= floor x 10^(snr_db / 10) and e >= the frame two
  *             before x 10^(snr_db / 10) (a rise, not the swell of a ring
- *             already sounding), the detector armed:
- *             armed again once holdoff_s has passed since the last onset AND a
- *             frame has fallen below the threshold (the ring-down of a tap
- *             longer than the hold-off does not fire a second time).
+ *             already sounding: beats, a long ring-down; a new tap over the
+ *             tail of the last one is a rise), and holdoff_s past the last
+ *             onset (the hammer's bounce is no second tap): a line striking
+ *             faster than 1 / holdoff_s loses strikes.
  * The onset sample is the first sample of the firing frame whose square
  * reaches the threshold (the frame's first sample when none does): at most one
  * frame after the true start, and at most one frame before it.

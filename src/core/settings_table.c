@@ -225,9 +225,9 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
             "tap-only: an onset is an audio frame whose mean square is this far above the "
             "running noise floor"),
     [AF_SETTING_ONSET_HOLDOFF_S] =
-        NUM("onset_holdoff_s", "0.1", "[0.001, 10] s", S,
-            "tap-only: no new onset this long after one (and not before the audio fell below "
-            "the threshold), at least onset_frame_s"),
+        NUM("onset_holdoff_s", "0.05", "[0.001, 10] s", S,
+            "tap-only: no new onset this long after one (a bounce of the hammer is no new "
+            "strike), at least onset_frame_s; strikes must come further apart"),
     [AF_SETTING_ONSET_FRAME_S] =
         NUM("onset_frame_s", "0.001", "[0.0001, 0.1] s", S,
             "tap-only: the energy frame of the onset detector (at least 4 audio samples)"),
