@@ -22,7 +22,7 @@
  *
  * Figures (test/core/test_onset.c, signals of the test's own generators, at
  * the table's defaults and 48 kHz): no false onset in 10 min of white or of
- * pink noise (pink: 16 at 9 dB, 1963 at 6 dB); every tap whose first
+ * pink noise (pink: 16 at 9 dB, 2313 at 6 dB); every tap whose first
  * millisecond is 18 dB above the noise (its mean square over the noise
  * variance) found, its onset within 1 ms of the true start; 3 dB weaker, 193
  * of 200 (a tap split over two frames may stay below the threshold in both).
