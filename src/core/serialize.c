@@ -116,9 +116,9 @@ static const af_serial_field fields[F_COUNT] = {
                           "another peak could be the 0S2"},
     [F_MODE_TEXT] = {"mode_text", AF_SERIAL_TEXT, "", NULL, NULL,
                      "the identification in words; \"\" when none ran"},
-    [F_TAP_ONLY] = {"tap_only", AF_SERIAL_BOOL, "-", NULL, NULL,
+    [F_TAP_ONLY] = {"tap_only", AF_SERIAL_BOOL, "-", SR, "tap_only",
                     "measured from the microphone alone (tap_only): no pulse, no fit"},
-    [F_JUDGED_FROM_MODEL] = {"judged_from_model", AF_SERIAL_TEXT, "", NULL, NULL,
+    [F_JUDGED_FROM_MODEL] = {"judged_from_model", AF_SERIAL_TEXT, "", SR, "judged_from_model",
                              "what the verdict took from the prediction, not a measurement "
                              "(tap-only: excitation, shear); \"\" when none"},
 };

@@ -5,7 +5,8 @@ it) replayed on simulated time through firmness_node with tap_only true.
 The node subscribes to no force topic; exactly one StrikeReport per strike,
 stamped within 1 ms of the truth's contact start (the audio onset), its 0S2
 within 0.5 % and its stiffness factor within 1 % of the truth, every pulse
-figure NaN; /diagnostics says the input mode."""
+figure NaN, tap_only and judged_from_model set; /diagnostics says the input
+mode."""
 
 import csv
 import math
@@ -107,6 +108,9 @@ class TapOnlyTest(unittest.TestCase):
             worst_sf = max(worst_sf, abs(r.stiffness_factor / (f_true ** 2 * m ** (2.0 / 3.0)) - 1.0))
             worst_t = max(worst_t, abs(r.header.stamp.to_sec() - float(t['contact_start_s'])))
             self.assertEqual(r.header.frame_id, 'microphone')
+            self.assertTrue(r.tap_only, 'apple %d' % r.apple_id)
+            self.assertEqual(r.judged_from_model, 'excitation judged from the model only; '
+                             'shear judged from the model only')
             for name in ('contact_time', 'peak_force', 'impulse', 'fitted_modulus'):
                 self.assertTrue(math.isnan(getattr(r, name)), '%s of apple %d' % (name, r.apple_id))
         print('tap-only through the node: %d strikes, worst 0S2 %.3f %%, stiffness factor %.3f %%, '
