@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "onset.h"
 #include "text.h"
 
 /* AppleEstimates remembered for the match: a few seconds of a line. */
@@ -65,6 +66,7 @@ struct af_lane {
   af_lane_strike out; /* callback scratch */
   af_lane_stats stats;
   af_hammer_health *health; /* the hammer's running statistics (hammer_health.h) */
+  af_onset *onset;          /* tap-only: the strikes found in the audio (onset.h) */
 };
 
 /* --- the apple match -------------------------------------------------------- */
@@ -243,6 +245,15 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
 
 /* --- one strike ------------------------------------------------------------------- */
 
+/* Tap-only: the strike from its audio alone, judged against the prediction
+ * for the configured hammer (measure.h, af_measure_execute_tap). */
+static af_status measure_tap(af_lane *l, const af_prediction *pr, const af_measure_apple *apple,
+                             size_t n_audio, size_t n_noise, af_measure_report *r)
+{
+  return af_measure_execute_tap(l->measure, apple, &pr->result, n_audio ? l->audio_buf : NULL,
+                                n_audio, n_noise ? l->noise_buf : NULL, n_noise, r);
+}
+
 /* The measurement of p against its apple slot a (NULL: none). */
 static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a, size_t n_audio,
                                size_t n_noise, af_verdict *lane_v)
@@ -253,8 +264,10 @@ static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a
   if (pr && pr->valid) {
     af_measure_apple apple = {pr->params, l->cfg->modulus_min_pa, l->cfg->modulus_max_pa};
     apple.model.modulus_factor = l->out.modulus_factor;
-    st = af_measure_execute(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL, n_audio,
-                            n_noise ? l->noise_buf : NULL, n_noise, r);
+    st = l->mc->tap_only
+             ? measure_tap(l, pr, &apple, n_audio, n_noise, r)
+             : af_measure_execute(l->measure, &p->ev, &apple, n_audio ? l->audio_buf : NULL,
+                                  n_audio, n_noise ? l->noise_buf : NULL, n_noise, r);
     if (st != AF_OK) {
       l->stats.measure_errors++;
       lane_v->flags |= AF_VERDICT_MEASURE_FAILED;
@@ -264,6 +277,7 @@ static void measure_with_apple(af_lane *l, const af_pending *p, af_apple_slot *a
   if (st != AF_OK && af_measure_execute_pulse(l->measure, &p->ev, l->cfg->model.band_level,
                                               l->cfg->model.lobe, r) != AF_OK)
     l->stats.measure_errors++;
+  r->tap_only = l->mc->tap_only;
 }
 
 /* Adds the lane's flags to the measurement's verdict and words it again. */
@@ -360,6 +374,8 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
  * fit's v0 and e; clean when nothing spoilt its impulse. */
 static void watch_hammer(af_lane *l, const af_pending *p, const af_lane_strike *o)
 {
+  if (l->mc->tap_only) /* no pulse: nothing to watch */
+    return;
   const af_strike_event *ev = &p->ev;
   const af_hammer_strike h = {
       .impulse_n_s = ev->impulse_n_s,
@@ -465,10 +481,9 @@ static void process(af_lane *l)
 
 /* --- the detector's strikes ------------------------------------------------------ */
 
-/* The detector's callback: a strike, copied into the next pending slot. */
-static void on_strike(const af_strike_event *ev, void *user)
+/* The next pending slot; a full queue measures its oldest strike first. */
+static af_pending *next_slot(af_lane *l)
 {
-  af_lane *l = user;
   const size_t size = l->mc->pending_size;
   if (l->count == size) {
     /* Full: the oldest goes now, with whatever there is. */
@@ -482,7 +497,14 @@ static void on_strike(const af_strike_event *ev, void *user)
     l->head = (l->head + 1) % size;
     l->count--;
   }
-  af_pending *p = &l->pending[(l->head + l->count) % size];
+  return &l->pending[(l->head + l->count) % size];
+}
+
+/* The detector's callback: a strike, copied into the next pending slot. */
+static void on_strike(const af_strike_event *ev, void *user)
+{
+  af_lane *l = user;
+  af_pending *p = next_slot(l);
   double *pulse = p->pulse;
   p->ev = *ev;
   size_t n = ev->n_samples;
@@ -534,11 +556,51 @@ af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
   return v;
 }
 
+/* --- tap-only: the strikes found in the audio ------------------------------------ */
+
+/* The onset detector's callback: a strike without a pulse (every pulse
+ * figure NaN), its contact start the onset's time by the audio stream's
+ * mapping, into the next pending slot. */
+static void on_onset(const af_onset_event *ev, void *user)
+{
+  af_lane *l = user;
+  af_pending *p = next_slot(l);
+  double *pulse = p->pulse;
+  memset(&p->ev, 0, sizeof p->ev);
+  p->ev.pulse_n = pulse;
+  p->ev.dt_s = 1.0 / l->cfg->audio.sample_rate_hz;
+  p->ev.start_sample = (double)ev->sample;
+  p->ev.contact_time_s = p->ev.peak_force_n = p->ev.impulse_n_s = NAN;
+  p->ev.baseline_n = p->ev.noise_rms_n = NAN;
+  p->start_ns = af_stream_time_ns(&l->audio, ev->sample);
+  p->queued_ns = l->now_ns;
+  p->refused = 0;
+  memcpy(p->frame_id, l->audio.frame_id, sizeof p->frame_id);
+  l->count++;
+}
+
+/* An accepted audio chunk into the onset detector (tap-only). */
+static void detect_onsets(af_lane *l, const af_chunk *c)
+{
+  const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
+  (void)af_onset_write(l->onset, c->first_sample, c->x, c->n, on_onset, l);
+  af_stage_end(l->mc->measure.stages, AF_STAGE_DETECT, t0_ns);
+}
+
+af_status af_lane_prime_audio(af_lane *l, const float *x, size_t n)
+{
+  if (l == NULL || (x == NULL && n > 0))
+    return AF_EINVAL;
+  return af_onset_prime(l->onset, x, n);
+}
+
 af_chunk_verdict af_lane_audio(af_lane *l, const af_chunk *c, int64_t now_ns,
                                af_ring_write_info *info)
 {
   l->now_ns = now_ns;
   af_chunk_verdict v = af_stream_push(&l->audio, c, now_ns, info);
+  if (v == AF_CHUNK_OK && l->mc->tap_only)
+    detect_onsets(l, c);
   process(l);
   return v;
 }
@@ -647,6 +709,9 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   *what = "the model";
   if ((s = af_model_create(&l->model)) != AF_OK)
     goto fail;
+  *what = "the onset detector";
+  if (l->mc->tap_only && (s = af_onset_create(&l->mc->onset, &l->onset)) != AF_OK)
+    goto fail;
   *what = "the hammer health";
   if ((s = af_hammer_health_create(&cfg->health, &l->health)) != AF_OK)
     goto fail;
@@ -688,6 +753,7 @@ void af_lane_destroy(af_lane *l)
   af_model_destroy(l->model);
   af_hammer_health_destroy(l->health);
   af_factor_learn_destroy(l->factor);
+  af_onset_destroy(l->onset);
   free(l->pending);
   free(l->pulses);
   free(l->audio_buf);

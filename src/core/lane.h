@@ -144,6 +144,11 @@ void af_lane_finish(af_lane *l);
  * of a triggered capture is measured. Statuses of af_strike_prime. */
 af_status af_lane_prime_force(af_lane *l, const float *x, size_t n);
 
+/* Offline, tap-only: the onset detector's noise floor from the whole audio
+ * recording x[0..n) (af_onset_prime), so that a tap a few milliseconds
+ * after the start of a triggered capture is found. Statuses of
+ * af_onset_prime. */
+af_status af_lane_prime_audio(af_lane *l, const float *x, size_t n);
 const af_stream *af_lane_force_stream(const af_lane *l);
 /* A force (force true) or audio chunk refused before it became an af_chunk
  * (on the wire: oversized, cut, empty), counted in its stream (see

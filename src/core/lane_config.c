@@ -655,6 +655,33 @@ static af_status derive_factor_learn(const af_settings *s, af_lane_config *c, ch
   return AF_EINVAL;
 }
 
+/* Tap-only mode and its onset detector (onset.h), at the audio rate. After
+ * derive_streams. */
+static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
+  af_measured_config *mc = &c->measured;
+  af_onset_config *o = &mc->onset;
+  const char *field = NULL;
+  mc->tap_only = af_settings_bool(s, AF_SETTING_TAP_ONLY);
+  o->sample_rate_hz = c->audio.sample_rate_hz;
+  o->frame_s = num(s, AF_SETTING_ONSET_FRAME_S);
+  o->snr_db = num(s, AF_SETTING_ONSET_SNR_DB);
+  o->holdoff_s = num(s, AF_SETTING_ONSET_HOLDOFF_S);
+  o->floor_time_constant_s = num(s, AF_SETTING_ONSET_FLOOR_TIME_CONSTANT_S);
+  /* Checked only when used: a slow audio rate need not suit a detector that
+   * does not run. */
+  if (!mc->tap_only || af_onset_config_check(o, &field) == AF_OK)
+    return AF_OK;
+  if (strcmp(field, "onset_frame_s") == 0)
+    af_settings_say(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least %d",
+                    af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s,
+                    o->frame_s * o->sample_rate_hz, o->sample_rate_hz, AF_ONSET_MIN_FRAME_SAMPLES);
+  else
+    af_settings_say(err, len, "%s must be at least %s = %g s", field,
+                    af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s);
+  return AF_EINVAL;
+}
+
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len)
 {
   if (s == NULL || out == NULL) {
@@ -675,6 +702,8 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
     st = derive_detector(s, out, err, len);
   if (st == AF_OK)
     st = derive_measure(s, out, err, len);
+  if (st == AF_OK)
+    st = derive_tap(s, out, err, len);
   if (st == AF_OK)
     st = af_grade_config_from_settings(s, &out->grade, err, len);
   if (st == AF_OK)

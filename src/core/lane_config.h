@@ -14,6 +14,7 @@
 #include "factor_learn.h"
 #include "grade.h"
 #include "hammer_health.h"
+#include "onset.h"
 #include "measure.h"
 #include "model.h"
 #include "settings.h"
@@ -47,8 +48,10 @@ typedef struct {
   size_t noise_window_samples;   /* round(measure_noise_window_s * audio rate); 0 = none */
   double apple_stale_after_s;    /* a strike matches an apple stamped at most this long before */
   double apple_wait_s;           /* a strike waits this long for its own apple's estimate [s] */
-  bool single_apple; /* desk tools: one apple stands for a whole recording, so a second strike
-                        on it is expected, not a doubtful match; false (0) in the node */
+  bool single_apple;     /* desk tools: one apple stands for a whole recording, so a second strike
+                            on it is expected, not a doubtful match; false (0) in the node */
+  bool tap_only;         /* tap_only: strikes from the audio onset, no force input (onset.h) */
+  af_onset_config onset; /* onset_*: the audio onset detector, at the audio rate */
 } af_measured_config;
 
 typedef struct {

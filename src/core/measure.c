@@ -56,6 +56,7 @@ typedef struct {
   size_t n_audio;
   double f_lo_hz, f_hi_hz; /* searched 0S2 range */
   af_status judge_status;  /* Lamb root or shear ratio failed (a bad Poisson ratio) */
+  bool tap_only;           /* no pulse: the 0S2's prior from the mass and the modulus range */
 } af_measure_steps;
 
 /* ---- configuration and life cycle ------------------------------------------ */
@@ -292,11 +293,17 @@ static void set_noise(af_measure *m, const float *noise, size_t n_noise)
 }
 
 /* The 0S2 predicted from the fitted E2 [Hz], the prior of the mode
- * identification; NaN when the fit failed. */
+ * identification; NaN when the fit failed. Tap-only (no pulse, no fit): the
+ * middle (in ln f) of the range for this mass and the cultivar's modulus
+ * range, [f_lo, f_hi] before the margin. */
 static double predicted_0s2_hz(const af_measure_apple *apple, const af_measure_report *out,
-                               double xi)
+                               double xi, const af_measure_steps *s)
 {
   const af_model_params *p = &apple->model;
+  if (s->tap_only)
+    return af_lamb_frequency_hz(
+        xi, p->modulus_factor * sqrt(apple->modulus_min_pa * apple->modulus_max_pa),
+        p->impact.fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
   if (!isfinite(out->fitted_modulus_pa))
     return NAN;
   return af_lamb_frequency_hz(xi, p->modulus_factor * out->fitted_modulus_pa,
@@ -326,19 +333,21 @@ static af_status identify(af_measure *m, const af_measure_apple *apple, const fl
   if (st != AF_OK)
     return st;
   /* The fit's own standard error and the calibration's, in quadrature;
-   * f goes as sqrt(E): half the relative uncertainty in ln f. */
+   * f goes as sqrt(E): half the relative uncertainty in ln f. Tap-only: the
+   * modulus range [min, max] taken as +-2 sigma of ln E, i.e. ln(max / min) / 4. */
   const double se = out->fitted_modulus_se_pa / out->fitted_modulus_pa;
-  const double cal = m->cfg.modulus_prior_rel_sd;
-  const af_modes_input in = {.peaks = m->peaks,
-                             .n_peaks = n_peaks,
-                             .band_lo_hz = band_lo,
-                             .band_hi_hz = band_hi,
-                             .f_lo_hz = s->f_lo_hz,
-                             .f_hi_hz = s->f_hi_hz,
-                             .modes = &modes,
-                             .f_pred_hz = predicted_0s2_hz(apple, out, xi),
-                             .f_pred_rel_sd =
-                                 0.5 * sqrt((isfinite(se) ? se * se : 0.0) + cal * cal)};
+  const double cal = s->tap_only ? 0.25 * log(apple->modulus_max_pa / apple->modulus_min_pa)
+                                 : m->cfg.modulus_prior_rel_sd;
+  const af_modes_input in = {
+      .peaks = m->peaks,
+      .n_peaks = n_peaks,
+      .band_lo_hz = band_lo,
+      .band_hi_hz = band_hi,
+      .f_lo_hz = s->f_lo_hz,
+      .f_hi_hz = s->f_hi_hz,
+      .modes = &modes,
+      .f_pred_hz = predicted_0s2_hz(apple, out, xi, s),
+      .f_pred_rel_sd = 0.5 * sqrt((isfinite(se) && !s->tap_only ? se * se : 0.0) + cal * cal)};
   st = af_modes_execute(&m->cfg.modes, &in, &out->modes);
   af_modes_format(&out->modes, out->modes_text, sizeof out->modes_text);
   if (st == AF_ENODATA) { /* peaks, none in the 0S2 range: the best in range is none */
@@ -543,5 +552,75 @@ af_status af_measure_execute_pulse(af_measure *m, const af_strike_event *ev, af_
   af_measure_steps s = {.band_status = AF_OK};
   report_start(ev, lobe, out);
   step_band(m, ev, level, lobe, out, &s);
+  return AF_OK;
+}
+
+/* ---- tap-only: the microphone alone ------------------------------------------ */
+
+/* The criteria from the prediction for the configured hammer: the measured
+ * 0S2 against the predicted band, the predicted shear against its yield;
+ * both noted as judged from the model only. */
+static void tap_judge(const af_measure *m, const af_model_result *pred, const af_measure_steps *s,
+                      af_measure_report *out)
+{
+  af_verdict *v = &out->verdict;
+  if (pred->band_found) {
+    out->band_low_hz = pred->band.band_low_hz;
+    out->band_high_hz = pred->band.band_high_hz;
+  }
+  out->max_shear_stress_pa = pred->max_shear_stress_pa;
+  out->yield_shear_stress_pa = pred->yield_shear_stress_pa;
+  out->excites_mode =
+      af_criteria_excites_mode(pred->band_found ? &pred->band : NULL, out->resonance_hz);
+  out->no_damage = pred->no_damage;
+  v->model_only = AF_VERDICT_MODEL_EXCITATION | AF_VERDICT_MODEL_SHEAR;
+  v->judge_status = s->judge_status;
+  if (s->judge_status != AF_OK)
+    v->flags |= AF_VERDICT_POISSON;
+  verdict_audio(m, s, out, v);
+  verdict_modes(out, v);
+  v->lobe = out->lobe;
+  if (!pred->band_found)
+    v->flags |= AF_VERDICT_NO_LOBE;
+  else if (isfinite(out->resonance_hz) && !out->excites_mode) {
+    v->flags |= AF_VERDICT_OUTSIDE_BAND;
+    v->resonance_hz = out->resonance_hz;
+    v->band_low_hz = pred->band.band_low_hz;
+    v->band_high_hz = pred->band.band_high_hz;
+  }
+  if (!out->no_damage) {
+    v->flags |= AF_VERDICT_DAMAGE;
+    v->max_shear_pa = out->max_shear_stress_pa;
+    v->yield_shear_pa = out->yield_shear_stress_pa;
+  }
+  out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
+  af_verdict_format(v, out->reason, sizeof out->reason);
+  af_verdict_format_model_only(v, out->model_only_text, sizeof out->model_only_text);
+}
+
+af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
+                                 const af_model_result *predicted, const float *audio,
+                                 size_t n_audio, const float *noise, size_t n_noise,
+                                 af_measure_report *out)
+{
+  if (m == NULL || apple == NULL || predicted == NULL || out == NULL ||
+      (audio == NULL && n_audio > 0) || !apple_valid(apple))
+    return AF_EINVAL;
+  af_measure_steps s = {.band_status = AF_OK,
+                        .fit_status = AF_OK,
+                        .fit_residual = NAN,
+                        .f_lo_hz = NAN,
+                        .f_hi_hz = NAN,
+                        .tap_only = true};
+  af_strike_event none;
+  memset(&none, 0, sizeof none);
+  none.contact_time_s = none.peak_force_n = none.impulse_n_s = NAN;
+  report_start(&none, apple->model.lobe, out);
+  out->tap_only = true;
+  timed_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
+  const af_stage_hook *h = m->cfg.stages;
+  const int64_t t0_ns = af_stage_begin(h);
+  tap_judge(m, predicted, &s, out);
+  af_stage_end(h, AF_STAGE_VERDICT, t0_ns);
   return AF_OK;
 }

@@ -101,8 +101,12 @@ typedef struct {
   uint32_t lost_samples;
   bool excites_mode, no_damage, reliable;
   double max_shear_stress_pa, yield_shear_stress_pa;
-  af_verdict verdict;                 /* why not reliable, as flags and values */
-  char reason[AF_MEASURE_REASON_MAX]; /* af_verdict_format of verdict: "" when reliable */
+  bool tap_only;      /* measured from the microphone alone (af_measure_execute_tap): no pulse, no
+                         fit; band and shear the prediction's (verdict.model_only says so) */
+  af_verdict verdict; /* why not reliable, as flags and values */
+  char model_only_text[AF_MEASURE_REASON_MAX]; /* af_verdict_format_model_only: "" when
+                                                   everything was measured */
+  char reason[AF_MEASURE_REASON_MAX];          /* af_verdict_format of verdict: "" when reliable */
 } af_measure_report;
 
 typedef struct af_measure af_measure;
@@ -136,6 +140,21 @@ af_status af_measure_prepare(af_measure *m, const af_model_params *p);
 af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
                              const af_measure_apple *apple, const float *audio, size_t n_audio,
                              const float *noise, size_t n_noise, af_measure_report *out);
+
+/* Tap-only (no force transducer): one strike from its audio alone. audio:
+ * the window cut audio_delay_s after the onset (onset.h), noise: the audio
+ * before it (may be NULL). The 0S2 by the same identification (modes.h) with
+ * the prior from the apple's mass and the cultivar's modulus range (the
+ * middle of the 0S2 range in ln f, the range +-2 sigma), the stiffness factor
+ * f^2 m^(2/3) and the modulus through Lamb; no fit (the fitted figures NaN).
+ * The band and the shear are predicted's (the model's result for the
+ * configured hammer), noted in out->verdict.model_only; reliable as in
+ * af_measure_execute. Every pulse figure NaN, tap_only true. AF_EINVAL for a
+ * NULL argument or an invalid apple; else AF_OK (*out always filled). */
+af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
+                                 const af_model_result *predicted, const float *audio,
+                                 size_t n_audio, const float *noise, size_t n_noise,
+                                 af_measure_report *out);
 
 #ifdef __cplusplus
 }

@@ -47,6 +47,8 @@ typedef enum {
   F_MODE_CONFIDENCE,
   F_MODE_AMBIGUOUS,
   F_MODE_TEXT,
+  F_TAP_ONLY,
+  F_JUDGED_FROM_MODEL,
   F_COUNT
 } field_id;
 
@@ -114,6 +116,11 @@ static const af_serial_field fields[F_COUNT] = {
                           "another peak could be the 0S2"},
     [F_MODE_TEXT] = {"mode_text", AF_SERIAL_TEXT, "", NULL, NULL,
                      "the identification in words; \"\" when none ran"},
+    [F_TAP_ONLY] = {"tap_only", AF_SERIAL_BOOL, "-", SR, "tap_only",
+                    "measured from the microphone alone (tap_only): no pulse, no fit"},
+    [F_JUDGED_FROM_MODEL] = {"judged_from_model", AF_SERIAL_TEXT, "", SR, "judged_from_model",
+                             "what the verdict took from the prediction, not a measurement "
+                             "(tap-only: excitation, shear); \"\" when none"},
 };
 
 typedef struct {
@@ -163,6 +170,8 @@ static value value_of(const af_serial_strike *s, field_id id)
   case F_MODE_CONFIDENCE: v.real = r->modes.confidence; break;
   case F_MODE_AMBIGUOUS: v.boolean = r->modes.ambiguous; break;
   case F_MODE_TEXT: v.text = r->modes_text; break;
+  case F_TAP_ONLY: v.boolean = r->tap_only; break;
+  case F_JUDGED_FROM_MODEL: v.text = r->model_only_text; break;
   case F_COUNT: break;
   }
   return v;

@@ -216,6 +216,25 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         WHOLE("measure_fft_padding", "4", "[1, 16]", S,
               "the audio FFT size is the power of two at least this many times the analysed "
               "window (zero padding: finer bins)"),
+    [AF_SETTING_TAP_ONLY] =
+        BOOLEAN("tap_only", "false", S,
+                "tap-only rig (a microphone, no force transducer): strikes are found in the "
+                "audio onset, the 0S2 from the microphone alone; no force input is read"),
+    [AF_SETTING_ONSET_SNR_DB] =
+        NUM("onset_snr_db", "12.0", "[3, 60] dB", S,
+            "tap-only: an onset is an audio frame whose mean square is this far above the "
+            "running noise floor"),
+    [AF_SETTING_ONSET_HOLDOFF_S] =
+        NUM("onset_holdoff_s", "0.05", "[0.001, 10] s", S,
+            "tap-only: no new onset this long after one (a bounce of the hammer is no new "
+            "strike), at least onset_frame_s; strikes must come further apart"),
+    [AF_SETTING_ONSET_FRAME_S] =
+        NUM("onset_frame_s", "0.001", "[0.0001, 0.1] s", S,
+            "tap-only: the energy frame of the onset detector (at least 4 audio samples)"),
+    [AF_SETTING_ONSET_FLOOR_TIME_CONSTANT_S] =
+        NUM("onset_floor_time_constant_s", "0.5", "[0.001, 3600] s", S,
+            "tap-only: averaging time of the noise floor (frames below the threshold only), "
+            "at least onset_frame_s"),
     [AF_SETTING_HAMMER_HEALTH_WINDOW] = WHOLE(
         "hammer_health_window", "20", "[2, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
         "hammer health: the statistics and checks are taken over this many latest "

@@ -223,3 +223,16 @@ const char *af_verdict_flag_name(af_verdict_flag f)
   }
   return "unknown";
 }
+
+void af_verdict_format_model_only(const af_verdict *v, char *buf, size_t len)
+{
+  if (buf == NULL || len == 0)
+    return;
+  buf[0] = '\0';
+  if (v == NULL)
+    return;
+  if (v->model_only & AF_VERDICT_MODEL_EXCITATION)
+    add(buf, len, "excitation judged from the model only");
+  if (v->model_only & AF_VERDICT_MODEL_SHEAR)
+    add(buf, len, "shear judged from the model only");
+}

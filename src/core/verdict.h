@@ -62,6 +62,14 @@ typedef enum {
 
 #define AF_VERDICT_TEXT_MAX 160
 
+/* What a tap-only strike (no force input, onset.h) judged from the model's
+ * prediction for the configured hammer instead of a measurement: notes, not
+ * reasons (a strike may be reliable with them), in af_verdict.model_only. */
+typedef enum {
+  AF_VERDICT_MODEL_EXCITATION = 1u << 0, /* the band: the prediction's, not a measured pulse's */
+  AF_VERDICT_MODEL_SHEAR = 1u << 1       /* the shear: the prediction's, no measured force */
+} af_verdict_model_only;
+
 typedef struct {
   uint32_t flags; /* af_verdict_flag bits; 0 = reliable */
   /* The values the reasons name (meaningful when their flag is set). */
@@ -83,6 +91,7 @@ typedef struct {
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */
+  uint32_t model_only; /* af_verdict_model_only bits: judged from the model only; 0 = measured */
 } af_verdict;
 
 /* Clears v: no flag, every value NaN or 0. */
@@ -91,6 +100,10 @@ void af_verdict_clear(af_verdict *v);
 /* The reason in words, "; "-separated in flag order, into buf ("" when no
  * flag is set); never overflows (a cut reason ends within buf). */
 void af_verdict_format(const af_verdict *v, char *buf, size_t len);
+
+/* The model-only notes in words, "; "-separated ("excitation judged from the
+ * model only; shear judged from the model only"; "" when none). */
+void af_verdict_format_model_only(const af_verdict *v, char *buf, size_t len);
 
 /* The short name of one flag ("no_audio", ...), for counters and JSON;
  * "unknown" for anything else. */

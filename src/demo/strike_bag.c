@@ -3,7 +3,7 @@
  *
  *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
  *              [--spacing S] [--velocity-drift X] [--modulus-factor F]
- *              [--modulus-factor-spread S] [--unreliable-fraction P]
+ *              [--modulus-factor-spread S] [--unreliable-fraction P] [--tap-only]
  *                                     (flags: the table `options`; --help)
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
@@ -53,6 +53,10 @@
  * strike_full_scale_n and saturated there (the detector flags it clipped,
  * the fit of E2 on it is wrong, its 0S2 is the apple's: a strike that must
  * not feed the learned modulus factor).
+ *
+ * --tap-only: a microphone-only rig (issue 19): no /NS/force topic at all;
+ * the audio and the apples as above (the node and firmness_report then run
+ * with tap_only true).
  *
  * Seeded (af_synth_rng, splitmix64): the same seed gives the same bag on
  * every machine. Exit 0, 2 on bad arguments, 1 on failure. */
@@ -143,6 +147,7 @@ typedef struct {
   double modulus_factor;      /* true E_dyn / E2 of the 0S2 [-] */
   double unreliable_fraction; /* share of clipped strikes [-] */
   double factor_spread;       /* relative SD (log) of the factor between apples [-] */
+  bool tap_only;              /* --tap-only: no force topic */
 } args;
 
 #define STRIKES_MAX 100000    /* strikes in one bag */
@@ -154,7 +159,7 @@ typedef struct {
 #define CLIP_OVERDRIVE 1.25   /* a clipped strike's peak / strike_full_scale_n */
 
 /* The defaults the parser starts from; --strikes and --out are required. */
-static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0, 1.0, 0.0, 0.0};
+static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0, 1.0, 0.0, 0.0, false};
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
@@ -186,6 +191,8 @@ static const af_option options[] = {
      "share of strikes clipped (too hard for the transducer), in [0, " AF_OPTION_STR(
          UNRELIABLE_MAX) "] [-]",
      "0: none clipped"},
+    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1,
+     "a microphone-only rig: no force topic (audio and apples only)", NULL},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -214,6 +221,10 @@ static int parse(int argc, char **argv, args *a)
     if (o == NULL) {
       af_options_unknown("strike_bag", options, N_OPTIONS, flag, NULL);
       return 2;
+    }
+    if (o->value == NULL) { /* a switch: --tap-only */
+      a->tap_only = true;
+      continue;
     }
     if (i + 1 >= argc) {
       af_options_missing("strike_bag", o);
@@ -437,7 +448,7 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
     double tf_s = (double)(next_force + CHUNK) / force_rate_hz; /* bag time: the last sample */
     double ta_s = (double)(next_audio + CHUNK) / audio_rate_hz;
     double tp_s = next_apple < n ? s[next_apple].t_s - APPLE_LEAD_S : INFINITY;
-    bool force_due = tf_s <= duration_s, audio_due = ta_s <= duration_s;
+    bool force_due = !a->tap_only && tf_s <= duration_s, audio_due = ta_s <= duration_s;
     if (!force_due && !audio_due && next_apple >= n)
       break;
     af_signal_chunk c;
@@ -475,11 +486,11 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
   if (st != AF_OK)
     return fail(a->out, st);
   af_options_wrote(a->out);
-  printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz, audio %llu at %.0f "
+  printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz%s, audio %llu at %.0f "
          "Hz), seed %llu -> %s, truth %s\n",
          n, duration_s, (unsigned long long)next_force, force_rate_hz,
-         (unsigned long long)next_audio, audio_rate_hz, (unsigned long long)a->seed, a->out,
-         truth_path);
+         a->tap_only ? ": tap-only, no force topic" : "", (unsigned long long)next_audio,
+         audio_rate_hz, (unsigned long long)a->seed, a->out, truth_path);
   return 0;
 }
 

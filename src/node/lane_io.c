@@ -107,6 +107,8 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->double_hit = q->double_hit;
   r->clipped = q->clipped;
   r->lost_samples = q->lost_samples;
+  r->tap_only = q->tap_only;
+  af_text(r->judged_from_model, sizeof r->judged_from_model, "%s", q->model_only_text);
 }
 
 /* The strike's firmness class, graded by the lane (lane.h), counted for the diagnostics. */

@@ -2,6 +2,7 @@
 #include "station.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -456,6 +457,24 @@ static void publish_status(af_station *st, const char *warning)
     af_ros_log(st->ros, AF_LOG_WARN, "status marker not published: %s", af_ros_last_error(st->ros));
 }
 
+/* The never-started input's warning (absent.h); tap-only: the audio alone,
+ * no force being expected. */
+static bool absent_check(af_station *st, const af_stream *force, const af_stream *audio,
+                         int64_t now_ns)
+{
+  const af_node_config *c = st->cfg;
+  if (!c->lane.measured.tap_only)
+    return af_absent_warning(force, audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s,
+                             st->absent, sizeof st->absent);
+  st->absent[0] = '\0';
+  if (!af_absent(audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s))
+    return false;
+  snprintf(st->absent, sizeof st->absent,
+           "no audio chunk within %.1f s of start (tap_only: the only input)",
+           c->lane.stream_absent_warn_s);
+  return true;
+}
+
 static void diag_task(af_diag_status *d, void *user)
 {
   af_station *st = user;
@@ -471,8 +490,7 @@ static void diag_task(af_diag_status *d, void *user)
   st->stream_problems_seen = problems;
   if (st->clock_start_ns == 0)
     st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
-  bool absent = af_absent_warning(force, audio, st->clock_start_ns, now_ns,
-                                  c->lane.stream_absent_warn_s, st->absent, sizeof st->absent);
+  bool absent = absent_check(st, force, audio, now_ns);
   if (absent && !st->absent_logged)
     af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
   st->absent_logged |= absent;
@@ -496,6 +514,10 @@ static void diag_task(af_diag_status *d, void *user)
   }
   af_diag_summary(d, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
+  af_diag_add(d, "input mode", "%s",
+              c->lane.measured.tap_only
+                  ? "tap_only: strikes from the audio onset, no force subscription"
+                  : "force and audio");
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
   af_diag_add(d, "hammer mass [kg]", "%g from %s", c->hammer.mass_kg, c->hammer_mass_source);
   af_diag_add(d, "hammer tip radius [m]", "%g from %s", c->hammer.tip_radius_m,
@@ -576,10 +598,12 @@ static size_t ring_samples(const af_station *st, bool force)
 static af_status subscribe(af_station *st)
 {
   af_ros_sub *sub; /* owned by the af_ros */
-  af_status s =
-      af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
-  if (s == AF_OK)
-    s = af_ros_sub_limit(sub, ring_samples(st, true), on_force_refused);
+  af_status s = AF_OK;
+  if (!st->cfg->lane.measured.tap_only) { /* tap-only: a microphone, no force transducer */
+    s = af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
+    if (s == AF_OK)
+      s = af_ros_sub_limit(sub, ring_samples(st, true), on_force_refused);
+  }
   const char *what;
   if (s == AF_OK && st->cfg->audio_common) /* audio_common_msgs, decoded (audio_in.h) */
     s = af_audio_in_create(st->ros, st->cfg, on_audio, st, &st->audio_in, &what);

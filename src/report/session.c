@@ -243,6 +243,8 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
       return AF_SESSION_BAD_INPUT;
     }
     s->messages++;
+    if (which == AF_TOPIC_FORCE && c->o->cfg->measured.tap_only)
+      continue; /* tap-only: the strikes are the audio's onsets (said once by open) */
     if (which == AF_TOPIC_APPLE) {
       af_apple a = apple_of(&m.msg.apple);
       const af_prediction *pr = NULL;
@@ -309,11 +311,21 @@ static af_bag_reader *open(const af_session_options *o,
                    : o->cfg->audio.capacity_samples;
   af_bag_reader_limit(bag, cap);
   *total = 0;
+  const bool tap_only = o->cfg->measured.tap_only;
   for (int k = 0; k < AF_TOPICS; k++) {
     size_t n = af_bag_topic_count(bag, topics[k]);
+    if (k == AF_TOPIC_FORCE && tap_only) { /* a microphone-only rig: none expected */
+      if (n > 0)
+        fprintf(stderr,
+                "firmness_report: %s: tap_only is set: the %zu messages on %s are not read\n",
+                o->bag_path, n, topics[k]);
+      *total += n;
+      continue;
+    }
     if (n == 0) {
-      af_text(err, len, "%s: no message on %s (is the lane namespace --ns %s right?)", o->bag_path,
-              topics[k], o->ns);
+      af_text(err, len, "%s: no message on %s (is the lane namespace --ns %s right?%s)",
+              o->bag_path, topics[k], o->ns,
+              k == AF_TOPIC_FORCE ? " A microphone-only rig: --set tap_only=true" : "");
       af_bag_close_read(bag);
       return NULL;
     }
@@ -361,7 +373,8 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
   af_lane_destroy(c.lane);
   af_bag_close_read(bag);
   setup(o, false);
-  out->recorded_s = (double)(out->force.end_ns - out->force.first_ns) * 1e-9;
+  const af_session_stream *timed = o->cfg->measured.tap_only ? &out->audio : &out->force;
+  out->recorded_s = (double)(timed->end_ns - timed->first_ns) * 1e-9;
   out->wall_s = clock_s(CLOCK_MONOTONIC) - wall0;
   out->cpu_s = clock_s(CLOCK_THREAD_CPUTIME_ID) - cpu0;
   return code;

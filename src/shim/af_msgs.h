@@ -123,6 +123,8 @@ typedef struct {
   uint8_t grade_index;            /* class 1..N of grade_classes, softest first; 0 = ungraded */
   char grade[AF_GRADE_NAME_TEXT]; /* the class name, or "ungraded" */
   char grade_reason[AF_TEXT_MAX]; /* why ungraded; "" when graded */
+  bool tap_only;                  /* measured from the microphone alone (tap-only) */
+  char judged_from_model[AF_TEXT_MAX]; /* judged from the prediction only; "" when none */
 } af_strike_report;
 
 /* visualization_msgs/Marker (the subset the node draws); published as a

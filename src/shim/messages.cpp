@@ -196,6 +196,8 @@ void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m)
   m.grade_index = c.grade_index;
   assign_string(c.grade, m.grade);
   assign_string(c.grade_reason, m.grade_reason);
+  m.tap_only = c.tap_only;
+  assign_string(c.judged_from_model, m.judged_from_model);
 }
 
 void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
@@ -221,6 +223,8 @@ void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
   c.grade_index = m.grade_index;
   copy_string(m.grade, c.grade);
   copy_string(m.grade_reason, c.grade_reason);
+  c.tap_only = m.tap_only != 0;
+  copy_string(m.judged_from_model, c.judged_from_model);
 }
 
 namespace

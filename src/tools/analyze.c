@@ -12,7 +12,11 @@
  * chunks in time order, as the node receives SignalChunks. Prints one JSON
  * object: the strikes, each the lane's whole result written by the core
  * serializer (serialize.h: the StrikeReport's names, stamp_ns from the
- * recording's start, %.17g), and why there are none when there are none. */
+ * recording's start, %.17g), and why there are none when there are none.
+ *
+ * Tap-only (--tap-only, or tap_only true in a file or --set): the audio
+ * alone, no --force; the strikes are the audio's onsets (onset.h), the
+ * detector's floor primed from the whole recording. */
 #define _POSIX_C_SOURCE 200809L
 #include "analyze.h"
 
@@ -56,6 +60,7 @@ typedef struct {
   double mass_kg, r2_m, equatorial_radius_m;
   long max_samples; /* per recording, checked before reading it [samples] */
   bool bench;
+  bool tap_only; /* --tap-only: the audio alone (the tap_only row) */
 } af_analyze_args;
 
 /* The callback's context: the lane's strike results (their borrowed pointers
@@ -185,6 +190,8 @@ static const af_option analyze_options[] = {
      NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
      "CPU time and speed against real time, on stderr", NULL},
+    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1,
+     "a microphone-only rig: sets tap_only; strikes from the audio onset, no --force", NULL},
     {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
      "any row of the parameter table, after the files (repeatable)", "the files' values"},
     {"--profile", "default|paper", AF_OPTION_NONE, 0, -1,
@@ -351,11 +358,12 @@ static bool parse_args(int argc, char **argv, int first, af_analyze_args *a)
       return false;
   }
   /* The rates: a WAV's header gives them (analyze_load). */
-  const char *missing = !a->force_path   ? "--force FILE"
-                        : !a->audio_path ? "--audio FILE"
-                        : !a->mass_kg    ? "--mass KG (the apple's)"
-                        : !a->r2_m       ? "--R2 M (the apple's)"
-                                         : NULL;
+  /* --force may be missing when tap_only comes from a file: checked after
+   * the settings (analyze_inputs). */
+  const char *missing = !a->audio_path ? "--audio FILE"
+                        : !a->mass_kg  ? "--mass KG (the apple's)"
+                        : !a->r2_m     ? "--R2 M (the apple's)"
+                                       : NULL;
   if (missing != NULL) {
     fprintf(stderr, "firmness_model analyze: %s is required\n", missing);
     return false;
@@ -395,7 +403,9 @@ static bool analyze_settings(int argc, char **argv, int first, const af_analyze_
   if (!analyze_files(a, s))
     return false;
   snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
-  if (!set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+  if (a->force_path != NULL && !set_row(s, "--rate-force", "force_sample_rate_hz", rate))
+    return false;
+  if (a->tap_only && !set_row(s, "--tap-only", "tap_only", "true"))
     return false;
   snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
   if (!set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
@@ -527,10 +537,9 @@ static void feed(af_lane *lane, const af_analyze_args *a, const af_lane_config *
   af_lane_finish(lane);
 }
 
-static void print_bench(const af_analyze_args *a, const af_analyze_ctx *c, double cpu_s,
-                        size_t n_force)
+static void print_bench(double rate_hz, const af_analyze_ctx *c, double cpu_s, size_t n)
 {
-  double seconds = (double)n_force / a->rate_force_hz;
+  double seconds = (double)n / rate_hz;
   fprintf(stderr,
           "bench: %zu strikes in %.3f s of recording: %.1f ms CPU, %.0f x real time on one "
           "core\n",
@@ -546,7 +555,9 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   const char *what = "";
   /* At most one strike per post_s of force (the detector waits that long
    * after each): the rows are sized once. */
-  c.cap_rows = force->n / (size_t)ceil(cfg->measured.strike.post_s * a->rate_force_hz) + 1;
+  c.cap_rows = cfg->measured.tap_only /* tap-only: one onset per hold-off */
+                   ? audio->n / (size_t)ceil(cfg->measured.onset.holdoff_s * a->rate_audio_hz) + 1
+                   : force->n / (size_t)ceil(cfg->measured.strike.post_s * a->rate_force_hz) + 1;
   if (c.cap_rows > AF_ANALYZE_MAX_STRIKES)
     c.cap_rows = AF_ANALYZE_MAX_STRIKES;
   c.rows = calloc(c.cap_rows, sizeof *c.rows);
@@ -569,13 +580,20 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   } else {
     /* A triggered capture has its strike within a millisecond of its start:
      * the baseline and noise come from the whole capture's quiet parts. */
-    (void)af_lane_prime_force(lane, force->x, force->n);
+    if (cfg->measured.tap_only)
+      (void)af_lane_prime_audio(lane, audio->x, audio->n);
+    else
+      (void)af_lane_prime_force(lane, force->x, force->n);
     double t0 = cpu_time_s();
     feed(lane, a, cfg, force, audio);
     double cpu_s = cpu_time_s() - t0;
     char why[AF_ERR_MAX] = "";
     if (c.n_rows == 0) {
-      if (force->n == 0)
+      if (cfg->measured.tap_only)
+        snprintf(why, sizeof why,
+                 "tap-only: no audio onset %g dB above the noise floor (onset_snr_db) in %s",
+                 cfg->measured.onset.snr_db, a->audio_path);
+      else if (force->n == 0)
         snprintf(why, sizeof why, "the force recording %s is empty", a->force_path);
       else
         (void)af_strike_explain(af_lane_detector(lane), why, sizeof why);
@@ -589,8 +607,10 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
               c.dropped, c.cap_rows);
       code = 1;
     }
-    if (a->bench)
-      print_bench(a, &c, cpu_s, force->n);
+    if (a->bench && cfg->measured.tap_only)
+      print_bench(a->rate_audio_hz, &c, cpu_s, audio->n);
+    else if (a->bench)
+      print_bench(a->rate_force_hz, &c, cpu_s, force->n);
   }
   af_lane_destroy(lane);
   free(c.rows);
@@ -604,8 +624,8 @@ static bool analyze_load(af_analyze_args *a, af_recording *force, af_recording *
   a->force_spec.rate_hz = a->rate_force_hz;
   a->audio_spec.rate_hz = a->rate_audio_hz;
   a->force_spec.max_samples = a->audio_spec.max_samples = (size_t)a->max_samples;
-  if (af_recording_load(a->force_path, &a->force_spec, force, &a->rate_force_hz, rerr,
-                        sizeof rerr) != AF_OK) {
+  if (a->force_path != NULL && af_recording_load(a->force_path, &a->force_spec, force,
+                                                 &a->rate_force_hz, rerr, sizeof rerr) != AF_OK) {
     print_usage("--force %s", rerr, "");
     return false;
   }
@@ -627,7 +647,9 @@ static void analyze_help(void)
   if (!files)
     af_settings_reset(&s);
   printf("usage: firmness_model analyze --force FILE --audio FILE --mass KG --R2 M\n"
-         "                              [--rate-force HZ --rate-audio HZ] [flags]\n\n"
+         "                              [--rate-force HZ --rate-audio HZ] [flags]\n"
+         "       firmness_model analyze --tap-only --audio FILE --mass KG --R2 M\n"
+         "                              [--rate-audio HZ] [flags]\n\n"
          "A recording judged as the node judges it live: the force and audio files (WAV, or\n"
          "raw float32 with their rates) through the station's lane, configured from the\n"
          "node's YAML files, one apple for the whole recording. Prints one JSON object: the\n"
@@ -638,6 +660,33 @@ static void analyze_help(void)
                : "the parameter table's, the default files being unreadable");
   af_options_help(stdout, analyze_options, AF_N_OPTIONS, &d, &s);
   printf("\nexit status: 0 done, 1 failure, 2 bad input\n");
+}
+
+/* The inputs the mode needs: the force (and the audio) with a force
+ * transducer; the audio alone, no --force, tap-only. 0 or the exit status. */
+static int analyze_inputs(const af_analyze_args *a, const af_lane_config *cfg,
+                          const af_recording *force, const af_recording *audio)
+{
+  if (cfg->measured.tap_only) {
+    if (a->force_path != NULL)
+      return print_usage("--force %s: tap_only is set (a microphone-only rig): the force is not "
+                         "read; drop --force or set tap_only false",
+                         a->force_path, "");
+    if (audio->n == 0)
+      return print_usage("--audio %s is empty: no samples to analyze", a->audio_path, "");
+    return 0;
+  }
+  if (a->force_path == NULL) {
+    fprintf(stderr, "firmness_model analyze: --force FILE is required (or --tap-only for a "
+                    "microphone-only rig)\n");
+    return AF_CLI_EXIT_USAGE;
+  }
+  /* Nothing to analyze is bad input, not an empty answer. (An empty audio
+   * file is allowed: the strikes are then measured without audio, each
+   * saying so.) */
+  if (force->n == 0)
+    return print_usage("--force %s is empty: no samples to analyze", a->force_path, "");
+  return 0;
 }
 
 int af_analyze_main(int argc, char **argv, int first)
@@ -663,16 +712,15 @@ int af_analyze_main(int argc, char **argv, int first)
     af_recording_destroy(&audio);
     return code;
   }
-  /* Nothing to analyze is bad input, not an empty answer. (An empty audio
-   * file is allowed: the strikes are then measured without audio, each
-   * saying so.) */
-  if (force.n == 0) {
+  code = analyze_inputs(&a, &cfg, &force, &audio);
+  if (code != 0) {
     af_recording_destroy(&force);
     af_recording_destroy(&audio);
-    return print_usage("--force %s is empty: no samples to analyze", a.force_path, "");
+    return code;
   }
   /* One apple for the whole recording: it must match every strike in it. */
-  double span_s = fmax((double)force.n / a.rate_force_hz, (double)audio.n / a.rate_audio_hz);
+  double span_s = fmax(force.n > 0 ? (double)force.n / a.rate_force_hz : 0.0,
+                       (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
   code = analyze_run(&a, &cfg, &force, &audio);
