@@ -526,9 +526,11 @@ static void on_strike(const af_strike_event *ev, void *user)
 /* An accepted force chunk into the detector, in newtons (a force in V
  * converted), block by block in the stream's scratch, a refused
  * (non-finite) sample as NaN: a lost sample to the detector. */
+/* The detector takes the chunk's new samples only: the head of an overlap
+ * (stream.h, last_held) was held, and detected, with the chunk before. */
 static void detect(af_lane *l, const af_chunk *c)
 {
-  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
+  for (size_t at = l->force.last_held; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
     (void)af_strike_write(l->detector, c->first_sample + at, l->force.si, m, on_strike, l);
@@ -583,7 +585,8 @@ static void on_onset(const af_onset_event *ev, void *user)
 static void detect_onsets(af_lane *l, const af_chunk *c)
 {
   const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
-  (void)af_onset_write(l->onset, c->first_sample, c->x, c->n, on_onset, l);
+  const size_t held = l->audio.last_held; /* an overlap's head: seen already */
+  (void)af_onset_write(l->onset, c->first_sample + held, c->x + held, c->n - held, on_onset, l);
   af_stage_end(l->mc->measure.stages, AF_STAGE_DETECT, t0_ns);
 }
 

@@ -26,6 +26,19 @@ fr=$hostile_bin/firmness_report
 # those 40 as sent: no restart (there were 169).
 hostile_case overlap_no_restart 0 'force +170 chunks, 0 gaps \(0 samples lost\), 0 restarts, 0 duplicates' \
   2 256 -- "$fr" "$tmp/overlap.bag"
+# ... and its strikes are the good bag's: the detector takes only each
+# chunk's new tail (lane.c), so the same 4 strikes, row for row.
+hostile_case overlap_strikes 0 'strikes 4: 4 on an apple, 0 without apple, 0 without audio, 0 doubtful' \
+  2 256 -- "$fr" "$tmp/overlap.bag" --csv "$tmp/overlap.csv"
+"$fr" "$tmp/good.bag" --csv "$tmp/good.csv" >/dev/null 2>&1
+hostile_count=$((hostile_count + 1))
+if cmp -s "$tmp/good.csv" "$tmp/overlap.csv"; then
+  echo "overlap_same_rows: the CSV of the overlapping bag is the good bag's, byte for byte"
+else
+  echo "  FAIL overlap_same_rows: the overlapping bag's CSV differs from the good bag's"
+  diff "$tmp/good.csv" "$tmp/overlap.csv" | head -5
+  hostile_failed=$((hostile_failed + 1))
+fi
 # The first repeated sample altered by 1 N: the head is not what was sent.
 hostile_case overlap_changed_restarts 0 'force +170 chunks, 0 gaps \(0 samples lost\), 169 restarts' \
   2 256 -- "$fr" "$tmp/overlap_changed.bag"
