@@ -98,6 +98,7 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->refused_messages += s->refused_messages;
   t->refused_apples += s->refused_apples;
   t->recorded_s += s->recorded_s;
+  t->tap_only = s->tap_only; /* one configuration for every bag */
   t->wall_s += s->wall_s;
   t->cpu_s += s->cpu_s;
   return AF_OK;

@@ -209,7 +209,8 @@ void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
   else
     fprintf(out, "  modulus agreement: no strike has both moduli\n");
   text_learned(out, &m->factor_learned);
-  fprintf(out, "  streams (recorded %.1f s of force):\n", s->recorded_s);
+  fprintf(out, "  streams (recorded %.1f s of %s):\n", s->recorded_s,
+          s->tap_only ? "audio, tap-only" : "force");
   text_stream(out, "force", &s->force);
   text_stream(out, "audio", &s->audio);
   fprintf(out,

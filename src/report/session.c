@@ -375,6 +375,7 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
   setup(o, false);
   const af_session_stream *timed = o->cfg->measured.tap_only ? &out->audio : &out->force;
   out->recorded_s = (double)(timed->end_ns - timed->first_ns) * 1e-9;
+  out->tap_only = o->cfg->measured.tap_only;
   out->wall_s = clock_s(CLOCK_MONOTONIC) - wall0;
   out->cpu_s = clock_s(CLOCK_THREAD_CPUTIME_ID) - cpu0;
   return code;

@@ -105,6 +105,7 @@ typedef struct {
   uint64_t refused_messages; /* refused by the reader (oversized, not their type), all topics */
   uint64_t refused_apples;   /* of those, on the apple topic */
   double recorded_s;         /* recorded time: the force stream's span [s] */
+  bool tap_only;             /* measured from the audio alone: recorded_s is the audio's */
   double wall_s, cpu_s;      /* spent reading and processing [s]; CPU: this thread's */
 } af_session;
 
