@@ -137,28 +137,27 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_ul = fftw_alloc_complex(r->bins);
   r->phase_um = fftw_alloc_complex(r->bins);
   gsl_multifit_nlinear_parameters fit_params = gsl_multifit_nlinear_default_parameters();
-  /* normal equations: J is 130 x 10 and well scaled (parameters of order 1),
-   * so Cholesky is safe and several times cheaper than the default QR */
+  /* normal equations: J has at most 130 rows and 14 columns and is well
+   * scaled (parameters of order 1), so Cholesky is safe and several times
+   * cheaper than the default QR */
   fit_params.solver = gsl_multifit_nlinear_solver_cholesky;
-  r->fit = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fit_params, AF_RESPONSE_FIT_ROWS,
-                                      AF_RESPONSE_FIT_PARAMS);
-  r->fit_start = gsl_vector_alloc(AF_RESPONSE_FIT_PARAMS);
-  int split_ok = 1;
+  int fits_ok = 1;
   for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_SPLIT_BUCKETS; ++b) {
-      r->split_fit[q][b] = gsl_multifit_nlinear_alloc(
-          gsl_multifit_nlinear_trust, &fit_params, 2 * af_response_split_bins[b], 4 * (q + 1) + 6);
-      split_ok = split_ok && r->split_fit[q][b] != NULL;
+    for (size_t b = 0; b < AF_RESPONSE_FIT_BUCKETS; ++b) {
+      r->fit_ws[q][b] =
+          gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fit_params,
+                                     2 * af_response_fit_bucket_bins(b), 4 * (q + 1) + 6);
+      fits_ok = fits_ok && r->fit_ws[q][b] != NULL;
     }
-  r->fit2_start = gsl_vector_alloc(AF_RESPONSE_SPLIT_PARAMS);
+  r->fit_start = gsl_vector_alloc(AF_RESPONSE_SPLIT_PARAMS);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      r->fit == NULL || r->fit_start == NULL || !split_ok || r->fit2_start == NULL ||
-      r->trend_gram == NULL || r->trend_rhs == NULL || r->trend_coef == NULL) {
+      !fits_ok || r->fit_start == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
+      r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -193,14 +192,10 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_u);
   fftw_free(r->phase_ul);
   fftw_free(r->phase_um);
-  if (r->fit != NULL)
-    gsl_multifit_nlinear_free(r->fit);
   for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_SPLIT_BUCKETS; ++b)
-      if (r->split_fit[q][b] != NULL)
-        gsl_multifit_nlinear_free(r->split_fit[q][b]);
-  if (r->fit2_start != NULL)
-    gsl_vector_free(r->fit2_start);
+    for (size_t b = 0; b < AF_RESPONSE_FIT_BUCKETS; ++b)
+      if (r->fit_ws[q][b] != NULL)
+        gsl_multifit_nlinear_free(r->fit_ws[q][b]);
   if (r->fit_start != NULL)
     gsl_vector_free(r->fit_start);
   if (r->trend_gram != NULL)
@@ -215,6 +210,33 @@ void af_response_destroy(af_response *r)
 const af_response_config *af_response_get_config(const af_response *r)
 {
   return r == NULL ? NULL : &r->cfg;
+}
+
+const char *af_response_fit_status_name(af_response_fit_status status)
+{
+  switch (status) {
+  case AF_RESPONSE_FIT_CONVERGED: return "converged";
+  case AF_RESPONSE_FIT_CAPPED: return "capped";
+  case AF_RESPONSE_FIT_STALLED: return "stalled";
+  case AF_RESPONSE_FIT_FAILED: return "failed";
+  case AF_RESPONSE_FIT_STATUSES: break;
+  }
+  return "unknown";
+}
+
+void af_response_get_fit_stats(const af_response *r, af_response_fit_stats *out)
+{
+  if (out == NULL)
+    return;
+  memset(out, 0, sizeof *out);
+  if (r != NULL)
+    *out = r->fit_stats;
+}
+
+void af_response_reset_fit_stats(af_response *r)
+{
+  if (r != NULL)
+    memset(&r->fit_stats, 0, sizeof r->fit_stats);
 }
 
 /* ---- result and analysis --------------------------------------------------- */

@@ -264,6 +264,37 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
                                     double f_hi_hz, af_response_result *peaks, size_t max_peaks,
                                     size_t *n_peaks);
 
+/* How a nonlinear fit of the response ended (every fit is capped: stage 2
+ * at 50 iterations, the peak list's truncated fits at 25):
+ *  CONVERGED  GSL's step / gradient / cost test met;
+ *  CAPPED     the iteration cap reached (stage 2 then refuses the fit; a
+ *             truncated fit is judged where it stands, its residual decides);
+ *  STALLED    no step lowers the cost any more (GSL_ENOPROG; as CAPPED);
+ *  FAILED     the start could not be evaluated, a residual was not finite,
+ *             or the solver failed: refused. */
+typedef enum {
+  AF_RESPONSE_FIT_CONVERGED = 0,
+  AF_RESPONSE_FIT_CAPPED,
+  AF_RESPONSE_FIT_STALLED,
+  AF_RESPONSE_FIT_FAILED,
+  AF_RESPONSE_FIT_STATUSES /* count */
+} af_response_fit_status;
+
+/* "converged", "capped", "stalled", "failed"; "unknown" otherwise. */
+const char *af_response_fit_status_name(af_response_fit_status status);
+
+/* The fits an object ran since its create or the last reset: how many ended
+ * in each status, their iterations in all and the most in one. */
+typedef struct {
+  size_t fits[AF_RESPONSE_FIT_STATUSES];
+  size_t iterations;
+  size_t max_iterations;
+} af_response_fit_stats;
+
+/* r's counts into *out (zeros for NULL r); reset zeroes them (NULL-safe). */
+void af_response_get_fit_stats(const af_response *r, af_response_fit_stats *out);
+void af_response_reset_fit_stats(af_response *r);
+
 #ifdef __cplusplus
 }
 #endif

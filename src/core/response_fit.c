@@ -45,8 +45,20 @@
  * judged where it stands (and usually refused). */
 #define AF_RESPONSE_SPLIT_MAX_ITER 25
 
-const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS] = {17, 33, 49,
-                                                                  2 * AF_RESPONSE_FIT_MAX_HALF + 1};
+size_t af_response_fit_bucket_bins(size_t b)
+{
+  return AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP * b;
+}
+
+/* The smallest bucket holding count bins. */
+static size_t bucket_of(size_t count)
+{
+  if (count <= AF_RESPONSE_FIT_BUCKET_MIN)
+    return 0;
+  size_t b = (count - AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP - 1) /
+             AF_RESPONSE_FIT_BUCKET_STEP;
+  return b < AF_RESPONSE_FIT_BUCKETS ? b : AF_RESPONSE_FIT_BUCKETS - 1;
+}
 
 /* Parameters of a pole and of the background that follows the poles. */
 enum { P_BIN, P_SIGMA, P_ARE, P_AIM, P_POLE, P_BACKGROUND = 6 };
@@ -109,26 +121,37 @@ static double complex background(const af_response *r, const gsl_vector *x, size
                                  double complex acc, double complex *d)
 {
   double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
+  const double *b = gsl_vector_const_ptr(x, nb);
   for (size_t j = 0; j < 3; ++j, xp *= xb) {
-    acc += xp * (gsl_vector_get(x, nb + 2 * j) + I * gsl_vector_get(x, nb + 2 * j + 1));
+    acc += xp * (b[2 * j] + I * b[2 * j + 1]);
     d[nb + 2 * j] = xp;
     d[nb + 2 * j + 1] = I * xp;
   }
   return acc;
 }
 
-/* The pole pair (stage 2) plus the background at bin k, and its derivatives. */
-static double complex pole_pair_eval(const af_response *r, const gsl_vector *x, size_t bin,
-                                     double complex *d)
+/* z = exp((-sigma' + i 2 pi f0 / N) dt) of the pole pair's parameters. */
+static double complex pair_z(const af_response *r, const gsl_vector *x)
+{
+  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz;
+  const double *q = gsl_vector_const_ptr(x, 0);
+  return cexp(-q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft);
+}
+
+/* The pole pair (stage 2, pole z) plus the background at bin k, and its
+ * derivatives. u_k from the phase table; the reciprocals without the C
+ * library's careful complex division (1 - z u is bounded away from 0 by the
+ * decay). */
+static double complex pole_pair_eval(const af_response *r, const gsl_vector *x, double complex z,
+                                     size_t bin, double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
-  double complex u = cexp(-I * 2.0 * AF_PI * k / n_fft);
-  double complex z =
-      cexp(-gsl_vector_get(x, P_SIGMA) / fs + I * 2.0 * AF_PI * gsl_vector_get(x, P_BIN) / n_fft);
+  double complex u = r->phase_u[bin];
   double complex zc = conj(z);
-  double complex c = f->norm * (gsl_vector_get(x, P_ARE) + I * gsl_vector_get(x, P_AIM));
-  double complex d1 = 1.0 / (1.0 - z * u), d2 = 1.0 / (1.0 - zc * u);
+  const double *q = gsl_vector_const_ptr(x, 0);
+  double complex c = f->norm * (q[P_ARE] + I * q[P_AIM]);
+  double complex d1 = complex_recip(1.0 - z * u), d2 = complex_recip(1.0 - zc * u);
   double complex bg = background(r, x, P_POLE, k, 0.0, d);
   /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
   double complex gz = c * u * d1 * d1, gzc = conj(c) * u * d2 * d2;
@@ -201,9 +224,12 @@ static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gs
 {
   double complex d[AF_RESPONSE_SPLIT_PARAMS];
   pole_k pc[2];
+  double complex z = 0.0;
   size_t p = P_POLE * (r->split_poles > 0 ? r->split_poles : 1) + P_BACKGROUND;
   if (r->split_poles > 0)
     truncated_poles(r, x, pc);
+  else
+    z = pair_z(r, x);
   if (f != NULL)
     gsl_vector_set_zero(f);
   else
@@ -211,18 +237,19 @@ static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gs
   for (size_t i = 0; i < r->ctx.count; ++i) {
     size_t k = r->ctx.first + i;
     double complex model =
-        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, k, d);
+        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
     if (f != NULL) {
       double complex res = model - r->ctx.gain * r->ctx.data[k];
       if (!isfinite(creal(res)) || !isfinite(cimag(res)))
         return GSL_EBADFUNC;
-      gsl_vector_set(f, 2 * i, creal(res));
-      gsl_vector_set(f, 2 * i + 1, cimag(res));
+      f->data[2 * i * f->stride] = creal(res);
+      f->data[(2 * i + 1) * f->stride] = cimag(res);
       continue;
     }
+    double *re = jac->data + 2 * i * jac->tda, *im = re + jac->tda;
     for (size_t j = 0; j < p; ++j) {
-      gsl_matrix_set(jac, 2 * i, j, creal(d[j]));
-      gsl_matrix_set(jac, 2 * i + 1, j, cimag(d[j]));
+      re[j] = creal(d[j]);
+      im[j] = cimag(d[j]);
     }
   }
   return GSL_SUCCESS;
@@ -238,19 +265,41 @@ static int fit_df(const gsl_vector *x, void *params, gsl_matrix *jac)
   return fit_rows(x, params, NULL, jac);
 }
 
-/* Runs the fit of r->ctx (model r->split_poles) from start in w, whose rows
- * and parameters are given; the driver's status into *status. 0 if the
- * start cannot be evaluated. */
-static int run(af_response *r, gsl_multifit_nlinear_workspace *w, size_t rows, size_t params,
-               const gsl_vector *start, size_t max_iter, double xtol, int *status)
+/* The driver's outcome as a fit status (response_private.h). */
+static af_response_fit_status fit_status_of(int gsl_status)
 {
+  switch (gsl_status) {
+  case GSL_SUCCESS: return AF_RESPONSE_FIT_CONVERGED;
+  case GSL_EMAXITER: return AF_RESPONSE_FIT_CAPPED;
+  case GSL_ENOPROG: return AF_RESPONSE_FIT_STALLED;
+  default: return AF_RESPONSE_FIT_FAILED;
+  }
+}
+
+/* Runs the fit of r->ctx (model r->split_poles) from start in the
+ * workspace of its model (params 10 or 14) and span, at most max_iter
+ * iterations; the workspace into *used. AF_RESPONSE_FIT_FAILED if the start
+ * cannot be evaluated. Counted in r->fit_stats. */
+static af_response_fit_status run(af_response *r, size_t params, const gsl_vector *start,
+                                  size_t max_iter, double xtol,
+                                  gsl_multifit_nlinear_workspace **used)
+{
+  size_t b = bucket_of(r->ctx.count);
+  gsl_multifit_nlinear_workspace *w = r->fit_ws[params > AF_RESPONSE_FIT_PARAMS][b];
+  size_t rows = 2 * af_response_fit_bucket_bins(b);
   gsl_multifit_nlinear_fdf fdf = {fit_f, fit_df, NULL, rows, params, r, 0, 0, 0};
   int info = 0;
-  if (gsl_multifit_nlinear_init(start, &fdf, w) != GSL_SUCCESS)
-    return 0;
-  *status = gsl_multifit_nlinear_driver(max_iter, xtol, AF_RESPONSE_FIT_GTOL, AF_RESPONSE_FIT_FTOL,
-                                        NULL, NULL, &info, w);
-  return 1;
+  af_response_fit_status st = AF_RESPONSE_FIT_FAILED;
+  *used = w;
+  if (gsl_multifit_nlinear_init(start, &fdf, w) == GSL_SUCCESS)
+    st = fit_status_of(gsl_multifit_nlinear_driver(max_iter, xtol, AF_RESPONSE_FIT_GTOL,
+                                                   AF_RESPONSE_FIT_FTOL, NULL, NULL, &info, w));
+  size_t iter = st == AF_RESPONSE_FIT_FAILED ? 0 : gsl_multifit_nlinear_niter(w);
+  r->fit_stats.fits[st]++;
+  r->fit_stats.iterations += iter;
+  if (iter > r->fit_stats.max_iterations)
+    r->fit_stats.max_iterations = iter;
+  return st;
 }
 
 /* ---- stage 2 ------------------------------------------------------------------ */
@@ -264,17 +313,18 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
   af_response_fit_around(r, k, half, &first, &last);
   if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
     return 0;
-  gsl_vector *p0 = r->fit_start;
+  gsl_vector_view v = gsl_vector_subvector(r->fit_start, 0, AF_RESPONSE_FIT_PARAMS);
+  gsl_vector *p0 = &v.vector;
   gsl_vector_set_zero(p0);
   af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
   r->split_poles = 0;
-  int status = GSL_FAILURE;
-  if (!run(r, r->fit, AF_RESPONSE_FIT_ROWS, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER,
-           AF_RESPONSE_FIT_XTOL, &status) ||
-      status != GSL_SUCCESS)
+  gsl_multifit_nlinear_workspace *w;
+  /* stage 2 must converge: a capped or stalled fit is no damped mode here */
+  if (run(r, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER, AF_RESPONSE_FIT_XTOL, &w) !=
+      AF_RESPONSE_FIT_CONVERGED)
     return 0;
   af_peak got = *pk;
-  pole_at(r, gsl_multifit_nlinear_position(r->fit), 0, &got);
+  pole_at(r, gsl_multifit_nlinear_position(w), 0, &got);
   if (!(got.bin >= pk->span_lo && got.bin <= pk->span_hi) || !(got.sigma_windowed > 0.0))
     return 0;
   *pk = got;
@@ -285,19 +335,13 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
 
 int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss)
 {
-  size_t b = 0;
-  while (b + 1 < AF_RESPONSE_SPLIT_BUCKETS && af_response_split_bins[b] < r->ctx.count)
-    ++b;
-  gsl_multifit_nlinear_workspace *w = r->split_fit[poles - 1][b];
   r->split_poles = poles;
-  r->split_last = w;
-  int st = GSL_FAILURE;
-  if (!run(r, w, 2 * af_response_split_bins[b], P_POLE * poles + P_BACKGROUND, start,
-           AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, &st))
+  /* a truncated fit that reaches its cap or stalls is judged where it
+   * stands (its residual decides); only a failed one is refused */
+  if (run(r, P_POLE * poles + P_BACKGROUND, start, AF_RESPONSE_SPLIT_MAX_ITER,
+          AF_RESPONSE_SPLIT_XTOL, &r->split_last) == AF_RESPONSE_FIT_FAILED)
     return 0;
-  if (st != GSL_SUCCESS && st != GSL_EMAXITER && st != GSL_ENOPROG)
-    return 0;
-  const gsl_vector *res = gsl_multifit_nlinear_residual(w);
+  const gsl_vector *res = gsl_multifit_nlinear_residual(r->split_last);
   double sum = 0.0;
   for (size_t i = 0; i < 2 * r->ctx.count; ++i)
     sum += gsl_vector_get(res, i) * gsl_vector_get(res, i);

@@ -45,10 +45,19 @@
 #define AF_RESPONSE_FIT_ROWS (2 * (2 * AF_RESPONSE_FIT_MAX_HALF + 1))
 /* The peak list's two-pole fit: two modes (4 each) and the background (6). */
 #define AF_RESPONSE_SPLIT_PARAMS 14
-/* Span sizes [bins] the truncated fits have workspaces for; the last is the
- * widest span, 2 AF_RESPONSE_FIT_MAX_HALF + 1 (defined in response_fit.c). */
-#define AF_RESPONSE_SPLIT_BUCKETS 4
-extern const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS];
+/* Span sizes [bins] the fits have workspaces for: bucket b holds
+ * AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP b bins, the last
+ * the widest span, 2 AF_RESPONSE_FIT_MAX_HALF + 1. A fit runs in the smallest
+ * bucket that holds its span: the rows beyond the span are zero, but GSL's
+ * normal equations, column norms and gradient cost grow with every row, used
+ * or not (a fixed 130-row workspace made them most of a fit's time). */
+#define AF_RESPONSE_FIT_BUCKET_MIN 9
+#define AF_RESPONSE_FIT_BUCKET_STEP 4
+#define AF_RESPONSE_FIT_BUCKETS                                                                    \
+  ((2 * AF_RESPONSE_FIT_MAX_HALF + 1 - AF_RESPONSE_FIT_BUCKET_MIN) / AF_RESPONSE_FIT_BUCKET_STEP + \
+   1)
+/* Bins of bucket b. */
+size_t af_response_fit_bucket_bins(size_t b);
 /* Hum removal: at most this many harmonics (response_trend.c). */
 #define AF_RESPONSE_MAX_HUM_HARMONICS 8
 #define AF_RESPONSE_MAX_TERMS (1 + 2 * AF_RESPONSE_MAX_HUM_HARMONICS)
@@ -82,31 +91,30 @@ typedef struct {
 
 struct af_response {
   af_response_config cfg;
-  size_t bins;                         /* fft_size / 2 + 1 */
-  double bin_hz;                       /* sample_rate_hz / fft_size [Hz] */
-  double *in;                          /* fft input, fft_size samples */
-  double complex *spec;                /* fft output, bins values */
-  af_fft_r2c plan;                     /* r2c, shared by the process (fft_plan.h) */
-  double *window;                      /* window_samples weights */
-  size_t fade_samples;                 /* length of the fade-in [samples] */
-  double *power;                       /* periodogram |X_k|^2 of the last transform */
-  double *noise_ref;                   /* mean reference periodogram per unit window energy */
-  double *scratch;                     /* median workspace (noise band) */
-  double complex *work;                /* spectrum less a fitted mode (near the peak only) */
-  double *work_power;                  /* |work|^2 */
-  double complex *orig;                /* the transform before the peak list took modes off */
-  double complex *phase_u;             /* u_k = exp(-i 2 pi k / N), every bin */
-  double complex *phase_ul;            /* u_k^L, L the fade-in length */
-  double complex *phase_um;            /* u_k^m, m the analysed length of the peak list's call */
-  double split_len;                    /* that m [samples] */
-  double complex fade_e, fade_eh;      /* exp(i theta), exp(i theta / 2), theta = pi / L */
-  size_t noise_segments;               /* segments averaged into noise_ref */
-  gsl_multifit_nlinear_workspace *fit; /* complex peak fit, AF_RESPONSE_FIT_ROWS x PARAMS */
-  gsl_vector *fit_start;               /* its starting point */
-  /* truncated fits of the peak list: [poles - 1][bucket], rows 2 x
-   * af_response_split_bins[bucket], 4 poles + 6 parameters (sized to the span: the
-   * normal equations cost grows with the rows, used or zero) */
-  gsl_multifit_nlinear_workspace *split_fit[2][AF_RESPONSE_SPLIT_BUCKETS];
+  size_t bins;                    /* fft_size / 2 + 1 */
+  double bin_hz;                  /* sample_rate_hz / fft_size [Hz] */
+  double *in;                     /* fft input, fft_size samples */
+  double complex *spec;           /* fft output, bins values */
+  af_fft_r2c plan;                /* r2c, shared by the process (fft_plan.h) */
+  double *window;                 /* window_samples weights */
+  size_t fade_samples;            /* length of the fade-in [samples] */
+  double *power;                  /* periodogram |X_k|^2 of the last transform */
+  double *noise_ref;              /* mean reference periodogram per unit window energy */
+  double *scratch;                /* median workspace (noise band) */
+  double complex *work;           /* spectrum less a fitted mode (near the peak only) */
+  double *work_power;             /* |work|^2 */
+  double complex *orig;           /* the transform before the peak list took modes off */
+  double complex *phase_u;        /* u_k = exp(-i 2 pi k / N), every bin */
+  double complex *phase_ul;       /* u_k^L, L the fade-in length */
+  double complex *phase_um;       /* u_k^m, m the analysed length of the peak list's call */
+  double split_len;               /* that m [samples] */
+  double complex fade_e, fade_eh; /* exp(i theta), exp(i theta / 2), theta = pi / L */
+  size_t noise_segments;          /* segments averaged into noise_ref */
+  /* the fits' workspaces: [model][bucket], model 0 ten parameters (the pole
+   * pair of stage 2, or one truncated pole), 1 fourteen (two truncated
+   * poles); rows 2 x af_response_fit_bucket_bins(bucket) */
+  gsl_multifit_nlinear_workspace *fit_ws[2][AF_RESPONSE_FIT_BUCKETS];
+  gsl_vector *fit_start;                      /* stage 2's starting point */
   gsl_multifit_nlinear_workspace *split_last; /* the one the last truncated fit ran in */
   gsl_vector *fit2_start;                     /* their starting point (two poles' room) */
   size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
@@ -115,6 +123,7 @@ struct af_response {
   gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
   gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
   size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
+  af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
 
 /* A mode of the spectrum as the refinement sees it, before the window's decay

@@ -34,9 +34,9 @@ static const double split_offsets[] = {0.5, 1.0};
  * squares into *rss; 0 if it fails. */
 static int one_pole(af_response *r, const af_peak *pk, double *rss)
 {
-  gsl_vector_set_zero(r->fit2_start);
-  af_response_fit_seed(r, r->fit2_start, 0, pk->bin, pk->sigma_windowed, pk->c);
-  gsl_vector_view one = gsl_vector_subvector(r->fit2_start, 0, AF_RESPONSE_FIT_PARAMS);
+  gsl_vector_set_zero(r->fit_start);
+  af_response_fit_seed(r, r->fit_start, 0, pk->bin, pk->sigma_windowed, pk->c);
+  gsl_vector_view one = gsl_vector_subvector(r->fit_start, 0, AF_RESPONSE_FIT_PARAMS);
   return af_response_split_run(r, 1, &one.vector, rss);
 }
 
@@ -108,7 +108,7 @@ int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise,
   size_t tries = sizeof split_offsets / sizeof split_offsets[0];
   /* the neighbour's maximum first (when there is one), then the offsets; the
    * first start that passes is taken */
-  gsl_vector *x0 = r->fit2_start;
+  gsl_vector *x0 = r->fit_start;
   for (size_t t = j != 0 ? 0 : 1; t <= tries; ++t) {
     gsl_vector_set_zero(x0);
     if (t == 0) {
