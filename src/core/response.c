@@ -136,28 +136,13 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_u = fftw_alloc_complex(r->bins);
   r->phase_ul = fftw_alloc_complex(r->bins);
   r->phase_um = fftw_alloc_complex(r->bins);
-  gsl_multifit_nlinear_parameters fit_params = gsl_multifit_nlinear_default_parameters();
-  /* normal equations: J has at most 130 rows and 14 columns and is well
-   * scaled (parameters of order 1), so Cholesky is safe and several times
-   * cheaper than the default QR */
-  fit_params.solver = gsl_multifit_nlinear_solver_cholesky;
-  int fits_ok = 1;
-  for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_FIT_BUCKETS; ++b) {
-      r->fit_ws[q][b] =
-          gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fit_params,
-                                     2 * af_response_fit_bucket_bins(b), 4 * (q + 1) + 6);
-      fits_ok = fits_ok && r->fit_ws[q][b] != NULL;
-    }
-  r->fit_start = gsl_vector_alloc(AF_RESPONSE_SPLIT_PARAMS);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      !fits_ok || r->fit_start == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
-      r->trend_coef == NULL) {
+      r->trend_gram == NULL || r->trend_rhs == NULL || r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -192,12 +177,6 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_u);
   fftw_free(r->phase_ul);
   fftw_free(r->phase_um);
-  for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_FIT_BUCKETS; ++b)
-      if (r->fit_ws[q][b] != NULL)
-        gsl_multifit_nlinear_free(r->fit_ws[q][b]);
-  if (r->fit_start != NULL)
-    gsl_vector_free(r->fit_start);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);
   if (r->trend_rhs != NULL)

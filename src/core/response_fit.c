@@ -22,8 +22,7 @@
 #include "response_private.h"
 
 #include <math.h>
-
-#include <gsl/gsl_errno.h>
+#include <string.h>
 
 /* The complex fit spans this many half-widths (sigma' / 2 pi) each side of
  * the peak, at least AF_RESPONSE_FIT_MIN_HALF bins: wide enough to pin the
@@ -44,21 +43,6 @@
  * fit takes ~15, a refit ~6; a two-pole fit that has not settled in 25 is
  * judged where it stands (and usually refused). */
 #define AF_RESPONSE_SPLIT_MAX_ITER 25
-
-size_t af_response_fit_bucket_bins(size_t b)
-{
-  return AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP * b;
-}
-
-/* The smallest bucket holding count bins. */
-static size_t bucket_of(size_t count)
-{
-  if (count <= AF_RESPONSE_FIT_BUCKET_MIN)
-    return 0;
-  size_t b = (count - AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP - 1) /
-             AF_RESPONSE_FIT_BUCKET_STEP;
-  return b < AF_RESPONSE_FIT_BUCKETS ? b : AF_RESPONSE_FIT_BUCKETS - 1;
-}
 
 /* Parameters of a pole and of the background that follows the poles. */
 enum { P_BIN, P_SIGMA, P_ARE, P_AIM, P_POLE, P_BACKGROUND = 6 };
@@ -94,22 +78,21 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
   return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
 }
 
-void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
-                          double sigma, double complex c)
+void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
+                          double complex c)
 {
-  gsl_vector_set(x0, P_POLE * slot + P_BIN, bin);
-  gsl_vector_set(x0, P_POLE * slot + P_SIGMA, sigma);
-  gsl_vector_set(x0, P_POLE * slot + P_ARE, r->ctx.gain * creal(c) / r->ctx.norm);
-  gsl_vector_set(x0, P_POLE * slot + P_AIM, r->ctx.gain * cimag(c) / r->ctx.norm);
+  x0[P_POLE * slot + P_BIN] = bin;
+  x0[P_POLE * slot + P_SIGMA] = sigma;
+  x0[P_POLE * slot + P_ARE] = r->ctx.gain * creal(c) / r->ctx.norm;
+  x0[P_POLE * slot + P_AIM] = r->ctx.gain * cimag(c) / r->ctx.norm;
 }
 
 /* Pole j of the parameters p as a mode of the spectrum (its span untouched). */
-static void pole_at(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+static void pole_at(const af_response *r, const double *p, size_t j, af_peak *out)
 {
-  out->bin = gsl_vector_get(p, P_POLE * j + P_BIN);
-  out->sigma_windowed = gsl_vector_get(p, P_POLE * j + P_SIGMA);
-  out->c = r->ctx.norm / r->ctx.gain *
-           (gsl_vector_get(p, P_POLE * j + P_ARE) + I * gsl_vector_get(p, P_POLE * j + P_AIM));
+  out->bin = p[P_POLE * j + P_BIN];
+  out->sigma_windowed = p[P_POLE * j + P_SIGMA];
+  out->c = r->ctx.norm / r->ctx.gain * (p[P_POLE * j + P_ARE] + I * p[P_POLE * j + P_AIM]);
   out->peak_power = af_response_mode_peak_power(r, out->c, out->sigma_windowed);
 }
 
@@ -117,11 +100,11 @@ static void pole_at(const af_response *r, const gsl_vector *p, size_t j, af_peak
 
 /* acc plus the complex quadratic background at bin k from the parameters at
  * nb on, term by term; its derivatives into d[nb..nb + 6). */
-static double complex background(const af_response *r, const gsl_vector *x, size_t nb, double k,
+static double complex background(const af_response *r, const double *x, size_t nb, double k,
                                  double complex acc, double complex *d)
 {
   double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
-  const double *b = gsl_vector_const_ptr(x, nb);
+  const double *b = x + nb;
   for (size_t j = 0; j < 3; ++j, xp *= xb) {
     acc += xp * (b[2 * j] + I * b[2 * j + 1]);
     d[nb + 2 * j] = xp;
@@ -131,10 +114,9 @@ static double complex background(const af_response *r, const gsl_vector *x, size
 }
 
 /* z = exp((-sigma' + i 2 pi f0 / N) dt) of the pole pair's parameters. */
-static double complex pair_z(const af_response *r, const gsl_vector *x)
+static double complex pair_z(const af_response *r, const double *q)
 {
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz;
-  const double *q = gsl_vector_const_ptr(x, 0);
   return cexp(-q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft);
 }
 
@@ -142,15 +124,14 @@ static double complex pair_z(const af_response *r, const gsl_vector *x)
  * derivatives. u_k from the phase table; the reciprocals without the C
  * library's careful complex division (1 - z u is bounded away from 0 by the
  * decay). */
-static double complex pole_pair_eval(const af_response *r, const gsl_vector *x, double complex z,
+static double complex pole_pair_eval(const af_response *r, const double *x, double complex z,
                                      size_t bin, double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
   double complex u = r->phase_u[bin];
   double complex zc = conj(z);
-  const double *q = gsl_vector_const_ptr(x, 0);
-  double complex c = f->norm * (q[P_ARE] + I * q[P_AIM]);
+  double complex c = f->norm * (x[P_ARE] + I * x[P_AIM]);
   double complex d1 = complex_recip(1.0 - z * u), d2 = complex_recip(1.0 - zc * u);
   double complex bg = background(r, x, P_POLE, k, 0.0, d);
   /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
@@ -168,11 +149,11 @@ typedef struct {
   double complex c;          /* complex amplitude */
 } pole_k;
 
-static void truncated_poles(const af_response *r, const gsl_vector *x, pole_k *pc)
+static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
 {
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
   for (size_t j = 0; j < r->split_poles; ++j) {
-    const double *q = gsl_vector_const_ptr(x, P_POLE * j);
+    const double *q = x + P_POLE * j;
     double complex lz = -q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft;
     pc[j].z = cexp(lz);
     pc[j].zm = cexp(m * lz);
@@ -194,7 +175,7 @@ static double complex trunc_sum(double complex a, double complex am, double comp
 
 /* The truncated model of r->split_poles poles (constants pc) plus the
  * background at bin k, and its derivatives. r->phase_um must hold bin k. */
-static double complex truncated_eval(const af_response *r, const pole_k *pc, const gsl_vector *x,
+static double complex truncated_eval(const af_response *r, const pole_k *pc, const double *x,
                                      size_t k, double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
@@ -216,11 +197,10 @@ static double complex truncated_eval(const af_response *r, const pole_k *pc, con
 }
 
 /* ---- the one residual loop ---------------------------------------------------
- * Residuals (f) or Jacobian (jac) of the model under way (r->split_poles: 0
- * the pole pair, else the truncated poles) over the fitted bins, real and
- * imaginary parts row by row; the rows beyond them stay 0 (a workspace is
- * sized for the widest fit). GSL_EBADFUNC for a non-finite residual. */
-static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gsl_matrix *jac)
+ * Residuals and (jac not NULL) the Jacobian of the model under way
+ * (r->split_poles: 0 the pole pair, else the truncated poles) over the fitted
+ * bins, real and imaginary parts row by row (response_private.h). */
+int af_response_fit_eval(const af_response *r, const double *x, double *f, double *jac)
 {
   double complex d[AF_RESPONSE_SPLIT_PARAMS];
   pole_k pc[2];
@@ -230,71 +210,37 @@ static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gs
     truncated_poles(r, x, pc);
   else
     z = pair_z(r, x);
-  if (f != NULL)
-    gsl_vector_set_zero(f);
-  else
-    gsl_matrix_set_zero(jac);
   for (size_t i = 0; i < r->ctx.count; ++i) {
     size_t k = r->ctx.first + i;
     double complex model =
         r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
-    if (f != NULL) {
-      double complex res = model - r->ctx.gain * r->ctx.data[k];
-      if (!isfinite(creal(res)) || !isfinite(cimag(res)))
-        return GSL_EBADFUNC;
-      f->data[2 * i * f->stride] = creal(res);
-      f->data[(2 * i + 1) * f->stride] = cimag(res);
+    double complex res = model - r->ctx.gain * r->ctx.data[k];
+    if (!isfinite(creal(res)) || !isfinite(cimag(res)))
+      return 0;
+    f[2 * i] = creal(res);
+    f[2 * i + 1] = cimag(res);
+    if (jac == NULL)
       continue;
-    }
-    double *re = jac->data + 2 * i * jac->tda, *im = re + jac->tda;
+    double *re = jac + 2 * i * p, *im = re + p;
     for (size_t j = 0; j < p; ++j) {
       re[j] = creal(d[j]);
       im[j] = cimag(d[j]);
+      if (!isfinite(re[j]) || !isfinite(im[j]))
+        return 0;
     }
   }
-  return GSL_SUCCESS;
+  return 1;
 }
 
-static int fit_f(const gsl_vector *x, void *params, gsl_vector *f)
+/* Runs the fit of r->ctx (model r->split_poles, params 10 or 14) from x (the
+ * solution into x), at most max_iter iterations (response_lm.c); its cost
+ * (residual sum of squares) into *rss. Counted in r->fit_stats. */
+static af_response_fit_status run(af_response *r, size_t params, double *x, size_t max_iter,
+                                  double xtol, double *rss)
 {
-  return fit_rows(x, params, f, NULL);
-}
-
-static int fit_df(const gsl_vector *x, void *params, gsl_matrix *jac)
-{
-  return fit_rows(x, params, NULL, jac);
-}
-
-/* The driver's outcome as a fit status (response_private.h). */
-static af_response_fit_status fit_status_of(int gsl_status)
-{
-  switch (gsl_status) {
-  case GSL_SUCCESS: return AF_RESPONSE_FIT_CONVERGED;
-  case GSL_EMAXITER: return AF_RESPONSE_FIT_CAPPED;
-  case GSL_ENOPROG: return AF_RESPONSE_FIT_STALLED;
-  default: return AF_RESPONSE_FIT_FAILED;
-  }
-}
-
-/* Runs the fit of r->ctx (model r->split_poles) from start in the
- * workspace of its model (params 10 or 14) and span, at most max_iter
- * iterations; the workspace into *used. AF_RESPONSE_FIT_FAILED if the start
- * cannot be evaluated. Counted in r->fit_stats. */
-static af_response_fit_status run(af_response *r, size_t params, const gsl_vector *start,
-                                  size_t max_iter, double xtol,
-                                  gsl_multifit_nlinear_workspace **used)
-{
-  size_t b = bucket_of(r->ctx.count);
-  gsl_multifit_nlinear_workspace *w = r->fit_ws[params > AF_RESPONSE_FIT_PARAMS][b];
-  size_t rows = 2 * af_response_fit_bucket_bins(b);
-  gsl_multifit_nlinear_fdf fdf = {fit_f, fit_df, NULL, rows, params, r, 0, 0, 0};
-  int info = 0;
-  af_response_fit_status st = AF_RESPONSE_FIT_FAILED;
-  *used = w;
-  if (gsl_multifit_nlinear_init(start, &fdf, w) == GSL_SUCCESS)
-    st = fit_status_of(gsl_multifit_nlinear_driver(max_iter, xtol, AF_RESPONSE_FIT_GTOL,
-                                                   AF_RESPONSE_FIT_FTOL, NULL, NULL, &info, w));
-  size_t iter = st == AF_RESPONSE_FIT_FAILED ? 0 : gsl_multifit_nlinear_niter(w);
+  size_t iter = 0;
+  af_response_fit_status st = af_response_lm(r, params, x, max_iter, xtol, AF_RESPONSE_FIT_GTOL,
+                                             AF_RESPONSE_FIT_FTOL, rss, &iter);
   r->fit_stats.fits[st]++;
   r->fit_stats.iterations += iter;
   if (iter > r->fit_stats.max_iterations)
@@ -313,18 +259,16 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
   af_response_fit_around(r, k, half, &first, &last);
   if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
     return 0;
-  gsl_vector_view v = gsl_vector_subvector(r->fit_start, 0, AF_RESPONSE_FIT_PARAMS);
-  gsl_vector *p0 = &v.vector;
-  gsl_vector_set_zero(p0);
+  double *p0 = r->fit_start, rss;
+  memset(p0, 0, sizeof r->fit_start);
   af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
   r->split_poles = 0;
-  gsl_multifit_nlinear_workspace *w;
   /* stage 2 must converge: a capped or stalled fit is no damped mode here */
-  if (run(r, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER, AF_RESPONSE_FIT_XTOL, &w) !=
+  if (run(r, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER, AF_RESPONSE_FIT_XTOL, &rss) !=
       AF_RESPONSE_FIT_CONVERGED)
     return 0;
   af_peak got = *pk;
-  pole_at(r, gsl_multifit_nlinear_position(w), 0, &got);
+  pole_at(r, p0, 0, &got);
   if (!(got.bin >= pk->span_lo && got.bin <= pk->span_hi) || !(got.sigma_windowed > 0.0))
     return 0;
   *pk = got;
@@ -333,23 +277,20 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
 
 /* ---- the truncated fits (peak list) ------------------------------------------ */
 
-int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss)
+int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss)
 {
+  size_t params = P_POLE * poles + P_BACKGROUND;
   r->split_poles = poles;
+  memcpy(r->split_x, start, params * sizeof *start);
   /* a truncated fit that reaches its cap or stalls is judged where it
    * stands (its residual decides); only a failed one is refused */
-  if (run(r, P_POLE * poles + P_BACKGROUND, start, AF_RESPONSE_SPLIT_MAX_ITER,
-          AF_RESPONSE_SPLIT_XTOL, &r->split_last) == AF_RESPONSE_FIT_FAILED)
+  if (run(r, params, r->split_x, AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, rss) ==
+      AF_RESPONSE_FIT_FAILED)
     return 0;
-  const gsl_vector *res = gsl_multifit_nlinear_residual(r->split_last);
-  double sum = 0.0;
-  for (size_t i = 0; i < 2 * r->ctx.count; ++i)
-    sum += gsl_vector_get(res, i) * gsl_vector_get(res, i);
-  *rss = sum;
-  return isfinite(sum);
+  return isfinite(*rss);
 }
 
-int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out)
 {
   double sigma_window =
       r->cfg.window == AF_RESPONSE_WINDOW_EXPONENTIAL ? 1.0 / r->cfg.window_time_constant_s : 0.0;

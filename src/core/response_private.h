@@ -27,7 +27,6 @@
 #include <complex.h>
 #include <fftw3.h>
 #include <gsl/gsl_matrix.h>
-#include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 
 #include "fft_plan.h"
@@ -45,19 +44,6 @@
 #define AF_RESPONSE_FIT_ROWS (2 * (2 * AF_RESPONSE_FIT_MAX_HALF + 1))
 /* The peak list's two-pole fit: two modes (4 each) and the background (6). */
 #define AF_RESPONSE_SPLIT_PARAMS 14
-/* Span sizes [bins] the fits have workspaces for: bucket b holds
- * AF_RESPONSE_FIT_BUCKET_MIN + AF_RESPONSE_FIT_BUCKET_STEP b bins, the last
- * the widest span, 2 AF_RESPONSE_FIT_MAX_HALF + 1. A fit runs in the smallest
- * bucket that holds its span: the rows beyond the span are zero, but GSL's
- * normal equations, column norms and gradient cost grow with every row, used
- * or not (a fixed 130-row workspace made them most of a fit's time). */
-#define AF_RESPONSE_FIT_BUCKET_MIN 9
-#define AF_RESPONSE_FIT_BUCKET_STEP 4
-#define AF_RESPONSE_FIT_BUCKETS                                                                    \
-  ((2 * AF_RESPONSE_FIT_MAX_HALF + 1 - AF_RESPONSE_FIT_BUCKET_MIN) / AF_RESPONSE_FIT_BUCKET_STEP + \
-   1)
-/* Bins of bucket b. */
-size_t af_response_fit_bucket_bins(size_t b);
 /* Hum removal: at most this many harmonics (response_trend.c). */
 #define AF_RESPONSE_MAX_HUM_HARMONICS 8
 #define AF_RESPONSE_MAX_TERMS (1 + 2 * AF_RESPONSE_MAX_HUM_HARMONICS)
@@ -110,13 +96,11 @@ struct af_response {
   double split_len;               /* that m [samples] */
   double complex fade_e, fade_eh; /* exp(i theta), exp(i theta / 2), theta = pi / L */
   size_t noise_segments;          /* segments averaged into noise_ref */
-  /* the fits' workspaces: [model][bucket], model 0 ten parameters (the pole
-   * pair of stage 2, or one truncated pole), 1 fourteen (two truncated
-   * poles); rows 2 x af_response_fit_bucket_bins(bucket) */
-  gsl_multifit_nlinear_workspace *fit_ws[2][AF_RESPONSE_FIT_BUCKETS];
-  gsl_vector *fit_start;                      /* stage 2's starting point */
-  gsl_multifit_nlinear_workspace *split_last; /* the one the last truncated fit ran in */
-  gsl_vector *fit2_start;                     /* their starting point (two poles' room) */
+  double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
+  double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
+  double lm_res[AF_RESPONSE_FIT_ROWS];        /* the fit's residuals (response_lm.c) */
+  double lm_trial[AF_RESPONSE_FIT_ROWS];      /*   at a trial step */
+  double lm_jac[AF_RESPONSE_FIT_ROWS * AF_RESPONSE_SPLIT_PARAMS]; /*   its Jacobian, row-major */
   size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
                                          1 or 2 the poles of a truncated fit */
   af_fit_ctx ctx;                     /* the fit under way */
@@ -243,14 +227,27 @@ void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t 
 int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
                          double center, double half, size_t k, double sigma_windowed);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
-void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
-                          double sigma, double complex c);
+void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
+                          double complex c);
 /* The truncated fit of 'poles' poles from start on r->ctx; rss into *rss. */
-int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss);
+int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss);
 /* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
-int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out);
+int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out);
 /* The mode at the local maximum k, refined as far as the data allow. */
 int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
+
+/* Residuals f (2 count values) and, when jac is not NULL, the Jacobian
+ * (2 count x params, row-major) of the model under way at x; 0 if a value
+ * is not finite. */
+int af_response_fit_eval(const af_response *r, const double *x, double *f, double *jac);
+
+/* ---- response_lm.c ---- */
+/* Levenberg-Marquardt on r->ctx from x (params values; the solution into x),
+ * at most max_iter steps; the final cost (residual sum of squares) into
+ * *cost, the steps taken into *iterations; the status says how it ended. */
+af_response_fit_status af_response_lm(af_response *r, size_t params, double *x, size_t max_iter,
+                                      double xtol, double gtol, double ftol, double *cost,
+                                      size_t *iterations);
 
 /* ---- response_split.c ---- */
 /* The truncated reading of the peak at k (one or two poles; 0 none). */
