@@ -136,13 +136,17 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_u = fftw_alloc_complex(r->bins);
   r->phase_ul = fftw_alloc_complex(r->bins);
   r->phase_um = fftw_alloc_complex(r->bins);
+  r->hum_period = af_response_hum_period(cfg);
+  r->trend_fold = fftw_alloc_real(cfg->window_samples);
+  r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      r->trend_gram == NULL || r->trend_rhs == NULL || r->trend_coef == NULL) {
+      r->trend_fold == NULL || r->noise_cum == NULL || r->trend_gram == NULL ||
+      r->trend_rhs == NULL || r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -177,6 +181,8 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_u);
   fftw_free(r->phase_ul);
   fftw_free(r->phase_um);
+  fftw_free(r->trend_fold);
+  fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);
   if (r->trend_rhs != NULL)

@@ -107,6 +107,9 @@ struct af_response {
   gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
   gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
   size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
+  size_t hum_period;                  /* af_response_hum_period; 0 = none */
+  double *trend_fold;                 /* one hum period: folded samples, then the trend */
+  double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
   af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
 
@@ -159,8 +162,10 @@ size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
 void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
                            size_t harmonics);
 /* dst[k] = x[start + k] less the fitted trend, k < m. */
-void af_response_trend_remove(const af_response *r, const float *x, size_t start, size_t m,
-                              double *dst);
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst);
+/* The hum's period [samples] when whole and at most window_samples (48 kHz
+ * and 50 or 60 Hz: 960, 800), else 0: the trend then repeats exactly. */
+size_t af_response_hum_period(const af_response_config *c);
 
 /* ---- response_transform.c ---- */
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
