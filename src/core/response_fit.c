@@ -197,38 +197,74 @@ static double complex truncated_eval(const af_response *r, const pole_k *pc, con
 }
 
 /* ---- the one residual loop ---------------------------------------------------
- * Residuals and (jac not NULL) the Jacobian of the model under way
- * (r->split_poles: 0 the pole pair, else the truncated poles) over the fitted
- * bins, real and imaginary parts row by row (response_private.h). */
-int af_response_fit_eval(const af_response *r, const double *x, double *f, double *jac)
+ * The cost (residual sum of squares, real and imaginary parts) of the model
+ * under way (r->split_poles: 0 the pole pair, else the truncated poles) over
+ * the fitted bins and, when a is not NULL, its normal equations a = J^T J
+ * (p x p, full) and g = J^T f, formed in the same pass without storing J:
+ * a bin's real and imaginary rows together give Re(conj(d_j) d_l); the
+ * background's derivatives are x^q and i x^q (x its abscissa), so its block
+ * of J^T J is the moments sum x^(q + q') of the bins alone and its cross
+ * terms with a pole are Re d_j x^q and Im d_j x^q. */
+int af_response_fit_eval(const af_response *r, const double *x, double *cost, double *a, double *g)
 {
   double complex d[AF_RESPONSE_SPLIT_PARAMS];
   pole_k pc[2];
   double complex z = 0.0;
-  size_t p = P_POLE * (r->split_poles > 0 ? r->split_poles : 1) + P_BACKGROUND;
+  size_t poles = r->split_poles > 0 ? r->split_poles : 1;
+  size_t np = P_POLE * poles, p = np + P_BACKGROUND;
+  double moment[5] = {0.0}, sum = 0.0;
   if (r->split_poles > 0)
     truncated_poles(r, x, pc);
   else
     z = pair_z(r, x);
+  if (a != NULL) {
+    memset(a, 0, p * p * sizeof *a);
+    memset(g, 0, p * sizeof *g);
+  }
   for (size_t i = 0; i < r->ctx.count; ++i) {
     size_t k = r->ctx.first + i;
     double complex model =
         r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
     double complex res = model - r->ctx.gain * r->ctx.data[k];
-    if (!isfinite(creal(res)) || !isfinite(cimag(res)))
+    double fr = creal(res), fi = cimag(res);
+    if (!isfinite(fr) || !isfinite(fi))
       return 0;
-    f[2 * i] = creal(res);
-    f[2 * i + 1] = cimag(res);
-    if (jac == NULL)
+    sum += fr * fr + fi * fi;
+    if (a == NULL)
       continue;
-    double *re = jac + 2 * i * p, *im = re + p;
-    for (size_t j = 0; j < p; ++j) {
-      re[j] = creal(d[j]);
-      im[j] = cimag(d[j]);
-      if (!isfinite(re[j]) || !isfinite(im[j]))
+    double xb = ((double)k - r->ctx.center) / r->ctx.half, xp[3] = {1.0, xb, xb * xb};
+    for (size_t j = 0; j < np; ++j) {
+      double dr = creal(d[j]), di = cimag(d[j]);
+      if (!isfinite(dr) || !isfinite(di))
         return 0;
+      double *row = a + j * p;
+      g[j] += dr * fr + di * fi;
+      for (size_t l = j; l < np; ++l)
+        row[l] += dr * creal(d[l]) + di * cimag(d[l]);
+      for (size_t q = 0; q < 3; ++q) {
+        row[np + 2 * q] += dr * xp[q];
+        row[np + 2 * q + 1] += di * xp[q];
+      }
     }
+    for (size_t q = 0; q < 3; ++q) {
+      g[np + 2 * q] += xp[q] * fr;
+      g[np + 2 * q + 1] += xp[q] * fi;
+    }
+    double xq = 1.0;
+    for (size_t q = 0; q < 5; ++q, xq *= xb)
+      moment[q] += xq;
   }
+  *cost = sum;
+  if (a == NULL)
+    return 1;
+  for (size_t q = 0; q < 3; ++q)
+    for (size_t t = q; t < 3; ++t) {
+      a[(np + 2 * q) * p + np + 2 * t] = moment[q + t];
+      a[(np + 2 * q + 1) * p + np + 2 * t + 1] = moment[q + t];
+    }
+  for (size_t j = 0; j < p; ++j) /* the lower triangle from the upper */
+    for (size_t l = 0; l < j; ++l)
+      a[j * p + l] = a[l * p + j];
   return 1;
 }
 

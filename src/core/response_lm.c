@@ -7,9 +7,10 @@
  * time outside the model: the residuals and the Jacobian in two passes, the
  * Jacobian stored and zeroed, cblas_dsyrk and cblas_dgemv for J^T J and
  * J^T f, and cblas_dnrm2 (one division per element) for the column norms of
- * its scaling at every iteration. Here the normal equations are formed from
- * the Jacobian in one pass, the scaling from their diagonal, and the p x p
- * system solved by Cholesky on the stack.
+ * its scaling at every iteration. Here the model's pass over the bins forms
+ * the normal equations itself, J never stored (af_response_fit_eval), the
+ * scaling comes from their diagonal, and the p x p system is solved by
+ * Cholesky on the stack.
  *
  * The method is GSL's default one (Levenberg-Marquardt with More's scaling,
  * Nielsen's damping update): step dx from (J^T J + mu D^2) dx = -J^T f,
@@ -25,7 +26,7 @@
  *  CAPPED     max_iter steps taken (the callers' caps: 50 and 25);
  *  STALLED    AF_RESPONSE_LM_MAX_REJECT steps in a row raised the cost;
  *  FAILED     the start's residuals or Jacobian are not finite.
- * No allocation: the Jacobian and the residuals live in the object. */
+ * No allocation: everything lives on the stack (p <= 14). */
 #include "response_private.h"
 
 #include <math.h>
@@ -36,34 +37,6 @@
 #define AF_RESPONSE_LM_MAX_REJECT 15
 /* Starting damping, relative to the scaled diagonal (GSL: 1e-3). */
 #define AF_RESPONSE_LM_MU0 1e-3
-
-static double sum_squares(const double *f, size_t n)
-{
-  double s = 0.0;
-  for (size_t i = 0; i < n; ++i)
-    s += f[i] * f[i];
-  return s;
-}
-
-/* a = J^T J (full, p x p), g = J^T f, J n x p row-major. */
-static void normal_equations(const double *jac, const double *f, size_t n, size_t p, double *a,
-                             double *g)
-{
-  memset(a, 0, p * p * sizeof *a);
-  memset(g, 0, p * sizeof *g);
-  for (size_t i = 0; i < n; ++i) {
-    const double *row = jac + i * p;
-    for (size_t j = 0; j < p; ++j) {
-      double v = row[j];
-      g[j] += v * f[i];
-      for (size_t l = j; l < p; ++l)
-        a[j * p + l] += v * row[l];
-    }
-  }
-  for (size_t j = 0; j < p; ++j)
-    for (size_t l = 0; l < j; ++l)
-      a[j * p + l] = a[l * p + j];
-}
 
 /* Solves m x = b for symmetric positive definite m (p x p, overwritten by
  * its Cholesky factor); 0 if m is not positive definite. */
@@ -117,7 +90,6 @@ static int lm_step(af_response *r, size_t p, double *x, double *cost, const doub
                    const double *g, const double *d2, double *mu, double *nu, double *dx,
                    double xtol)
 {
-  size_t n = 2 * r->ctx.count;
   double m[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], minus_g[AF_RESPONSE_SPLIT_PARAMS];
   double xt[AF_RESPONSE_SPLIT_PARAMS];
   for (size_t j = 0; j < p; ++j)
@@ -136,8 +108,9 @@ static int lm_step(af_response *r, size_t p, double *x, double *cost, const doub
         pred -= dx[j] * (2.0 * g[j] + adx);
         xt[j] = x[j] + dx[j];
       }
-      double trial =
-          af_response_fit_eval(r, xt, r->lm_trial, NULL) ? sum_squares(r->lm_trial, n) : INFINITY;
+      double trial;
+      if (!af_response_fit_eval(r, xt, &trial, NULL, NULL))
+        trial = INFINITY;
       double rho = pred > 0.0 ? (*cost - trial) / pred : -1.0;
       if (isfinite(trial) && rho > 0.0) {
         memcpy(x, xt, p * sizeof *x);
@@ -160,19 +133,16 @@ af_response_fit_status af_response_lm(af_response *r, size_t p, double *x, size_
                                       double xtol, double gtol, double ftol, double *cost_out,
                                       size_t *iterations)
 {
-  size_t n = 2 * r->ctx.count;
   double a[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], g[AF_RESPONSE_SPLIT_PARAMS];
   double d2[AF_RESPONSE_SPLIT_PARAMS], dx[AF_RESPONSE_SPLIT_PARAMS];
-  double mu = AF_RESPONSE_LM_MU0, nu = 2.0;
+  double mu = AF_RESPONSE_LM_MU0, nu = 2.0, cost;
   *iterations = 0;
-  if (!af_response_fit_eval(r, x, r->lm_res, r->lm_jac))
+  if (!af_response_fit_eval(r, x, &cost, a, g))
     return AF_RESPONSE_FIT_FAILED;
-  double cost = sum_squares(r->lm_res, n);
   *cost_out = cost;
   for (size_t j = 0; j < p; ++j)
     d2[j] = 0.0;
   while (*iterations < max_iter) {
-    normal_equations(r->lm_jac, r->lm_res, n, p, a, g);
     double gmax = 0.0;
     for (size_t j = 0; j < p; ++j) {
       double diag = a[j * p + j];
@@ -181,7 +151,7 @@ af_response_fit_status af_response_lm(af_response *r, size_t p, double *x, size_
     }
     if (gmax <= gtol * fmax(cost, 1.0))
       return AF_RESPONSE_FIT_CONVERGED;
-    double before = cost;
+    double before = cost, again;
     int step = lm_step(r, p, x, &cost, a, g, d2, &mu, &nu, dx, xtol);
     if (step == 2)
       return AF_RESPONSE_FIT_CONVERGED;
@@ -190,8 +160,9 @@ af_response_fit_status af_response_lm(af_response *r, size_t p, double *x, size_
     ++*iterations;
     *cost_out = cost;
     int small = step_small(x, dx, p, xtol);
-    if (!af_response_fit_eval(r, x, r->lm_res, r->lm_jac))
-      return AF_RESPONSE_FIT_FAILED; /* not reached: the step's residuals were finite */
+    /* the normal equations at the step taken (its cost is the trial's) */
+    if (!af_response_fit_eval(r, x, &again, a, g))
+      return AF_RESPONSE_FIT_FAILED; /* a derivative not finite there */
     if (small || before - cost <= ftol * before)
       return AF_RESPONSE_FIT_CONVERGED;
   }

@@ -98,9 +98,6 @@ struct af_response {
   size_t noise_segments;          /* segments averaged into noise_ref */
   double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
   double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
-  double lm_res[AF_RESPONSE_FIT_ROWS];        /* the fit's residuals (response_lm.c) */
-  double lm_trial[AF_RESPONSE_FIT_ROWS];      /*   at a trial step */
-  double lm_jac[AF_RESPONSE_FIT_ROWS * AF_RESPONSE_SPLIT_PARAMS]; /*   its Jacobian, row-major */
   size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
                                          1 or 2 the poles of a truncated fit */
   af_fit_ctx ctx;                     /* the fit under way */
@@ -241,10 +238,10 @@ int af_response_split_pole(const af_response *r, const double *p, size_t j, af_p
 /* The mode at the local maximum k, refined as far as the data allow. */
 int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
 
-/* Residuals f (2 count values) and, when jac is not NULL, the Jacobian
- * (2 count x params, row-major) of the model under way at x; 0 if a value
- * is not finite. */
-int af_response_fit_eval(const af_response *r, const double *x, double *f, double *jac);
+/* The cost (residual sum of squares) of the model under way at x and, when
+ * a is not NULL, its normal equations a = J^T J (p x p, full, row-major)
+ * and g = J^T f, p its parameters; 0 if a value is not finite. */
+int af_response_fit_eval(const af_response *r, const double *x, double *cost, double *a, double *g);
 
 /* ---- response_lm.c ---- */
 /* Levenberg-Marquardt on r->ctx from x (params values; the solution into x),
