@@ -30,10 +30,10 @@ af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
    * scatters by ~1.5 dB, the mean of m segments by ~1.5/sqrt(m) dB */
   if (r->noise_segments == 0) /* fresh, or after a clear: no mean to update */
     memset(r->noise_ref, 0, r->bins * sizeof *r->noise_ref);
-  double weight = 1.0 / (double)(r->noise_segments + 1);
+  double weight = 1.0 / (double)(r->noise_segments + 1), per_energy = 1.0 / energy;
   r->noise_cum[0] = 0.0;
   for (size_t k = 0; k < r->bins; ++k) {
-    r->noise_ref[k] += weight * (r->power[k] / energy - r->noise_ref[k]);
+    r->noise_ref[k] += weight * (r->power[k] * per_energy - r->noise_ref[k]);
     r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
   }
   r->noise_segments++;
