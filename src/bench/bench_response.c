@@ -41,8 +41,9 @@ static int cmp_double(const void *a, const void *b)
 
 static int usage(const char *msg)
 {
-  fprintf(stderr, "af_bench_response: %s\nusage: af_bench_response WINDOWS.f32 BANDS.csv "
-                  "[--repeat N]  (N a whole number in [1, 1000], default 5)\n",
+  fprintf(stderr,
+          "af_bench_response: %s\nusage: af_bench_response WINDOWS.f32 BANDS.csv "
+          "[--repeat N]  (N a whole number in [1, 1000], default 5)\n",
           msg);
   return 2;
 }
@@ -79,8 +80,8 @@ int main(int argc, char **argv)
     af_status st = af_modes_list_band(f_lo, f_hi, c.sample_rate_hz, &lo, &hi);
     for (long k = 0; st == AF_OK && k < repeat; ++k) {
       double t0 = cpu_us();
-      st = af_response_execute_peaks(r, x, WINDOW_SAMPLES, lo, hi, peaks, AF_RESPONSE_MAX_PEAKS,
-                                     &n);
+      st =
+          af_response_execute_peaks(r, x, WINDOW_SAMPLES, lo, hi, peaks, AF_RESPONSE_MAX_PEAKS, &n);
       double t = cpu_us() - t0;
       best = t < best ? t : best;
       if (st != AF_OK && st != AF_ENODATA)
@@ -105,10 +106,11 @@ int main(int argc, char **argv)
 #ifdef AF_BENCH_FIT_STATS
   af_response_fit_stats s;
   af_response_get_fit_stats(r, &s);
-  printf("# fits converged,capped,stalled,failed,iterations,max_iterations %zu,%zu,%zu,%zu,%zu,%zu\n",
-         s.fits[AF_RESPONSE_FIT_CONVERGED], s.fits[AF_RESPONSE_FIT_CAPPED],
-         s.fits[AF_RESPONSE_FIT_STALLED], s.fits[AF_RESPONSE_FIT_FAILED], s.iterations,
-         s.max_iterations);
+  printf(
+      "# fits converged,capped,stalled,failed,iterations,max_iterations %zu,%zu,%zu,%zu,%zu,%zu\n",
+      s.fits[AF_RESPONSE_FIT_CONVERGED], s.fits[AF_RESPONSE_FIT_CAPPED],
+      s.fits[AF_RESPONSE_FIT_STALLED], s.fits[AF_RESPONSE_FIT_FAILED], s.iterations,
+      s.max_iterations);
 #endif
   af_response_destroy(r);
   fclose(fw);
