@@ -232,7 +232,8 @@ int af_response_fit_eval(const af_response *r, const double *x, double *cost, do
     sum += fr * fr + fi * fi;
     if (a == NULL)
       continue;
-    double xb = ((double)k - r->ctx.center) / r->ctx.half, xp[3] = {1.0, xb, xb * xb};
+    double xb = ((double)k - r->ctx.center) / r->ctx.half;
+    const double xp[3] = {1.0, xb, xb * xb};
     for (size_t j = 0; j < np; ++j) {
       double dr = creal(d[j]), di = cimag(d[j]);
       if (!isfinite(dr) || !isfinite(di))
