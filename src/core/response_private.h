@@ -11,8 +11,10 @@
  *  response_noise.c     the noise floor: the reference, the band's median;
  *  response_peaks.c     peak finding and the closed-form stage-1 reading;
  *  response_mode.c      a mode's spectrum through the window (exact sums);
- *  response_fit.c       the Levenberg-Marquardt fits (one residual loop for
- *                       every model), stage 2 and the neighbour's round;
+ *  response_fit.c       the complex fits (one residual loop for every model,
+ *                       forming the normal equations), stage 2 and the
+ *                       neighbour's round;
+ *  response_lm.c        their Levenberg-Marquardt solver (caps, statuses);
  *  response_split.c     the peak list's two-pole split and backfit;
  *  response_list.c      af_response_execute_peaks: the list of a band's modes.
  *
