@@ -228,17 +228,13 @@ int af_response_fit_eval(const af_response *r, const double *x, double *cost, do
         r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
     double complex res = model - r->ctx.gain * r->ctx.data[k];
     double fr = creal(res), fi = cimag(res);
-    if (!isfinite(fr) || !isfinite(fi))
-      return 0;
-    sum += fr * fr + fi * fi;
+    sum += fr * fr + fi * fi; /* a value not finite makes the sum so: checked once, below */
     if (a == NULL)
       continue;
     double xb = ((double)k - r->ctx.center) / r->ctx.half;
     const double xp[3] = {1.0, xb, xb * xb};
     for (size_t j = 0; j < np; ++j) {
       double dr = creal(d[j]), di = cimag(d[j]);
-      if (!isfinite(dr) || !isfinite(di))
-        return 0;
       double *row = a + j * p;
       g[j] += dr * fr + di * fi;
       for (size_t l = j; l < np; ++l)
@@ -257,8 +253,15 @@ int af_response_fit_eval(const af_response *r, const double *x, double *cost, do
       moment[q] += xq;
   }
   *cost = sum;
+  if (!isfinite(sum))
+    return 0;
   if (a == NULL)
     return 1;
+  /* a derivative not finite makes its diagonal term so (the background's
+   * are powers of a finite abscissa) */
+  for (size_t j = 0; j < np; ++j)
+    if (!isfinite(a[j * p + j]) || !isfinite(g[j]))
+      return 0;
   for (size_t q = 0; q < 3; ++q)
     for (size_t t = q; t < 3; ++t) {
       a[(np + 2 * q) * p + np + 2 * t] = moment[q + t];
