@@ -101,8 +101,8 @@ static void pole_at(const af_response *r, const double *p, size_t j, af_peak *ou
 
 /* acc plus the complex quadratic background at bin k from the parameters at
  * nb on, term by term; its derivatives into d[nb..nb + 6). */
-static double complex background(const af_response *r, const double *x, size_t nb, double k,
-                                 double complex acc, double complex *d)
+AF_NUMERIC_KERNEL static double complex background(const af_response *r, const double *x, size_t nb,
+                                                   double k, double complex acc, double complex *d)
 {
   double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
   const double *b = x + nb;
@@ -115,7 +115,7 @@ static double complex background(const af_response *r, const double *x, size_t n
 }
 
 /* z = exp((-sigma' + i 2 pi f0 / N) dt) of the pole pair's parameters. */
-static double complex pair_z(const af_response *r, const double *q)
+AF_NUMERIC_KERNEL static double complex pair_z(const af_response *r, const double *q)
 {
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz;
   return cexp(-q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft);
@@ -125,8 +125,9 @@ static double complex pair_z(const af_response *r, const double *q)
  * derivatives. u_k from the phase table; the reciprocals without the C
  * library's careful complex division (1 - z u is bounded away from 0 by the
  * decay). */
-static double complex pole_pair_eval(const af_response *r, const double *x, double complex z,
-                                     size_t bin, double complex *d)
+AF_NUMERIC_KERNEL static double complex pole_pair_eval(const af_response *r, const double *x,
+                                                       double complex z, size_t bin,
+                                                       double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
@@ -150,7 +151,7 @@ typedef struct {
   double complex c;          /* complex amplitude */
 } pole_k;
 
-static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
+AF_NUMERIC_KERNEL static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
 {
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
   for (size_t j = 0; j < r->split_poles; ++j) {
@@ -165,8 +166,8 @@ static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
 
 /* T(a) = (1 - a^m) / (1 - a) = sum_{k < m} a^k and dT/da, from a^m and
  * a^(m - 1). */
-static double complex trunc_sum(double complex a, double complex am, double complex am1, double m,
-                                double complex *d)
+AF_NUMERIC_KERNEL static double complex trunc_sum(double complex a, double complex am,
+                                                  double complex am1, double m, double complex *d)
 {
   double complex inv = complex_recip(1.0 - a);
   double complex t = (1.0 - am) * inv;
@@ -176,8 +177,8 @@ static double complex trunc_sum(double complex a, double complex am, double comp
 
 /* The truncated model of r->split_poles poles (constants pc) plus the
  * background at bin k, and its derivatives. r->phase_um must hold bin k. */
-static double complex truncated_eval(const af_response *r, const pole_k *pc, const double *x,
-                                     size_t k, double complex *d)
+AF_NUMERIC_KERNEL static double complex truncated_eval(const af_response *r, const pole_k *pc,
+                                                       const double *x, size_t k, double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
@@ -206,7 +207,8 @@ static double complex truncated_eval(const af_response *r, const pole_k *pc, con
  * background's derivatives are x^q and i x^q (x its abscissa), so its block
  * of J^T J is the moments sum x^(q + q') of the bins alone and its cross
  * terms with a pole are Re d_j x^q and Im d_j x^q. */
-int af_response_fit_eval(const af_response *r, const double *x, double *cost, double *a, double *g)
+AF_NUMERIC_KERNEL int af_response_fit_eval(const af_response *r, const double *x, double *cost,
+                                           double *a, double *g)
 {
   double complex d[AF_RESPONSE_SPLIT_PARAMS];
   pole_k pc[2];

@@ -40,7 +40,7 @@
 
 /* Solves m x = b for symmetric positive definite m (p x p, overwritten by
  * its Cholesky factor); 0 if m is not positive definite. */
-static int cholesky_solve(double *m, size_t p, const double *b, double *x)
+AF_NUMERIC_KERNEL static int cholesky_solve(double *m, size_t p, const double *b, double *x)
 {
   for (size_t j = 0; j < p; ++j) {
     double d = m[j * p + j];
@@ -73,7 +73,7 @@ static int cholesky_solve(double *m, size_t p, const double *b, double *x)
 }
 
 /* Every |dx_j| <= xtol (|x_j| + xtol). */
-static int step_small(const double *x, const double *dx, size_t p, double xtol)
+AF_NUMERIC_KERNEL static int step_small(const double *x, const double *dx, size_t p, double xtol)
 {
   for (size_t j = 0; j < p; ++j)
     if (!(fabs(dx[j]) <= xtol * (fabs(x[j]) + xtol)))
@@ -86,9 +86,9 @@ static int step_small(const double *x, const double *dx, size_t p, double xtol)
  * step that raised the cost (rounding, at the minimum) was already below
  * xtol, so no step the tolerance cares about lowers it (MINPACK's test on the
  * trust region); 0 stalled: AF_RESPONSE_LM_MAX_REJECT steps raised it. */
-static int lm_step(af_response *r, size_t p, double *x, double *cost, const double *a,
-                   const double *g, const double *d2, double *mu, double *nu, double *dx,
-                   double xtol)
+AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, double *cost,
+                                     const double *a, const double *g, const double *d2, double *mu,
+                                     double *nu, double *dx, double xtol)
 {
   double m[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], minus_g[AF_RESPONSE_SPLIT_PARAMS];
   double xt[AF_RESPONSE_SPLIT_PARAMS];
@@ -129,9 +129,10 @@ static int lm_step(af_response *r, size_t p, double *x, double *cost, const doub
   return 0;
 }
 
-af_response_fit_status af_response_lm(af_response *r, size_t p, double *x, size_t max_iter,
-                                      double xtol, double gtol, double ftol, double *cost_out,
-                                      size_t *iterations)
+AF_NUMERIC_KERNEL af_response_fit_status af_response_lm(af_response *r, size_t p, double *x,
+                                                        size_t max_iter, double xtol, double gtol,
+                                                        double ftol, double *cost_out,
+                                                        size_t *iterations)
 {
   double a[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], g[AF_RESPONSE_SPLIT_PARAMS];
   double d2[AF_RESPONSE_SPLIT_PARAMS], dx[AF_RESPONSE_SPLIT_PARAMS];

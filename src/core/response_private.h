@@ -128,6 +128,17 @@ typedef struct {
   double complex c, z, zm, zl; /* z^m (m = r->split_len), z^L (the fade-in) */
 } af_mode_k;
 
+/* The fits' numeric kernels (the model's pass over the bins, the solver)
+ * carry no coverage instrumentation in the fuzzing build: libFuzzer's hook
+ * on every loop comparison made them several times slower there (GSL's
+ * solver, which they replace, was never instrumented) and their branches are
+ * arithmetic, not input structure. ASan and UBSan still check them. */
+#if defined(__clang__) /* clang's spelling; gcc builds no fuzzer */
+#define AF_NUMERIC_KERNEL __attribute__((no_sanitize("coverage")))
+#else
+#define AF_NUMERIC_KERNEL
+#endif
+
 /* 1 / b without the C library's careful complex division (b is never near
  * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
  * Inline: it sits in the innermost loops of the fits and the subtractions. */
