@@ -136,29 +136,17 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_u = fftw_alloc_complex(r->bins);
   r->phase_ul = fftw_alloc_complex(r->bins);
   r->phase_um = fftw_alloc_complex(r->bins);
-  gsl_multifit_nlinear_parameters fit_params = gsl_multifit_nlinear_default_parameters();
-  /* normal equations: J is 130 x 10 and well scaled (parameters of order 1),
-   * so Cholesky is safe and several times cheaper than the default QR */
-  fit_params.solver = gsl_multifit_nlinear_solver_cholesky;
-  r->fit = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fit_params, AF_RESPONSE_FIT_ROWS,
-                                      AF_RESPONSE_FIT_PARAMS);
-  r->fit_start = gsl_vector_alloc(AF_RESPONSE_FIT_PARAMS);
-  int split_ok = 1;
-  for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_SPLIT_BUCKETS; ++b) {
-      r->split_fit[q][b] = gsl_multifit_nlinear_alloc(
-          gsl_multifit_nlinear_trust, &fit_params, 2 * af_response_split_bins[b], 4 * (q + 1) + 6);
-      split_ok = split_ok && r->split_fit[q][b] != NULL;
-    }
-  r->fit2_start = gsl_vector_alloc(AF_RESPONSE_SPLIT_PARAMS);
+  r->hum_period = af_response_hum_period(cfg);
+  r->trend_fold = fftw_alloc_real(cfg->window_samples);
+  r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      r->fit == NULL || r->fit_start == NULL || !split_ok || r->fit2_start == NULL ||
-      r->trend_gram == NULL || r->trend_rhs == NULL || r->trend_coef == NULL) {
+      r->trend_fold == NULL || r->noise_cum == NULL || r->trend_gram == NULL ||
+      r->trend_rhs == NULL || r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -193,16 +181,8 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_u);
   fftw_free(r->phase_ul);
   fftw_free(r->phase_um);
-  if (r->fit != NULL)
-    gsl_multifit_nlinear_free(r->fit);
-  for (size_t q = 0; q < 2; ++q)
-    for (size_t b = 0; b < AF_RESPONSE_SPLIT_BUCKETS; ++b)
-      if (r->split_fit[q][b] != NULL)
-        gsl_multifit_nlinear_free(r->split_fit[q][b]);
-  if (r->fit2_start != NULL)
-    gsl_vector_free(r->fit2_start);
-  if (r->fit_start != NULL)
-    gsl_vector_free(r->fit_start);
+  fftw_free(r->trend_fold);
+  fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);
   if (r->trend_rhs != NULL)
@@ -215,6 +195,33 @@ void af_response_destroy(af_response *r)
 const af_response_config *af_response_get_config(const af_response *r)
 {
   return r == NULL ? NULL : &r->cfg;
+}
+
+const char *af_response_fit_status_name(af_response_fit_status status)
+{
+  switch (status) {
+  case AF_RESPONSE_FIT_CONVERGED: return "converged";
+  case AF_RESPONSE_FIT_CAPPED: return "capped";
+  case AF_RESPONSE_FIT_STALLED: return "stalled";
+  case AF_RESPONSE_FIT_FAILED: return "failed";
+  case AF_RESPONSE_FIT_STATUSES: break;
+  }
+  return "unknown";
+}
+
+void af_response_get_fit_stats(const af_response *r, af_response_fit_stats *out)
+{
+  if (out == NULL)
+    return;
+  memset(out, 0, sizeof *out);
+  if (r != NULL)
+    *out = r->fit_stats;
+}
+
+void af_response_reset_fit_stats(af_response *r)
+{
+  if (r != NULL)
+    memset(&r->fit_stats, 0, sizeof r->fit_stats);
 }
 
 /* ---- result and analysis --------------------------------------------------- */

@@ -39,7 +39,7 @@
  *    and the peak power in closed form. It is biased by the mode's own
  *    negative-frequency image and by other modes' skirts (they add to the
  *    complex spectrum, not to the power) and only seeds
- *  - stage 2: a Levenberg-Marquardt fit (GSL multifit_nlinear) of the complex
+ *  - stage 2: a Levenberg-Marquardt fit (response_lm.c) of the complex
  *    bins within 2.5 half-widths to c / (1 - z u) + conj(c) / (1 - conj(z) u)
  *    plus a complex quadratic background, z = exp((-sigma' + i 2 pi f0) dt):
  *    the pole pair is exact; a late onset, the fade-in and the far modes'
@@ -149,8 +149,8 @@ typedef struct af_response af_response;
  * window_samples; unknown window; fade-in < 0 or over a quarter of the
  * window; hum_hz < 0 or >= Nyquist; hum_harmonics > 8; onset_fraction outside
  * [0, 1); snr_threshold_db not finite; noise band not 0 <= lo < hi, lo >=
- * Nyquist or under 8 bins), then takes every buffer (fftw_alloc_*, the GSL fit
- * and least-squares workspaces) and makes the FFTW plan (FFTW_ESTIMATE).
+ * Nyquist or under 8 bins), then takes every buffer (fftw_alloc_*, the trend's
+ * least-squares workspace) and takes the process's FFTW plan (fft_plan.h).
  * AF_ENOMEM if allocation or planning fails; nothing leaks, *out is NULL on
  * any failure. Not thread-safe (FFTW planning). */
 af_status af_response_create(const af_response_config *cfg, af_response **out);
@@ -195,8 +195,7 @@ typedef struct {
  *  AF_EINVAL   NULL pointer, n < 8, or not 0 < f_lo_hz < f_hi_hz < Nyquist
  *              (*out untouched);
  *  AF_ESIZE    n > window_samples; AF_ENUMERIC for a non-finite sample.
- * No allocation; ~140 us at the defaults (median; p99 200 us). r holds the
- * buffers: one analysis at a time per r. */
+ * No allocation. r holds the buffers: one analysis at a time per r. */
 af_status af_response_execute(af_response *r, const float *audio, size_t n, double f_lo_hz,
                               double f_hi_hz, af_response_result *out);
 
@@ -255,14 +254,45 @@ af_status af_response_execute(af_response *r, const float *audio, size_t n, doub
  *  AF_EINVAL   NULL pointer, max_peaks 0, n < 8, or not
  *              0 < f_lo_hz < f_hi_hz < Nyquist (nothing written);
  *  AF_ESIZE    n > window_samples; AF_ENUMERIC for a non-finite sample.
- * No allocation (the buffers and the fits' workspaces are taken at create;
- * the list lives on the stack). ~1.4 ms median, p99 ~6 ms at the defaults
- * for a 40 ms window of an apple's comb (10x af_response_execute: a dozen
- * small fits). The same buffers as af_response_execute: one call at a time
- * per r. */
+ * No allocation (the buffers are taken at create; the list and the fits'
+ * normal equations live on the stack). Cost: a dozen small fits; on a
+ * line-rate bag ~0.1 ms CPU median per strike with the transform, on a
+ * three-mode comb in noise ~0.35 ms (doc/notes/i17-response.md). The same
+ * buffers as af_response_execute: one call at a time per r. */
 af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
                                     double f_hi_hz, af_response_result *peaks, size_t max_peaks,
                                     size_t *n_peaks);
+
+/* How a nonlinear fit of the response ended (every fit is capped: stage 2
+ * at 50 iterations, the peak list's truncated fits at 25):
+ *  CONVERGED  the step, gradient or cost test met (response_lm.c);
+ *  CAPPED     the iteration cap reached (stage 2 then refuses the fit; a
+ *             truncated fit is judged where it stands, its residual decides);
+ *  STALLED    15 steps in a row raised the cost (as CAPPED);
+ *  FAILED     the start could not be evaluated, a residual was not finite,
+ *             or the solver failed: refused. */
+typedef enum {
+  AF_RESPONSE_FIT_CONVERGED = 0,
+  AF_RESPONSE_FIT_CAPPED,
+  AF_RESPONSE_FIT_STALLED,
+  AF_RESPONSE_FIT_FAILED,
+  AF_RESPONSE_FIT_STATUSES /* count */
+} af_response_fit_status;
+
+/* "converged", "capped", "stalled", "failed"; "unknown" otherwise. */
+const char *af_response_fit_status_name(af_response_fit_status status);
+
+/* The fits an object ran since its create or the last reset: how many ended
+ * in each status, their iterations in all and the most in one. */
+typedef struct {
+  size_t fits[AF_RESPONSE_FIT_STATUSES];
+  size_t iterations;
+  size_t max_iterations;
+} af_response_fit_stats;
+
+/* r's counts into *out (zeros for NULL r); reset zeroes them (NULL-safe). */
+void af_response_get_fit_stats(const af_response *r, af_response_fit_stats *out);
+void af_response_reset_fit_stats(af_response *r);
 
 #ifdef __cplusplus
 }

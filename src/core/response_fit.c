@@ -1,5 +1,5 @@
 /* response_fit.c — the Levenberg-Marquardt fits of the complex spectrum
- * (GSL multifit_nlinear): one residual loop for both models, the bare pole
+ * (solver: response_lm.c): one residual loop for both models, the bare pole
  * pair of stage 2 and the truncated one- or two-pole model of the peak list;
  * stage 2 itself and its round with one neighbour.
  *
@@ -22,17 +22,16 @@
 #include "response_private.h"
 
 #include <math.h>
-
-#include <gsl/gsl_errno.h>
+#include <string.h>
 
 /* The complex fit spans this many half-widths (sigma' / 2 pi) each side of
  * the peak, at least AF_RESPONSE_FIT_MIN_HALF bins: wide enough to pin the
  * background polynomial, narrow enough for a quadratic to follow it. */
 #define AF_RESPONSE_FIT_HALFWIDTHS 2.5
 #define AF_RESPONSE_FIT_MIN_HALF 4
-/* Levenberg-Marquardt stops (GSL's tests): steps below 1e-8 relative, or
- * gradient/cost changes at rounding level; 50 iterations are never needed
- * (typically 5-15). */
+/* Levenberg-Marquardt stops (response_lm.c): steps below 1e-8 relative, or
+ * gradient/cost changes at rounding level; at most 50 iterations (typically
+ * 5-15; a stage-2 fit that reaches the cap is refused: status CAPPED). */
 #define AF_RESPONSE_FIT_MAX_ITER 50
 #define AF_RESPONSE_FIT_XTOL 1e-8
 #define AF_RESPONSE_FIT_GTOL 1e-10
@@ -41,12 +40,10 @@
  * far below the noise's scatter, and it halves their iterations. */
 #define AF_RESPONSE_SPLIT_XTOL 1e-6
 /* Iteration cap of the truncated fits: from the stage-1 reading a one-pole
- * fit takes ~15, a refit ~6; a two-pole fit that has not settled in 25 is
- * judged where it stands (and usually refused). */
+ * fit takes ~6 (0.5 % of them reach the cap), a refit ~6; a two-pole fit that
+ * has not settled in 25 is judged where it stands (status CAPPED; 80 % of
+ * the two-pole fits on a noisy comb, most then refused). */
 #define AF_RESPONSE_SPLIT_MAX_ITER 25
-
-const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS] = {17, 33, 49,
-                                                                  2 * AF_RESPONSE_FIT_MAX_HALF + 1};
 
 /* Parameters of a pole and of the background that follows the poles. */
 enum { P_BIN, P_SIGMA, P_ARE, P_AIM, P_POLE, P_BACKGROUND = 6 };
@@ -82,22 +79,21 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
   return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
 }
 
-void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
-                          double sigma, double complex c)
+void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
+                          double complex c)
 {
-  gsl_vector_set(x0, P_POLE * slot + P_BIN, bin);
-  gsl_vector_set(x0, P_POLE * slot + P_SIGMA, sigma);
-  gsl_vector_set(x0, P_POLE * slot + P_ARE, r->ctx.gain * creal(c) / r->ctx.norm);
-  gsl_vector_set(x0, P_POLE * slot + P_AIM, r->ctx.gain * cimag(c) / r->ctx.norm);
+  x0[P_POLE * slot + P_BIN] = bin;
+  x0[P_POLE * slot + P_SIGMA] = sigma;
+  x0[P_POLE * slot + P_ARE] = r->ctx.gain * creal(c) / r->ctx.norm;
+  x0[P_POLE * slot + P_AIM] = r->ctx.gain * cimag(c) / r->ctx.norm;
 }
 
 /* Pole j of the parameters p as a mode of the spectrum (its span untouched). */
-static void pole_at(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+static void pole_at(const af_response *r, const double *p, size_t j, af_peak *out)
 {
-  out->bin = gsl_vector_get(p, P_POLE * j + P_BIN);
-  out->sigma_windowed = gsl_vector_get(p, P_POLE * j + P_SIGMA);
-  out->c = r->ctx.norm / r->ctx.gain *
-           (gsl_vector_get(p, P_POLE * j + P_ARE) + I * gsl_vector_get(p, P_POLE * j + P_AIM));
+  out->bin = p[P_POLE * j + P_BIN];
+  out->sigma_windowed = p[P_POLE * j + P_SIGMA];
+  out->c = r->ctx.norm / r->ctx.gain * (p[P_POLE * j + P_ARE] + I * p[P_POLE * j + P_AIM]);
   out->peak_power = af_response_mode_peak_power(r, out->c, out->sigma_windowed);
 }
 
@@ -105,30 +101,40 @@ static void pole_at(const af_response *r, const gsl_vector *p, size_t j, af_peak
 
 /* acc plus the complex quadratic background at bin k from the parameters at
  * nb on, term by term; its derivatives into d[nb..nb + 6). */
-static double complex background(const af_response *r, const gsl_vector *x, size_t nb, double k,
-                                 double complex acc, double complex *d)
+AF_NUMERIC_KERNEL static double complex background(const af_response *r, const double *x, size_t nb,
+                                                   double k, double complex acc, double complex *d)
 {
   double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
+  const double *b = x + nb;
   for (size_t j = 0; j < 3; ++j, xp *= xb) {
-    acc += xp * (gsl_vector_get(x, nb + 2 * j) + I * gsl_vector_get(x, nb + 2 * j + 1));
+    acc += xp * (b[2 * j] + I * b[2 * j + 1]);
     d[nb + 2 * j] = xp;
     d[nb + 2 * j + 1] = I * xp;
   }
   return acc;
 }
 
-/* The pole pair (stage 2) plus the background at bin k, and its derivatives. */
-static double complex pole_pair_eval(const af_response *r, const gsl_vector *x, size_t bin,
-                                     double complex *d)
+/* z = exp((-sigma' + i 2 pi f0 / N) dt) of the pole pair's parameters. */
+AF_NUMERIC_KERNEL static double complex pair_z(const af_response *r, const double *q)
+{
+  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz;
+  return cexp(-q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft);
+}
+
+/* The pole pair (stage 2, pole z) plus the background at bin k, and its
+ * derivatives. u_k from the phase table; the reciprocals without the C
+ * library's careful complex division (1 - z u is bounded away from 0 by the
+ * decay). */
+AF_NUMERIC_KERNEL static double complex pole_pair_eval(const af_response *r, const double *x,
+                                                       double complex z, size_t bin,
+                                                       double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
-  double complex u = cexp(-I * 2.0 * AF_PI * k / n_fft);
-  double complex z =
-      cexp(-gsl_vector_get(x, P_SIGMA) / fs + I * 2.0 * AF_PI * gsl_vector_get(x, P_BIN) / n_fft);
+  double complex u = r->phase_u[bin];
   double complex zc = conj(z);
-  double complex c = f->norm * (gsl_vector_get(x, P_ARE) + I * gsl_vector_get(x, P_AIM));
-  double complex d1 = 1.0 / (1.0 - z * u), d2 = 1.0 / (1.0 - zc * u);
+  double complex c = f->norm * (x[P_ARE] + I * x[P_AIM]);
+  double complex d1 = complex_recip(1.0 - z * u), d2 = complex_recip(1.0 - zc * u);
   double complex bg = background(r, x, P_POLE, k, 0.0, d);
   /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
   double complex gz = c * u * d1 * d1, gzc = conj(c) * u * d2 * d2;
@@ -145,11 +151,11 @@ typedef struct {
   double complex c;          /* complex amplitude */
 } pole_k;
 
-static void truncated_poles(const af_response *r, const gsl_vector *x, pole_k *pc)
+AF_NUMERIC_KERNEL static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
 {
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
   for (size_t j = 0; j < r->split_poles; ++j) {
-    const double *q = gsl_vector_const_ptr(x, P_POLE * j);
+    const double *q = x + P_POLE * j;
     double complex lz = -q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft;
     pc[j].z = cexp(lz);
     pc[j].zm = cexp(m * lz);
@@ -160,8 +166,8 @@ static void truncated_poles(const af_response *r, const gsl_vector *x, pole_k *p
 
 /* T(a) = (1 - a^m) / (1 - a) = sum_{k < m} a^k and dT/da, from a^m and
  * a^(m - 1). */
-static double complex trunc_sum(double complex a, double complex am, double complex am1, double m,
-                                double complex *d)
+AF_NUMERIC_KERNEL static double complex trunc_sum(double complex a, double complex am,
+                                                  double complex am1, double m, double complex *d)
 {
   double complex inv = complex_recip(1.0 - a);
   double complex t = (1.0 - am) * inv;
@@ -171,8 +177,8 @@ static double complex trunc_sum(double complex a, double complex am, double comp
 
 /* The truncated model of r->split_poles poles (constants pc) plus the
  * background at bin k, and its derivatives. r->phase_um must hold bin k. */
-static double complex truncated_eval(const af_response *r, const pole_k *pc, const gsl_vector *x,
-                                     size_t k, double complex *d)
+AF_NUMERIC_KERNEL static double complex truncated_eval(const af_response *r, const pole_k *pc,
+                                                       const double *x, size_t k, double complex *d)
 {
   const af_fit_ctx *f = &r->ctx;
   double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
@@ -193,64 +199,96 @@ static double complex truncated_eval(const af_response *r, const pole_k *pc, con
 }
 
 /* ---- the one residual loop ---------------------------------------------------
- * Residuals (f) or Jacobian (jac) of the model under way (r->split_poles: 0
- * the pole pair, else the truncated poles) over the fitted bins, real and
- * imaginary parts row by row; the rows beyond them stay 0 (a workspace is
- * sized for the widest fit). GSL_EBADFUNC for a non-finite residual. */
-static int fit_rows(const gsl_vector *x, const af_response *r, gsl_vector *f, gsl_matrix *jac)
+ * The cost (residual sum of squares, real and imaginary parts) of the model
+ * under way (r->split_poles: 0 the pole pair, else the truncated poles) over
+ * the fitted bins and, when a is not NULL, its normal equations a = J^T J
+ * (p x p, full) and g = J^T f, formed in the same pass without storing J:
+ * a bin's real and imaginary rows together give Re(conj(d_j) d_l); the
+ * background's derivatives are x^q and i x^q (x its abscissa), so its block
+ * of J^T J is the moments sum x^(q + q') of the bins alone and its cross
+ * terms with a pole are Re d_j x^q and Im d_j x^q. */
+AF_NUMERIC_KERNEL int af_response_fit_eval(const af_response *r, const double *x, double *cost,
+                                           double *a, double *g)
 {
   double complex d[AF_RESPONSE_SPLIT_PARAMS];
   pole_k pc[2];
-  size_t p = P_POLE * (r->split_poles > 0 ? r->split_poles : 1) + P_BACKGROUND;
+  double complex z = 0.0;
+  size_t poles = r->split_poles > 0 ? r->split_poles : 1;
+  size_t np = P_POLE * poles, p = np + P_BACKGROUND;
+  double moment[5] = {0.0}, sum = 0.0;
   if (r->split_poles > 0)
     truncated_poles(r, x, pc);
-  if (f != NULL)
-    gsl_vector_set_zero(f);
   else
-    gsl_matrix_set_zero(jac);
+    z = pair_z(r, x);
+  if (a != NULL) {
+    memset(a, 0, p * p * sizeof *a);
+    memset(g, 0, p * sizeof *g);
+  }
   for (size_t i = 0; i < r->ctx.count; ++i) {
     size_t k = r->ctx.first + i;
     double complex model =
-        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, k, d);
-    if (f != NULL) {
-      double complex res = model - r->ctx.gain * r->ctx.data[k];
-      if (!isfinite(creal(res)) || !isfinite(cimag(res)))
-        return GSL_EBADFUNC;
-      gsl_vector_set(f, 2 * i, creal(res));
-      gsl_vector_set(f, 2 * i + 1, cimag(res));
+        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
+    double complex res = model - r->ctx.gain * r->ctx.data[k];
+    double fr = creal(res), fi = cimag(res);
+    sum += fr * fr + fi * fi; /* a value not finite makes the sum so: checked once, below */
+    if (a == NULL)
       continue;
+    double xb = ((double)k - r->ctx.center) / r->ctx.half;
+    const double xp[3] = {1.0, xb, xb * xb};
+    for (size_t j = 0; j < np; ++j) {
+      double dr = creal(d[j]), di = cimag(d[j]);
+      double *row = a + j * p;
+      g[j] += dr * fr + di * fi;
+      for (size_t l = j; l < np; ++l)
+        row[l] += dr * creal(d[l]) + di * cimag(d[l]);
+      for (size_t q = 0; q < 3; ++q) {
+        row[np + 2 * q] += dr * xp[q];
+        row[np + 2 * q + 1] += di * xp[q];
+      }
     }
-    for (size_t j = 0; j < p; ++j) {
-      gsl_matrix_set(jac, 2 * i, j, creal(d[j]));
-      gsl_matrix_set(jac, 2 * i + 1, j, cimag(d[j]));
+    for (size_t q = 0; q < 3; ++q) {
+      g[np + 2 * q] += xp[q] * fr;
+      g[np + 2 * q + 1] += xp[q] * fi;
     }
+    double xq = 1.0;
+    for (size_t q = 0; q < 5; ++q, xq *= xb)
+      moment[q] += xq;
   }
-  return GSL_SUCCESS;
-}
-
-static int fit_f(const gsl_vector *x, void *params, gsl_vector *f)
-{
-  return fit_rows(x, params, f, NULL);
-}
-
-static int fit_df(const gsl_vector *x, void *params, gsl_matrix *jac)
-{
-  return fit_rows(x, params, NULL, jac);
-}
-
-/* Runs the fit of r->ctx (model r->split_poles) from start in w, whose rows
- * and parameters are given; the driver's status into *status. 0 if the
- * start cannot be evaluated. */
-static int run(af_response *r, gsl_multifit_nlinear_workspace *w, size_t rows, size_t params,
-               const gsl_vector *start, size_t max_iter, double xtol, int *status)
-{
-  gsl_multifit_nlinear_fdf fdf = {fit_f, fit_df, NULL, rows, params, r, 0, 0, 0};
-  int info = 0;
-  if (gsl_multifit_nlinear_init(start, &fdf, w) != GSL_SUCCESS)
+  *cost = sum;
+  if (!isfinite(sum))
     return 0;
-  *status = gsl_multifit_nlinear_driver(max_iter, xtol, AF_RESPONSE_FIT_GTOL, AF_RESPONSE_FIT_FTOL,
-                                        NULL, NULL, &info, w);
+  if (a == NULL)
+    return 1;
+  /* a derivative not finite makes its diagonal term so (the background's
+   * are powers of a finite abscissa) */
+  for (size_t j = 0; j < np; ++j)
+    if (!isfinite(a[j * p + j]) || !isfinite(g[j]))
+      return 0;
+  for (size_t q = 0; q < 3; ++q)
+    for (size_t t = q; t < 3; ++t) {
+      a[(np + 2 * q) * p + np + 2 * t] = moment[q + t];
+      a[(np + 2 * q + 1) * p + np + 2 * t + 1] = moment[q + t];
+    }
+  for (size_t j = 0; j < p; ++j) /* the lower triangle from the upper */
+    for (size_t l = 0; l < j; ++l)
+      a[j * p + l] = a[l * p + j];
   return 1;
+}
+
+/* Runs the fit of r->ctx (model r->split_poles, params 10 or 14) from x (the
+ * solution into x), at most max_iter iterations (response_lm.c); its cost
+ * (residual sum of squares) into *rss. Counted in r->fit_stats. */
+static af_response_fit_status run(af_response *r, size_t params, double *x, size_t max_iter,
+                                  double xtol, double *rss)
+{
+  size_t iter = 0;
+  af_response_fit_status st = af_response_lm(r, params, x, max_iter, xtol, AF_RESPONSE_FIT_GTOL,
+                                             AF_RESPONSE_FIT_FTOL, rss, &iter);
+  r->fit_stats.fits[st]++;
+  r->fit_stats.iterations += iter;
+  if (iter > r->fit_stats.max_iterations)
+    r->fit_stats.max_iterations = iter;
+  return st;
 }
 
 /* ---- stage 2 ------------------------------------------------------------------ */
@@ -264,17 +302,16 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
   af_response_fit_around(r, k, half, &first, &last);
   if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
     return 0;
-  gsl_vector *p0 = r->fit_start;
-  gsl_vector_set_zero(p0);
+  double *p0 = r->fit_start, rss;
+  memset(p0, 0, sizeof r->fit_start);
   af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
   r->split_poles = 0;
-  int status = GSL_FAILURE;
-  if (!run(r, r->fit, AF_RESPONSE_FIT_ROWS, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER,
-           AF_RESPONSE_FIT_XTOL, &status) ||
-      status != GSL_SUCCESS)
+  /* stage 2 must converge: a capped or stalled fit is no damped mode here */
+  if (run(r, AF_RESPONSE_FIT_PARAMS, p0, AF_RESPONSE_FIT_MAX_ITER, AF_RESPONSE_FIT_XTOL, &rss) !=
+      AF_RESPONSE_FIT_CONVERGED)
     return 0;
   af_peak got = *pk;
-  pole_at(r, gsl_multifit_nlinear_position(r->fit), 0, &got);
+  pole_at(r, p0, 0, &got);
   if (!(got.bin >= pk->span_lo && got.bin <= pk->span_hi) || !(got.sigma_windowed > 0.0))
     return 0;
   *pk = got;
@@ -283,29 +320,20 @@ static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk
 
 /* ---- the truncated fits (peak list) ------------------------------------------ */
 
-int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss)
+int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss)
 {
-  size_t b = 0;
-  while (b + 1 < AF_RESPONSE_SPLIT_BUCKETS && af_response_split_bins[b] < r->ctx.count)
-    ++b;
-  gsl_multifit_nlinear_workspace *w = r->split_fit[poles - 1][b];
+  size_t params = P_POLE * poles + P_BACKGROUND;
   r->split_poles = poles;
-  r->split_last = w;
-  int st = GSL_FAILURE;
-  if (!run(r, w, 2 * af_response_split_bins[b], P_POLE * poles + P_BACKGROUND, start,
-           AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, &st))
+  memcpy(r->split_x, start, params * sizeof *start);
+  /* a truncated fit that reaches its cap or stalls is judged where it
+   * stands (its residual decides); only a failed one is refused */
+  if (run(r, params, r->split_x, AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, rss) ==
+      AF_RESPONSE_FIT_FAILED)
     return 0;
-  if (st != GSL_SUCCESS && st != GSL_EMAXITER && st != GSL_ENOPROG)
-    return 0;
-  const gsl_vector *res = gsl_multifit_nlinear_residual(w);
-  double sum = 0.0;
-  for (size_t i = 0; i < 2 * r->ctx.count; ++i)
-    sum += gsl_vector_get(res, i) * gsl_vector_get(res, i);
-  *rss = sum;
-  return isfinite(sum);
+  return isfinite(*rss);
 }
 
-int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out)
+int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out)
 {
   double sigma_window =
       r->cfg.window == AF_RESPONSE_WINDOW_EXPONENTIAL ? 1.0 / r->cfg.window_time_constant_s : 0.0;

@@ -30,9 +30,12 @@ af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
    * scatters by ~1.5 dB, the mean of m segments by ~1.5/sqrt(m) dB */
   if (r->noise_segments == 0) /* fresh, or after a clear: no mean to update */
     memset(r->noise_ref, 0, r->bins * sizeof *r->noise_ref);
-  double weight = 1.0 / (double)(r->noise_segments + 1);
-  for (size_t k = 0; k < r->bins; ++k)
-    r->noise_ref[k] += weight * (r->power[k] / energy - r->noise_ref[k]);
+  double weight = 1.0 / (double)(r->noise_segments + 1), per_energy = 1.0 / energy;
+  r->noise_cum[0] = 0.0;
+  for (size_t k = 0; k < r->bins; ++k) {
+    r->noise_ref[k] += weight * (r->power[k] * per_energy - r->noise_ref[k]);
+    r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
+  }
   r->noise_segments++;
   return AF_OK;
 }
@@ -70,9 +73,9 @@ static double reference_floor(const af_response *r, double f_lo_hz, double f_hi_
   af_response_band_bins(f_lo_hz, f_hi_hz, r->bin_hz, r->bins - 1, &k_lo, &k_hi);
   if (k_hi < k_lo)
     k_hi = k_lo;
-  double sum = 0.0;
-  for (size_t k = k_lo; k <= k_hi; ++k)
-    sum += r->noise_ref[k];
+  /* from the running sum: one subtraction per peak, not a loop over its
+   * +-20 % (the peak list asks at every local maximum of the band) */
+  double sum = r->noise_cum[k_hi + 1] - r->noise_cum[k_lo];
   return energy * sum / (double)(k_hi - k_lo + 1);
 }
 

@@ -11,8 +11,10 @@
  *  response_noise.c     the noise floor: the reference, the band's median;
  *  response_peaks.c     peak finding and the closed-form stage-1 reading;
  *  response_mode.c      a mode's spectrum through the window (exact sums);
- *  response_fit.c       the Levenberg-Marquardt fits (one residual loop for
- *                       every model), stage 2 and the neighbour's round;
+ *  response_fit.c       the complex fits (one residual loop for every model,
+ *                       forming the normal equations), stage 2 and the
+ *                       neighbour's round;
+ *  response_lm.c        their Levenberg-Marquardt solver (caps, statuses);
  *  response_split.c     the peak list's two-pole split and backfit;
  *  response_list.c      af_response_execute_peaks: the list of a band's modes.
  *
@@ -27,7 +29,6 @@
 #include <complex.h>
 #include <fftw3.h>
 #include <gsl/gsl_matrix.h>
-#include <gsl/gsl_multifit_nlinear.h>
 #include <gsl/gsl_vector.h>
 
 #include "fft_plan.h"
@@ -45,10 +46,6 @@
 #define AF_RESPONSE_FIT_ROWS (2 * (2 * AF_RESPONSE_FIT_MAX_HALF + 1))
 /* The peak list's two-pole fit: two modes (4 each) and the background (6). */
 #define AF_RESPONSE_SPLIT_PARAMS 14
-/* Span sizes [bins] the truncated fits have workspaces for; the last is the
- * widest span, 2 AF_RESPONSE_FIT_MAX_HALF + 1 (defined in response_fit.c). */
-#define AF_RESPONSE_SPLIT_BUCKETS 4
-extern const size_t af_response_split_bins[AF_RESPONSE_SPLIT_BUCKETS];
 /* Hum removal: at most this many harmonics (response_trend.c). */
 #define AF_RESPONSE_MAX_HUM_HARMONICS 8
 #define AF_RESPONSE_MAX_TERMS (1 + 2 * AF_RESPONSE_MAX_HUM_HARMONICS)
@@ -82,39 +79,37 @@ typedef struct {
 
 struct af_response {
   af_response_config cfg;
-  size_t bins;                         /* fft_size / 2 + 1 */
-  double bin_hz;                       /* sample_rate_hz / fft_size [Hz] */
-  double *in;                          /* fft input, fft_size samples */
-  double complex *spec;                /* fft output, bins values */
-  af_fft_r2c plan;                     /* r2c, shared by the process (fft_plan.h) */
-  double *window;                      /* window_samples weights */
-  size_t fade_samples;                 /* length of the fade-in [samples] */
-  double *power;                       /* periodogram |X_k|^2 of the last transform */
-  double *noise_ref;                   /* mean reference periodogram per unit window energy */
-  double *scratch;                     /* median workspace (noise band) */
-  double complex *work;                /* spectrum less a fitted mode (near the peak only) */
-  double *work_power;                  /* |work|^2 */
-  double complex *orig;                /* the transform before the peak list took modes off */
-  double complex *phase_u;             /* u_k = exp(-i 2 pi k / N), every bin */
-  double complex *phase_ul;            /* u_k^L, L the fade-in length */
-  double complex *phase_um;            /* u_k^m, m the analysed length of the peak list's call */
-  double split_len;                    /* that m [samples] */
-  double complex fade_e, fade_eh;      /* exp(i theta), exp(i theta / 2), theta = pi / L */
-  size_t noise_segments;               /* segments averaged into noise_ref */
-  gsl_multifit_nlinear_workspace *fit; /* complex peak fit, AF_RESPONSE_FIT_ROWS x PARAMS */
-  gsl_vector *fit_start;               /* its starting point */
-  /* truncated fits of the peak list: [poles - 1][bucket], rows 2 x
-   * af_response_split_bins[bucket], 4 poles + 6 parameters (sized to the span: the
-   * normal equations cost grows with the rows, used or zero) */
-  gsl_multifit_nlinear_workspace *split_fit[2][AF_RESPONSE_SPLIT_BUCKETS];
-  gsl_multifit_nlinear_workspace *split_last; /* the one the last truncated fit ran in */
-  gsl_vector *fit2_start;                     /* their starting point (two poles' room) */
+  size_t bins;                    /* fft_size / 2 + 1 */
+  double bin_hz;                  /* sample_rate_hz / fft_size [Hz] */
+  double *in;                     /* fft input, fft_size samples */
+  double complex *spec;           /* fft output, bins values */
+  af_fft_r2c plan;                /* r2c, shared by the process (fft_plan.h) */
+  double *window;                 /* window_samples weights */
+  size_t fade_samples;            /* length of the fade-in [samples] */
+  double *power;                  /* periodogram |X_k|^2 of the last transform */
+  double *noise_ref;              /* mean reference periodogram per unit window energy */
+  double *scratch;                /* median workspace (noise band) */
+  double complex *work;           /* spectrum less a fitted mode (near the peak only) */
+  double *work_power;             /* |work|^2 */
+  double complex *orig;           /* the transform before the peak list took modes off */
+  double complex *phase_u;        /* u_k = exp(-i 2 pi k / N), every bin */
+  double complex *phase_ul;       /* u_k^L, L the fade-in length */
+  double complex *phase_um;       /* u_k^m, m the analysed length of the peak list's call */
+  double split_len;               /* that m [samples] */
+  double complex fade_e, fade_eh; /* exp(i theta), exp(i theta / 2), theta = pi / L */
+  size_t noise_segments;          /* segments averaged into noise_ref */
+  double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
+  double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
   size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
                                          1 or 2 the poles of a truncated fit */
   af_fit_ctx ctx;                     /* the fit under way */
   gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
   gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
   size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
+  size_t hum_period;                  /* af_response_hum_period; 0 = none */
+  double *trend_fold;                 /* one hum period: folded samples, then the trend */
+  double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
+  af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
 
 /* A mode of the spectrum as the refinement sees it, before the window's decay
@@ -132,6 +127,17 @@ typedef struct {
 typedef struct {
   double complex c, z, zm, zl; /* z^m (m = r->split_len), z^L (the fade-in) */
 } af_mode_k;
+
+/* The fits' numeric kernels (the model's pass over the bins, the solver)
+ * carry no coverage instrumentation in the fuzzing build: libFuzzer's hook
+ * on every loop comparison made them several times slower there (GSL's
+ * solver, which they replace, was never instrumented) and their branches are
+ * arithmetic, not input structure. ASan and UBSan still check them. */
+#if defined(__clang__) /* clang's spelling; gcc builds no fuzzer */
+#define AF_NUMERIC_KERNEL __attribute__((no_sanitize("coverage")))
+#else
+#define AF_NUMERIC_KERNEL
+#endif
 
 /* 1 / b without the C library's careful complex division (b is never near
  * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
@@ -166,8 +172,10 @@ size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
 void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
                            size_t harmonics);
 /* dst[k] = x[start + k] less the fitted trend, k < m. */
-void af_response_trend_remove(const af_response *r, const float *x, size_t start, size_t m,
-                              double *dst);
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst);
+/* The hum's period [samples] when whole and at most window_samples (48 kHz
+ * and 50 or 60 Hz: 960, 800), else 0: the trend then repeats exactly. */
+size_t af_response_hum_period(const af_response_config *c);
 
 /* ---- response_transform.c ---- */
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
@@ -234,14 +242,27 @@ void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t 
 int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
                          double center, double half, size_t k, double sigma_windowed);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
-void af_response_fit_seed(const af_response *r, gsl_vector *x0, size_t slot, double bin,
-                          double sigma, double complex c);
+void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
+                          double complex c);
 /* The truncated fit of 'poles' poles from start on r->ctx; rss into *rss. */
-int af_response_split_run(af_response *r, size_t poles, const gsl_vector *start, double *rss);
+int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss);
 /* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
-int af_response_split_pole(const af_response *r, const gsl_vector *p, size_t j, af_peak *out);
+int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out);
 /* The mode at the local maximum k, refined as far as the data allow. */
 int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
+
+/* The cost (residual sum of squares) of the model under way at x and, when
+ * a is not NULL, its normal equations a = J^T J (p x p, full, row-major)
+ * and g = J^T f, p its parameters; 0 if a value is not finite. */
+int af_response_fit_eval(const af_response *r, const double *x, double *cost, double *a, double *g);
+
+/* ---- response_lm.c ---- */
+/* Levenberg-Marquardt on r->ctx from x (params values; the solution into x),
+ * at most max_iter steps; the final cost (residual sum of squares) into
+ * *cost, the steps taken into *iterations; the status says how it ended. */
+af_response_fit_status af_response_lm(af_response *r, size_t params, double *x, size_t max_iter,
+                                      double xtol, double gtol, double ftol, double *cost,
+                                      size_t *iterations);
 
 /* ---- response_split.c ---- */
 /* The truncated reading of the peak at k (one or two poles; 0 none). */

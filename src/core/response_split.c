@@ -5,6 +5,7 @@
 #include "response_private.h"
 
 #include <math.h>
+#include <string.h>
 
 /* ---- two close modes (peak list) ---------------------------------------------
  * Two modes closer than their windowed width (a split 0S2, the 0T2 or a
@@ -34,10 +35,9 @@ static const double split_offsets[] = {0.5, 1.0};
  * squares into *rss; 0 if it fails. */
 static int one_pole(af_response *r, const af_peak *pk, double *rss)
 {
-  gsl_vector_set_zero(r->fit2_start);
-  af_response_fit_seed(r, r->fit2_start, 0, pk->bin, pk->sigma_windowed, pk->c);
-  gsl_vector_view one = gsl_vector_subvector(r->fit2_start, 0, AF_RESPONSE_FIT_PARAMS);
-  return af_response_split_run(r, 1, &one.vector, rss);
+  memset(r->fit_start, 0, sizeof r->fit_start);
+  af_response_fit_seed(r, r->fit_start, 0, pk->bin, pk->sigma_windowed, pk->c);
+  return af_response_split_run(r, 1, r->fit_start, rss);
 }
 
 /* The bins of a two-pole fit around k (and the neighbour j, 0 if none):
@@ -63,7 +63,7 @@ static int split_setup(af_response *r, size_t k, size_t j, const af_peak *pk)
 static int split_accept(const af_response *r, double threshold, af_peak a[2])
 {
   af_peak lo, hi;
-  const gsl_vector *p = gsl_multifit_nlinear_position(r->split_last);
+  const double *p = r->split_x;
   if (!af_response_split_pole(r, p, 0, &lo) || !af_response_split_pole(r, p, 1, &hi) ||
       !(fabs(lo.bin - hi.bin) >= 1.0))
     return 0;
@@ -98,9 +98,8 @@ int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise,
   if (!one_pole(r, pk, &rss1))
     return 0;
   if (!(rss1 > AF_RESPONSE_SPLIT_MISFIT * expected))
-    return j == 0 &&
-           af_response_split_pole(r, gsl_multifit_nlinear_position(r->split_last), 0, &a[0]) &&
-           a[0].bin >= pk->span_lo && a[0].bin <= pk->span_hi;
+    return j == 0 && af_response_split_pole(r, r->split_x, 0, &a[0]) && a[0].bin >= pk->span_lo &&
+           a[0].bin <= pk->span_hi;
   double sigma_window =
       r->cfg.window == AF_RESPONSE_WINDOW_EXPONENTIAL ? 1.0 / r->cfg.window_time_constant_s : 0.0;
   double sigma0 = fmax(0.6 * pk->sigma_windowed, sigma_window + 0.1 * pk->sigma_windowed);
@@ -108,9 +107,9 @@ int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise,
   size_t tries = sizeof split_offsets / sizeof split_offsets[0];
   /* the neighbour's maximum first (when there is one), then the offsets; the
    * first start that passes is taken */
-  gsl_vector *x0 = r->fit2_start;
+  double *x0 = r->fit_start;
   for (size_t t = j != 0 ? 0 : 1; t <= tries; ++t) {
-    gsl_vector_set_zero(x0);
+    memset(x0, 0, sizeof r->fit_start);
     if (t == 0) {
       af_response_fit_seed(r, x0, 0, pk->bin, pk->sigma_windowed, pk->c);
       af_response_fit_seed(r, x0, 1, (double)j, pk->sigma_windowed,
@@ -160,8 +159,7 @@ static int backfit_one(af_response *r, af_peak *modes, af_mode_k *consts, size_t
     return 0;
   double rss;
   af_peak pk;
-  if (!one_pole(r, &modes[i], &rss) ||
-      !af_response_split_pole(r, gsl_multifit_nlinear_position(r->split_last), 0, &pk))
+  if (!one_pole(r, &modes[i], &rss) || !af_response_split_pole(r, r->split_x, 0, &pk))
     return 0;
   double halfwidth_bins = modes[i].sigma_windowed / (2.0 * AF_PI * r->bin_hz);
   if (!(fabs(pk.bin - modes[i].bin) <= halfwidth_bins))

@@ -128,7 +128,9 @@ void af_response_transform(af_response *r, const float *x, size_t n, size_t star
   }
   memset(r->in + m, 0, (r->cfg.fft_size - m) * sizeof *r->in);
   af_fft_r2c_execute(&r->plan, r->in, r->spec);
-  for (size_t k = 0; k < r->bins; ++k)
-    r->power[k] = creal(r->spec[k] * conj(r->spec[k]));
+  for (size_t k = 0; k < r->bins; ++k) {
+    double re = creal(r->spec[k]), im = cimag(r->spec[k]);
+    r->power[k] = re * re + im * im;
+  }
   *window_energy = energy;
 }

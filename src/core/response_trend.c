@@ -97,19 +97,54 @@ static void trend_gram(double theta, size_t m, size_t harmonics, gsl_matrix *g)
   }
 }
 
+size_t af_response_hum_period(const af_response_config *c)
+{
+  if (!(c->hum_hz > 0.0))
+    return 0;
+  double p = c->sample_rate_hz / c->hum_hz, q = round(p);
+  if (!(fabs(p - q) <= 1e-9 * p) || q < 2.0 || q > (double)c->window_samples)
+    return 0;
+  return (size_t)q;
+}
+
+/* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
+ * basis repeats every P samples: x is first folded onto one period
+ * (y_j = sum of the samples k = j mod P), then the basis runs over P samples
+ * only (~4x fewer at 4096 samples, 50 Hz, 48 kHz); else over all m. */
+static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
+                      double *rhs)
+{
+  size_t p = 1 + 2 * harmonics, period = r->hum_period;
+  rotor rot = rotor_start(r);
+  double phi[AF_RESPONSE_MAX_TERMS];
+  if (harmonics > 0 && period > 0 && period < m) {
+    double *y = r->trend_fold;
+    for (size_t j = 0; j < period; ++j)
+      y[j] = 0.0;
+    for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
+      y[j] += (double)x[start + k];
+    for (size_t j = 0; j < period; ++j) {
+      trend_basis(&rot, harmonics, phi);
+      for (size_t i = 0; i < p; ++i)
+        rhs[i] += phi[i] * y[j];
+    }
+    return;
+  }
+  for (size_t k = 0; k < m; ++k) {
+    trend_basis(&rot, harmonics, phi);
+    for (size_t i = 0; i < p; ++i)
+      rhs[i] += phi[i] * (double)x[start + k];
+  }
+}
+
 /* Least-squares DC + harmonics of x[start..n) into r->trend_coef; falls back
  * to the mean alone when the normal equations are singular (a segment far
  * shorter than a hum period). */
 void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n, size_t harmonics)
 {
   size_t p = 1 + 2 * harmonics;
-  rotor rot = rotor_start(r);
-  double phi[AF_RESPONSE_MAX_TERMS], rhs[AF_RESPONSE_MAX_TERMS] = {0};
-  for (size_t k = start; k < n; ++k) {
-    trend_basis(&rot, harmonics, phi);
-    for (size_t i = 0; i < p; ++i)
-      rhs[i] += phi[i] * (double)x[k];
-  }
+  double rhs[AF_RESPONSE_MAX_TERMS] = {0};
+  trend_rhs(r, x, start, n - start, harmonics, rhs);
   gsl_matrix_view g = gsl_matrix_submatrix(r->trend_gram, 0, 0, p, p);
   gsl_vector_view b = gsl_vector_subvector(r->trend_rhs, 0, p);
   gsl_vector_view a = gsl_vector_subvector(r->trend_coef, 0, p);
@@ -127,22 +162,35 @@ void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t 
   gsl_vector_set(r->trend_coef, 0, rhs[0] / (double)(n - start));
 }
 
+/* The trend of the last fit at sample k of the rotor (restarted at 0). */
+static double trend_at(rotor *rot, size_t harmonics, size_t terms, const double *coef)
+{
+  double phi[AF_RESPONSE_MAX_TERMS], trend = 0.0;
+  trend_basis(rot, harmonics, phi);
+  for (size_t i = 0; i < terms; ++i)
+    trend += phi[i] * coef[i];
+  return trend;
+}
+
 /* dst[k] = x[start + k] less the trend of the last fit, k < m: the DC and
  * harmonics of r->trend_coef, the rotor restarted at start (the fit's phase
- * origin). */
-void af_response_trend_remove(const af_response *r, const float *x, size_t start, size_t m,
-                              double *dst)
+ * origin); with a whole hum period, one period of the trend computed and
+ * repeated. */
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst)
 {
-  size_t harmonics = (r->trend_terms - 1) / 2;
+  size_t harmonics = (r->trend_terms - 1) / 2, period = r->hum_period;
   rotor rot = rotor_start(r);
-  double phi[AF_RESPONSE_MAX_TERMS], coef[AF_RESPONSE_MAX_TERMS];
+  double coef[AF_RESPONSE_MAX_TERMS];
   for (size_t i = 0; i < r->trend_terms; ++i)
     coef[i] = gsl_vector_get(r->trend_coef, i);
-  for (size_t k = 0; k < m; ++k) {
-    trend_basis(&rot, harmonics, phi);
-    double trend = 0.0;
-    for (size_t i = 0; i < r->trend_terms; ++i)
-      trend += phi[i] * coef[i];
-    dst[k] = (double)x[start + k] - trend;
+  if (harmonics > 0 && period > 0 && period < m) {
+    double *t = r->trend_fold;
+    for (size_t j = 0; j < period; ++j)
+      t[j] = trend_at(&rot, harmonics, r->trend_terms, coef);
+    for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
+      dst[k] = (double)x[start + k] - t[j];
+    return;
   }
+  for (size_t k = 0; k < m; ++k)
+    dst[k] = (double)x[start + k] - trend_at(&rot, harmonics, r->trend_terms, coef);
 }
