@@ -414,8 +414,11 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
               (unsigned long long)s->lost_samples);
   af_text(key, sizeof key, "%s restarts", s->name);
-  af_diag_add(d, key, "%llu (duplicate chunks ignored %llu)", (unsigned long long)s->restarts,
-              (unsigned long long)s->duplicates);
+  af_diag_add(d, key,
+              "%llu (duplicate chunks ignored %llu; overlapping chunks %llu, their new tails kept; "
+              "samples sent twice %llu)",
+              (unsigned long long)s->restarts, (unsigned long long)s->duplicates,
+              (unsigned long long)s->overlaps, (unsigned long long)s->duplicate_samples);
   af_text(key, sizeof key, "%s bad chunks", s->name);
   af_diag_add(d, key,
               "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",

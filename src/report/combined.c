@@ -51,6 +51,8 @@ static void add_stream(af_session_stream *into, const af_session_stream *s)
   into->refused_samples += s->refused_samples;
   into->refused_spans += s->refused_spans;
   into->duplicates += s->duplicates;
+  into->overlaps += s->overlaps;
+  into->duplicate_samples += s->duplicate_samples;
 }
 
 static void add_counts(af_summary *into, const af_summary *m)

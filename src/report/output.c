@@ -78,10 +78,12 @@ static void text_stream(FILE *out, const char *name, const af_session_stream *s)
 {
   fprintf(out,
           "  %-5s %8" PRIu64 " chunks, %" PRIu64 " gaps (%" PRIu64 " samples lost), %" PRIu64
-          " restarts, %" PRIu64 " duplicates, %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64
+          " restarts, %" PRIu64 " duplicates, %" PRIu64 " overlaps (%" PRIu64
+          " samples sent twice), %" PRIu64 " refused (rate %" PRIu64 ", unit %" PRIu64
           ", index %" PRIu64 ", malformed %" PRIu64 ", oversized %" PRIu64 "), %" PRIu64
           " non-finite samples refused in %" PRIu64 " spans\n",
-          name, s->chunks, s->gaps, s->lost_samples, s->restarts, s->duplicates,
+          name, s->chunks, s->gaps, s->lost_samples, s->restarts, s->duplicates, s->overlaps,
+          s->duplicate_samples,
           s->bad_rate + s->bad_unit + s->bad_index + s->malformed + s->oversized, s->bad_rate,
           s->bad_unit, s->bad_index, s->malformed, s->oversized, s->refused_samples,
           s->refused_spans);
@@ -298,11 +300,12 @@ static void json_stream(FILE *out, const char *key, const af_session_stream *s)
           "    \"%s\": {\"chunks\": %" PRIu64 ", \"gaps\": %" PRIu64 ", \"lost_samples\": %" PRIu64
           ", \"restarts\": %" PRIu64 ", \"bad_rate\": %" PRIu64 ", \"bad_unit\": %" PRIu64
           ", \"bad_index\": %" PRIu64 ", \"malformed\": %" PRIu64 ", \"oversized\": %" PRIu64
-          ", \"duplicates\": %" PRIu64 ", \"refused_samples\": %" PRIu64
+          ", \"duplicates\": %" PRIu64 ", \"overlaps\": %" PRIu64
+          ", \"duplicate_samples\": %" PRIu64 ", \"refused_samples\": %" PRIu64
           ", \"refused_spans\": %" PRIu64 "},\n",
           key, s->chunks, s->gaps, s->lost_samples, s->restarts, s->bad_rate, s->bad_unit,
-          s->bad_index, s->malformed, s->oversized, s->duplicates, s->refused_samples,
-          s->refused_spans);
+          s->bad_index, s->malformed, s->oversized, s->duplicates, s->overlaps,
+          s->duplicate_samples, s->refused_samples, s->refused_spans);
 }
 
 /* A first warning's strike number, null for never. */

@@ -173,6 +173,8 @@ static void copy_stream(af_session_stream *out, const af_stream *s)
   out->bad_rate = s->bad_rate;
   out->bad_unit = s->bad_unit;
   out->duplicates = s->duplicates;
+  out->overlaps = s->overlaps;
+  out->duplicate_samples = s->duplicate_samples;
   out->bad_index = s->bad_index;
   out->malformed = s->malformed;
   out->oversized = s->oversized;

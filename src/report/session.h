@@ -89,6 +89,8 @@ typedef struct {
       oversized;
   uint64_t refused_samples, refused_spans; /* non-finite samples of accepted chunks */
   uint64_t duplicates;                     /* chunks that repeat samples already held */
+  uint64_t overlaps, duplicate_samples;    /* chunks whose head repeated held samples (tail kept);
+                                              samples sent again (stream.h) */
   int64_t first_ns, end_ns; /* time of the first sample, end of the last chunk [ns] */
 } af_session_stream;
 

@@ -24,7 +24,7 @@ fr=$hostile_bin/firmness_report
 
 # 169 of the 170 force chunks start 40 samples before the previous one's end,
 # those 40 as sent: no restart (there were 169).
-hostile_case overlap_no_restart 0 'force +170 chunks, 0 gaps \(0 samples lost\), 0 restarts, 0 duplicates' \
+hostile_case overlap_no_restart 0 'force +170 chunks, 0 gaps \(0 samples lost\), 0 restarts, 0 duplicates, 169 overlaps \(6760 samples sent twice\)' \
   2 256 -- "$fr" "$tmp/overlap.bag"
 # ... and its strikes are the good bag's: the detector takes only each
 # chunk's new tail (lane.c), so the same 4 strikes, row for row.
