@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <threads.h>
 
 #include "criteria.h"
 #include "impact.h"
@@ -12,6 +13,7 @@
 #include "lamb.h"
 #include "settings.h"
 #include "spectrum.h"
+#include "stage.h"
 #include "stress.h"
 
 #ifndef M_PI
@@ -54,19 +56,34 @@ enum {
   NQ = Q_LOBES + AF_FP_LOBES * AF_FP_LOBE_FIGS
 };
 
+/* The table: built once per process, read-only after (shared by every
+ * handle on every thread). */
+typedef struct {
+  double *q;    /* [chi][gamma][NQ] */
+  int *n_lobes; /* [chi][gamma]; -1: not tabulated */
+  double *mag;  /* [chi][gamma][phi]: |X| / (F0 T) */
+  af_setting_range ranges[AF_SETTING_COUNT]; /* the parameter table's ranges, parsed once */
+} af_fp_table;
+
+/* One user's handle: the table's address, its own caches, fallback and counts. */
 struct af_fastpath {
-  double *q;     /* [chi][gamma][NQ] */
-  int *n_lobes;  /* [chi][gamma] */
-  double *mag;   /* [chi][gamma][phi]: |X| / (F0 T) */
-  af_model *ode; /* the reference, for fallbacks */
+  const af_fp_table *t; /* NULL until the first execute */
+  af_model *ode;        /* the reference, for fallbacks; made at the first one */
   af_shear_cache shear;
   af_lamb_cache xi;
   af_impact *impact;      /* for chi(e) */
   af_damping_law chi_law; /* chi of the last (law, e) asked */
   double chi_e, chi;
-  af_setting_range ranges[AF_SETTING_COUNT]; /* the table's ranges, parsed once */
   size_t from_table, fallbacks;
 };
+
+/* The process's table and the status of its build (call_once). */
+static struct {
+  af_status status;
+  af_fp_table *table;
+  double build_cpu_s;
+} shared;
+static once_flag shared_once = ONCE_FLAG_INIT;
 
 static size_t node_index(int i, int j)
 {
@@ -76,7 +93,7 @@ static size_t node_index(int i, int j)
 /* The normalising strike of a node: 10 g at 1 m/s on 8 MPa, R 40 mm, rigid
  * flat hammer; chi set through Hu-Guo's law (e = 3 / (3 + 2 chi) gives
  * exactly chi), gamma through g. */
-static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, double *force,
+static af_status build_node(af_fp_table *f, af_impact *imp, af_spectrum *spec, double *force,
                             double *defo, double chi, double gamma, size_t at)
 {
   af_impact_params ip = af_impact_params_default();
@@ -138,7 +155,7 @@ static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, d
   return AF_OK;
 }
 
-static af_status build(af_fastpath *f)
+static af_status build(af_fp_table *f)
 {
   af_spectrum_config sc = af_spectrum_config_default();
   af_spectrum *spec = NULL;
@@ -162,29 +179,61 @@ static af_status build(af_fastpath *f)
   return st;
 }
 
+static void table_free(af_fp_table *t)
+{
+  if (t == NULL)
+    return;
+  free(t->q);
+  free(t->n_lobes);
+  free(t->mag);
+  free(t);
+}
+
+/* Builds shared (call_once: one thread, once per process). */
+static void shared_build(void)
+{
+  const int64_t t0_ns = af_stage_now_ns();
+  af_fp_table *t = calloc(1, sizeof *t);
+  size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
+  af_status st = AF_ENOMEM;
+  if (t != NULL) {
+    t->q = malloc(nodes * NQ * sizeof *t->q);
+    t->n_lobes = malloc(nodes * sizeof *t->n_lobes);
+    t->mag = malloc(nodes * AF_FP_NPHI * sizeof *t->mag);
+    st = t->q && t->n_lobes && t->mag ? AF_OK : AF_ENOMEM;
+  }
+  for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
+    if (af_setting_range_of((af_setting_id)k, &t->ranges[k]) != AF_OK)
+      t->ranges[k].lo = NAN; /* not a number row: never asked */
+  if (st == AF_OK)
+    st = build(t);
+  if (st != AF_OK) {
+    table_free(t);
+    t = NULL;
+  }
+  shared.status = st;
+  shared.table = t;
+  shared.build_cpu_s = (double)(af_stage_now_ns() - t0_ns) * 1e-9;
+}
+
+af_status af_fastpath_table_build(double *build_cpu_s)
+{
+  call_once(&shared_once, shared_build);
+  if (build_cpu_s)
+    *build_cpu_s = shared.build_cpu_s;
+  return shared.status;
+}
+
 af_status af_fastpath_create(af_fastpath **out)
 {
   af_fastpath *f = calloc(1, sizeof *f);
   *out = NULL;
   if (f == NULL)
     return AF_ENOMEM;
-  size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
-  f->q = malloc(nodes * NQ * sizeof *f->q);
-  f->n_lobes = malloc(nodes * sizeof *f->n_lobes);
-  f->mag = malloc(nodes * AF_FP_NPHI * sizeof *f->mag);
   af_shear_cache_reset(&f->shear);
   af_lamb_cache_reset(&f->xi);
-  af_status st = f->q && f->n_lobes && f->mag ? AF_OK : AF_ENOMEM;
-  if (st == AF_OK)
-    st = af_model_create(&f->ode);
-  if (st == AF_OK)
-    st = af_impact_create(&f->impact);
-  for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
-    if (af_setting_range_of((af_setting_id)k, &f->ranges[k]) != AF_OK)
-      f->ranges[k].lo = NAN; /* not a number row: never asked */
   f->chi_e = NAN;
-  if (st == AF_OK)
-    st = build(f);
+  af_status st = af_impact_create(&f->impact);
   if (st != AF_OK) {
     af_fastpath_destroy(f);
     return st;
@@ -197,9 +246,6 @@ void af_fastpath_destroy(af_fastpath *f)
 {
   if (f == NULL)
     return;
-  free(f->q);
-  free(f->n_lobes);
-  free(f->mag);
   af_model_destroy(f->ode);
   af_impact_destroy(f->impact);
   free(f);
@@ -207,6 +253,8 @@ void af_fastpath_destroy(af_fastpath *f)
 
 af_model *af_fastpath_model(af_fastpath *f)
 {
+  if (f != NULL && f->ode == NULL && af_model_create(&f->ode) != AF_OK)
+    f->ode = NULL;
   return f ? f->ode : NULL;
 }
 
@@ -254,7 +302,7 @@ static bool weights(double x, int n, af_fp_weights *out)
 }
 
 /* Bicubic value of quantity k over the (chi, gamma) stencil. */
-static double bicubic_q(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b, int k)
+static double bicubic_q(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b, int k)
 {
   double s = 0.0;
   for (int i = 0; i < 4; i++) {
@@ -266,7 +314,7 @@ static double bicubic_q(const af_fastpath *f, const af_fp_weights *a, const af_f
 }
 
 /* |X| / (F0 T) at phi: bicubic in (chi, gamma), cubic in phi. */
-static double magnitude(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+static double magnitude(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                         const af_fp_weights *c)
 {
   double s = 0.0;
@@ -279,7 +327,7 @@ static double magnitude(const af_fastpath *f, const af_fp_weights *a, const af_f
   return s;
 }
 
-static bool lobes_agree(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b)
+static bool lobes_agree(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b)
 {
   int n = f->n_lobes[node_index(a->i0, b->i0)];
   for (int i = 0; i < 4; i++)
@@ -290,7 +338,7 @@ static bool lobes_agree(const af_fastpath *f, const af_fp_weights *a, const af_f
 }
 
 /* Figure k equals figure edge at some nodes of the stencil but not all. */
-static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+static bool clipped_mixed(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                           int k, int edge)
 {
   int clipped = 0;
@@ -304,14 +352,19 @@ static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af
 
 static af_status fallback(af_fastpath *f, const af_model_params *p, af_model_result *r)
 {
+  af_model *ode = af_fastpath_model(f);
   f->fallbacks++;
-  return af_model_execute(f->ode, p, r);
+  if (ode == NULL) {
+    memset(r, 0, sizeof *r);
+    return AF_ENOMEM;
+  }
+  return af_model_execute(ode, p, r);
 }
 
 /* af_model_params_check's numeric rows, with the ranges parsed once: the
  * quick test of every call. A strike it refuses (or a choice out of its
  * enum) goes to af_model_params_check itself for the verdict and message. */
-static bool quick_check(const af_fastpath *f, const af_model_params *p)
+static bool quick_check(const af_fp_table *f, const af_model_params *p)
 {
   const af_impact_params *i = &p->impact;
   const struct {
@@ -352,7 +405,12 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   const af_impact_params *ip = &p->impact;
   double chi = f->chi, xi, ratio;
   af_status st = AF_OK;
-  if (!quick_check(f, p)) {
+  if (f->t == NULL && af_fastpath_table_build(NULL) == AF_OK)
+    f->t = shared.table;
+  const af_fp_table *tb = f->t;
+  if (tb == NULL) /* no table (out of memory): every strike by the ODE path */
+    return fallback(f, p, r);
+  if (!quick_check(tb, p)) {
     st = af_model_params_check(p, NULL);
     if (st != AF_OK) {
       memset(r, 0, sizeof *r);
@@ -382,22 +440,22 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   af_fp_weights a, b, c;
   if (!weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &a) ||
       !weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) ||
-      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) || !lobes_agree(f, &a, &b))
+      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) || !lobes_agree(tb, &a, &b))
     return fallback(f, p, r);
   memset(r, 0, sizeof *r);
-  int n = f->n_lobes[node_index(a.i0, b.i0)];
+  int n = tb->n_lobes[node_index(a.i0, b.i0)];
   int band_fig = p->band_level == AF_BAND_POWER_HALF ? 4 : 6;
   r->n_lobes = (size_t)n;
   for (int l = 0; l < n; l++) {
     int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe *lb = &r->lobes[l];
     lb->index = (unsigned)(l + 1);
-    lb->start_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 0) / t;
-    lb->end_hz = bicubic_q(f, &a, &b, base + 1) / t;
-    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 2) / t;
-    lb->peak_magnitude_n_s = bicubic_q(f, &a, &b, base + 3) * f0 * t;
-    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + band_fig) / t;
-    lb->band_high_hz = bicubic_q(f, &a, &b, base + band_fig + 1) / t;
+    lb->start_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 0) / t;
+    lb->end_hz = bicubic_q(tb, &a, &b, base + 1) / t;
+    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 2) / t;
+    lb->peak_magnitude_n_s = bicubic_q(tb, &a, &b, base + 3) * f0 * t;
+    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + band_fig) / t;
+    lb->band_high_hz = bicubic_q(tb, &a, &b, base + band_fig + 1) / t;
   }
   r->band_found = p->lobe <= r->n_lobes;
   if (r->band_found) {
@@ -405,34 +463,34 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
     r->band = r->lobes[p->lobe - 1];
     /* A band edge clipped to its lobe's end at some nodes of the stencil and
      * not at others has a kink inside it: not interpolated. */
-    if (clipped_mixed(f, &a, &b, base, base - band_fig) ||
-        clipped_mixed(f, &a, &b, base + 1, base - band_fig + 1))
+    if (clipped_mixed(tb, &a, &b, base, base - band_fig) ||
+        clipped_mixed(tb, &a, &b, base + 1, base - band_fig + 1))
       return fallback(f, p, r);
     /* The error estimate: the same cubic on the chi stencil shifted by one
      * node (both hold the strike's interval). */
     af_fp_weights a2 = a;
     a2.i0 = a.i0 + 1 <= a.l0 && a.i0 + 4 <= AF_FP_NCHI - 1 ? a.i0 + 1 : a.i0 - 1;
-    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(f, &a2, &b))
+    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(tb, &a2, &b))
       return fallback(f, p, r);
     cubic_weights(chi / AF_FP_CHI_STEP - a2.i0, a2.w);
     double hi = r->band.band_high_hz * t;
-    if (fabs(bicubic_q(f, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
-        fabs(bicubic_q(f, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
+    if (fabs(bicubic_q(tb, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
+        fabs(bicubic_q(tb, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
       return fallback(f, p, r);
   }
   af_impact_result *im = &r->impact;
-  im->contact_time_s = bicubic_q(f, &a, &b, Q_TAU_C) * t;
-  im->peak_force_n = bicubic_q(f, &a, &b, Q_F_PEAK) * f0;
-  im->time_of_peak_s = bicubic_q(f, &a, &b, Q_TAU_PEAK) * t;
-  im->max_deformation_m = bicubic_q(f, &a, &b, Q_X_MAX) * d;
-  im->delivered_restitution = bicubic_q(f, &a, &b, Q_E_DELIVERED);
+  im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
+  im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
+  im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
+  im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
+  im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
   im->chi = chi;
   im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
-  im->n_samples = (size_t)lround(f->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
+  im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
   r->resonance_hz = res_hz;
   r->excitation_at_resonance_db =
-      20.0 * log10(magnitude(f, &a, &b, &c) / bicubic_q(f, &a, &b, Q_MAG_MAX));
-  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(f, &a, &b, Q_PMAX);
+      20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
+  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(tb, &a, &b, Q_PMAX);
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
   af_yield_law law = af_model_yield_law(p);
   r->yield_shear_stress_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);

@@ -33,15 +33,32 @@
 extern "C" {
 #endif
 
+/* The table is one per process: built by the first execute of any handle
+ * (or by af_fastpath_table_build; C11 call_once, about 1,300 ODE pulses and
+ * spectra, ~0.3 s of CPU and ~5 MB) and read-only after, shared by every
+ * handle on every thread; never freed. A handle (af_fastpath) is one user's:
+ * the table's address, the caches of chi(e), xi and the shear ratio, the
+ * ODE fallback (its af_model, made at the first fallback) and the counts.
+ * Handles may be made, used and destroyed on several threads at once; one
+ * handle is used by one thread at a time. */
 typedef struct af_fastpath af_fastpath;
 
-/* Builds the table (about 1,300 ODE pulses and spectra, ~0.3 s on one core)
- * and the fallback's af_model. Allocates everything (~5 MB). */
+/* Builds the process's table if no call has yet (the others wait for it)
+ * and returns the status of that build; *build_cpu_s (may be NULL): the CPU
+ * time [s] the build took, on the thread that ran it. Call it at start-up
+ * to pay the build there rather than at the first execute. */
+af_status af_fastpath_table_build(double *build_cpu_s);
+
+/* A handle: a few small allocations (microseconds); neither the table nor
+ * the fallback's af_model is made here. */
 af_status af_fastpath_create(af_fastpath **out);
-void af_fastpath_destroy(af_fastpath *f); /* NULL-safe */
+void af_fastpath_destroy(af_fastpath *f); /* NULL-safe; the table stays */
 
 /* As af_model_execute (same checks, same result fields; impact.n_samples
- * is the ODE path's sample count, no pulse is written). No allocation. */
+ * is the ODE path's sample count, no pulse is written). No allocation but
+ * once per process the table and once per handle the fallback's af_model
+ * (AF_ENOMEM if that fails). Without a table (its build failed) every
+ * strike is a fallback. */
 af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r);
 
 /* af_model_min_strike_radius on this path: the same search (r2_search.h),
@@ -49,7 +66,8 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
                                         double r_hi_m, double *r_min_m);
 
-/* The ODE path's model (the fallback), e.g. to draw a pulse. */
+/* The ODE path's model (the fallback; made on the first call), e.g. to
+ * draw a pulse; NULL out of memory. */
 af_model *af_fastpath_model(af_fastpath *f);
 
 /* Evaluations from the table and by the fallback since create. */
