@@ -59,9 +59,9 @@ enum {
 /* The table: built once per process, read-only after (shared by every
  * handle on every thread). */
 typedef struct {
-  double *q;    /* [chi][gamma][NQ] */
-  int *n_lobes; /* [chi][gamma]; -1: not tabulated */
-  double *mag;  /* [chi][gamma][phi]: |X| / (F0 T) */
+  double *q;                                 /* [chi][gamma][NQ] */
+  int *n_lobes;                              /* [chi][gamma]; -1: not tabulated */
+  double *mag;                               /* [chi][gamma][phi]: |X| / (F0 T) */
   af_setting_range ranges[AF_SETTING_COUNT]; /* the parameter table's ranges, parsed once */
 } af_fp_table;
 

@@ -46,7 +46,7 @@ struct af_lane {
   af_strike *detector;
   af_strike_config detector_cfg; /* what the detector was made with */
   af_measure *measure;
-  af_fastpath *model; /* the prediction's: a handle on the process's shared table */
+  af_fastpath *model;       /* the prediction's: a handle on the process's shared table */
   af_factor_learn *factor;  /* the modulus factor learned from the reliable strikes */
   double factor_configured; /* cfg->model.modulus_factor when last seen (reconfigure) */
   af_pending *pending;
