@@ -191,33 +191,51 @@ typedef struct {
   int side;
   double scale; /* s is measured in units of the window length */
   double tol;   /* of the zero [samples] */
+  double yy;    /* sum of r[k]^2 over the window (the same at every z) */
 } af_edge;
+
+/* The edge law's basis at s > 0: s^1.5, s^4. */
+static void edge_basis(double s, double *p0, double *p1)
+{
+  double s2 = s * s;
+  *p0 = s * sqrt(s);
+  *p1 = s2 * s2;
+}
+
+/* Residual sum of squares from the normal equations (a00 a10; a10 a11) c =
+ * (b0, b1), by the Cholesky factor of solve_spd written out for two terms
+ * (the same operations in the same order); +inf when singular. */
+static double edge_rss_of(double yy, double a00, double a10, double a11, double b0, double b1)
+{
+  if (!(a00 > 1e-12 * a00))
+    return INFINITY;
+  double l00 = sqrt(a00), l10 = a10 / l00, v = a11 - l10 * l10;
+  if (!(v > 1e-12 * a11))
+    return INFINITY;
+  double l11 = sqrt(v);
+  double y0 = b0 / l00, y1 = (b1 - l10 * y0) / l11;
+  double c1 = y1 / l11, c0 = (y0 - l10 * c1) / l00;
+  return yy - (c0 * b0 + c1 * b1);
+}
 
 /* Residual sum of squares of the best edge law with its zero at z (the
  * coefficients eliminated by linear least squares); +inf when singular. */
 static double edge_rss(const af_edge *e, double z)
 {
-  double a[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
-  double b[AF_STRIKE_MAX_TERMS] = {0}, c[AF_STRIKE_MAX_TERMS];
-  double yy = 0.0;
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
   for (long k = e->lo; k <= e->hi; k++) {
-    double y = e->r[k];
-    yy += y * y;
     double s = (double)e->side * ((double)k - z) * e->scale;
     if (s <= 0.0)
       continue;
-    double s2 = s * s;
-    const double phi[AF_STRIKE_EDGE_TERMS] = {s * sqrt(s), s2 * s2};
-    for (size_t i = 0; i < AF_STRIKE_EDGE_TERMS; i++) {
-      b[i] += phi[i] * y;
-      for (size_t j = 0; j <= i; j++)
-        a[i][j] += phi[i] * phi[j];
-    }
+    double y = e->r[k], p0, p1;
+    edge_basis(s, &p0, &p1);
+    b0 += p0 * y;
+    a00 += p0 * p0;
+    b1 += p1 * y;
+    a10 += p1 * p0;
+    a11 += p1 * p1;
   }
-  a[0][1] = a[1][0];
-  if (!solve_spd(a, b, AF_STRIKE_EDGE_TERMS, c))
-    return INFINITY;
-  return yy - (c[0] * b[0] + c[1] * b[1]);
+  return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
 }
 
 /* Golden-section minimum of edge_rss on [a, b]. */
@@ -244,19 +262,65 @@ static double edge_golden(const af_edge *e, double a, double b)
   return 0.5 * (a + b);
 }
 
+/* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
+ * every k - z on the half-sample lattice: s = (m / 2) scale for a whole m,
+ * so the basis is tabulated once per edge over m (the same doubles as
+ * edge_rss computes) and each scan point costs multiply-adds only. Windows
+ * longer than the table are scanned by edge_rss. */
+#define AF_STRIKE_EDGE_LATTICE 1024
+
+/* The scan of fit_edge over the lattice; the best zero and its rss. */
+static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
+                              double *best_rss)
+{
+  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
+  for (long m = 1; m <= m_max; m++)
+    edge_basis((double)m * 0.5 * e->scale, &p0[m], &p1[m]);
+  for (long i = 0; i <= steps; i++) {
+    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
+    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+    for (long k = e->lo; k <= e->hi; k++) {
+      long m = e->side * (2 * (k - (long)zlo) - i);
+      if (m <= 0)
+        continue;
+      double y = e->r[k];
+      b0 += p0[m] * y;
+      a00 += p0[m] * p0[m];
+      b1 += p1[m] * y;
+      a10 += p1[m] * p0[m];
+      a11 += p1[m] * p1[m];
+    }
+    double rss = edge_rss_of(e->yy, a00, a10, a11, b0, b1);
+    if (rss < *best_rss) {
+      *best_rss = rss;
+      *best = z;
+    }
+  }
+}
+
 /* Zero of the edge law fitted to r[lo..hi], searched in [zlo, zhi]; the
  * fallback when the window is too short or no fit exists. */
-static double fit_edge(const af_edge *e, double zlo, double zhi, double fallback)
+static double fit_edge(af_edge *e, double zlo, double zhi, double fallback)
 {
   if (e->hi - e->lo + 1 < AF_STRIKE_EDGE_TERMS + 2 || !(zhi > zlo))
     return fallback;
+  e->yy = 0.0;
+  for (long k = e->lo; k <= e->hi; k++)
+    e->yy += e->r[k] * e->r[k];
   double best = NAN, best_rss = INFINITY;
   long steps = (long)floor((zhi - zlo) / AF_STRIKE_EDGE_STEP);
-  for (long i = 0; i <= steps; i++) {
-    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP, rss = edge_rss(e, z);
-    if (rss < best_rss) {
-      best_rss = rss;
-      best = z;
+  /* m = 2 side (k - z) of the scan: at most m_max (its first zero and the
+   * window's far end). */
+  long m_max = e->side > 0 ? 2 * (e->hi - (long)zlo) : 2 * ((long)zlo - e->lo) + steps;
+  if (zlo == floor(zlo) && m_max < AF_STRIKE_EDGE_LATTICE) {
+    edge_scan_lattice(e, zlo, steps, m_max, &best, &best_rss);
+  } else {
+    for (long i = 0; i <= steps; i++) {
+      double z = zlo + (double)i * AF_STRIKE_EDGE_STEP, rss = edge_rss(e, z);
+      if (rss < best_rss) {
+        best_rss = rss;
+        best = z;
+      }
     }
   }
   if (!isfinite(best_rss))
