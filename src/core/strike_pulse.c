@@ -276,13 +276,16 @@ static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_m
   double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
   for (long m = 1; m <= m_max; m++)
     edge_basis((double)m * 0.5 * e->scale, &p0[m], &p1[m]);
+  const long zl = (long)zlo;
   for (long i = 0; i <= steps; i++) {
     double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
     double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
-    for (long k = e->lo; k <= e->hi; k++) {
-      long m = e->side * (2 * (k - (long)zlo) - i);
-      if (m <= 0)
-        continue;
+    /* Only the samples on the contact's side of z (m >= 1) enter the sums:
+     * k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1) / 2 - 1 falling. */
+    long k0 = e->side > 0 ? zl + (i + 2) / 2 : e->lo,
+         k1 = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
+    for (long k = k0 < e->lo ? e->lo : k0; k <= (k1 > e->hi ? e->hi : k1); k++) {
+      long m = e->side * (2 * (k - zl) - i);
       double y = e->r[k];
       b0 += p0[m] * y;
       a00 += p0[m] * p0[m];
