@@ -269,13 +269,19 @@ static double edge_golden(const af_edge *e, double a, double b)
  * longer than the table are scanned by edge_rss. */
 #define AF_STRIKE_EDGE_LATTICE 1024
 
+/* The basis at s = (m / 2) scale, m = 1 .. m_max, into p0[m], p1[m]. */
+static void edge_lattice(double scale, long m_max, double *p0, double *p1)
+{
+  for (long m = 1; m <= m_max; m++)
+    edge_basis((double)m * 0.5 * scale, &p0[m], &p1[m]);
+}
+
 /* The scan of fit_edge over the lattice; the best zero and its rss. */
 static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
                               double *best_rss)
 {
   double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
-  for (long m = 1; m <= m_max; m++)
-    edge_basis((double)m * 0.5 * e->scale, &p0[m], &p1[m]);
+  edge_lattice(e->scale, m_max, p0, p1);
   const long zl = (long)zlo;
   for (long i = 0; i <= steps; i++) {
     double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;

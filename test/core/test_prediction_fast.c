@@ -92,12 +92,12 @@ static int near_boundary(const af_model_result *r)
 static void compare(const af_prediction *f, const af_prediction *o, int *near)
 {
   const af_model_result *a = &f->result, *b = &o->result;
-  double d[6] = {rel(a->impact.contact_time_s, b->impact.contact_time_s),
-                 rel(a->impact.peak_force_n, b->impact.peak_force_n),
-                 fabs(a->band.band_low_hz - b->band.band_low_hz) / b->band.band_high_hz,
-                 rel(a->band.band_high_hz, b->band.band_high_hz),
-                 rel(a->max_shear_stress_pa, b->max_shear_stress_pa),
-                 rel(f->min_strike_radius_m, o->min_strike_radius_m)};
+  const double d[6] = {rel(a->impact.contact_time_s, b->impact.contact_time_s),
+                       rel(a->impact.peak_force_n, b->impact.peak_force_n),
+                       fabs(a->band.band_low_hz - b->band.band_low_hz) / b->band.band_high_hz,
+                       rel(a->band.band_high_hz, b->band.band_high_hz),
+                       rel(a->max_shear_stress_pa, b->max_shear_stress_pa),
+                       rel(f->min_strike_radius_m, o->min_strike_radius_m)};
   for (int k = 0; k < 6; k++) {
     AF_CHECK(d[k] <= (k == 5 ? TOL_R2_MIN : TOL));
     if (d[k] > worst[k])
