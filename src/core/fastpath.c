@@ -2,6 +2,7 @@
 #include "fastpath.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,19 +57,35 @@ enum {
   NQ = Q_LOBES + AF_FP_LOBES * AF_FP_LOBE_FIGS
 };
 
-/* The table: built once per process, read-only after (shared by every
- * handle on every thread). */
+/* A chi row of the table (its 13 gamma nodes): not built yet, built, or
+ * its build failed (a strike whose stencil touches it takes the ODE path). */
+enum { ROW_EMPTY = 0, ROW_READY, ROW_FAILED };
+
+/* The table: one per process, shared by every handle on every thread. A
+ * row is built the first time a strike's stencil needs it (under the lock,
+ * by whichever thread asks first) and read-only after: a strike near the
+ * shipped profile needs about 6 of the 101 rows. A row's numbers do not
+ * depend on when or on which thread it is built (every pulse starts from a
+ * reset integrator, impact.c). */
 typedef struct {
   double *q;                                 /* [chi][gamma][NQ] */
   int *n_lobes;                              /* [chi][gamma]; -1: not tabulated */
   double *mag;                               /* [chi][gamma][phi]: |X| / (F0 T) */
   af_setting_range ranges[AF_SETTING_COUNT]; /* the parameter table's ranges, parsed once */
+  atomic_int row[AF_FP_NCHI];                /* ROW_*: stored under lock, loaded without */
+  mtx_t lock;                                /* held while a row is built */
+  /* The builder's workspace (under lock). */
+  af_impact *imp;
+  af_spectrum *spec;
+  double *force, *defo;
+  double build_cpu_s;  /* CPU time [s] spent building rows so far (under lock) */
+  af_status row_error; /* the first row build that failed (under lock) */
 } af_fp_table;
 
 /* One user's handle: the table's address, its own caches, fallback and counts. */
 struct af_fastpath {
-  const af_fp_table *t; /* NULL until the first execute */
-  af_model *ode;        /* the reference, for fallbacks; made at the first one */
+  af_fp_table *t; /* the shared table; NULL until the first execute */
+  af_model *ode;  /* the reference, for fallbacks; made at the first one */
   af_shear_cache shear;
   af_lamb_cache xi;
   af_impact *impact;      /* for chi(e) */
@@ -79,9 +96,8 @@ struct af_fastpath {
 
 /* The process's table and the status of its build (call_once). */
 static struct {
-  af_status status;
+  af_status status; /* of making the table (not of its rows) */
   af_fp_table *table;
-  double build_cpu_s;
 } shared;
 static once_flag shared_once = ONCE_FLAG_INIT;
 
@@ -205,44 +221,25 @@ static af_status build_node(af_fp_table *f, af_impact *imp, af_spectrum *spec, d
   return AF_OK;
 }
 
-static af_status build(af_fp_table *f)
-{
-  af_spectrum_config sc = af_spectrum_config_default();
-  af_spectrum *spec = NULL;
-  af_impact *imp = NULL;
-  double *force = malloc(AF_FP_MAX_SAMPLES * sizeof *force);
-  double *defo = malloc(AF_FP_MAX_SAMPLES * sizeof *defo);
-  sc.max_samples = AF_FP_MAX_SAMPLES;
-  sc.fft_size = AF_FP_FFT_SIZE;
-  sc.max_lobes = AF_FP_LOBES;
-  af_status st = force && defo ? af_impact_create(&imp) : AF_ENOMEM;
-  if (st == AF_OK)
-    st = af_spectrum_create(&sc, &spec);
-  for (int i = 0; i < AF_FP_NCHI && st == AF_OK; i++)
-    for (int j = 0; j < AF_FP_NGAM && st == AF_OK; j++)
-      st = build_node(f, imp, spec, force, defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
-                      node_index(i, j));
-  af_spectrum_destroy(spec);
-  af_impact_destroy(imp);
-  free(force);
-  free(defo);
-  return st;
-}
-
 static void table_free(af_fp_table *t)
 {
   if (t == NULL)
     return;
+  af_spectrum_destroy(t->spec);
+  af_impact_destroy(t->imp);
+  free(t->force);
+  free(t->defo);
   free(t->q);
   free(t->n_lobes);
   free(t->mag);
   free(t);
 }
 
-/* Builds shared (call_once: one thread, once per process). */
+/* Makes shared.table with no row built (call_once: one thread, once per
+ * process): the arrays (their pages touched as rows are built), the
+ * parameter ranges and the builder's workspace. */
 static void shared_build(void)
 {
-  const int64_t t0_ns = af_stage_now_ns();
   af_fp_table *t = calloc(1, sizeof *t);
   size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
   af_status st = AF_ENOMEM;
@@ -250,28 +247,89 @@ static void shared_build(void)
     t->q = malloc(nodes * NQ * sizeof *t->q);
     t->n_lobes = malloc(nodes * sizeof *t->n_lobes);
     t->mag = malloc(nodes * AF_FP_NPHI * sizeof *t->mag);
-    st = t->q && t->n_lobes && t->mag ? AF_OK : AF_ENOMEM;
+    t->force = malloc(AF_FP_MAX_SAMPLES * sizeof *t->force);
+    t->defo = malloc(AF_FP_MAX_SAMPLES * sizeof *t->defo);
+    st = t->q && t->n_lobes && t->mag && t->force && t->defo ? AF_OK : AF_ENOMEM;
   }
   for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
     if (af_setting_range_of((af_setting_id)k, &t->ranges[k]) != AF_OK)
       t->ranges[k].lo = NAN; /* not a number row: never asked */
+  af_spectrum_config sc = af_spectrum_config_default();
+  sc.max_samples = AF_FP_MAX_SAMPLES;
+  sc.fft_size = AF_FP_FFT_SIZE;
+  sc.max_lobes = AF_FP_LOBES;
   if (st == AF_OK)
-    st = build(t);
+    st = af_impact_create(&t->imp);
+  if (st == AF_OK)
+    st = af_spectrum_create(&sc, &t->spec);
+  if (st == AF_OK && mtx_init(&t->lock, mtx_plain) != thrd_success)
+    st = AF_ENOMEM;
   if (st != AF_OK) {
     table_free(t);
     t = NULL;
   }
+  if (t != NULL)
+    for (int i = 0; i < AF_FP_NCHI; i++)
+      atomic_init(&t->row[i], ROW_EMPTY);
   shared.status = st;
   shared.table = t;
-  shared.build_cpu_s = (double)(af_stage_now_ns() - t0_ns) * 1e-9;
+}
+
+/* Whether row i of t is built, building it first if no thread has. */
+static bool row_ready(af_fp_table *t, int i)
+{
+  int state = atomic_load_explicit(&t->row[i], memory_order_acquire);
+  if (state != ROW_EMPTY)
+    return state == ROW_READY;
+  mtx_lock(&t->lock);
+  state = atomic_load_explicit(&t->row[i], memory_order_relaxed);
+  if (state == ROW_EMPTY) {
+    const int64_t t0_ns = af_stage_now_ns();
+    af_status st = AF_OK;
+    for (int j = 0; j < AF_FP_NGAM && st == AF_OK; j++)
+      st = build_node(t, t->imp, t->spec, t->force, t->defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
+                      node_index(i, j));
+    state = st == AF_OK ? ROW_READY : ROW_FAILED;
+    if (st != AF_OK && t->row_error == AF_OK)
+      t->row_error = st;
+    t->build_cpu_s += (double)(af_stage_now_ns() - t0_ns) * 1e-9;
+    atomic_store_explicit(&t->row[i], state, memory_order_release);
+  }
+  mtx_unlock(&t->lock);
+  return state == ROW_READY;
+}
+
+/* Rows lo .. hi (clipped to the grid) built. */
+static bool rows_ready(af_fp_table *t, int lo, int hi)
+{
+  bool ok = true;
+  for (int i = lo < 0 ? 0 : lo; i <= hi && i < AF_FP_NCHI; i++)
+    ok = row_ready(t, i) && ok;
+  return ok;
 }
 
 af_status af_fastpath_table_build(double *build_cpu_s)
 {
   call_once(&shared_once, shared_build);
+  af_fp_table *t = shared.table;
   if (build_cpu_s)
-    *build_cpu_s = shared.build_cpu_s;
-  return shared.status;
+    *build_cpu_s = 0.0;
+  if (t == NULL)
+    return shared.status;
+  (void)rows_ready(t, 0, AF_FP_NCHI - 1);
+  mtx_lock(&t->lock);
+  af_status st = t->row_error;
+  if (build_cpu_s)
+    *build_cpu_s = t->build_cpu_s;
+  mtx_unlock(&t->lock);
+  return st;
+}
+
+/* The shared table, made (no row built) on the first call; NULL out of memory. */
+static af_fp_table *shared_table(void)
+{
+  call_once(&shared_once, shared_build);
+  return shared.table;
 }
 
 af_status af_fastpath_create(af_fastpath **out)
@@ -455,9 +513,9 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   const af_impact_params *ip = &p->impact;
   double chi = f->chi, xi, ratio;
   af_status st = AF_OK;
-  if (f->t == NULL && af_fastpath_table_build(NULL) == AF_OK)
-    f->t = shared.table;
-  const af_fp_table *tb = f->t;
+  if (f->t == NULL)
+    f->t = shared_table();
+  af_fp_table *tb = f->t;
   if (tb == NULL) /* no table (out of memory): every strike by the ODE path */
     return fallback(f, p, r);
   if (!quick_check(tb, p)) {
@@ -490,7 +548,8 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   af_fp_weights a, b, c;
   if (!weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &a) ||
       !weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) ||
-      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) || !lobes_agree(tb, &a, &b))
+      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) ||
+      !rows_ready(tb, a.i0 - 1, a.i0 + 4) || !lobes_agree(tb, &a, &b))
     return fallback(f, p, r);
   memset(r, 0, sizeof *r);
   int n = tb->n_lobes[node_index(a.i0, b.i0)];
