@@ -508,7 +508,10 @@ static bool quick_check(const af_fp_table *f, const af_model_params *p)
          p->yield_measured.n <= AF_YIELD_MAX_POINTS;
 }
 
-af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r)
+/* af_fastpath_execute; with full false only what the criteria read (the
+ * configured lobe, the 0S2, the shear and yield, the verdicts), the same
+ * numbers and the same fallbacks: the R2_min search's evaluation. */
+static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r, bool full)
 {
   const af_impact_params *ip = &p->impact;
   double chi = f->chi, xi, ratio;
@@ -555,7 +558,8 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   int n = tb->n_lobes[node_index(a.i0, b.i0)];
   int band_fig = p->band_level == AF_BAND_POWER_HALF ? 4 : 6;
   r->n_lobes = (size_t)n;
-  for (int l = 0; l < n; l++) {
+  const int lobe = (int)p->lobe; /* >= 1: checked above */
+  for (int l = full ? 0 : lobe - 1; l < (full || lobe > n ? n : lobe); l++) {
     int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe *lb = &r->lobes[l];
     lb->index = (unsigned)(l + 1);
@@ -587,18 +591,20 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
         fabs(bicubic_q(tb, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
       return fallback(f, p, r);
   }
-  af_impact_result *im = &r->impact;
-  im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
-  im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
-  im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
-  im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
-  im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
-  im->chi = chi;
-  im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
-  im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
   r->resonance_hz = res_hz;
-  r->excitation_at_resonance_db =
-      20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
+  if (full) {
+    af_impact_result *im = &r->impact;
+    im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
+    im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
+    im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
+    im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
+    im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
+    im->chi = chi;
+    im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
+    im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
+    r->excitation_at_resonance_db =
+        20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
+  }
   r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(tb, &a, &b, Q_PMAX);
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
   af_yield_law law = af_model_yield_law(p);
@@ -610,10 +616,15 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   return AF_OK;
 }
 
-/* af_fastpath_execute as the R2_min search's callback. */
+af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r)
+{
+  return evaluate(f, p, r, true);
+}
+
+/* The R2_min search's callback: it reads r->reliable only. */
 static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_fastpath_execute(ctx, p, r);
+  return evaluate(ctx, p, r, false);
 }
 
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
