@@ -414,6 +414,28 @@ static double sinc_at(const double *r, long n, double t)
   return sum;
 }
 
+/* sinc_at with every tap's sine and cosine taken directly: the value the
+ * peak reports (its position is searched with sinc_at, equal to ~1e-16
+ * relative), so that the reported peak force is the same double as the
+ * direct sum gives. */
+static double sinc_at_direct(const double *r, long n, double t)
+{
+  long k0 = (long)floor(t);
+  double sum = 0.0;
+  for (long j = k0 - AF_STRIKE_SINC_HALF + 1; j <= k0 + AF_STRIKE_SINC_HALF; j++) {
+    if (j < 0 || j >= n)
+      continue;
+    double u = t - (double)j;
+    if (fabs(u) < 1e-12) {
+      sum += r[j];
+      continue;
+    }
+    double x = AF_STRIKE_PI * u;
+    sum += r[j] * sin(x) / x * (0.5 + 0.5 * cos(x / AF_STRIKE_SINC_HALF));
+  }
+  return sum;
+}
+
 /* Maximum of sinc_at within +-1 sample of ipk (the largest sample); at
  * least r[ipk], the reconstruction passing through it. */
 static double sinc_peak(const double *r, long n, long ipk, double *at)
@@ -453,7 +475,7 @@ static double sinc_peak(const double *r, long n, long ipk, double *at)
     tb = tm;
   }
   *at = tb;
-  return best;
+  return best > r[ipk] ? fmax(sinc_at_direct(r, n, tb), r[ipk]) : best;
 }
 
 /* Maximum of the least-squares quartic through the samples around ipk above
