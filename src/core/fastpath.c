@@ -2,9 +2,11 @@
 #include "fastpath.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <threads.h>
 
 #include "criteria.h"
 #include "impact.h"
@@ -12,6 +14,7 @@
 #include "lamb.h"
 #include "settings.h"
 #include "spectrum.h"
+#include "stage.h"
 #include "stress.h"
 
 #ifndef M_PI
@@ -54,29 +57,102 @@ enum {
   NQ = Q_LOBES + AF_FP_LOBES * AF_FP_LOBE_FIGS
 };
 
+/* A chi row of the table (its 13 gamma nodes): not built yet, built, or
+ * its build failed (a strike whose stencil touches it takes the ODE path). */
+enum { ROW_EMPTY = 0, ROW_READY, ROW_FAILED };
+
+/* The table: one per process, shared by every handle on every thread. A
+ * row is built the first time a strike's stencil needs it (under the lock,
+ * by whichever thread asks first) and read-only after: a strike near the
+ * shipped profile needs about 6 of the 101 rows. A row's numbers do not
+ * depend on when or on which thread it is built (every pulse starts from a
+ * reset integrator, impact.c). */
+typedef struct {
+  double *q;                                 /* [chi][gamma][NQ] */
+  int *n_lobes;                              /* [chi][gamma]; -1: not tabulated */
+  double *mag;                               /* [chi][gamma][phi]: |X| / (F0 T) */
+  af_setting_range ranges[AF_SETTING_COUNT]; /* the parameter table's ranges, parsed once */
+  atomic_int row[AF_FP_NCHI];                /* ROW_*: stored under lock, loaded without */
+  mtx_t lock;                                /* held while a row is built */
+  /* The builder's workspace (under lock). */
+  af_impact *imp;
+  af_spectrum *spec;
+  double *force, *defo;
+  double build_cpu_s;  /* CPU time [s] spent building rows so far (under lock) */
+  af_status row_error; /* the first row build that failed (under lock) */
+} af_fp_table;
+
+/* One user's handle: the table's address, its own caches, fallback and counts. */
 struct af_fastpath {
-  double *q;     /* [chi][gamma][NQ] */
-  int *n_lobes;  /* [chi][gamma] */
-  double *mag;   /* [chi][gamma][phi]: |X| / (F0 T) */
-  af_model *ode; /* the reference, for fallbacks */
+  af_fp_table *t; /* the shared table; NULL until the first execute */
+  af_model *ode;  /* the reference, for fallbacks; made at the first one */
   af_shear_cache shear;
   af_lamb_cache xi;
   af_impact *impact;      /* for chi(e) */
   af_damping_law chi_law; /* chi of the last (law, e) asked */
   double chi_e, chi;
-  af_setting_range ranges[AF_SETTING_COUNT]; /* the table's ranges, parsed once */
   size_t from_table, fallbacks;
 };
+
+/* The process's table and the status of its build (call_once). */
+static struct {
+  af_status status; /* of making the table (not of its rows) */
+  af_fp_table *table;
+} shared;
+static once_flag shared_once = ONCE_FLAG_INIT;
 
 static size_t node_index(int i, int j)
 {
   return (size_t)i * AF_FP_NGAM + (size_t)j;
 }
 
+/* Frequencies evaluated side by side in grid_magnitudes: independent
+ * phasor recurrences that the CPU overlaps (one chain is latency-bound). */
+#define AF_FP_LANES 8
+
+/* |X(f_k)| / dt [N] of the samples x[0..n) at f_k = k df_hz, k = 0 .. count-1,
+ * dt_s the step: the DTFT that af_spectrum_magnitude evaluates one frequency
+ * at a time, here AF_FP_LANES at once on the pulse folded about its centre
+ * (pairs at +-m: e = x(c+m) + x(c-m), o = x(c+m) - x(c-m); |A|^2 =
+ * (sum e cos m theta)^2 + (sum o sin m theta)^2). The recurrence p *= z
+ * drifts by ~n eps: negligible. ws holds n doubles. */
+static void grid_magnitudes(const double *x, size_t n, double dt_s, double df_hz, int count,
+                            double *ws, double *out)
+{
+  size_t half = n / 2, pairs = (n + 1) / 2;
+  double m0 = n % 2 ? 0.0 : 0.5, *e = ws, *o = ws + pairs;
+  for (size_t j = 0; j < pairs; j++) {
+    size_t up = half + j, down = n - 1 - up;
+    e[j] = up == down ? x[up] : x[up] + x[down];
+    o[j] = up == down ? 0.0 : x[up] - x[down];
+  }
+  for (int k0 = 0; k0 < count; k0 += AF_FP_LANES) {
+    double pr[AF_FP_LANES], pi[AF_FP_LANES], zr[AF_FP_LANES], zi[AF_FP_LANES];
+    double ar[AF_FP_LANES] = {0}, ai[AF_FP_LANES] = {0};
+    for (int l = 0; l < AF_FP_LANES; l++) {
+      double theta = 2.0 * M_PI * (double)(k0 + l) * df_hz * dt_s;
+      zr[l] = cos(theta);
+      zi[l] = -sin(theta);
+      pr[l] = cos(m0 * theta);
+      pi[l] = -sin(m0 * theta);
+    }
+    for (size_t j = 0; j < pairs; j++)
+      for (int l = 0; l < AF_FP_LANES; l++) {
+        ar[l] += e[j] * pr[l];
+        ai[l] += o[j] * pi[l];
+        double r = pr[l] * zr[l] - pi[l] * zi[l];
+        pi[l] = pr[l] * zi[l] + pi[l] * zr[l];
+        pr[l] = r;
+      }
+    for (int l = 0; l < AF_FP_LANES && k0 + l < count; l++)
+      out[k0 + l] = dt_s * sqrt(ar[l] * ar[l] + ai[l] * ai[l]);
+  }
+}
+
 /* The normalising strike of a node: 10 g at 1 m/s on 8 MPa, R 40 mm, rigid
  * flat hammer; chi set through Hu-Guo's law (e = 3 / (3 + 2 chi) gives
  * exactly chi), gamma through g. */
-static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, double *force,
+static af_status build_node(af_fp_table *f, af_impact *imp, af_spectrum *spec, double *force,
                             double *defo, double chi, double gamma, size_t at)
 {
   af_impact_params ip = af_impact_params_default();
@@ -133,33 +209,127 @@ static af_status build_node(af_fastpath *f, af_impact *imp, af_spectrum *spec, d
     g[7] = amp.band_high_hz * t;
   }
   double *m = f->mag + at * AF_FP_NPHI;
-  for (int k2 = 0; k2 < AF_FP_NPHI; k2++)
-    m[k2] = af_spectrum_magnitude(spec, k2 * AF_FP_PHI_STEP / t) / (f0 * t);
+  grid_magnitudes(force, res.n_samples, res.dt_s, AF_FP_PHI_STEP / t, AF_FP_NPHI, defo, m);
+  for (int k2 = 0; k2 < AF_FP_NPHI; k2++) {
+#ifdef AF_FP_CHECK_GRID
+    double ref = af_spectrum_magnitude(spec, k2 * AF_FP_PHI_STEP / t);
+    if (fabs(m[k2] - ref) > 1e-12 * af_spectrum_max_magnitude(spec))
+      return AF_ENUMERIC;
+#endif
+    m[k2] /= f0 * t;
+  }
   return AF_OK;
 }
 
-static af_status build(af_fastpath *f)
+static void table_free(af_fp_table *t)
 {
+  if (t == NULL)
+    return;
+  af_spectrum_destroy(t->spec);
+  af_impact_destroy(t->imp);
+  free(t->force);
+  free(t->defo);
+  free(t->q);
+  free(t->n_lobes);
+  free(t->mag);
+  free(t);
+}
+
+/* Makes shared.table with no row built (call_once: one thread, once per
+ * process): the arrays (their pages touched as rows are built), the
+ * parameter ranges and the builder's workspace. */
+static void shared_build(void)
+{
+  af_fp_table *t = calloc(1, sizeof *t);
+  size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
+  af_status st = AF_ENOMEM;
+  if (t != NULL) {
+    t->q = malloc(nodes * NQ * sizeof *t->q);
+    t->n_lobes = malloc(nodes * sizeof *t->n_lobes);
+    t->mag = malloc(nodes * AF_FP_NPHI * sizeof *t->mag);
+    t->force = malloc(AF_FP_MAX_SAMPLES * sizeof *t->force);
+    t->defo = malloc(AF_FP_MAX_SAMPLES * sizeof *t->defo);
+    st = t->q && t->n_lobes && t->mag && t->force && t->defo ? AF_OK : AF_ENOMEM;
+  }
+  for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
+    if (af_setting_range_of((af_setting_id)k, &t->ranges[k]) != AF_OK)
+      t->ranges[k].lo = NAN; /* not a number row: never asked */
   af_spectrum_config sc = af_spectrum_config_default();
-  af_spectrum *spec = NULL;
-  af_impact *imp = NULL;
-  double *force = malloc(AF_FP_MAX_SAMPLES * sizeof *force);
-  double *defo = malloc(AF_FP_MAX_SAMPLES * sizeof *defo);
   sc.max_samples = AF_FP_MAX_SAMPLES;
   sc.fft_size = AF_FP_FFT_SIZE;
   sc.max_lobes = AF_FP_LOBES;
-  af_status st = force && defo ? af_impact_create(&imp) : AF_ENOMEM;
   if (st == AF_OK)
-    st = af_spectrum_create(&sc, &spec);
-  for (int i = 0; i < AF_FP_NCHI && st == AF_OK; i++)
+    st = af_impact_create(&t->imp);
+  if (st == AF_OK)
+    st = af_spectrum_create(&sc, &t->spec);
+  if (st == AF_OK && mtx_init(&t->lock, mtx_plain) != thrd_success)
+    st = AF_ENOMEM;
+  if (st != AF_OK) {
+    table_free(t);
+    t = NULL;
+  }
+  if (t != NULL)
+    for (int i = 0; i < AF_FP_NCHI; i++)
+      atomic_init(&t->row[i], ROW_EMPTY);
+  shared.status = st;
+  shared.table = t;
+}
+
+/* Whether row i of t is built, building it first if no thread has. */
+static bool row_ready(af_fp_table *t, int i)
+{
+  int state = atomic_load_explicit(&t->row[i], memory_order_acquire);
+  if (state != ROW_EMPTY)
+    return state == ROW_READY;
+  mtx_lock(&t->lock);
+  state = atomic_load_explicit(&t->row[i], memory_order_relaxed);
+  if (state == ROW_EMPTY) {
+    const int64_t t0_ns = af_stage_now_ns();
+    af_status st = AF_OK;
     for (int j = 0; j < AF_FP_NGAM && st == AF_OK; j++)
-      st = build_node(f, imp, spec, force, defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
+      st = build_node(t, t->imp, t->spec, t->force, t->defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
                       node_index(i, j));
-  af_spectrum_destroy(spec);
-  af_impact_destroy(imp);
-  free(force);
-  free(defo);
+    state = st == AF_OK ? ROW_READY : ROW_FAILED;
+    if (st != AF_OK && t->row_error == AF_OK)
+      t->row_error = st;
+    t->build_cpu_s += (double)(af_stage_now_ns() - t0_ns) * 1e-9;
+    atomic_store_explicit(&t->row[i], state, memory_order_release);
+  }
+  mtx_unlock(&t->lock);
+  return state == ROW_READY;
+}
+
+/* Rows lo .. hi (clipped to the grid) built. */
+static bool rows_ready(af_fp_table *t, int lo, int hi)
+{
+  bool ok = true;
+  for (int i = lo < 0 ? 0 : lo; i <= hi && i < AF_FP_NCHI; i++)
+    ok = row_ready(t, i) && ok;
+  return ok;
+}
+
+af_status af_fastpath_table_build(double *build_cpu_s)
+{
+  call_once(&shared_once, shared_build);
+  af_fp_table *t = shared.table;
+  if (build_cpu_s)
+    *build_cpu_s = 0.0;
+  if (t == NULL)
+    return shared.status;
+  (void)rows_ready(t, 0, AF_FP_NCHI - 1);
+  mtx_lock(&t->lock);
+  af_status st = t->row_error;
+  if (build_cpu_s)
+    *build_cpu_s = t->build_cpu_s;
+  mtx_unlock(&t->lock);
   return st;
+}
+
+/* The shared table, made (no row built) on the first call; NULL out of memory. */
+static af_fp_table *shared_table(void)
+{
+  call_once(&shared_once, shared_build);
+  return shared.table;
 }
 
 af_status af_fastpath_create(af_fastpath **out)
@@ -168,23 +338,10 @@ af_status af_fastpath_create(af_fastpath **out)
   *out = NULL;
   if (f == NULL)
     return AF_ENOMEM;
-  size_t nodes = (size_t)AF_FP_NCHI * AF_FP_NGAM;
-  f->q = malloc(nodes * NQ * sizeof *f->q);
-  f->n_lobes = malloc(nodes * sizeof *f->n_lobes);
-  f->mag = malloc(nodes * AF_FP_NPHI * sizeof *f->mag);
   af_shear_cache_reset(&f->shear);
   af_lamb_cache_reset(&f->xi);
-  af_status st = f->q && f->n_lobes && f->mag ? AF_OK : AF_ENOMEM;
-  if (st == AF_OK)
-    st = af_model_create(&f->ode);
-  if (st == AF_OK)
-    st = af_impact_create(&f->impact);
-  for (int k = 0; k < AF_SETTING_COUNT && st == AF_OK; k++)
-    if (af_setting_range_of((af_setting_id)k, &f->ranges[k]) != AF_OK)
-      f->ranges[k].lo = NAN; /* not a number row: never asked */
   f->chi_e = NAN;
-  if (st == AF_OK)
-    st = build(f);
+  af_status st = af_impact_create(&f->impact);
   if (st != AF_OK) {
     af_fastpath_destroy(f);
     return st;
@@ -197,9 +354,6 @@ void af_fastpath_destroy(af_fastpath *f)
 {
   if (f == NULL)
     return;
-  free(f->q);
-  free(f->n_lobes);
-  free(f->mag);
   af_model_destroy(f->ode);
   af_impact_destroy(f->impact);
   free(f);
@@ -207,6 +361,8 @@ void af_fastpath_destroy(af_fastpath *f)
 
 af_model *af_fastpath_model(af_fastpath *f)
 {
+  if (f != NULL && f->ode == NULL && af_model_create(&f->ode) != AF_OK)
+    f->ode = NULL;
   return f ? f->ode : NULL;
 }
 
@@ -254,7 +410,7 @@ static bool weights(double x, int n, af_fp_weights *out)
 }
 
 /* Bicubic value of quantity k over the (chi, gamma) stencil. */
-static double bicubic_q(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b, int k)
+static double bicubic_q(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b, int k)
 {
   double s = 0.0;
   for (int i = 0; i < 4; i++) {
@@ -266,7 +422,7 @@ static double bicubic_q(const af_fastpath *f, const af_fp_weights *a, const af_f
 }
 
 /* |X| / (F0 T) at phi: bicubic in (chi, gamma), cubic in phi. */
-static double magnitude(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+static double magnitude(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                         const af_fp_weights *c)
 {
   double s = 0.0;
@@ -279,7 +435,7 @@ static double magnitude(const af_fastpath *f, const af_fp_weights *a, const af_f
   return s;
 }
 
-static bool lobes_agree(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b)
+static bool lobes_agree(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b)
 {
   int n = f->n_lobes[node_index(a->i0, b->i0)];
   for (int i = 0; i < 4; i++)
@@ -290,7 +446,7 @@ static bool lobes_agree(const af_fastpath *f, const af_fp_weights *a, const af_f
 }
 
 /* Figure k equals figure edge at some nodes of the stencil but not all. */
-static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af_fp_weights *b,
+static bool clipped_mixed(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                           int k, int edge)
 {
   int clipped = 0;
@@ -304,14 +460,19 @@ static bool clipped_mixed(const af_fastpath *f, const af_fp_weights *a, const af
 
 static af_status fallback(af_fastpath *f, const af_model_params *p, af_model_result *r)
 {
+  af_model *ode = af_fastpath_model(f);
   f->fallbacks++;
-  return af_model_execute(f->ode, p, r);
+  if (ode == NULL) {
+    memset(r, 0, sizeof *r);
+    return AF_ENOMEM;
+  }
+  return af_model_execute(ode, p, r);
 }
 
 /* af_model_params_check's numeric rows, with the ranges parsed once: the
  * quick test of every call. A strike it refuses (or a choice out of its
  * enum) goes to af_model_params_check itself for the verdict and message. */
-static bool quick_check(const af_fastpath *f, const af_model_params *p)
+static bool quick_check(const af_fp_table *f, const af_model_params *p)
 {
   const af_impact_params *i = &p->impact;
   const struct {
@@ -347,12 +508,20 @@ static bool quick_check(const af_fastpath *f, const af_model_params *p)
          p->yield_measured.n <= AF_YIELD_MAX_POINTS;
 }
 
-af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r)
+/* af_fastpath_execute; with full false only what the criteria read (the
+ * configured lobe, the 0S2, the shear and yield, the verdicts), the same
+ * numbers and the same fallbacks: the R2_min search's evaluation. */
+static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r, bool full)
 {
   const af_impact_params *ip = &p->impact;
   double chi = f->chi, xi, ratio;
   af_status st = AF_OK;
-  if (!quick_check(f, p)) {
+  if (f->t == NULL)
+    f->t = shared_table();
+  af_fp_table *tb = f->t;
+  if (tb == NULL) /* no table (out of memory): every strike by the ODE path */
+    return fallback(f, p, r);
+  if (!quick_check(tb, p)) {
     st = af_model_params_check(p, NULL);
     if (st != AF_OK) {
       memset(r, 0, sizeof *r);
@@ -382,22 +551,24 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   af_fp_weights a, b, c;
   if (!weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &a) ||
       !weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) ||
-      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) || !lobes_agree(f, &a, &b))
+      !weights(res_hz * t / AF_FP_PHI_STEP, AF_FP_NPHI, &c) ||
+      !rows_ready(tb, a.i0 - 1, a.i0 + 4) || !lobes_agree(tb, &a, &b))
     return fallback(f, p, r);
   memset(r, 0, sizeof *r);
-  int n = f->n_lobes[node_index(a.i0, b.i0)];
+  int n = tb->n_lobes[node_index(a.i0, b.i0)];
   int band_fig = p->band_level == AF_BAND_POWER_HALF ? 4 : 6;
   r->n_lobes = (size_t)n;
-  for (int l = 0; l < n; l++) {
+  const int lobe = (int)p->lobe; /* >= 1: checked above */
+  for (int l = full ? 0 : lobe - 1; l < (full || lobe > n ? n : lobe); l++) {
     int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe *lb = &r->lobes[l];
     lb->index = (unsigned)(l + 1);
-    lb->start_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 0) / t;
-    lb->end_hz = bicubic_q(f, &a, &b, base + 1) / t;
-    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + 2) / t;
-    lb->peak_magnitude_n_s = bicubic_q(f, &a, &b, base + 3) * f0 * t;
-    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(f, &a, &b, base + band_fig) / t;
-    lb->band_high_hz = bicubic_q(f, &a, &b, base + band_fig + 1) / t;
+    lb->start_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 0) / t;
+    lb->end_hz = bicubic_q(tb, &a, &b, base + 1) / t;
+    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 2) / t;
+    lb->peak_magnitude_n_s = bicubic_q(tb, &a, &b, base + 3) * f0 * t;
+    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + band_fig) / t;
+    lb->band_high_hz = bicubic_q(tb, &a, &b, base + band_fig + 1) / t;
   }
   r->band_found = p->lobe <= r->n_lobes;
   if (r->band_found) {
@@ -405,34 +576,36 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
     r->band = r->lobes[p->lobe - 1];
     /* A band edge clipped to its lobe's end at some nodes of the stencil and
      * not at others has a kink inside it: not interpolated. */
-    if (clipped_mixed(f, &a, &b, base, base - band_fig) ||
-        clipped_mixed(f, &a, &b, base + 1, base - band_fig + 1))
+    if (clipped_mixed(tb, &a, &b, base, base - band_fig) ||
+        clipped_mixed(tb, &a, &b, base + 1, base - band_fig + 1))
       return fallback(f, p, r);
     /* The error estimate: the same cubic on the chi stencil shifted by one
      * node (both hold the strike's interval). */
     af_fp_weights a2 = a;
     a2.i0 = a.i0 + 1 <= a.l0 && a.i0 + 4 <= AF_FP_NCHI - 1 ? a.i0 + 1 : a.i0 - 1;
-    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(f, &a2, &b))
+    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(tb, &a2, &b))
       return fallback(f, p, r);
     cubic_weights(chi / AF_FP_CHI_STEP - a2.i0, a2.w);
     double hi = r->band.band_high_hz * t;
-    if (fabs(bicubic_q(f, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
-        fabs(bicubic_q(f, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
+    if (fabs(bicubic_q(tb, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
+        fabs(bicubic_q(tb, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
       return fallback(f, p, r);
   }
-  af_impact_result *im = &r->impact;
-  im->contact_time_s = bicubic_q(f, &a, &b, Q_TAU_C) * t;
-  im->peak_force_n = bicubic_q(f, &a, &b, Q_F_PEAK) * f0;
-  im->time_of_peak_s = bicubic_q(f, &a, &b, Q_TAU_PEAK) * t;
-  im->max_deformation_m = bicubic_q(f, &a, &b, Q_X_MAX) * d;
-  im->delivered_restitution = bicubic_q(f, &a, &b, Q_E_DELIVERED);
-  im->chi = chi;
-  im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
-  im->n_samples = (size_t)lround(f->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
   r->resonance_hz = res_hz;
-  r->excitation_at_resonance_db =
-      20.0 * log10(magnitude(f, &a, &b, &c) / bicubic_q(f, &a, &b, Q_MAG_MAX));
-  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(f, &a, &b, Q_PMAX);
+  if (full) {
+    af_impact_result *im = &r->impact;
+    im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
+    im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
+    im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
+    im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
+    im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
+    im->chi = chi;
+    im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
+    im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
+    r->excitation_at_resonance_db =
+        20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
+  }
+  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(tb, &a, &b, Q_PMAX);
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
   af_yield_law law = af_model_yield_law(p);
   r->yield_shear_stress_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
@@ -443,10 +616,15 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   return AF_OK;
 }
 
-/* af_fastpath_execute as the R2_min search's callback. */
+af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model_result *r)
+{
+  return evaluate(f, p, r, true);
+}
+
+/* The R2_min search's callback: it reads r->reliable only. */
 static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
 {
-  return af_fastpath_execute(ctx, p, r);
+  return evaluate(ctx, p, r, false);
 }
 
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,

@@ -47,7 +47,7 @@ struct af_lane {
   af_strike *detector;
   af_strike_config detector_cfg; /* what the detector was made with */
   af_measure *measure;
-  af_model *model;
+  af_fastpath *model;       /* the prediction's: a handle on the process's shared table */
   af_factor_learn *factor;  /* the modulus factor learned from the reliable strikes */
   double factor_configured; /* cfg->model.modulus_factor when last seen (reconfigure) */
   af_pending *pending;
@@ -149,7 +149,7 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   s->order = ++l->apples_received;
   s->apple = *a;
   const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
-  af_status st = af_prediction_execute(l->model, l->cfg, a, &s->prediction);
+  af_status st = af_prediction_execute_fast(l->model, l->cfg, a, &s->prediction);
   af_stage_end(l->mc->measure.stages, AF_STAGE_PREDICT, t0_ns);
   l->stats.apples++;
   l->stats.apples_refused += st != AF_OK;
@@ -710,7 +710,7 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
       (s = af_measure_prepare(l->measure, &cfg->model)) != AF_OK)
     goto fail;
   *what = "the model";
-  if ((s = af_model_create(&l->model)) != AF_OK)
+  if ((s = af_fastpath_create(&l->model)) != AF_OK)
     goto fail;
   *what = "the onset detector";
   if (l->mc->tap_only && (s = af_onset_create(&l->mc->onset, &l->onset)) != AF_OK)
@@ -753,7 +753,7 @@ void af_lane_destroy(af_lane *l)
   af_stream_destroy(&l->audio);
   af_strike_destroy(l->detector);
   af_measure_destroy(l->measure);
-  af_model_destroy(l->model);
+  af_fastpath_destroy(l->model);
   af_hammer_health_destroy(l->health);
   af_factor_learn_destroy(l->factor);
   af_onset_destroy(l->onset);

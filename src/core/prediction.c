@@ -4,7 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "fastpath.h"
 #include "lamb.h"
+#include "r2_search.h"
 #include "text.h"
 
 /* One field of an apple estimate and its accepted range. */
@@ -98,8 +100,18 @@ static void verdict(const af_apple *a, af_prediction *out)
     af_text(out->reason, sizeof out->reason, "%s", model_reason);
 }
 
-af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
-                                af_prediction *out)
+/* One path of the model: its evaluation and its R2_min search. */
+typedef struct {
+  af_r2_evaluate_fn evaluate;
+  af_status (*min_strike_radius)(void *ctx, const af_model_params *p, double r_lo_m, double r_hi_m,
+                                 double *r_min_m);
+  void *ctx;
+} af_model_path;
+
+/* The prediction on one path of the model (the ODE path's or the fast
+ * path's): the strike itself, then the R2_min search on the same path. */
+static af_status predict(const af_model_path *path, const af_lane_config *cfg, const af_apple *a,
+                         af_prediction *out)
 {
   memset(out, 0, sizeof *out);
   if (!apple_valid(cfg, a, out))
@@ -108,13 +120,13 @@ af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, cons
   out->params = cfg->model;
   out->params.fruit_mass_kg = a->mass_kg;
   out->params.impact.strike_radius_m = out->geo.strike_radius_m;
-  af_status s = af_model_execute(model, &out->params, &out->result);
+  af_status s = path->evaluate(path->ctx, &out->params, &out->result);
   if (s != AF_OK) {
     af_text(out->why, sizeof out->why, "model evaluation failed: %s", af_strerror(s));
     return s;
   }
-  s = af_model_min_strike_radius(model, &out->params, cfg->r2_search_low_m, cfg->r2_search_high_m,
-                                 &out->min_strike_radius_m);
+  s = path->min_strike_radius(path->ctx, &out->params, cfg->r2_search_low_m, cfg->r2_search_high_m,
+                              &out->min_strike_radius_m);
   if (s != AF_OK) /* AF_ENOROOT: not reliable even at the top of the bracket */
     out->min_strike_radius_m = 0.0;
   af_advice_decide(&out->geo, a->stem_axis, cfg->latitude_tolerance_rad, out->min_strike_radius_m,
@@ -130,4 +142,41 @@ af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, cons
   verdict(a, out);
   out->valid = true;
   return AF_OK;
+}
+
+static af_status evaluate_ode(void *ctx, const af_model_params *p, af_model_result *r)
+{
+  return af_model_execute(ctx, p, r);
+}
+
+static af_status min_radius_ode(void *ctx, const af_model_params *p, double r_lo_m, double r_hi_m,
+                                double *r_min_m)
+{
+  return af_model_min_strike_radius(ctx, p, r_lo_m, r_hi_m, r_min_m);
+}
+
+static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
+{
+  return af_fastpath_execute(ctx, p, r);
+}
+
+/* Its search evaluates only what the criteria read (fastpath.c). */
+static af_status min_radius_fast(void *ctx, const af_model_params *p, double r_lo_m, double r_hi_m,
+                                 double *r_min_m)
+{
+  return af_fastpath_min_strike_radius(ctx, p, r_lo_m, r_hi_m, r_min_m);
+}
+
+af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
+                                af_prediction *out)
+{
+  const af_model_path path = {evaluate_ode, min_radius_ode, model};
+  return predict(&path, cfg, a, out);
+}
+
+af_status af_prediction_execute_fast(af_fastpath *fast, const af_lane_config *cfg,
+                                     const af_apple *a, af_prediction *out)
+{
+  const af_model_path path = {evaluate_fast, min_radius_fast, fast};
+  return predict(&path, cfg, a, out);
 }

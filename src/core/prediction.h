@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "advice.h"
+#include "fastpath.h"
 #include "lane_config.h"
 #include "model.h"
 
@@ -59,6 +60,15 @@ typedef struct {
  * status when the evaluation failed (out->why says so). */
 af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
                                 af_prediction *out);
+
+/* The same on the fast path (fastpath.h; what the lane runs): the strike and
+ * every step of the R2_min search from the process's shared table, within
+ * 0.1 % of the ODE path's figures (test/core/test_prediction_fast.c), a
+ * strike outside the table by fast's ODE fallback. About 25 evaluations of
+ * ~0.5 us instead of ~20 us each; the first strikes of a process build
+ * the table's rows their stencils need (~6 rows, ~5 ms; fastpath.h). */
+af_status af_prediction_execute_fast(af_fastpath *fast, const af_lane_config *cfg,
+                                     const af_apple *a, af_prediction *out);
 
 #ifdef __cplusplus
 }

@@ -191,33 +191,51 @@ typedef struct {
   int side;
   double scale; /* s is measured in units of the window length */
   double tol;   /* of the zero [samples] */
+  double yy;    /* sum of r[k]^2 over the window (the same at every z) */
 } af_edge;
+
+/* The edge law's basis at s > 0: s^1.5, s^4. */
+static void edge_basis(double s, double *p0, double *p1)
+{
+  double s2 = s * s;
+  *p0 = s * sqrt(s);
+  *p1 = s2 * s2;
+}
+
+/* Residual sum of squares from the normal equations (a00 a10; a10 a11) c =
+ * (b0, b1), by the Cholesky factor of solve_spd written out for two terms
+ * (the same operations in the same order); +inf when singular. */
+static double edge_rss_of(double yy, double a00, double a10, double a11, double b0, double b1)
+{
+  if (!(a00 > 1e-12 * a00))
+    return INFINITY;
+  double l00 = sqrt(a00), l10 = a10 / l00, v = a11 - l10 * l10;
+  if (!(v > 1e-12 * a11))
+    return INFINITY;
+  double l11 = sqrt(v);
+  double y0 = b0 / l00, y1 = (b1 - l10 * y0) / l11;
+  double c1 = y1 / l11, c0 = (y0 - l10 * c1) / l00;
+  return yy - (c0 * b0 + c1 * b1);
+}
 
 /* Residual sum of squares of the best edge law with its zero at z (the
  * coefficients eliminated by linear least squares); +inf when singular. */
 static double edge_rss(const af_edge *e, double z)
 {
-  double a[AF_STRIKE_MAX_TERMS][AF_STRIKE_MAX_TERMS] = {{0}};
-  double b[AF_STRIKE_MAX_TERMS] = {0}, c[AF_STRIKE_MAX_TERMS];
-  double yy = 0.0;
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
   for (long k = e->lo; k <= e->hi; k++) {
-    double y = e->r[k];
-    yy += y * y;
     double s = (double)e->side * ((double)k - z) * e->scale;
     if (s <= 0.0)
       continue;
-    double s2 = s * s;
-    const double phi[AF_STRIKE_EDGE_TERMS] = {s * sqrt(s), s2 * s2};
-    for (size_t i = 0; i < AF_STRIKE_EDGE_TERMS; i++) {
-      b[i] += phi[i] * y;
-      for (size_t j = 0; j <= i; j++)
-        a[i][j] += phi[i] * phi[j];
-    }
+    double y = e->r[k], p0, p1;
+    edge_basis(s, &p0, &p1);
+    b0 += p0 * y;
+    a00 += p0 * p0;
+    b1 += p1 * y;
+    a10 += p1 * p0;
+    a11 += p1 * p1;
   }
-  a[0][1] = a[1][0];
-  if (!solve_spd(a, b, AF_STRIKE_EDGE_TERMS, c))
-    return INFINITY;
-  return yy - (c[0] * b[0] + c[1] * b[1]);
+  return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
 }
 
 /* Golden-section minimum of edge_rss on [a, b]. */
@@ -244,19 +262,74 @@ static double edge_golden(const af_edge *e, double a, double b)
   return 0.5 * (a + b);
 }
 
+/* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
+ * every k - z on the half-sample lattice: s = (m / 2) scale for a whole m,
+ * so the basis is tabulated once per edge over m (the same doubles as
+ * edge_rss computes) and each scan point costs multiply-adds only. Windows
+ * longer than the table are scanned by edge_rss. */
+#define AF_STRIKE_EDGE_LATTICE 1024
+
+/* The basis at s = (m / 2) scale, m = 1 .. m_max, into p0[m], p1[m]. */
+static void edge_lattice(double scale, long m_max, double *p0, double *p1)
+{
+  for (long m = 1; m <= m_max; m++)
+    edge_basis((double)m * 0.5 * scale, &p0[m], &p1[m]);
+}
+
+/* The scan of fit_edge over the lattice; the best zero and its rss. */
+static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
+                              double *best_rss)
+{
+  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
+  edge_lattice(e->scale, m_max, p0, p1);
+  const long zl = (long)zlo;
+  for (long i = 0; i <= steps; i++) {
+    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
+    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+    /* Only the samples on the contact's side of z (m >= 1) enter the sums:
+     * k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1) / 2 - 1 falling. */
+    long k0 = e->side > 0 ? zl + (i + 2) / 2 : e->lo,
+         k1 = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
+    for (long k = k0 < e->lo ? e->lo : k0; k <= (k1 > e->hi ? e->hi : k1); k++) {
+      long m = e->side * (2 * (k - zl) - i);
+      double y = e->r[k];
+      b0 += p0[m] * y;
+      a00 += p0[m] * p0[m];
+      b1 += p1[m] * y;
+      a10 += p1[m] * p0[m];
+      a11 += p1[m] * p1[m];
+    }
+    double rss = edge_rss_of(e->yy, a00, a10, a11, b0, b1);
+    if (rss < *best_rss) {
+      *best_rss = rss;
+      *best = z;
+    }
+  }
+}
+
 /* Zero of the edge law fitted to r[lo..hi], searched in [zlo, zhi]; the
  * fallback when the window is too short or no fit exists. */
-static double fit_edge(const af_edge *e, double zlo, double zhi, double fallback)
+static double fit_edge(af_edge *e, double zlo, double zhi, double fallback)
 {
   if (e->hi - e->lo + 1 < AF_STRIKE_EDGE_TERMS + 2 || !(zhi > zlo))
     return fallback;
+  e->yy = 0.0;
+  for (long k = e->lo; k <= e->hi; k++)
+    e->yy += e->r[k] * e->r[k];
   double best = NAN, best_rss = INFINITY;
   long steps = (long)floor((zhi - zlo) / AF_STRIKE_EDGE_STEP);
-  for (long i = 0; i <= steps; i++) {
-    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP, rss = edge_rss(e, z);
-    if (rss < best_rss) {
-      best_rss = rss;
-      best = z;
+  /* m = 2 side (k - z) of the scan: at most m_max (its first zero and the
+   * window's far end). */
+  long m_max = e->side > 0 ? 2 * (e->hi - (long)zlo) : 2 * ((long)zlo - e->lo) + steps;
+  if (zlo == floor(zlo) && m_max < AF_STRIKE_EDGE_LATTICE) {
+    edge_scan_lattice(e, zlo, steps, m_max, &best, &best_rss);
+  } else {
+    for (long i = 0; i <= steps; i++) {
+      double z = zlo + (double)i * AF_STRIKE_EDGE_STEP, rss = edge_rss(e, z);
+      if (rss < best_rss) {
+        best_rss = rss;
+        best = z;
+      }
     }
   }
   if (!isfinite(best_rss))
@@ -305,10 +378,47 @@ static void poly_eval(const double *c, double u, double *v, double *d1, double *
   }
 }
 
+/* cos and sin of pi / AF_STRIKE_SINC_HALF: the Hann window's step per tap. */
+#define AF_STRIKE_SINC_COS_STEP 0.98078528040323044913
+#define AF_STRIKE_SINC_SIN_STEP 0.19509032201612826785
+_Static_assert(AF_STRIKE_SINC_HALF == 16, "the window's step constants are for 16 taps");
+
 /* Band-limited reconstruction of r at t [samples]: Hann-windowed sinc over
  * AF_STRIKE_SINC_HALF samples each side, r taken as 0 outside [0, n) (it is
- * baseline-removed). Equals r[k] at an integer t = k. */
+ * baseline-removed). Equals r[k] at an integer t = k. With t = k0 + f and
+ * d = k0 - j, sin(pi (t - j)) = (-1)^d sin(pi f) and the window's angle
+ * pi (f + d) / AF_STRIKE_SINC_HALF steps by a fixed rotation from tap to tap:
+ * three sines and cosines per call instead of two per tap. */
 static double sinc_at(const double *r, long n, double t)
+{
+  long k0 = (long)floor(t);
+  double f = t - (double)k0, sf = sin(AF_STRIKE_PI * f), sum = 0.0;
+  double w = AF_STRIKE_PI * (f + (double)(AF_STRIKE_SINC_HALF - 1)) / AF_STRIKE_SINC_HALF;
+  double wc = cos(w), ws = sin(w);
+  double sign = (AF_STRIKE_SINC_HALF - 1) % 2 ? -1.0 : 1.0; /* (-1)^d at the first tap */
+  for (long j = k0 - AF_STRIKE_SINC_HALF + 1; j <= k0 + AF_STRIKE_SINC_HALF; j++) {
+    double u = t - (double)j;
+    if (j >= 0 && j < n) {
+      if (fabs(u) < 1e-12) {
+        sum += r[j];
+      } else {
+        double x = AF_STRIKE_PI * u;
+        sum += r[j] * (sign * sf) / x * (0.5 + 0.5 * wc);
+      }
+    }
+    double c = wc * AF_STRIKE_SINC_COS_STEP + ws * AF_STRIKE_SINC_SIN_STEP;
+    ws = ws * AF_STRIKE_SINC_COS_STEP - wc * AF_STRIKE_SINC_SIN_STEP;
+    wc = c;
+    sign = -sign;
+  }
+  return sum;
+}
+
+/* sinc_at with every tap's sine and cosine taken directly: the value the
+ * peak reports (its position is searched with sinc_at, equal to ~1e-16
+ * relative), so that the reported peak force is the same double as the
+ * direct sum gives. */
+static double sinc_at_direct(const double *r, long n, double t)
 {
   long k0 = (long)floor(t);
   double sum = 0.0;
@@ -365,7 +475,7 @@ static double sinc_peak(const double *r, long n, long ipk, double *at)
     tb = tm;
   }
   *at = tb;
-  return best;
+  return best > r[ipk] ? fmax(sinc_at_direct(r, n, tb), r[ipk]) : best;
 }
 
 /* Maximum of the least-squares quartic through the samples around ipk above

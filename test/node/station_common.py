@@ -3,6 +3,8 @@ collect its answers, and compute the expected values independently of the
 node: the model through the firmness_model CLI, the strike direction from
 the rig's URDF by a small forward-kinematics of its fixed joints."""
 
+import csv
+import io
 import json
 import math
 import subprocess
@@ -38,6 +40,29 @@ def firmness_model(**flags):
     args.append('--json')
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
     return json.loads(out)
+
+
+def firmness_model_fast(**flags):
+    """The strike of firmness_model(**flags) on the fast path (fastpath.h), as
+    the node predicts it (issue 17): `firmness_model sweep` over the one value
+    of R2, its CSV row with firmness_model's JSON keys (no R2_min: None)."""
+    exe = roslib.packages.find_node(PKG, 'firmness_model')
+    if not exe:
+        raise RuntimeError('firmness_model not found')
+    flags = dict(flags)
+    r2 = repr(flags.pop('R2'))
+    args = [exe[0], 'sweep', '--param', 'R2', '--from', r2, '--to', r2, '--steps', '1']
+    for key, value in flags.items():
+        args += ['--' + key.replace('_', '-'), repr(value) if isinstance(value, float) else str(value)]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    row = next(csv.DictReader(io.StringIO(out)))
+    ref = {}
+    for key, value in row.items():
+        if key in ('excites_mode', 'no_damage', 'reliable'):
+            ref[key] = bool(int(value))
+        else:
+            ref[key] = None if value == 'nan' else float(value)
+    return ref
 
 
 def model_flags(mass_kg, r2_m, hammer):

@@ -23,6 +23,8 @@ ALL = ('excitation_band', 'strike_advice', 'reliability')
 # The node and the CLI run the same core on the same inputs; JSON carries
 # 10 significant digits.
 RTOL = 1e-8
+# The fast path against the ODE path (fastpath.h) [relative].
+FAST_RTOL = 1e-3
 
 
 class StationTest(unittest.TestCase):
@@ -82,7 +84,15 @@ class StationTest(unittest.TestCase):
         _, out = self.ask(mass=mass, strike_radius=r2)
         band, advice, rel = out['excitation_band'], out['strike_advice'], out['reliability']
         flags = sc.model_flags(mass, r2, self.rig.hammer())
-        ref = sc.firmness_model(**flags)
+        # The node predicts on the fast path (issue 17): equal to the CLI's
+        # fast path, and to its ODE path within the fast path's documented
+        # accuracy (fastpath.h, 0.1 %).
+        ref = sc.firmness_model_fast(**flags)
+        ode = sc.firmness_model(**flags)
+        for key in ('contact_time_s', 'peak_force_n', 'band_high_hz', 'resonance_hz',
+                    'max_shear_stress_pa', 'yield_shear_stress_pa'):
+            self.assertTrue(math.isclose(ref[key], ode[key], rel_tol=FAST_RTOL),
+                            '%s: fast path %r, ODE path %r' % (key, ref[key], ode[key]))
         self.assertRel(band.contact_time, ref['contact_time_s'], 'contact_time')
         self.assertRel(band.peak_force, ref['peak_force_n'], 'peak_force')
         self.assertEqual(band.lobe, int(sc.param('lobe')))
