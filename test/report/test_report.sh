@@ -84,7 +84,11 @@ expect_usage "--fields takes only --json" --fields --csv "$tmp/f.csv"
 
 "$FM" "$tmp/s.bag" --plots "$tmp/plots" >/dev/null 2>"$tmp/err" || bad "--plots exited $?: $(cat "$tmp/err")"
 n_png=$(ls "$tmp/plots"/*.png 2>/dev/null | wc -l)
-if [ "$n_png" -eq $((N + 4)) ] && [ "$(head -c 4 "$tmp/plots/firmness_histogram.png" | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then ok; else bad "--plots made $n_png PNGs, expected $((N + 4))"; fi
+# One per strike and the five session figures (report_plots.h), each a PNG.
+if [ "$n_png" -eq $((N + 5)) ]; then ok; else bad "--plots made $n_png PNGs, expected $((N + 5))"; fi
+for f in firmness_histogram stiffness_vs_mass resonance_vs_band hammer_velocity modulus_factor; do
+  if [ "$(head -c 4 "$tmp/plots/$f.png" 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e47 ]; then ok; else bad "--plots drew no $f.png"; fi
+done
 
 # --- bad bags ------------------------------------------------------------------------
 echo "not a bag" >"$tmp/text.bag"
