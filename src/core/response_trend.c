@@ -110,7 +110,8 @@ size_t af_response_hum_period(const af_response_config *c)
 /* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
  * basis repeats every P samples: x is first folded onto one period
  * (y_j = sum of the samples k = j mod P), then the basis runs over P samples
- * only (~4x fewer at 4096 samples, 50 Hz, 48 kHz); else over all m. */
+ * only (~4x fewer for 4096 samples at 48 kHz and a 960-sample period); else
+ * over all m. */
 static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
                       double *rhs)
 {
