@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "memo.h"
@@ -51,15 +52,35 @@ double af_response_fade(size_t k, size_t length)
   return k < length ? 0.5 * (1.0 - cos(AF_PI * ((double)k + 0.5) / (double)length)) : 1.0;
 }
 
+/* The window's arguments (no padding: the key is its bytes). */
+typedef struct {
+  uint64_t samples, fade_samples, exponential;
+  double dt_over_tau; /* sample interval over the window's time constant [-] */
+} window_key;
+
+static af_status window_values(const void *key, void *out)
+{
+  const window_key *w = key;
+  double *window = out;
+  for (size_t k = 0; k < w->samples; ++k) {
+    double e = w->exponential ? exp(-(double)k * w->dt_over_tau) : 1.0;
+    window[k] = e * af_response_fade(k, w->fade_samples);
+  }
+  return AF_OK;
+}
+
+/* The window is the same for every response of a configuration: computed
+ * once per process (memo.h; a window_samples exp calls per lane otherwise). */
 void af_response_fill_window(af_response *r)
 {
   const af_response_config *c = &r->cfg;
-  double dt_over_tau = 1.0 / (c->sample_rate_hz * c->window_time_constant_s);
   r->fade_samples = (size_t)floor(c->fade_in_s * c->sample_rate_hz);
-  for (size_t k = 0; k < c->window_samples; ++k) {
-    double w = c->window == AF_RESPONSE_WINDOW_EXPONENTIAL ? exp(-(double)k * dt_over_tau) : 1.0;
-    r->window[k] = w * af_response_fade(k, r->fade_samples);
-  }
+  const window_key key = {c->window_samples, r->fade_samples,
+                          c->window == AF_RESPONSE_WINDOW_EXPONENTIAL,
+                          1.0 / (c->sample_rate_hz * c->window_time_constant_s)};
+  static const char kind[] = "response window";
+  (void)af_memo_get(kind, &key, sizeof key, window_values, r->window,
+                    c->window_samples * sizeof *r->window);
 }
 
 /* The phase tables' arguments (no padding: the key is its bytes). */
