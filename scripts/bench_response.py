@@ -21,6 +21,7 @@ accuracy before and after), and the scoring of its readings.
       p95 of |Q - Q0| / Q0); for close, also the upper mode.
 Pure Python (math, random, struct): no numpy on this machine."""
 import math
+import os
 import random
 import struct
 import sys
@@ -66,6 +67,7 @@ def window(rng, kind):
 
 
 def make(directory, seed, count):
+    os.makedirs(directory, exist_ok=True)
     for kind in ("comb", "close", "hum"):
         rng = random.Random(f"{seed}-{kind}")
         with open(f"{directory}/{kind}.f32", "wb") as fw, \
