@@ -11,9 +11,10 @@
  * af_lane_create makes: the force and audio streams (their rings), the strike detector, the impact
  * workspace (the exact damping law's table), the fit (its impact workspace and GSL workspace), the
  * microphone analysis (its FFTW plan), the measurement (fit + spectrum + response, and
- * af_measure_prepare's Lamb root and caches) and the model (its impact workspace and spectrum).
- * Also af_lane_config_derive, which makes a trial detector and measurement. Exit 0; 2 for a bad
- * flag; 1 when a create fails (the stage named). */
+ * af_measure_prepare's Lamb root and caches) and the prediction's fast-path handle (its table
+ * is shared by the process and built as strikes need it). Also af_lane_config_derive, which makes a
+ * trial detector and measurement. Exit 0; 2 for a bad flag; 1 when a create fails (the stage
+ * named). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <stdio.h>
 #include <stdlib.h>
