@@ -366,6 +366,8 @@ TEST(StrikeReport, BothWaysAndNaN)
   c.grade_index = 3;
   std::strcpy(c.grade, "very firm");
   std::strcpy(c.grade_reason, "");
+  c.tap_only = true;
+  std::strcpy(c.judged_from_model, "excitation judged from the model only");
 
   acoustic_firmness::StrikeReport m;
   af_shim::to_ros(c, m);
@@ -390,6 +392,8 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_EQ(m.grade_index, 3u);
   EXPECT_EQ(m.grade, "very firm");
   EXPECT_EQ(m.grade_reason, "");
+  EXPECT_TRUE(m.tap_only);
+  EXPECT_EQ(m.judged_from_model, "excitation judged from the model only");
 
   af_strike_report back;
   poison(back);
@@ -412,6 +416,8 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_TRUE(back.double_hit);
   EXPECT_FALSE(back.clipped);
   EXPECT_EQ(back.lost_samples, 4000000002u);
+  EXPECT_TRUE(back.tap_only);
+  EXPECT_STREQ(back.judged_from_model, "excitation judged from the model only");
 
   // A strike without an apple: the model-dependent figures are NaN and stay
   // NaN both ways (no conversion turns them into 0).
