@@ -41,6 +41,10 @@ doc/cli.md | (calibration) (default 0.0414)
 # not a default: the tap SNR of test_onset's weaker taps, not the 0S2 threshold
 doc/tap_only.md | - At 15 dB, 193 of 200 are found
 doc/tap_only.md | 200 taps at 18 and 15 dB
+# not defaults: the test signals of the fit's and the response's benchmarks
+doc/performance.md | elastic and without gravity, 10 g flat hammer
+doc/performance.md | drift and 50 Hz hum. Each is primed
+doc/performance.md | | hum: comb plus 50 Hz hum, 5 harmonics
 doc/cli.md | 15 dB none of 2e4) [dB] (default 15
 doc/cli.md | (default 0.0414, range [0.001, 1]
 doc/cli.md | config/rig.urdf: 10 g,
