@@ -7,6 +7,7 @@ import csv
 import io
 import json
 import math
+import os
 import subprocess
 import threading
 import time
@@ -232,3 +233,25 @@ class Station:
                 return got
             time.sleep(0.01)
         return {t: v for t, v in got.items() if v}
+
+
+def find(exe):
+    """The path of one of the package's executables (rosrun's lookup)."""
+    path = roslib.packages.find_node(PKG, exe)
+    if not path:
+        raise RuntimeError('%s not found (built?)' % exe)
+    return path[0]
+
+
+def play(bag, rate=None):
+    """Replays bag with `rosbag play --clock` on simulated time, once the
+    node subscribes. rosbag play advertises "clock" relative to its
+    namespace: rostest's ROS_NAMESPACE (the lane) would make it /lane1/clock,
+    which no node hears, so it is dropped; the bag's own topics are
+    absolute."""
+    env = dict(os.environ)
+    env.pop('ROS_NAMESPACE', None)
+    cmd = ['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers']
+    if rate is not None:
+        cmd.append('--rate=%g' % rate)
+    subprocess.run(cmd + [bag], check=True, stdout=subprocess.DEVNULL, env=env)

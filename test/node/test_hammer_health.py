@@ -27,7 +27,6 @@ import threading
 import time
 import unittest
 
-import roslib.packages
 import rospy
 import rostest
 from acoustic_firmness.msg import StrikeReport
@@ -45,13 +44,6 @@ RATE = 2.0
 MAX_LAG_STRIKES = 15 + 2
 
 
-def find(exe):
-    path = roslib.packages.find_node(sc.PKG, exe)
-    if not path:
-        raise RuntimeError('%s not found (built?)' % exe)
-    return path[0]
-
-
 class HammerHealthTest(unittest.TestCase):
 
     @classmethod
@@ -59,7 +51,7 @@ class HammerHealthTest(unittest.TestCase):
         rospy.init_node('test_hammer_health')
         cls.tmp = tempfile.mkdtemp(prefix='af_hammer_')
         cls.bag = os.path.join(cls.tmp, 'drift.bag')
-        out = subprocess.run([find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
+        out = subprocess.run([sc.find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
                               '--velocity-drift', str(DRIFT), '--out', cls.bag,
                               '--ns', rospy.get_namespace().strip('/')],
                              check=True, capture_output=True, text=True)
@@ -74,10 +66,7 @@ class HammerHealthTest(unittest.TestCase):
         end = time.time() + 30.0
         while time.time() < end and cls.subs[0].get_num_connections() == 0:
             time.sleep(0.1)
-        env = dict(os.environ)
-        env.pop('ROS_NAMESPACE', None)  # rosbag's clock must be /clock
-        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers',
-                        '--rate=%g' % RATE, cls.bag], check=True, stdout=subprocess.DEVNULL, env=env)
+        sc.play(cls.bag, RATE)
         end = time.time() + 10.0
         while time.time() < end:
             with cls.lock:

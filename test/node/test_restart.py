@@ -27,7 +27,6 @@ import unittest
 import xmlrpc.client
 
 import rosgraph
-import roslib.packages
 import rospy
 import rostest
 from acoustic_firmness.msg import Reliability, StrikeReport
@@ -39,13 +38,6 @@ STRIKES = 24
 KILL_AFTER = 8
 
 
-def find(exe):
-    path = roslib.packages.find_node(sc.PKG, exe)
-    if not path:
-        raise RuntimeError('%s not found (built?)' % exe)
-    return path[0]
-
-
 class RestartTest(unittest.TestCase):
 
     @classmethod
@@ -53,7 +45,7 @@ class RestartTest(unittest.TestCase):
         rospy.init_node('test_restart')
         cls.tmp = tempfile.mkdtemp(prefix='af_restart_')
         bag = os.path.join(cls.tmp, 'restart.bag')
-        subprocess.run([find('strike_bag'), '--strikes', str(STRIKES), '--seed', '13', '--out', bag,
+        subprocess.run([sc.find('strike_bag'), '--strikes', str(STRIKES), '--seed', '13', '--out', bag,
                         '--ns', rospy.get_namespace().strip('/')],
                        check=True, capture_output=True, text=True)
         with open(os.path.join(cls.tmp, 'restart.truth.csv')) as f:

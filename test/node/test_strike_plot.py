@@ -16,7 +16,6 @@ import threading
 import time
 import unittest
 
-import roslib.packages
 import rospy
 import rostest
 from acoustic_firmness.msg import StrikeReport
@@ -30,13 +29,6 @@ SEED = 3
 RATE = 2.0
 
 
-def find(exe):
-    path = roslib.packages.find_node(sc.PKG, exe)
-    if not path:
-        raise RuntimeError('%s not found (built?)' % exe)
-    return path[0]
-
-
 def near(pixel, colour, tol=60):
     return all(abs(a - b) < tol for a, b in zip(pixel, colour))
 
@@ -48,7 +40,7 @@ class StrikePlotTest(unittest.TestCase):
         rospy.init_node('test_strike_plot')
         cls.tmp = tempfile.mkdtemp(prefix='af_strike_plot_')
         cls.bag = os.path.join(cls.tmp, 'strikes.bag')
-        subprocess.run([find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
+        subprocess.run([sc.find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
                         '--out', cls.bag, '--ns', rospy.get_namespace().strip('/')],
                        check=True, capture_output=True, text=True)
         cls.lock = threading.Lock()

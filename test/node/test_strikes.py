@@ -24,7 +24,6 @@ import unittest
 
 import rosparam
 import rospkg
-import roslib.packages
 import rospy
 import rostest
 from acoustic_firmness.msg import Reliability, SignalChunk, StrikeReport
@@ -46,13 +45,6 @@ CONTACT_TIME_RTOL = 0.01
 START_TOL_S = 5.0 / 50000.0
 
 
-def find(exe):
-    path = roslib.packages.find_node(sc.PKG, exe)
-    if not path:
-        raise RuntimeError('%s not found (built?)' % exe)
-    return path[0]
-
-
 class StrikesTest(unittest.TestCase):
 
     refusals = 0
@@ -62,7 +54,7 @@ class StrikesTest(unittest.TestCase):
         rospy.init_node('test_strikes')
         cls.tmp = tempfile.mkdtemp(prefix='af_strikes_')
         cls.bag = os.path.join(cls.tmp, 'strikes.bag')
-        out = subprocess.run([find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
+        out = subprocess.run([sc.find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
                               '--out', cls.bag, '--ns', rospy.get_namespace().strip('/')],
                              check=True, capture_output=True, text=True)
         print(out.stdout.strip())
@@ -241,7 +233,7 @@ class StrikesTest(unittest.TestCase):
         the table of fields maps them to, with the same values (every figure
         the same double, the grade included), as the node published."""
         cfg = os.path.join(rospkg.RosPack().get_path(sc.PKG), 'config')
-        out = subprocess.run([find('firmness_report'), self.bag, '--json',
+        out = subprocess.run([sc.find('firmness_report'), self.bag, '--json',
                               '--ns', rospy.get_namespace().strip('/'),
                               '--config', os.path.join(cfg, 'station.yaml'),
                               '--cultivar', os.path.join(cfg, 'jonagold.yaml')],
@@ -258,7 +250,7 @@ class StrikesTest(unittest.TestCase):
         # same double (the report's digits read back exactly), NaN as null.
         sys.path.insert(0, os.path.join(rospkg.RosPack().get_path(sc.PKG), 'scripts'))
         import node_vs_report
-        fields = node_vs_report.load_fields(find('firmness_report'))
+        fields = node_vs_report.load_fields(sc.find('firmness_report'))
         bad = node_vs_report.check_mapping(fields, {'StrikeReport': StrikeReport.__slots__,
                                                    'Reliability': Reliability.__slots__})
         self.assertEqual(bad, [], 'the table of fields against the messages')
@@ -349,7 +341,7 @@ class StrikesTest(unittest.TestCase):
         rosparam.upload_params(ns + '/' + sc.NODE, params)
         rospy.set_param(ns + '/robot_description',
                         open(os.path.join(pkg, 'config', 'rig.urdf')).read())
-        proc = subprocess.Popen([find(sc.NODE), '__ns:=' + ns, '__name:=' + sc.NODE],
+        proc = subprocess.Popen([sc.find(sc.NODE), '__ns:=' + ns, '__name:=' + sc.NODE],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:
             _, err = proc.communicate(timeout=20.0)

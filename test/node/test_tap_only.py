@@ -19,7 +19,6 @@ import time
 import unittest
 
 import rosgraph
-import roslib.packages
 import rospy
 import rostest
 from acoustic_firmness.msg import StrikeReport
@@ -32,13 +31,6 @@ SEED = 19
 RATE = 5.0
 
 
-def find(exe):
-    path = roslib.packages.find_node(sc.PKG, exe)
-    if not path:
-        raise RuntimeError('%s not found (built?)' % exe)
-    return path[0]
-
-
 class TapOnlyTest(unittest.TestCase):
 
     @classmethod
@@ -46,7 +38,7 @@ class TapOnlyTest(unittest.TestCase):
         rospy.init_node('test_tap_only')
         cls.tmp = tempfile.mkdtemp(prefix='af_tap_')
         cls.bag = os.path.join(cls.tmp, 'tap.bag')
-        subprocess.run([find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
+        subprocess.run([sc.find('strike_bag'), '--strikes', str(STRIKES), '--seed', str(SEED),
                         '--spacing', '0.3', '--tap-only', '--out', cls.bag,
                         '--ns', rospy.get_namespace().strip('/')],
                        check=True, capture_output=True, text=True)
@@ -59,10 +51,7 @@ class TapOnlyTest(unittest.TestCase):
         end = time.time() + 30.0
         while time.time() < end and cls.subs[0].get_num_connections() == 0:
             time.sleep(0.1)
-        env = dict(os.environ)
-        env.pop('ROS_NAMESPACE', None)
-        subprocess.run(['rosbag', 'play', '--clock', '-q', '--delay=1', '--wait-for-subscribers',
-                        '--rate=%g' % RATE, cls.bag], check=True, stdout=subprocess.DEVNULL, env=env)
+        sc.play(cls.bag, RATE)
         end = time.time() + 10.0
         while time.time() < end:
             with cls.lock:
