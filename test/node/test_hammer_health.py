@@ -17,7 +17,6 @@ firmness_node. Every /diagnostics status of the node is kept with its
   truth's mean over the same last strikes."""
 
 import csv
-import math
 import os
 import re
 import shutil
