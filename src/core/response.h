@@ -257,7 +257,7 @@ af_status af_response_execute(af_response *r, const float *audio, size_t n, doub
  * No allocation (the buffers are taken at create; the list and the fits'
  * normal equations live on the stack). Cost: a dozen small fits; on a
  * line-rate bag ~0.1 ms CPU median per strike with the transform, on a
- * three-mode comb in noise ~0.35 ms (doc/notes/i17-response.md). The same
+ * three-mode comb in noise ~0.35 ms (doc/performance.md, "The response fits"). The same
  * buffers as af_response_execute: one call at a time per r. */
 af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n, double f_lo_hz,
                                     double f_hi_hz, af_response_result *peaks, size_t max_peaks,

@@ -10,7 +10,7 @@ subscription, reads the node's VmHWM and VmRSS (/proc/PID/status), publishes
 REPEAT force SignalChunks of SAMPLES samples built here as bytes (struct),
 waits until /diagnostics counts them as oversized, and reads VmHWM and VmRSS
 again. Prints one line per figure. Needs the devel space sourced. Not a
-ctest: it measures a limit of roscpp (see doc/notes/i18-wire.md)."""
+ctest: it measures a limit of roscpp (see doc/robustness.md, "A single 400 MB message")."""
 
 import os
 import re
