@@ -525,9 +525,9 @@ static void on_strike(const af_strike_event *ev, void *user)
 
 /* An accepted force chunk into the detector, in newtons (a force in V
  * converted), block by block in the stream's scratch, a refused
- * (non-finite) sample as NaN: a lost sample to the detector. */
-/* The detector takes the chunk's new samples only: the head of an overlap
- * (stream.h, last_held) was held, and detected, with the chunk before. */
+ * (non-finite) sample as NaN: a lost sample to the detector. Only the
+ * chunk's new samples: the head of an overlap (stream.h, last_held) was
+ * held, and detected, with the chunk before. */
 static void detect(af_lane *l, const af_chunk *c)
 {
   for (size_t at = l->force.last_held; at < c->n; at += AF_STREAM_BLOCK) {
