@@ -557,45 +557,21 @@ af_status af_measure_execute_pulse(af_measure *m, const af_strike_event *ev, af_
 
 /* ---- tap-only: the microphone alone ------------------------------------------ */
 
-/* The criteria from the prediction for the configured hammer: the measured
- * 0S2 against the predicted band, the predicted shear against its yield;
- * both noted as judged from the model only. */
-static void tap_judge(const af_measure *m, const af_model_result *pred, const af_measure_steps *s,
-                      af_measure_report *out)
+/* No pulse: the prediction for the configured hammer stands in for it, its
+ * lobe for the pulse's band and its shear for the fitted one, so that the
+ * verdict is judged as for a measured strike (verdict_judge), then noted as
+ * judged from the model only. */
+static void tap_from_prediction(const af_model_result *pred, af_measure_steps *s,
+                                af_measure_report *out)
 {
-  af_verdict *v = &out->verdict;
+  s->band_status = pred->band_found ? AF_OK : AF_ENOLOBE;
   if (pred->band_found) {
+    s->band = pred->band;
     out->band_low_hz = pred->band.band_low_hz;
     out->band_high_hz = pred->band.band_high_hz;
   }
   out->max_shear_stress_pa = pred->max_shear_stress_pa;
   out->yield_shear_stress_pa = pred->yield_shear_stress_pa;
-  out->excites_mode =
-      af_criteria_excites_mode(pred->band_found ? &pred->band : NULL, out->resonance_hz);
-  out->no_damage = pred->no_damage;
-  v->model_only = AF_VERDICT_MODEL_EXCITATION | AF_VERDICT_MODEL_SHEAR;
-  v->judge_status = s->judge_status;
-  if (s->judge_status != AF_OK)
-    v->flags |= AF_VERDICT_POISSON;
-  verdict_audio(m, s, out, v);
-  verdict_modes(out, v);
-  v->lobe = out->lobe;
-  if (!pred->band_found)
-    v->flags |= AF_VERDICT_NO_LOBE;
-  else if (isfinite(out->resonance_hz) && !out->excites_mode) {
-    v->flags |= AF_VERDICT_OUTSIDE_BAND;
-    v->resonance_hz = out->resonance_hz;
-    v->band_low_hz = pred->band.band_low_hz;
-    v->band_high_hz = pred->band.band_high_hz;
-  }
-  if (!out->no_damage) {
-    v->flags |= AF_VERDICT_DAMAGE;
-    v->max_shear_pa = out->max_shear_stress_pa;
-    v->yield_shear_pa = out->yield_shear_stress_pa;
-  }
-  out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
-  af_verdict_format(v, out->reason, sizeof out->reason);
-  af_verdict_format_model_only(v, out->model_only_text, sizeof out->model_only_text);
 }
 
 af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
@@ -620,7 +596,10 @@ af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
   timed_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
   const af_stage_hook *h = m->cfg.stages;
   const int64_t t0_ns = af_stage_begin(h);
-  tap_judge(m, predicted, &s, out);
+  tap_from_prediction(predicted, &s, out);
+  verdict_judge(m, &none, apple, &s, out);
+  out->verdict.model_only = AF_VERDICT_MODEL_EXCITATION | AF_VERDICT_MODEL_SHEAR;
+  af_verdict_format_model_only(&out->verdict, out->model_only_text, sizeof out->model_only_text);
   af_stage_end(h, AF_STAGE_VERDICT, t0_ns);
   return AF_OK;
 }
