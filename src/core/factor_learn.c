@@ -81,6 +81,12 @@ static bool maybe_apply(af_factor_learn *f)
   return true;
 }
 
+double af_factor_learn_true(double factor_used, double modulus_from_resonance_pa,
+                            double fitted_modulus_pa)
+{
+  return factor_used * modulus_from_resonance_pa / fitted_modulus_pa;
+}
+
 af_status af_factor_learn_push(af_factor_learn *f, bool reliable, double modulus_from_resonance_pa,
                                double fitted_modulus_pa, double factor_used, bool *changed)
 {
@@ -89,7 +95,7 @@ af_status af_factor_learn_push(af_factor_learn *f, bool reliable, double modulus
   if (f == NULL)
     return AF_EINVAL;
   af_factor_learn_state *s = &f->state;
-  const double x = factor_used * modulus_from_resonance_pa / fitted_modulus_pa;
+  const double x = af_factor_learn_true(factor_used, modulus_from_resonance_pa, fitted_modulus_pa);
   if (!reliable || !isfinite(x) || !(x > 0.0)) {
     s->refused++;
     return AF_OK;

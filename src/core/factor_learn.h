@@ -73,6 +73,12 @@ typedef struct af_factor_learn af_factor_learn;
 
 /* AF_EINVAL for a NULL pointer or a field outside its range (nothing
  * allocated, *out NULL); AF_ENOMEM. */
+/* One strike's own factor, factor_used x E(0S2) / E2 [-] (the top comment);
+ * NaN or infinite when a modulus is missing. What af_factor_learn_push
+ * stores, for a caller that shows it per strike. */
+double af_factor_learn_true(double factor_used, double modulus_from_resonance_pa,
+                            double fitted_modulus_pa);
+
 af_status af_factor_learn_create(const af_factor_learn_config *cfg, af_factor_learn **out);
 void af_factor_learn_destroy(af_factor_learn *f); /* NULL-safe */
 

@@ -79,8 +79,8 @@ static void on_lane_strike(const af_lane_strike *ls, void *user)
   r->hammer_velocity_mean_m_s = h->velocity_m_s;
   r->hammer_warnings = h->warnings;
   const af_factor_learn_state *f = af_lane_factor(c->lane); /* after this strike */
-  r->factor_true = ls->modulus_factor * ls->report.modulus_from_resonance_pa /
-                   ls->report.fitted_modulus_pa; /* NaN propagates when either is missing */
+  r->factor_true = af_factor_learn_true(ls->modulus_factor, ls->report.modulus_from_resonance_pa,
+                                        ls->report.fitted_modulus_pa);
   r->factor_estimate = f->estimate;
   r->factor_ci_low_95 = f->ci_low_95;
   r->factor_ci_high_95 = f->ci_high_95;
