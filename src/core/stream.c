@@ -74,7 +74,9 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
   for (size_t at = 0; at < c->n || at == 0; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     af_ring_write_info block;
-    size_t r = af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    /* an empty chunk may carry no buffer at all (x NULL): no offset on it */
+    const float *x = m > 0 ? c->x + at : c->x;
+    size_t r = af_stream_to_si(s->cfg->to_si, x, m, s->si);
     if (r > 0) {
       refused += r;
       note_spans(s, s->si, m, c->first_sample + at, &open);
