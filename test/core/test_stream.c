@@ -349,9 +349,33 @@ static void test_overlap(void)
   af_stream_destroy(&s);
 }
 
+/* An empty chunk, with no buffer at all (x NULL, as a decoder may hand
+ * over a SignalChunk of no data): accepted, nothing held, nothing lost, the
+ * ring unchanged (found by fuzz_msgs: the write took an offset of NULL). */
+static void test_empty_chunk(void)
+{
+  af_stream_config cfg = config(1000, 1.0);
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
+  af_chunk c = chunk(0, CHUNK, 1000);
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_OK);
+  af_chunk empty = {1000 + CHUNK * 20000, CHUNK, RATE_HZ, "N", "hammer", NULL, 0};
+  af_ring_write_info w;
+  af_chunk_verdict v = af_stream_push(&s, &empty, 2, &w);
+  AF_CHECK(v == AF_CHUNK_OK || v == AF_CHUNK_DUPLICATE);
+  AF_CHECK(!w.restarted && w.gap_samples == 0 && s.gaps == 0 && s.restarts == 0);
+  AF_CHECK(af_ring_end(s.ring) == CHUNK && s.refused_samples == 0);
+  /* n > 0 with no buffer: malformed, named. */
+  empty.n = 5;
+  AF_CHECK(af_stream_push(&s, &empty, 3, NULL) == AF_CHUNK_MALFORMED && s.malformed == 1);
+  AF_CHECK(strstr(s.last_problem, "5 samples, no data") != NULL);
+  af_stream_destroy(&s);
+}
+
 int main(void)
 {
   test_gaps_and_restarts();
+  test_empty_chunk();
   test_overlap();
   test_refused();
   test_conversion();
