@@ -69,14 +69,17 @@ static void note_spans(af_stream *s, const float *y, size_t m, uint64_t at, bool
  * Returns the samples refused. */
 static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *w)
 {
+  if (c->n == 0) { /* nothing to convert (x may be NULL), but its index still tells of a
+                      gap or a restart */
+    (void)af_ring_write(s->ring, s->si, 0, c->first_sample, w);
+    return 0;
+  }
   uint64_t refused = 0;
   bool open = false;
-  for (size_t at = 0; at < c->n || at == 0; at += AF_STREAM_BLOCK) {
+  for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     af_ring_write_info block;
-    /* an empty chunk may carry no buffer at all (x NULL): no offset on it */
-    const float *x = m > 0 ? c->x + at : c->x;
-    size_t r = af_stream_to_si(s->cfg->to_si, x, m, s->si);
+    size_t r = af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
     if (r > 0) {
       refused += r;
       note_spans(s, s->si, m, c->first_sample + at, &open);
@@ -84,8 +87,6 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
       open = false;
     }
     (void)af_ring_write(s->ring, s->si, m, c->first_sample + at, at ? &block : w);
-    if (c->n == 0)
-      break;
   }
   return refused;
 }
