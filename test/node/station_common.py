@@ -17,6 +17,7 @@ import rospy
 import roslib.packages
 from acoustic_firmness.msg import (AppleEstimate, ExcitationBand, Reliability,
                                    StrikeAdvice)
+from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import MarkerArray
 
 PKG = 'acoustic_firmness'
@@ -255,3 +256,21 @@ def play(bag, rate=None):
     if rate is not None:
         cmd.append('--rate=%g' % rate)
     subprocess.run(cmd + [bag], check=True, stdout=subprocess.DEVNULL, env=env)
+
+
+def clock_on(seconds, until=None):
+    """Runs simulated time on after a replay: /clock from the test's last
+    sim time, in steps of 0.1 s every 0.05 s of wall time, for `seconds` of
+    sim time, or until `until()` is true. A node on simulated time does
+    nothing time-driven once rosbag play stops its clock, so a /diagnostics
+    tick due after the last strike would never come (the node's status at
+    1 Hz of ROS time may fall before the last strike's report)."""
+    pub = rospy.Publisher('/clock', Clock, queue_size=10)
+    time.sleep(0.3)  # the node connects to the new publisher
+    t = rospy.get_rostime()
+    for k in range(1, int(round(seconds / 0.1)) + 1):
+        if until is not None and until():
+            break
+        pub.publish(Clock(clock=t + rospy.Duration(0.1 * k)))
+        time.sleep(0.05)
+    pub.unregister()
