@@ -10,13 +10,16 @@
 # fails the run: copy it into test/fuzz/<name>/ as a regression input once
 # fixed. Prints executions per harness.
 #
-#   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--timeout T] [--no-build]
+#   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--timeout T] [--seed N] [--no-build]
 #
 # --seconds: per harness (default 60); --jobs: harnesses run side by side
 # (default 1); --timeout: seconds an input may take while fuzzing (default 1;
 # libFuzzer's clock is the wall's, so on a loaded machine, e.g. fuzzing
 # under `nice`, give more: every input reported as a timeout is run again
 # on its own and fails the run only if it takes over a second then too);
+# --seed: libFuzzer's random seed (default 0: a new one each run). CI's short
+# mode gives --seed 1, so that its verdict depends on the code alone, not
+# on which mutations a run happened to try; long runs keep the default.
 # --no-build: use the build as it is.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -26,6 +29,7 @@ seconds=60
 only=""
 jobs=1
 timeout=1
+seed=0
 build=1
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -33,12 +37,14 @@ while [ $# -gt 0 ]; do
     --only) only=${2:?--only needs a name}; shift 2 ;;
     --jobs) jobs=${2:?--jobs needs a value}; shift 2 ;;
     --timeout) timeout=${2:?--timeout needs a value}; shift 2 ;;
+    --seed) seed=${2:?--seed needs a value}; shift 2 ;;
     --no-build) build=0; shift ;;
     *) echo "fuzz.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
 case "$seconds" in '' | *[!0-9]*) echo "fuzz.sh: --seconds '$seconds' is not a whole number" >&2; exit 2 ;; esac
 case "$jobs" in '' | *[!0-9]* | 0) echo "fuzz.sh: --jobs '$jobs' is not a whole number >= 1" >&2; exit 2 ;; esac
+case "$seed" in '' | *[!0-9]*) echo "fuzz.sh: --seed '$seed' is not a whole number" >&2; exit 2 ;; esac
 case "$timeout" in '' | *[!0-9]* | 0) echo "fuzz.sh: --timeout '$timeout' is not a whole number >= 1" >&2; exit 2 ;; esac
 
 names=()
@@ -71,10 +77,10 @@ export LSAN_OPTIONS="suppressions=$root/test/sanitizers/lsan.supp:print_suppress
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$root/test/sanitizers/ubsan.supp"
 
 # The longest input each harness takes [bytes]: a few chunks, a window of
-# audio, an argument list, a YAML file, a small bag, two short recordings.
+# audio, an argument list, a YAML file, a small bag, two short recordings, a WAV file.
 max_len() {
   case "$1" in
-    strike) echo 65536 ;; response) echo 16384 ;; cli) echo 1024 ;; yaml) echo 8192 ;;
+    strike) echo 65536 ;; response) echo 16384 ;; cli) echo 1024 ;; yaml) echo 8192 ;; wav) echo 16384 ;;
     msgs) echo 65536 ;; bag) echo 65536 ;; analyze) echo 65536 ;; *) echo 4096 ;;
   esac
 }
@@ -92,7 +98,7 @@ run_one() {
   mkdir -p "$out/corpus/$n"
   # -close_fd_mask=3: the harnesses' own output (analyze's JSON, refusal
   # lines) is discarded; libFuzzer's reports still show.
-  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout="$timeout" \
+  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout="$timeout" -seed="$seed" \
     -rss_limit_mb=2048 -max_len="$(max_len "$n")" -print_final_stats=1 -close_fd_mask=3 \
     -artifact_prefix="$out/$n-" >"$out/$n.log" 2>&1
 }

@@ -194,7 +194,43 @@ def analyze_seeds():
     put('analyze', 'strike', bytes([head]) + body)
 
 
+def wav_seeds():
+    # head byte: channel (bits 0-1; 0 = not given), a rate flag (bit 2);
+    # then the file: each WAV kind the reader accepts, a LIST before the
+    # data, a padded RIFF, and headers whose sizes lie.
+    sys.path.insert(0, os.path.join(ROOT, 'test', 'cli'))
+    import tempfile
+    import wav_files as wf
+    fs = 8000
+    tone = [0.5 * math.sin(2 * math.pi * 440.0 * k / fs) for k in range(64)]
+    two = [tone, [-x for x in tone]]
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, 'x.wav')
+        for name, write in (('pcm16', lambda: wf.write_pcm(path, fs, [tone], 16, 1.0)),
+                            ('pcm8_stereo', lambda: wf.write_pcm(path, fs, two, 8, 1.0)),
+                            ('pcm24', lambda: wf.write_pcm(path, fs, [tone], 24, 1.0)),
+                            ('pcm32', lambda: wf.write_pcm(path, fs, two, 32, 1.0)),
+                            ('float32', lambda: wf.write_float(path, fs, [tone], 32)),
+                            ('float64_ext', lambda: wf.write_float(path, fs, two, 64, True)),
+                            ('ext_pcm24in32',
+                             lambda: wf.write_extensible_pcm(path, fs, [tone], 32, 1.0, 24))):
+            write()
+            body = open(path, 'rb').read()
+            put('wav', name, bytes([1 if 'stereo' in name else 0]) + body)
+        wf.write_pcm(path, fs, [tone], 16, 1.0)
+        body = open(path, 'rb').read()
+    put('wav', 'padded', bytes([0]) + body + bytes(7))
+    put('wav', 'riff_size_lies', bytes([0]) + body[:4] + struct.pack('<I', 1 << 30) + body[8:])
+    data_at = body.index(b'data')
+    put('wav', 'data_size_lies',
+        bytes([0]) + body[:data_at + 4] + struct.pack('<I', 0xFFFFFFF0) + body[data_at + 8:])
+    put('wav', 'rate_flag', bytes([4]) + body)
+    put('wav', 'raw_f32', bytes([4]) + struct.pack('<64f', *tone))
+    put('wav', 'flac', bytes([0]) + b'fLaC' + bytes(40))
+
+
 if __name__ == '__main__':
+    wav_seeds()
     strike_seeds()
     response_seeds()
     cli_seeds()
