@@ -26,8 +26,10 @@ struct af_bag_reader {
   std::unique_ptr<rosbag::View> view;
   rosbag::View::iterator it;
   std::string topic, last_error;
-  // The message being read: kept until the next call (its arrays are borrowed).
-  SignalChunk::ConstPtr chunk;
+  // The SignalChunk being read: kept until the next call (its arrays are
+  // borrowed), deserialized from raw into the same object each time (its
+  // data vector keeps its capacity: no allocation per chunk).
+  SignalChunk chunk;
   std::vector<uint8_t> raw; // a SignalChunk's bytes, checked before deserializing
   std::map<std::string, size_t> counts;
   std::size_t max_samples = 0; // af_bag_reader_limit; 0: none
@@ -137,18 +139,37 @@ void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
   }
 }
 
-// rosbag's instantiate gives a null pointer when the connection's type or
-// md5sum is not M's (a bag edited, or written with another definition):
-// refused with its topic, never dereferenced (found by fuzz_bag.c).
+// A message whose connection's type or md5sum is not M's (a bag edited, or
+// written with another definition), refused with its topic.
+template <class M> rosbag::BagFormatException not_as_built(const rosbag::MessageInstance &mi)
+{
+  return rosbag::BagFormatException(
+      "a message on " + mi.getTopic() + " of type " + mi.getDataType() + " (md5sum " +
+      mi.getMD5Sum() + ") does not match " + ros::message_traits::datatype<M>() + " as built here");
+}
+
+// rosbag's instantiate gives a null pointer when the connection is not M's:
+// refused, never dereferenced (found by fuzz_bag.c).
 template <class M> boost::shared_ptr<M> instantiate(const rosbag::MessageInstance &mi)
 {
   boost::shared_ptr<M> m = mi.instantiate<M>();
   if (!m)
-    throw rosbag::BagFormatException("a message on " + mi.getTopic() + " of type " +
-                                     mi.getDataType() + " (md5sum " + mi.getMD5Sum() +
-                                     ") does not match " + ros::message_traits::datatype<M>() +
-                                     " as built here");
+    throw not_as_built<M>(mi);
   return m;
+}
+
+// The SignalChunk whose bytes check_chunk_bytes left in r->raw, into
+// r->chunk: the bytes already read and checked are deserialized, not read
+// from the bag a second time (rosbag's instantiate parses the record's
+// header again and allocates a new message). The connection's md5sum must
+// be SignalChunk's as built here, as instantiate requires (its type was
+// matched by type_of).
+void read_chunk(af_bag_reader *r, const rosbag::MessageInstance &mi)
+{
+  if (mi.getMD5Sum() != ros::message_traits::md5sum<SignalChunk>())
+    throw not_as_built<SignalChunk>(mi);
+  ros::serialization::IStream in(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
+  ros::serialization::deserialize(in, r->chunk);
 }
 
 } // namespace
@@ -235,8 +256,8 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
           set_error(r, no.why);
           return no.status;
         }
-        r->chunk = instantiate<SignalChunk>(mi);
-        af_shim::from_ros(*r->chunk, m->msg.chunk);
+        read_chunk(r, mi);
+        af_shim::from_ros(r->chunk, m->msg.chunk);
         break;
       case AF_MSG_APPLE_ESTIMATE:
         af_shim::from_ros(*instantiate<AppleEstimate>(mi), m->msg.apple);

@@ -13,6 +13,8 @@ with the rosbag Python API (never by hand-editing a file):
   overflow.bag         one force chunk more at first_sample 2^64 - 5
   empty_chunk.bag      a message of 0 bytes on the force topic (SignalChunk's
                        connection)
+  md5_mismatch.bag     the force topic's connection under another md5sum (a
+                       SignalChunk of another definition)
 """
 import struct
 import sys
@@ -87,9 +89,16 @@ def main():
             kind, data, md5, pos, cls = raw
             dst.write(topic, (kind, b'', md5, pos, cls), t, raw=True)
 
+    def md5_mismatch(dst, topic, raw, t):
+        if topic.endswith('/force'):
+            kind, data, md5, pos, cls = raw
+            raw = (kind, data, '0123456789abcdef0123456789abcdef', pos, cls)
+        plain(dst, topic, raw, t)
+
     if not only_big:
         copy(good, out + '/overflow.bag', overflow)
         copy(good, out + '/empty_chunk.bag', empty_chunk)
+        copy(good, out + '/md5_mismatch.bag', md5_mismatch)
 
     def big_chunk(dst, topic, raw, t):
         plain(dst, topic, raw, t)
