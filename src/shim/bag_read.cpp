@@ -64,29 +64,63 @@ af_status reader_status(af_bag_reader *r) noexcept
   });
 }
 
+// The ROS data types this reader converts: their C type and the md5sum of
+// their definition as built here.
+struct known_type {
+  af_msg_type type;
+  const char *md5sum;
+};
+
+const std::map<std::string, known_type> &known_types()
+{
+  static const std::map<std::string, known_type> known = {
+      {ros::message_traits::datatype<SignalChunk>(),
+       {AF_MSG_SIGNAL_CHUNK, ros::message_traits::md5sum<SignalChunk>()}},
+      {ros::message_traits::datatype<AppleEstimate>(),
+       {AF_MSG_APPLE_ESTIMATE, ros::message_traits::md5sum<AppleEstimate>()}},
+      {ros::message_traits::datatype<StrikeReport>(),
+       {AF_MSG_STRIKE_REPORT, ros::message_traits::md5sum<StrikeReport>()}},
+      {ros::message_traits::datatype<Reliability>(),
+       {AF_MSG_RELIABILITY, ros::message_traits::md5sum<Reliability>()}},
+  };
+  return known;
+}
+
 // The C type of a ROS data type this reader converts; false for any other.
 bool type_of(const std::string &datatype, af_msg_type &t)
 {
-  static const std::map<std::string, af_msg_type> known = {
-      {ros::message_traits::datatype<SignalChunk>(), AF_MSG_SIGNAL_CHUNK},
-      {ros::message_traits::datatype<AppleEstimate>(), AF_MSG_APPLE_ESTIMATE},
-      {ros::message_traits::datatype<StrikeReport>(), AF_MSG_STRIKE_REPORT},
-      {ros::message_traits::datatype<Reliability>(), AF_MSG_RELIABILITY},
-  };
-  auto k = known.find(datatype);
-  if (k == known.end())
+  auto k = known_types().find(datatype);
+  if (k == known_types().end())
     return false;
-  t = k->second;
+  t = k->second.type;
   return true;
 }
 
-// Every listed topic must be in the bag with a type we read.
+// A connection of a listed topic whose type is one we read must carry its
+// definition as built here: a bag of an older SignalChunk is refused at
+// open, in one line, not message by message.
+void check_definition(const rosbag::ConnectionInfo &c)
+{
+  auto t = known_types().find(c.datatype);
+  if (t != known_types().end() && c.md5sum != t->second.md5sum)
+    throw std::invalid_argument("topic " + c.topic + " has type " + c.datatype + " of md5sum " +
+                                c.md5sum + ", not " + t->second.md5sum +
+                                " as built here: recorded with another definition of the "
+                                "message; read it with the package version that recorded it");
+}
+
+// Every listed topic must be in the bag with a type we read, of our
+// definition (check_definition).
 void check_topics(af_bag_reader *r, const char *const *topics, size_t n)
 {
   rosbag::View all(*r->bag);
   std::map<std::string, std::string> types;
-  for (const rosbag::ConnectionInfo *c : all.getConnections())
+  for (const rosbag::ConnectionInfo *c : all.getConnections()) {
     types[c->topic] = c->datatype;
+    for (size_t k = 0; k < n; k++)
+      if (c->topic == topics[k])
+        check_definition(*c);
+  }
   for (const rosbag::MessageInstance &m : all)
     r->counts[m.getTopic()]++;
   for (size_t k = 0; k < n; k++) {

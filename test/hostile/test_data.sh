@@ -77,10 +77,11 @@ hostile_case big_chunk 0 'a SignalChunk of 67108921 bytes .*above the cap of 100
 hostile_case index_overflow 0 'force +170 chunks.* 1 refused \(rate 0, unit 0, index 1, malformed 0' \
   2 256 -- "$fr" "$tmp/overflow.bag"
 hostile_case empty_chunk 0 'an empty SignalChunk \(0 bytes\)' 2 256 -- "$fr" "$tmp/empty_chunk.bag"
-# A SignalChunk of another definition (its md5sum): refused in one line
-# naming topic, type and md5sum, never deserialized as this build's.
+# A SignalChunk of another definition (its md5sum): the bag refused at open
+# in one line naming topic, type and both md5sums, never deserialized as
+# this build's.
 hostile_case md5_mismatch 2 \
-  'a message on /lane1/force of type acoustic_firmness/SignalChunk \(md5sum 0123456789abcdef0123456789abcdef\) does not match acoustic_firmness/SignalChunk as built here' \
+  'md5_mismatch.bag: topic /lane1/force has type acoustic_firmness/SignalChunk of md5sum 0123456789abcdef0123456789abcdef, not [0-9a-f]{32} as built here: recorded with another definition' \
   2 256 -- "$fr" "$tmp/md5_mismatch.bag"
 # 3: a bag chunk of 2^26 samples (256 MiB): rosbag would hold it whole; the
 # bag is refused in one line.
