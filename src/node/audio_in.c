@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "af_wire_guard.h"
 #include "lane_io.h"
 #include "pcm.h"
 #include "text.h"
@@ -125,6 +126,7 @@ static void on_info(const af_audio_info *m, void *user)
   a->format = f;
   af_text(a->format_problem, sizeof a->format_problem, "%s", why);
   a->max_bytes = cap_bytes(a);
+  af_wire_guard_allow(a->max_bytes); /* a wider format: roscpp may now read longer messages */
   if (!a->usable) {
     a->bad_format++;
     problem(a, a->bad_format, why);
@@ -339,6 +341,7 @@ af_status af_audio_in_create(af_ros *ros, const af_node_config *cfg, af_ros_call
   a->feed = feed;
   a->user = user;
   a->max_bytes = cap_bytes(a);
+  af_wire_guard_allow(a->max_bytes);
   /* As many chunks as the SignalChunk subscription queues (station.c). */
   af_status s = af_ros_subscribe_audio_info(ros, "audio_info", on_info, on_refused, a);
   if (s == AF_OK)

@@ -10,6 +10,7 @@
 #include "absent.h"
 #include "advice.h"
 #include "af_tf.h"
+#include "af_wire_guard.h"
 #include "audio_in.h"
 #include "evaluate.h"
 #include "live_settings.h"
@@ -36,6 +37,13 @@
  * on a backlog publishes a burst of reports, and roscpp drops what exceeds
  * the queue without a word (issue 11: 5 StrikeReports lost at 80x with 10). */
 #define AF_OUTPUT_QUEUE 1000
+/* The smallest cap on roscpp's message buffers (af_wire_guard.h) [bytes]:
+ * every message of the node's topics but the chunks (apple estimates, TF,
+ * /clock, services, reconfigure) is far below it, and so is the largest
+ * strike plot it publishes (2048 x 2048 x 3 bytes: 12 MiB). A chunk is
+ * allowed its stream's ring and AF_WIRE_GUARD_SLACK_BYTES of header. */
+#define AF_WIRE_GUARD_FLOOR_BYTES ((size_t)16 << 20)
+#define AF_WIRE_GUARD_SLACK_BYTES ((size_t)64 << 10)
 /* How long the start-up waits for the rig's frames in TF [s]. */
 #define AF_TF_WAIT_S 3.0
 /* Diagnostics period [s] follows the updater (~diagnostic_period). */
@@ -62,6 +70,7 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
+  unsigned long long too_long_seen;        /* messages too long to read, at the last one */
   int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
   bool absent_logged;       /* the stream-absent warning went to the log */
   char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
@@ -491,6 +500,15 @@ static void diag_task(af_diag_status *d, void *user)
                                 af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
+  af_wire_guard_stats guard;
+  af_wire_guard_get(&guard);
+  bool too_long = guard.refused != st->too_long_seen;
+  if (too_long && power_of_two(guard.refused))
+    af_ros_log(st->ros, AF_LOG_WARN,
+               "a message of %zu bytes dropped unread: above the %zu bytes this node reads "
+               "(%llu so far; the publisher's connection made again)",
+               guard.largest_refused_bytes, guard.cap_bytes, guard.refused);
+  st->too_long_seen = guard.refused;
   if (st->clock_start_ns == 0)
     st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
   bool absent = absent_check(st, force, audio, now_ns);
@@ -502,6 +520,7 @@ static void diag_task(af_diag_status *d, void *user)
     strike_warning = af_audio_in_warning(st->audio_in);
   /* The first problem, in this order of importance; NULL = none. */
   const char *warning = st->last_apple_invalid ? "last apple got no prediction"
+                        : too_long ? "a message too long to read dropped since the last report"
                         : new_problems         ? "stream gaps or bad chunks since the last report"
                         : force_stale || audio_stale ? "a stream went silent"
                         : absent                     ? st->absent
@@ -533,6 +552,10 @@ static void diag_task(af_diag_status *d, void *user)
                              : "first start",
               st->started);
   af_diag_add(d, "malformed messages dropped", "%llu", af_ros_malformed(st->ros));
+  af_diag_add(d, "messages too long to read",
+              "%llu (longest %zu bytes; cap %zu bytes: never read, the publisher's connection "
+              "made again)",
+              guard.refused, guard.largest_refused_bytes, guard.cap_bytes);
   af_diag_add(d, "apples processed", "%llu", st->apples);
   af_diag_add(d, "apples without prediction", "%llu (model failures %llu)", st->apples_invalid,
               st->model_failures);
@@ -598,10 +621,27 @@ static size_t ring_samples(const af_station *st, bool force)
   return (force ? af_lane_force_stream(l) : af_lane_audio_stream(l))->cfg->capacity_samples;
 }
 
+/* The cap on roscpp's message buffers: the largest message the node can
+ * use or publishes (af_wire_guard.h; audio_in.c raises it for its format). */
+static void guard_wire(const af_station *st)
+{
+  size_t cap = AF_WIRE_GUARD_FLOOR_BYTES;
+  const size_t chunk[2] = {4 * ring_samples(st, true), 4 * ring_samples(st, false)};
+  for (int k = 0; k < 2; k++)
+    if (chunk[k] + AF_WIRE_GUARD_SLACK_BYTES > cap)
+      cap = chunk[k] + AF_WIRE_GUARD_SLACK_BYTES; /* float32 samples + the header */
+  const size_t plot = 3 * (size_t)st->cfg->strike_plot_width_px *
+                      (size_t)st->cfg->strike_plot_height_px; /* RGB8 */
+  if (plot + AF_WIRE_GUARD_SLACK_BYTES > cap)
+    cap = plot + AF_WIRE_GUARD_SLACK_BYTES;
+  af_wire_guard_allow(cap);
+}
+
 static af_status subscribe(af_station *st)
 {
   af_ros_sub *sub; /* owned by the af_ros */
   af_status s = AF_OK;
+  guard_wire(st);
   if (!st->cfg->lane.measured.tap_only) { /* tap-only: a microphone, no force transducer */
     s = af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
     if (s == AF_OK)

@@ -1,16 +1,20 @@
 #!/usr/bin/python3
-"""The node's transient peak RSS around one very long SignalChunk (issue 18:
-"the node stays within 256 MiB whatever message arrives").
+"""The node's peak RSS around very long SignalChunks (issue 18: "the node
+stays within 256 MiB whatever message arrives"), and its stream after them.
 
-  big_message.py [SAMPLES [REPEAT]]     (default 100000000 samples: 400 MB; 1)
+  big_message.py [SAMPLES [REPEAT]]     (default 100000000 samples: 400 MB; 2)
 
 Starts its own roscore on a free port and a firmness_node with the shipped
 YAML and the rig URDF (as test/node/test_wire_cap.py does), waits for the
-subscription, reads the node's VmHWM and VmRSS (/proc/PID/status), publishes
-REPEAT force SignalChunks of SAMPLES samples built here as bytes (struct),
-waits until /diagnostics counts them as oversized, and reads VmHWM and VmRSS
-again. Prints one line per figure. Needs the devel space sourced. Not a
-ctest: it measures a limit of roscpp (see doc/robustness.md, "A single 400 MB message")."""
+subscription and reads the node's VmHWM and VmRSS (/proc/PID/status). Then
+REPEAT times: publishes one force SignalChunk of SAMPLES samples (built here
+as bytes, struct), waits until /diagnostics counts it among the "messages
+too long to read" (af_wire_guard.h: roscpp never reads it), then publishes
+small good chunks (1000 samples, the index running on) until the node's
+"force chunks" count takes them: the connection was made again. Reads VmHWM
+and VmRSS again. One line per figure; exit 1 when a wait ends unmet or the
+node's VmHWM exceeds 256 MiB (AF_SANITIZED=1: not checked, ASan's shadow
+memory). Needs the devel space sourced. ctest: hostile_big_message."""
 
 import os
 import re
@@ -33,18 +37,18 @@ def status_kib(pid, key):
         return int(re.search(key + r':\s+(\d+) kB', f.read()).group(1))
 
 
-def chunk_bytes(n, unit, rate):
+def chunk_bytes(n, unit, rate, first=0):
     """A SignalChunk serialized by hand: header (seq, stamp, frame_id),
-    first_sample, sample_rate, unit, data (length prefix + n float32)."""
+    first_sample, sample_rate, unit, data (length prefix + n float32 zeros)."""
     frame, u = b'hammer', unit.encode()
     head = struct.pack('<III', 0, 100, 0) + struct.pack('<I', len(frame)) + frame
-    body = struct.pack('<Qd', 0, rate) + struct.pack('<I', len(u)) + u
+    body = struct.pack('<Qd', first, rate) + struct.pack('<I', len(u)) + u
     return head + body + struct.pack('<I', n) + bytes(4 * n)
 
 
 def main():
     samples = int(sys.argv[1]) if len(sys.argv) > 1 else 100000000
-    repeat = int(sys.argv[2]) if len(sys.argv) > 2 else 1
+    repeat = int(sys.argv[2]) if len(sys.argv) > 2 else 2
     port = free_port()
     os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
     core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
@@ -99,20 +103,50 @@ def main():
         time.sleep(1.0)
         print('before: VmHWM %.1f MiB, VmRSS %.1f MiB' %
               (status_kib(node.pid, 'VmHWM') / 1024, status_kib(node.pid, 'VmRSS') / 1024))
-        raw = Raw(chunk_bytes(samples, params.get('force_unit', 'N'),
-                              params['force_sample_rate_hz']))
+        unit, rate = params.get('force_unit', 'N'), params['force_sample_rate_hz']
+        raw = Raw(chunk_bytes(samples, unit, rate))
         print('message: %d samples, %d bytes (%.1f MiB)' % (samples, len(raw.raw),
                                                             len(raw.raw) / 2**20))
-        for _ in range(repeat):
+
+        def wait(what, test, bound_s, poke=None):
+            end = time.time() + bound_s
+            while time.time() < end and not test():
+                if poke:
+                    poke()
+                time.sleep(0.2)
+            if not test():
+                print('big_message: %s not seen within %g s' % (what, bound_s))
+                return False
+            return True
+
+        def count(key):
+            return int(diag.get(key, '0').split()[0])
+
+        first = 0
+        for k in range(1, repeat + 1):
             pub.publish(raw)
-        want = 'oversized %d' % repeat
-        end = time.time() + 60
-        while time.time() < end and want not in diag.get('force bad chunks', ''):
-            time.sleep(0.2)
+            if not wait('long message %d counted' % k,
+                        lambda: count('messages too long to read') >= k, 60):
+                return 1
+            good = count('force chunks')
+
+            def send_good():
+                nonlocal first
+                pub.publish(Raw(chunk_bytes(1000, unit, rate, first)))
+                first += 1000
+
+            if not wait('a good chunk after message %d' % k,
+                        lambda: count('force chunks') > good, 30, send_good):
+                return 1
         time.sleep(0.5)
+        hwm = status_kib(node.pid, 'VmHWM') / 1024
         print('after:  VmHWM %.1f MiB, VmRSS %.1f MiB' %
-              (status_kib(node.pid, 'VmHWM') / 1024, status_kib(node.pid, 'VmRSS') / 1024))
-        print('force bad chunks: %s' % diag.get('force bad chunks', '(none)'))
+              (hwm, status_kib(node.pid, 'VmRSS') / 1024))
+        for key in ('messages too long to read', 'force chunks', 'force bad chunks'):
+            print('%s: %s' % (key, diag.get(key, '(none)')))
+        if os.environ.get('AF_SANITIZED', '0') != '1' and hwm > 256:
+            print('big_message: the node peaked at %.1f MiB, above 256 MiB' % hwm)
+            return 1
         return 0
     finally:
         if node is not None:

@@ -5,21 +5,25 @@ A firmness_node is started in a namespace of its own (the shipped YAML
 defaults, the rig URDF). Sent to it, as bytes built here (struct, never the
 code under test), under SignalChunk's type and md5:
 
-  six force chunks and two audio chunks of 2^24 samples (64 MiB each), far
+  six force chunks and two audio chunks of 2^21 samples (8 MiB each), far
   beyond the rings (2 s: 1e5 force, 96000 audio samples);
   a cut chunk (its data claims 1000 samples, holds 10) and an empty one
-  (0 bytes) on force.
+  (0 bytes) on force;
+  last, one force chunk of 2^24 samples (64 MiB), above the 16 MiB the node
+  reads at all (af_wire_guard.h).
 
 Each must be refused before roscpp deserializes it: the node's VmHWM
 (/proc/PID/status) stays within 256 MiB (it reached 1.19 GB before), the
 counts show in /diagnostics (force: oversized 6, malformed 2; audio:
-oversized 2), and the node's log names the length and the cap.
+oversized 2; messages too long to read: 1), and the node's log names the
+length and the cap.
 
 A second node takes its audio from audio_common (~audio_input audio_common,
-S16LE stereo at 48 kHz on audio_info): two AudioData of 64 MiB each, far
+S16LE stereo at 48 kHz on audio_info): two AudioData of 8 MiB each, far
 beyond the 2 s ring's 384 KB, are refused before the ShapeShifter copies
-them ("audio refused": oversized 2), VmHWM within 256 MiB (a 400 MB
-message kept 412 MB before)."""
+them ("audio refused": oversized 2), and one of 64 MiB is never read
+("messages too long to read": 1); VmHWM within 256 MiB (a 400 MB message
+kept 412 MB before)."""
 
 import os
 import re
@@ -43,7 +47,8 @@ from diagnostic_msgs.msg import DiagnosticArray
 import station_common as sc
 import test_audio_common as tac
 
-BIG = 1 << 24          # samples of an oversized chunk
+BIG = 1 << 21          # samples of an oversized chunk: above the rings
+HUGE = 1 << 24         # samples of a chunk above the node's 16 MiB read cap
 RSS_BOUND_KIB = 256 * 1024
 # Under AddressSanitizer (scripts/sanitize.sh exports ASAN_OPTIONS) the shadow
 # memory and the quarantine of freed blocks triple a process's RSS (seen: 335
@@ -135,6 +140,15 @@ class WireCapTest(unittest.TestCase):
                     return d[key]
         return ''
 
+    def wait_too_long(self, n):
+        """The node's "messages too long to read" once it counts n (20 s)."""
+        end = time.time() + 20
+        got = ''
+        while time.time() < end and not got.startswith('%d ' % n):
+            got = self.latest('messages too long to read')
+            time.sleep(0.2)
+        return got
+
     def test_cap(self):
         self.start(NS)
         force = rospy.Publisher(NS + '/force', SignalChunk, queue_size=16)
@@ -161,13 +175,17 @@ class WireCapTest(unittest.TestCase):
             if all(w in f for w in want) and 'oversized 2' in a:
                 break
             time.sleep(0.2)
+        # Last: the connection is dropped for it (made again 0.1 s later).
+        force.publish(Raw(chunk_bytes(0, HUGE, HUGE, self.units[0], self.rates[0])))
+        too_long = self.wait_too_long(1)
         hwm = self.hwm_kib()
-        print('node VmHWM %.1f MiB; force bad chunks: %s; audio bad chunks: %s' %
-              (hwm / 1024.0, f, a))
+        print('node VmHWM %.1f MiB; force bad chunks: %s; audio bad chunks: %s; '
+              'messages too long to read: %s' % (hwm / 1024.0, f, a, too_long))
         self.assertLessEqual(hwm, RSS_BOUND_KIB, 'node peak RSS %.0f MiB' % (hwm / 1024.0))
         for w in want:
             self.assertIn(w, f)
         self.assertIn('oversized 2', a)
+        self.assertTrue(too_long.startswith('1 (longest %d bytes' % (4 * HUGE + 47)), too_long)
         self.log.flush()
         self.log.seek(0)
         text = self.log.read()
@@ -199,9 +217,13 @@ class WireCapTest(unittest.TestCase):
         while time.time() < end and 'oversized 2' not in got:
             got = self.latest('audio refused')
             time.sleep(0.2)
+        audio.publish(Data(data=bytes(4 * HUGE)))
+        too_long = self.wait_too_long(1)
         hwm = self.hwm_kib()
-        print('audio_common node VmHWM %.1f MiB; audio refused: %s' % (hwm / 1024.0, got))
+        print('audio_common node VmHWM %.1f MiB; audio refused: %s; messages too long to read: %s'
+              % (hwm / 1024.0, got, too_long))
         self.assertIn('oversized 2', got)
+        self.assertTrue(too_long.startswith('1 (longest %d bytes' % (4 * HUGE + 4)), too_long)
         self.assertLessEqual(hwm, RSS_BOUND_KIB, 'node peak RSS %.0f MiB' % (hwm / 1024.0))
 
 
