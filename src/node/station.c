@@ -520,8 +520,8 @@ static void diag_task(af_diag_status *d, void *user)
     strike_warning = af_audio_in_warning(st->audio_in);
   /* The first problem, in this order of importance; NULL = none. */
   const char *warning = st->last_apple_invalid ? "last apple got no prediction"
-                        : too_long ? "a message too long to read dropped since the last report"
-                        : new_problems         ? "stream gaps or bad chunks since the last report"
+                        : too_long     ? "a message too long to read dropped since the last report"
+                        : new_problems ? "stream gaps or bad chunks since the last report"
                         : force_stale || audio_stale ? "a stream went silent"
                         : absent                     ? st->absent
                                                      : strike_warning;
@@ -630,8 +630,8 @@ static void guard_wire(const af_station *st)
   for (int k = 0; k < 2; k++)
     if (chunk[k] + AF_WIRE_GUARD_SLACK_BYTES > cap)
       cap = chunk[k] + AF_WIRE_GUARD_SLACK_BYTES; /* float32 samples + the header */
-  const size_t plot = 3 * (size_t)st->cfg->strike_plot_width_px *
-                      (size_t)st->cfg->strike_plot_height_px; /* RGB8 */
+  const size_t plot =
+      3 * (size_t)st->cfg->strike_plot_width_px * (size_t)st->cfg->strike_plot_height_px; /* RGB8 */
   if (plot + AF_WIRE_GUARD_SLACK_BYTES > cap)
     cap = plot + AF_WIRE_GUARD_SLACK_BYTES;
   af_wire_guard_allow(cap);

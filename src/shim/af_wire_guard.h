@@ -32,10 +32,10 @@ extern "C" {
 void af_wire_guard_allow(size_t max_bytes);
 
 typedef struct {
-  bool on;                       /* a cap was set: this binary has the guard */
-  size_t cap_bytes;              /* arrays above it are refused */
-  unsigned long long refused;    /* arrays refused (messages dropped), since start */
-  size_t largest_refused_bytes;  /* the longest of them */
+  bool on;                      /* a cap was set: this binary has the guard */
+  size_t cap_bytes;             /* arrays above it are refused */
+  unsigned long long refused;   /* arrays refused (messages dropped), since start */
+  size_t largest_refused_bytes; /* the longest of them */
 } af_wire_guard_stats;
 
 /* The figures so far. Thread-safe. In a binary without wire_guard.cpp
