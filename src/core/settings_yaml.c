@@ -283,13 +283,17 @@ static af_status read_whole(const char *path, char **data, size_t *size, char *e
                     "[0, %d] bytes",
                     path, (long long)st.st_size, AF_YAML_FILE_MAX_BYTES);
     status = AF_EINVAL;
-  } else if ((buf = malloc(AF_YAML_FILE_MAX_BYTES + 1)) == NULL) {
+  }
+  /* As long as fstat says + 1 (a file that grew after fstat is still
+   * bounded, and refused); never the cap itself, which would cost a 1 MiB
+   * allocation per file read. */
+  const size_t room = status == AF_OK ? (size_t)st.st_size + 1 : 0;
+  if (status == AF_OK && (buf = malloc(room)) == NULL) {
     af_settings_say(err, len, "%s: no memory to read it", path);
     status = AF_ENOMEM;
   }
-  /* Read to the cap + 1: a file that grew after fstat is still bounded. */
-  while (status == AF_OK && n <= AF_YAML_FILE_MAX_BYTES) {
-    ssize_t got = read(fd, buf + n, AF_YAML_FILE_MAX_BYTES + 1 - n);
+  while (status == AF_OK && n < room) {
+    ssize_t got = read(fd, buf + n, room - n);
     if (got < 0 && errno == EINTR)
       continue;
     if (got < 0) {
@@ -300,9 +304,9 @@ static af_status read_whole(const char *path, char **data, size_t *size, char *e
     }
     n += status == AF_OK ? (size_t)got : 0;
   }
-  if (status == AF_OK && n > AF_YAML_FILE_MAX_BYTES) {
-    af_settings_say(err, len, "%s: grew past %d bytes while read, the cap of a settings file", path,
-                    AF_YAML_FILE_MAX_BYTES);
+  if (status == AF_OK && n == room) {
+    af_settings_say(err, len, "%s: grew past its %lld bytes while read", path,
+                    (long long)st.st_size);
     status = AF_EINVAL;
   }
   close(fd);
