@@ -15,6 +15,7 @@ with the rosbag Python API (never by hand-editing a file):
                        connection)
   md5_mismatch.bag     the force topic's connection under another md5sum (a
                        SignalChunk of another definition)
+  nul_unit.bag         the first force chunk's unit "N\\0x" (a NUL inside)
 """
 import struct
 import sys
@@ -95,10 +96,19 @@ def main():
             raw = (kind, data, '0123456789abcdef0123456789abcdef', pos, cls)
         plain(dst, topic, raw, t)
 
+    def nul_unit(dst, topic, raw, t):
+        if not first_force(state, 'nul_unit', topic):
+            plain(dst, topic, raw, t)
+            return
+        msg = message(raw)
+        msg.unit = msg.unit + '\0x'
+        dst.write(topic, msg, t)
+
     if not only_big:
         copy(good, out + '/overflow.bag', overflow)
         copy(good, out + '/empty_chunk.bag', empty_chunk)
         copy(good, out + '/md5_mismatch.bag', md5_mismatch)
+        copy(good, out + '/nul_unit.bag', nul_unit)
 
     def big_chunk(dst, topic, raw, t):
         plain(dst, topic, raw, t)

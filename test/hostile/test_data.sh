@@ -77,6 +77,10 @@ hostile_case big_chunk 0 'a SignalChunk of 67108921 bytes .*above the cap of 100
 hostile_case index_overflow 0 'force +170 chunks.* 1 refused \(rate 0, unit 0, index 1, malformed 0' \
   2 256 -- "$fr" "$tmp/overflow.bag"
 hostile_case empty_chunk 0 'an empty SignalChunk \(0 bytes\)' 2 256 -- "$fr" "$tmp/empty_chunk.bag"
+# 9: a unit "N\0x" is not the unit N (a NUL ended the C string in silence):
+# the chunk refused for its unit, "N?x".
+hostile_case nul_unit 0 'force +169 chunks.* 1 refused \(rate 0, unit 1, index 0, malformed 0' \
+  2 256 -- "$fr" "$tmp/nul_unit.bag"
 # A SignalChunk of another definition (its md5sum): the bag refused at open
 # in one line naming topic, type and both md5sums, never deserialized as
 # this build's.

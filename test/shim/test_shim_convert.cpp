@@ -148,6 +148,15 @@ TEST(SignalChunk, RosToCBorrowsData)
   af_shim::from_ros(m, c);
   EXPECT_EQ(std::string(c.unit), m.unit.substr(0, AF_UNIT_MAX - 1));
 
+  // A NUL inside the unit is shown as '?', never an early end: "N\0x" is
+  // not the unit "N" (issue 18).
+  m.unit = std::string("N\0x", 3);
+  af_shim::from_ros(m, c);
+  EXPECT_STREQ(c.unit, "N?x");
+  m.header.frame_id = std::string("mic\0rophone", 11);
+  af_shim::from_ros(m, c);
+  EXPECT_STREQ(c.header.frame_id, "mic?rophone");
+
   // No samples: NULL and 0.
   m.data.clear();
   af_shim::from_ros(m, c);
