@@ -454,6 +454,8 @@ static int c2b_run(const af_c2b_args *a, af_c2b_stream *s)
 
 int main(int argc, char **argv)
 {
+  if (!af_options_args_plain("capture_to_bag", argc, argv))
+    return 2;
   if (af_options_want_help(argc, argv, 1)) {
     c2b_usage(stdout);
     return 0;

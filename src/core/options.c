@@ -1,8 +1,10 @@
 /* options.c — a tool's flag table: lookup, --help and the "wrote" line. */
+#define _POSIX_C_SOURCE 200809L /* strnlen */
 #include "options.h"
 
 #include <inttypes.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 const af_option *af_option_find(const af_option *table, size_t n, const char *name)
@@ -30,6 +32,45 @@ bool af_option_store(const af_option *o, const char *value, void *args)
   case AF_OPTION_TEXT: memcpy((char *)args + o->offset, &value, sizeof value); return true;
   default: return false;
   }
+}
+
+static bool is_control(char c)
+{
+  return (unsigned char)c < 0x20 || c == 0x7f;
+}
+
+/* The first characters of arg into shown[len], control characters as '?',
+ * "..." appended when cut. */
+static void arg_head(const char *arg, char *shown, size_t len)
+{
+  size_t n = 0;
+  for (; arg[n] != '\0' && n + 4 < len; n++)
+    shown[n] = is_control(arg[n]) ? '?' : arg[n];
+  snprintf(shown + n, len - n, "%s", arg[n] != '\0' ? "..." : "");
+}
+
+bool af_options_args_plain(const char *tool, int argc, char **argv)
+{
+  for (int k = 1; k < argc; k++) {
+    const size_t n = strnlen(argv[k], AF_OPTIONS_ARG_MAX_BYTES + 1);
+    const char *c = argv[k];
+    while (c < argv[k] + n && !is_control(*c))
+      c++;
+    if (n <= AF_OPTIONS_ARG_MAX_BYTES && *c == '\0')
+      continue;
+    char shown[44]; /* 40 characters and "..." */
+    arg_head(argv[k], shown, sizeof shown);
+    if (n > AF_OPTIONS_ARG_MAX_BYTES)
+      fprintf(stderr,
+              "%s: argument %d '%s' is %zu bytes long, above the %d accepted (a path or a value "
+              "is shorter)\n",
+              tool, k, shown, strlen(argv[k]), AF_OPTIONS_ARG_MAX_BYTES);
+    else
+      fprintf(stderr, "%s: argument %d '%s' holds a control character (shown as ?)\n", tool, k,
+              shown);
+    return false;
+  }
+  return true;
 }
 
 bool af_options_want_help(int argc, char **argv, int first)

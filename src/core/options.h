@@ -57,6 +57,18 @@ const af_option *af_option_find(const af_option *table, size_t n, const char *na
  * arguments struct args; false for other kinds, which the tool parses. */
 bool af_option_store(const af_option *o, const char *value, void *args);
 
+/* The longest argument a tool accepts [bytes]: a path (PATH_MAX) or a
+ * value is shorter; a longer one is refused before anything quotes it. */
+#define AF_OPTIONS_ARG_MAX_BYTES 4096
+
+/* Every argument of argv[1..argc) is one a message may quote: no control
+ * character (a newline in a value would split a one-line refusal) and at
+ * most AF_OPTIONS_ARG_MAX_BYTES long (a 100k-character value was echoed
+ * whole). Else one line on stderr naming the argument, its length or the
+ * character (shown as '?') and its first 40 characters, and false: the
+ * tool exits 2 before any work. */
+bool af_options_args_plain(const char *tool, int argc, char **argv);
+
 /* True when argv[first..argc) asks for help (--help or -h). */
 bool af_options_want_help(int argc, char **argv, int first);
 

@@ -497,6 +497,8 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
 int main(int argc, char **argv)
 {
   args a;
+  if (!af_options_args_plain("strike_bag", argc, argv))
+    return 2;
   if (af_options_want_help(argc, argv, 1)) {
     help();
     return 0;

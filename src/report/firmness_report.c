@@ -656,6 +656,8 @@ static int run_report(const af_report_args *a, const char *ns, const af_lane_con
 
 int main(int argc, char **argv)
 {
+  if (!af_options_args_plain("firmness_report", argc, argv))
+    return 2;
   if (af_options_want_help(argc, argv, 1)) {
     print_usage(stdout);
     return 0;

@@ -128,32 +128,9 @@ static int single(int argc, char **argv)
   return 0;
 }
 
-/* No argument holds a control character: every message that quotes one
- * stays one line (a newline in a value would split it). Exit 2 naming the
- * argument, the character shown as '?'. */
-static bool printable_args(int argc, char **argv)
-{
-  for (int k = 1; k < argc; k++) {
-    const char *c = argv[k];
-    while (*c && !((unsigned char)*c < 0x20 || *c == 0x7f))
-      c++;
-    if (*c == '\0')
-      continue;
-    char shown[64];
-    size_t n = 0;
-    for (const char *p = argv[k]; *p && n + 1 < sizeof shown; p++, n++)
-      shown[n] = ((unsigned char)*p < 0x20 || *p == 0x7f) ? '?' : *p;
-    shown[n] = '\0';
-    fprintf(stderr, "firmness_model: argument %d '%s%s' holds a control character (shown as ?)\n",
-            k, shown, strlen(argv[k]) > n ? "..." : "");
-    return false;
-  }
-  return true;
-}
-
 int main(int argc, char **argv)
 {
-  if (!printable_args(argc, argv))
+  if (!af_options_args_plain("firmness_model", argc, argv))
     return AF_CLI_EXIT_USAGE;
   for (size_t k = 0; argc > 1 && k < N_SUBCOMMANDS; k++)
     if (strcmp(argv[1], subcommands[k].name) == 0)

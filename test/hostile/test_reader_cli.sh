@@ -150,4 +150,26 @@ hostile_case sweep_steps_twice 2 '--steps is given twice' 2 256 -- \
 # firmness_report's flags too (a bag need not exist: the flags are read first)
 hostile_case report_ns_twice 2 '--ns is given twice \(as argument 2 and 4\); it is accepted once' 2 256 -- \
   "$report" a.bag --ns lane1 --ns lane2
+
+# ---- finding 9 (CLI): a 100k-character value (was echoed whole) -------------
+# Every tool refuses an argument over 4096 bytes before any work, in one
+# line showing its first 40 characters; the whole refusal stays short.
+long_value=$(printf '1%.0s' $(seq 100000))
+long_line="argument 2 '1{40}\.\.\.' is 100000 bytes long, above the 4096 accepted"
+for tool in firmness_model firmness_report strike_bag capture_to_bag; do
+  flag=--E2
+  case $tool in firmness_report) flag=--jobs ;; strike_bag) flag=--strikes ;; capture_to_bag) flag=--force ;; esac
+  hostile_case "long_value_$tool" 2 "^$tool: $long_line" 2 256 -- \
+    "$hostile_bin/$tool" "$flag" "$long_value"
+  hostile_count=$((hostile_count + 1))
+  bytes=$(cat "$tmp/long_value_$tool.out" "$tmp/long_value_$tool.err" | wc -c)
+  if [ "$bytes" -gt 300 ]; then
+    echo "  FAIL long_value_${tool}_short: the refusal is $bytes bytes (the value echoed?)"
+    hostile_failed=$((hostile_failed + 1))
+  else
+    echo "long_value_${tool}_short: the refusal is $bytes bytes"
+  fi
+done
+hostile_case control_character 2 "^firmness_model: argument 2 '2e6\?x' holds a control character \(shown as \?\)" \
+  2 256 -- "$fm" --E2 "$(printf '2e6\nx')"
 hostile_done
