@@ -625,15 +625,14 @@ static size_t ring_samples(const af_station *st, bool force)
  * use or publishes (af_wire_guard.h; audio_in.c raises it for its format). */
 static void guard_wire(const af_station *st)
 {
+  /* the chunks' float32 samples, the plot's RGB8 pixels; each + its header */
+  const size_t body[] = {4 * ring_samples(st, true), 4 * ring_samples(st, false),
+                         3 * (size_t)st->cfg->strike_plot_width_px *
+                             (size_t)st->cfg->strike_plot_height_px};
   size_t cap = AF_WIRE_GUARD_FLOOR_BYTES;
-  const size_t chunk[2] = {4 * ring_samples(st, true), 4 * ring_samples(st, false)};
-  for (int k = 0; k < 2; k++)
-    if (chunk[k] + AF_WIRE_GUARD_SLACK_BYTES > cap)
-      cap = chunk[k] + AF_WIRE_GUARD_SLACK_BYTES; /* float32 samples + the header */
-  const size_t plot =
-      3 * (size_t)st->cfg->strike_plot_width_px * (size_t)st->cfg->strike_plot_height_px; /* RGB8 */
-  if (plot + AF_WIRE_GUARD_SLACK_BYTES > cap)
-    cap = plot + AF_WIRE_GUARD_SLACK_BYTES;
+  for (size_t k = 0; k < sizeof body / sizeof body[0]; k++)
+    if (body[k] + AF_WIRE_GUARD_SLACK_BYTES > cap)
+      cap = body[k] + AF_WIRE_GUARD_SLACK_BYTES;
   af_wire_guard_allow(cap);
 }
 

@@ -20,7 +20,6 @@
 #ifndef AF_WIRE_GUARD_H
 #define AF_WIRE_GUARD_H
 
-#include <stdbool.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -32,8 +31,7 @@ extern "C" {
 void af_wire_guard_allow(size_t max_bytes);
 
 typedef struct {
-  bool on;                      /* a cap was set: this binary has the guard */
-  size_t cap_bytes;             /* arrays above it are refused */
+  size_t cap_bytes;             /* arrays above it are refused; 0: the guard is off */
   unsigned long long refused;   /* arrays refused (messages dropped), since start */
   size_t largest_refused_bytes; /* the longest of them */
 } af_wire_guard_stats;

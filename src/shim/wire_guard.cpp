@@ -63,11 +63,11 @@ bool release(void *p)
   return false;
 }
 
-void note_refused(std::size_t n)
+// a = max(a, v), atomically.
+void raise_to(std::atomic<std::size_t> &a, std::size_t v)
 {
-  refused.fetch_add(1);
-  std::size_t l = largest.load();
-  while (n > l && !largest.compare_exchange_weak(l, n)) {
+  std::size_t now = a.load();
+  while (v > now && !a.compare_exchange_weak(now, v)) {
   }
 }
 
@@ -78,7 +78,8 @@ void *operator new[](std::size_t n)
   const std::size_t c = cap.load(std::memory_order_relaxed);
   if (c != 0 && n > c) {
     if (void *p = reserve(n)) {
-      note_refused(n);
+      refused.fetch_add(1);
+      raise_to(largest, n);
       return p;
     }
   }
@@ -103,15 +104,12 @@ extern "C" {
 
 void af_wire_guard_allow(std::size_t max_bytes)
 {
-  std::size_t c = cap.load();
-  while (max_bytes > c && !cap.compare_exchange_weak(c, max_bytes)) {
-  }
+  raise_to(cap, max_bytes);
 }
 
 void af_wire_guard_get(af_wire_guard_stats *out)
 {
   out->cap_bytes = cap.load();
-  out->on = out->cap_bytes != 0;
   out->refused = refused.load();
   out->largest_refused_bytes = largest.load();
 }

@@ -36,9 +36,10 @@ af_lane *lane = nullptr;
 // rings of 0.5 s instead of 2 s). The configuration is a value the lane only
 // reads (derived once: the same for every input); the lane itself, all its
 // state, is made anew. Why 0.5 s: ASan maps, poisons and unmaps every block
-// above 128 KiB; the two 2 s rings (400 and 384 kB) took half of each input's
-// time (701 inputs/s, 1,275 with 0.5 s); the code the input drives is the
-// same, and a chunk longer than the ring or a wrap comes 4 times sooner.
+// above 128 KiB; the two 2 s rings (400 and 384 kB) took about half of each
+// input's time (423-577 inputs/s against 892-1,079 with 0.5 s, seeds 1-3
+// alternated); the code the input drives is the same, and a chunk longer
+// than the ring or a wrap comes 4 times sooner.
 void make_lane()
 {
   if (!cfg_made) {
