@@ -138,6 +138,8 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_um = fftw_alloc_complex(r->bins);
   r->hum_period = af_response_hum_period(cfg);
   r->trend_fold = fftw_alloc_real(cfg->window_samples);
+  if (r->hum_period > 0)
+    r->trend_table = fftw_alloc_real(r->hum_period * (1 + 2 * cfg->hum_harmonics));
   r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
@@ -145,7 +147,8 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      r->trend_fold == NULL || r->noise_cum == NULL || r->trend_gram == NULL ||
+      r->trend_fold == NULL || (r->hum_period > 0 && r->trend_table == NULL) ||
+      r->noise_cum == NULL || r->trend_gram == NULL ||
       r->trend_rhs == NULL || r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
@@ -160,6 +163,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   }
   af_response_fill_window(r);
   af_response_fill_phases(r);
+  af_response_fill_trend_table(r);
   *out = r;
   return AF_OK;
 }
@@ -182,6 +186,7 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_ul);
   fftw_free(r->phase_um);
   fftw_free(r->trend_fold);
+  fftw_free(r->trend_table);
   fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);

@@ -108,6 +108,8 @@ struct af_response {
   size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
   size_t hum_period;                  /* af_response_hum_period; 0 = none */
   double *trend_fold;                 /* one hum period: folded samples, then the trend */
+  double *trend_table;                /* the basis over one hum period (NULL without one):
+                                         row j holds sample j's 1 + 2 hum_harmonics terms */
   double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
   af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
@@ -176,6 +178,8 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
 /* The hum's period [samples] when whole and at most window_samples (48 kHz
  * and 50 or 60 Hz: 960, 800), else 0: the trend then repeats exactly. */
 size_t af_response_hum_period(const af_response_config *c);
+/* Fills r->trend_table (made at create when r->hum_period > 0). */
+void af_response_fill_trend_table(af_response *r);
 
 /* ---- response_transform.c ---- */
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */

@@ -64,6 +64,19 @@ static void trend_basis(rotor *rot, size_t harmonics, double *phi)
   rot->c = next_c;
 }
 
+/* The basis over one hum period, row by row, by the same rotor as above: a
+ * row's first 1 + 2 h terms are those trend_basis gives for h harmonics (each
+ * harmonic's recurrence is independent of the count), so the table serves
+ * every count up to the configured one, bit for bit. Made once at create:
+ * the rotor was 4-5 % of firmness_report's CPU (issue 17). */
+void af_response_fill_trend_table(af_response *r)
+{
+  size_t terms = 1 + 2 * r->cfg.hum_harmonics;
+  rotor rot = rotor_start(r);
+  for (size_t j = 0; j < r->hum_period; ++j)
+    trend_basis(&rot, r->cfg.hum_harmonics, r->trend_table + j * terms);
+}
+
 /* sum_{k < m} cos(theta k) and sin(theta k), in closed form:
  * sum exp(i theta k) = exp(i theta (m - 1) / 2) sin(m theta / 2) / sin(theta / 2). */
 static void phase_sums(double theta, size_t m, double *sum_cos, double *sum_sin)
@@ -115,7 +128,7 @@ size_t af_response_hum_period(const af_response_config *c)
 static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
                       double *rhs)
 {
-  size_t p = 1 + 2 * harmonics, period = r->hum_period;
+  size_t p = 1 + 2 * harmonics, period = r->hum_period, row = 1 + 2 * r->cfg.hum_harmonics;
   rotor rot = rotor_start(r);
   double phi[AF_RESPONSE_MAX_TERMS];
   if (harmonics > 0 && period > 0 && period < m) {
@@ -125,9 +138,9 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
     for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
       y[j] += (double)x[start + k];
     for (size_t j = 0; j < period; ++j) {
-      trend_basis(&rot, harmonics, phi);
+      const double *t = r->trend_table + j * row;
       for (size_t i = 0; i < p; ++i)
-        rhs[i] += phi[i] * y[j];
+        rhs[i] += t[i] * y[j];
     }
     return;
   }
@@ -180,14 +193,20 @@ static double trend_at(rotor *rot, size_t harmonics, size_t terms, const double 
 void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst)
 {
   size_t harmonics = (r->trend_terms - 1) / 2, period = r->hum_period;
+  size_t row = 1 + 2 * r->cfg.hum_harmonics;
   rotor rot = rotor_start(r);
   double coef[AF_RESPONSE_MAX_TERMS];
   for (size_t i = 0; i < r->trend_terms; ++i)
     coef[i] = gsl_vector_get(r->trend_coef, i);
   if (harmonics > 0 && period > 0 && period < m) {
     double *t = r->trend_fold;
-    for (size_t j = 0; j < period; ++j)
-      t[j] = trend_at(&rot, harmonics, r->trend_terms, coef);
+    for (size_t j = 0; j < period; ++j) {
+      const double *phi = r->trend_table + j * row;
+      double trend = 0.0;
+      for (size_t i = 0; i < r->trend_terms; ++i)
+        trend += phi[i] * coef[i];
+      t[j] = trend;
+    }
     for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
       dst[k] = (double)x[start + k] - t[j];
     return;
