@@ -148,8 +148,8 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
       r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
       r->trend_fold == NULL || (r->hum_period > 0 && r->trend_table == NULL) ||
-      r->noise_cum == NULL || r->trend_gram == NULL ||
-      r->trend_rhs == NULL || r->trend_coef == NULL) {
+      r->noise_cum == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
+      r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
