@@ -81,17 +81,30 @@ AF_NUMERIC_KERNEL static int step_small(const double *x, const double *dx, size_
   return 1;
 }
 
-/* One step from x (cost *cost, normal equations a, g, scaling d2): 1 taken
- * (x, *cost, the step into dx; the damping mu, nu updated); 2 converged: a
- * step that raised the cost (rounding, at the minimum) was already below
- * xtol, so no step the tolerance cares about lowers it (MINPACK's test on the
- * trust region); 0 stalled: AF_RESPONSE_LM_MAX_REJECT steps raised it. */
-AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, double *cost,
-                                     const double *a, const double *g, const double *d2, double *mu,
-                                     double *nu, double *dx, double xtol)
+/* The normal equations at a point, with the cost they were formed with. */
+typedef struct {
+  double a[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS]; /* J^T J, p x p */
+  double g[AF_RESPONSE_SPLIT_PARAMS];                            /* J^T f */
+  double cost;                                                   /* |f|^2 */
+  int ok;                                                        /* J finite there */
+} normal_eq;
+
+/* One step from x (its normal equations *at, scaling d2): 1 taken (x, the
+ * step into dx, the trial's normal equations into *next; the damping mu, nu
+ * updated); 2 converged: a step that raised the cost (rounding, at the
+ * minimum) was already below xtol, so no step the tolerance cares about
+ * lowers it (MINPACK's test on the trust region); 0 stalled:
+ * AF_RESPONSE_LM_MAX_REJECT steps raised it. A trial point's normal
+ * equations are formed with its cost, in the same pass over the bins: a
+ * taken step (the most) then needs no second pass (issue 17: one model
+ * evaluation per iteration, not two). */
+AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const normal_eq *at,
+                                     normal_eq *next, const double *d2, double *mu, double *nu,
+                                     double *dx, double xtol)
 {
   double m[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], minus_g[AF_RESPONSE_SPLIT_PARAMS];
   double xt[AF_RESPONSE_SPLIT_PARAMS];
+  const double *a = at->a, *g = at->g;
   for (size_t j = 0; j < p; ++j)
     minus_g[j] = -g[j];
   for (size_t tries = 0; tries < AF_RESPONSE_LM_MAX_REJECT; ++tries) {
@@ -108,13 +121,12 @@ AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, double
         pred -= dx[j] * (2.0 * g[j] + adx);
         xt[j] = x[j] + dx[j];
       }
-      double trial;
-      if (!af_response_fit_eval(r, xt, &trial, NULL, NULL))
-        trial = INFINITY;
-      double rho = pred > 0.0 ? (*cost - trial) / pred : -1.0;
+      /* 0 from the pass: the cost or a derivative not finite there */
+      next->ok = af_response_fit_eval(r, xt, &next->cost, next->a, next->g);
+      double trial = isfinite(next->cost) ? next->cost : INFINITY;
+      double rho = pred > 0.0 ? (at->cost - trial) / pred : -1.0;
       if (isfinite(trial) && rho > 0.0) {
         memcpy(x, xt, p * sizeof *x);
-        *cost = trial;
         double t = 2.0 * rho - 1.0;
         *mu *= fmax(1.0 / 3.0, 1.0 - t * t * t);
         *nu = 2.0;
@@ -134,37 +146,38 @@ AF_NUMERIC_KERNEL af_response_fit_status af_response_lm(af_response *r, size_t p
                                                         double ftol, double *cost_out,
                                                         size_t *iterations)
 {
-  double a[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], g[AF_RESPONSE_SPLIT_PARAMS];
+  normal_eq eq[2], *at = &eq[0], *next = &eq[1];
   double d2[AF_RESPONSE_SPLIT_PARAMS], dx[AF_RESPONSE_SPLIT_PARAMS];
-  double mu = AF_RESPONSE_LM_MU0, nu = 2.0, cost;
+  double mu = AF_RESPONSE_LM_MU0, nu = 2.0;
   *iterations = 0;
-  if (!af_response_fit_eval(r, x, &cost, a, g))
+  if (!af_response_fit_eval(r, x, &at->cost, at->a, at->g))
     return AF_RESPONSE_FIT_FAILED;
-  *cost_out = cost;
+  *cost_out = at->cost;
   for (size_t j = 0; j < p; ++j)
     d2[j] = 0.0;
   while (*iterations < max_iter) {
     double gmax = 0.0;
     for (size_t j = 0; j < p; ++j) {
-      double diag = a[j * p + j];
+      double diag = at->a[j * p + j];
       d2[j] = fmax(d2[j], diag > 0.0 ? diag : (d2[j] > 0.0 ? d2[j] : 1.0));
-      gmax = fmax(gmax, fabs(g[j]) * fmax(fabs(x[j]), 1.0));
+      gmax = fmax(gmax, fabs(at->g[j]) * fmax(fabs(x[j]), 1.0));
     }
-    if (gmax <= gtol * fmax(cost, 1.0))
+    if (gmax <= gtol * fmax(at->cost, 1.0))
       return AF_RESPONSE_FIT_CONVERGED;
-    double before = cost, again;
-    int step = lm_step(r, p, x, &cost, a, g, d2, &mu, &nu, dx, xtol);
+    double before = at->cost;
+    int step = lm_step(r, p, x, at, next, d2, &mu, &nu, dx, xtol);
     if (step == 2)
       return AF_RESPONSE_FIT_CONVERGED;
     if (step == 0)
       return AF_RESPONSE_FIT_STALLED;
+    normal_eq *taken = next;
+    next = at;
+    at = taken;
     ++*iterations;
-    *cost_out = cost;
-    int small = step_small(x, dx, p, xtol);
-    /* the normal equations at the step taken (its cost is the trial's) */
-    if (!af_response_fit_eval(r, x, &again, a, g))
+    *cost_out = at->cost;
+    if (!at->ok)
       return AF_RESPONSE_FIT_FAILED; /* a derivative not finite there */
-    if (small || before - cost <= ftol * before)
+    if (step_small(x, dx, p, xtol) || before - at->cost <= ftol * before)
       return AF_RESPONSE_FIT_CONVERGED;
   }
   return AF_RESPONSE_FIT_CAPPED;
