@@ -125,6 +125,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->bins = cfg->fft_size / 2 + 1;
   r->bin_hz = cfg->sample_rate_hz / (double)cfg->fft_size;
   r->in = fftw_alloc_real(cfg->fft_size);
+  r->in_written = cfg->fft_size; /* not zeroed yet: the first transform pads it */
   r->spec = fftw_alloc_complex(r->bins);
   r->window = fftw_alloc_real(cfg->window_samples);
   r->power = fftw_alloc_real(r->bins);

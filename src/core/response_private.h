@@ -82,6 +82,7 @@ struct af_response {
   size_t bins;                    /* fft_size / 2 + 1 */
   double bin_hz;                  /* sample_rate_hz / fft_size [Hz] */
   double *in;                     /* fft input, fft_size samples */
+  size_t in_written;              /* in[in_written..fft_size) hold zeros */
   double complex *spec;           /* fft output, bins values */
   af_fft_r2c plan;                /* r2c, shared by the process (fft_plan.h) */
   double *window;                 /* window_samples weights */
