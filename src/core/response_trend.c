@@ -151,8 +151,9 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
     double *y = r->trend_fold;
     for (size_t j = 0; j < period; ++j)
       y[j] = 0.0;
-    for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
-      y[j] += (double)x[start + k];
+    for (size_t k0 = 0; k0 < m; k0 += period) /* period by period: no wrap test per sample */
+      for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
+        y[j] += (double)x[start + k0 + j];
     for (size_t j = 0; j < period; ++j) {
       const double *t = basis_at(r, &rot, harmonics, j, phi);
       for (size_t i = 0; i < p; ++i)
@@ -218,8 +219,9 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
     double *t = r->trend_fold;
     for (size_t j = 0; j < period; ++j)
       t[j] = trend_at(r, &rot, harmonics, j, coef);
-    for (size_t k = 0, j = 0; k < m; ++k, j = j + 1 == period ? 0 : j + 1)
-      dst[k] = (double)x[start + k] - t[j];
+    for (size_t k0 = 0; k0 < m; k0 += period)
+      for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
+        dst[k0 + j] = (double)x[start + k0 + j] - t[j];
     return;
   }
   for (size_t k = 0; k < m; ++k)
