@@ -100,17 +100,15 @@ static void pole_at(const af_response *r, const double *p, size_t j, af_peak *ou
 /* ---- the models ------------------------------------------------------------ */
 
 /* acc plus the complex quadratic background at bin k from the parameters at
- * nb on, term by term; its derivatives into d[nb..nb + 6). */
+ * nb on, term by term. Its derivatives, x^q and i x^q, are not stored: the
+ * normal equations take them from the abscissa (af_response_fit_eval). */
 AF_NUMERIC_KERNEL static double complex background(const af_response *r, const double *x, size_t nb,
-                                                   double k, double complex acc, double complex *d)
+                                                   double k, double complex acc)
 {
   double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
   const double *b = x + nb;
-  for (size_t j = 0; j < 3; ++j, xp *= xb) {
+  for (size_t j = 0; j < 3; ++j, xp *= xb)
     acc += xp * (b[2 * j] + I * b[2 * j + 1]);
-    d[nb + 2 * j] = xp;
-    d[nb + 2 * j + 1] = I * xp;
-  }
   return acc;
 }
 
@@ -135,7 +133,7 @@ AF_NUMERIC_KERNEL static double complex pole_pair_eval(const af_response *r, con
   double complex zc = conj(z);
   double complex c = f->norm * (x[P_ARE] + I * x[P_AIM]);
   double complex d1 = complex_recip(1.0 - z * u), d2 = complex_recip(1.0 - zc * u);
-  double complex bg = background(r, x, P_POLE, k, 0.0, d);
+  double complex bg = background(r, x, P_POLE, k, 0.0);
   /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
   double complex gz = c * u * d1 * d1, gzc = conj(c) * u * d2 * d2;
   d[P_BIN] = (gz * z - gzc * zc) * (I * 2.0 * AF_PI / n_fft);
@@ -195,7 +193,7 @@ AF_NUMERIC_KERNEL static double complex truncated_eval(const af_response *r, con
     dj[P_ARE] = f->norm * (t + tc);
     dj[P_AIM] = f->norm * I * (t - tc);
   }
-  return background(r, x, P_POLE * r->split_poles, (double)k, model, d);
+  return background(r, x, P_POLE * r->split_poles, (double)k, model);
 }
 
 /* ---- the one residual loop ---------------------------------------------------
