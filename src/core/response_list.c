@@ -179,7 +179,6 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
   if (s != AF_OK)
     return s;
   *n_peaks = 0;
-  memcpy(r->orig, r->spec, r->bins * sizeof *r->orig);
   af_response_result base, list[AF_RESPONSE_MAX_PEAKS], res;
   af_peak modes[AF_RESPONSE_MAX_PEAKS];
   double noises[AF_RESPONSE_MAX_PEAKS];
@@ -201,6 +200,16 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
   size_t ph_hi = k_hi + ph_reach < r->bins - 1 ? k_hi + ph_reach : r->bins - 1;
   for (size_t k = ph_lo; k <= ph_hi; ++k)
     r->phase_um[k] = cexp(-I * 2.0 * AF_PI * (double)k * r->split_len / (double)r->cfg.fft_size);
+  /* the transform before the list takes modes off, for the backfit: it refits
+   * a listed mode (whose bin lies in a fit of the u^m range) over at most
+   * AF_RESPONSE_FIT_MAX_HALF bins each side; not every bin (a 16384-point
+   * spectrum copied whole was 1.5 % of firmness_report's instructions) */
+  size_t or_lo = ph_lo > AF_RESPONSE_FIT_MAX_HALF ? ph_lo - AF_RESPONSE_FIT_MAX_HALF : 0;
+  size_t or_hi = ph_hi + AF_RESPONSE_FIT_MAX_HALF < r->bins - 1 ? ph_hi + AF_RESPONSE_FIT_MAX_HALF
+                                                                : r->bins - 1;
+  memcpy(r->orig + or_lo, r->spec + or_lo, (or_hi - or_lo + 1) * sizeof *r->orig);
+  r->orig_lo = or_lo;
+  r->orig_hi = or_hi;
   size_t excluded[AF_RESPONSE_LIST_TRIES], n_excluded = 0, kept = 0;
   af_response_result best_rejected = base;
   double rise_snr_db = -INFINITY;

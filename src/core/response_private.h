@@ -93,6 +93,7 @@ struct af_response {
   double complex *work;           /* spectrum less a fitted mode (near the peak only) */
   double *work_power;             /* |work|^2 */
   double complex *orig;           /* the transform before the peak list took modes off */
+  size_t orig_lo, orig_hi;        /* the bins of orig the last peak list copied */
   double complex *phase_u;        /* u_k = exp(-i 2 pi k / N), every bin */
   double complex *phase_ul;       /* u_k^L, L the fade-in length */
   double complex *phase_um;       /* u_k^m, m the analysed length of the peak list's call */

@@ -148,6 +148,8 @@ static int backfit_one(af_response *r, af_peak *modes, af_mode_k *consts, size_t
     return 0;
   size_t k = (size_t)centre;
   af_response_fit_around(r, k, half, &first, &last);
+  if (first < r->orig_lo || last > r->orig_hi) /* beyond the bins copied: not refitted */
+    return 0;
   for (size_t b = first; b <= last; ++b) {
     r->work[b] = r->orig[b];
     for (size_t j = 0; j < n; ++j)
