@@ -110,6 +110,12 @@ chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_s
 namespace
 {
 
+// The little-endian uint32 at p (a bag's lengths and offsets).
+uint32_t le32(const unsigned char *p)
+{
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
 // The bag's bytes by position, through one 64 KiB window read with pread:
 // the walk visits a record's header, then the next record a little further
 // on, so most reads are a copy from the window. (With stdio, every fseek
@@ -150,7 +156,7 @@ public:
     unsigned char b[4];
     if (!read(pos, b, 4))
       return false;
-    v = uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+    v = le32(b);
     return true;
   }
 
@@ -204,8 +210,7 @@ bool parse_header(const std::vector<unsigned char> &h, record &r, std::string &w
       why = "a header field is cut";
       return false;
     }
-    uint32_t len = uint32_t(h[at]) | uint32_t(h[at + 1]) << 8 | uint32_t(h[at + 2]) << 16 |
-                   uint32_t(h[at + 3]) << 24;
+    uint32_t len = le32(&h[at]);
     at += 4;
     if (len > h.size() - at) {
       why = "a header field claims " + std::to_string(len) + " bytes, more than its header holds";
@@ -271,8 +276,7 @@ bool check_index(bag_bytes &f, uint64_t data, uint32_t dlen, const record &r, co
       why = "index data at byte " + std::to_string(pos) + " is cut";
       return false;
     }
-    const uint64_t off =
-        uint32_t(e[8]) | uint32_t(e[9]) << 8 | uint32_t(e[10]) << 16 | uint32_t(e[11]) << 24;
+    const uint64_t off = le32(e + 8);
     const bool ok = c.compressed ? off + 8 <= c.size
                                  : std::binary_search(c.records.begin(), c.records.end(), off);
     if (!ok) {
