@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "text.h"
+
 const af_option *af_option_find(const af_option *table, size_t n, const char *name)
 {
   if (table == NULL || name == NULL)
@@ -34,18 +36,13 @@ bool af_option_store(const af_option *o, const char *value, void *args)
   }
 }
 
-static bool is_control(char c)
-{
-  return (unsigned char)c < 0x20 || c == 0x7f;
-}
-
 /* The first characters of arg into shown[len], control characters as '?',
  * "..." appended when cut. */
 static void arg_head(const char *arg, char *shown, size_t len)
 {
   size_t n = 0;
   for (; arg[n] != '\0' && n + 4 < len; n++)
-    shown[n] = is_control(arg[n]) ? '?' : arg[n];
+    shown[n] = af_text_is_control(arg[n]) ? '?' : arg[n];
   snprintf(shown + n, len - n, "%s", arg[n] != '\0' ? "..." : "");
 }
 
@@ -54,7 +51,7 @@ bool af_options_args_plain(const char *tool, int argc, char **argv)
   for (int k = 1; k < argc; k++) {
     const size_t n = strnlen(argv[k], AF_OPTIONS_ARG_MAX_BYTES + 1);
     const char *c = argv[k];
-    while (c < argv[k] + n && !is_control(*c))
+    while (c < argv[k] + n && !af_text_is_control(*c))
       c++;
     if (n <= AF_OPTIONS_ARG_MAX_BYTES && *c == '\0')
       continue;

@@ -12,6 +12,7 @@
 #include <threads.h>
 
 #include "settings_private.h"
+#include "text.h"
 
 /* ---- helpers (the first two shared: settings_private.h) ------------------- */
 
@@ -26,7 +27,7 @@ void af_settings_say(char *err, size_t len, const char *fmt, ...)
   /* One line, whatever the values quoted in it hold: a control character
    * (a newline in a flag's value, a CR of a DOS file) shows as '?'. */
   for (char *p = err; *p; p++)
-    if ((unsigned char)*p < 0x20 || *p == 0x7f)
+    if (af_text_is_control(*p))
       *p = '?';
 }
 

@@ -13,3 +13,8 @@ void af_text(char *buf, size_t len, const char *fmt, ...)
   vsnprintf(buf, len, fmt, ap);
   va_end(ap);
 }
+
+bool af_text_is_control(char c)
+{
+  return (unsigned char)c < 0x20 || c == 0x7f;
+}

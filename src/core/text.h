@@ -2,6 +2,7 @@
 #ifndef AF_TEXT_H
 #define AF_TEXT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -18,6 +19,11 @@ void af_text(char *buf, size_t len, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/* A control character (below 0x20, or DEL): one that would split or garble
+ * a one-line message quoting it (a newline in a flag's value, a CR of a DOS
+ * file); where quoted, it is shown as '?'. */
+bool af_text_is_control(char c);
 
 #ifdef __cplusplus
 }
