@@ -109,7 +109,8 @@ static const af_option af_report_options[] = {
      "the report as JSON on stdout instead of text", NULL},
     {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
      "recorded time processed per wall-clock second and the cost of each stage of a strike "
-     "(setup, detect, window, predict, fft, modes, fit, verdict, serialize), on stderr",
+     "(setup, detect, window, predict, fft, modes, fit, verdict, serialize: median, mean, p99 "
+     "and max per strike), on stderr",
      NULL},
     {"--jobs", "N", AF_OPTION_LONG, AF_ARG(jobs), -1,
      "bags read at once, each by a worker thread of its own [workers], 1 to " AF_OPTION_STR(

@@ -108,13 +108,29 @@ static int cmp_i64(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-/* The median of x[0..n) [ns] (sorted in place); NaN when n is 0. */
-static double median_ns(int64_t *x, size_t n)
+/* The median, 99th percentile (nearest rank: the smallest sample with at
+ * least 99 % of them at or below it) and maximum of a stage's per-strike
+ * samples [ns]; NaN when there are none. The tail is where a strike's
+ * latency goes over its budget (the mode list's two-pole fits), which the
+ * median hides. */
+typedef struct {
+  double median, p99, max;
+} spread_ns;
+
+static spread_ns spread_of(const int64_t *samples, size_t n)
 {
-  if (n == 0)
-    return NAN;
+  spread_ns s = {NAN, NAN, NAN};
+  int64_t *x = n > 0 ? malloc(n * sizeof *x) : NULL;
+  if (x == NULL)
+    return s;
+  memcpy(x, samples, n * sizeof *x);
   qsort(x, n, sizeof *x, cmp_i64);
-  return n % 2 ? (double)x[n / 2] : 0.5 * ((double)x[n / 2 - 1] + (double)x[n / 2]);
+  s.median = n % 2 ? (double)x[n / 2] : 0.5 * ((double)x[n / 2 - 1] + (double)x[n / 2]);
+  size_t rank = (99 * n + 99) / 100; /* ceil(0.99 n), 1-based */
+  s.p99 = (double)x[rank - 1];
+  s.max = (double)x[n - 1];
+  free(x);
+  return s;
 }
 
 static double ratio(double a, double b)
@@ -134,33 +150,31 @@ void af_report_bench_print(FILE *out, const af_report_bench *b, size_t strikes, 
           "median: of each strike's time in the stage, detect and predict: the force chunks "
           "and apples since the previous strike, setup: per lane)\n",
           strikes);
-  fprintf(out, "  %-10s %10s %14s %14s %16s %7s\n", "stage", "calls", "median", "mean/strike",
-          "total", "share");
-  fprintf(out, "  %-10s %10s %14s %14s %16s %7s\n", "", "", "[us]", "[us]", "[us]", "[%]");
+  fprintf(out, "  %-10s %10s %14s %14s %16s %7s %12s %12s\n", "stage", "calls", "median",
+          "mean/strike", "total", "share", "p99", "max");
+  fprintf(out, "  %-10s %10s %14s %14s %16s %7s %12s %12s\n", "", "", "[us]", "[us]", "[us]", "[%]",
+          "[us]", "[us]");
   for (int s = 0; s < AF_STAGES; s++) {
-    int64_t *copy = malloc((b->n[s] + 1) * sizeof *copy);
-    double med = NAN;
-    if (copy) {
-      memcpy(copy, b->samples[s], b->n[s] * sizeof *copy);
-      med = median_ns(copy, b->n[s]);
-      free(copy);
-    }
-    fprintf(out, "  %-10s %10llu %14.2f %14.2f %16.1f %7.2f\n", af_stage_name((af_stage)s),
-            (unsigned long long)b->calls[s], med * AF_US_PER_NS,
+    spread_ns sp = spread_of(b->samples[s], b->n[s]);
+    fprintf(out, "  %-10s %10llu %14.2f %14.2f %16.1f %7.2f %12.2f %12.2f\n",
+            af_stage_name((af_stage)s), (unsigned long long)b->calls[s], sp.median * AF_US_PER_NS,
             ratio((double)b->total_ns[s], (double)strikes) * AF_US_PER_NS,
-            (double)b->total_ns[s] * AF_US_PER_NS, 100.0 * ratio((double)b->total_ns[s], all_ns));
+            (double)b->total_ns[s] * AF_US_PER_NS, 100.0 * ratio((double)b->total_ns[s], all_ns),
+            sp.p99 * AF_US_PER_NS, sp.max * AF_US_PER_NS);
   }
   const double rest_ns = all_ns - (double)stages_ns;
-  fprintf(out, "  %-10s %10s %14s %14.2f %16.1f %7.2f   (reading the bags, streams, match)\n",
+  fprintf(out,
+          "  %-10s %10s %14s %14.2f %16.1f %7.2f %12s %12s   (reading the bags, streams, match)\n",
           "other", "-", "-", ratio(rest_ns, (double)strikes) * AF_US_PER_NS, rest_ns * AF_US_PER_NS,
-          100.0 * ratio(rest_ns, all_ns));
-  fprintf(out, "  %-10s %10s %14s %14.2f %16.1f %7.2f\n", "all", "-", "-",
-          ratio(all_ns, (double)strikes) * AF_US_PER_NS, all_ns * AF_US_PER_NS, 100.0);
+          100.0 * ratio(rest_ns, all_ns), "-", "-");
+  fprintf(out, "  %-10s %10s %14s %14.2f %16.1f %7.2f %12s %12s\n", "all", "-", "-",
+          ratio(all_ns, (double)strikes) * AF_US_PER_NS, all_ns * AF_US_PER_NS, 100.0, "-", "-");
   fprintf(out,
           "bench: real-time factor %.1f x (%.3f s of recording in %.3f s wall, %d worker%s); "
           "CPU %.1f x (%.3f s of the workers' CPU, %.1f us per strike)\n",
           ratio(recorded_s, run_wall_s), recorded_s, run_wall_s, jobs, jobs == 1 ? "" : "s",
           ratio(recorded_s, cpu_s), cpu_s, ratio(cpu_s * 1e6, (double)strikes));
   if (b->out_of_memory)
-    fprintf(out, "bench: out of memory for some samples: the medians leave them out\n");
+    fprintf(out,
+            "bench: out of memory for some samples: the medians, p99 and max leave them out\n");
 }

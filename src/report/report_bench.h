@@ -48,9 +48,10 @@ void af_report_bench_bag_written(af_report_bench *b, size_t n_strikes);
 /* Adds from's totals and samples to into. false: out of memory. */
 bool af_report_bench_merge(af_report_bench *into, const af_report_bench *from);
 
-/* The table on out: per stage the calls, the median and mean per strike and
+/* The table on out: per stage the calls, the median and mean per strike,
  * the total [us] and its share of all the CPU time (the workers' sessions,
- * cpu_s, and the rows written); other: the rest of the workers' CPU
+ * cpu_s, and the rows written), the 99th percentile and the maximum per
+ * strike [us]; other: the rest of the workers' CPU
  * (reading the bags, the streams, the match); then the real-time factor:
  * recorded_s of recording over run_wall_s of wall-clock time (all workers)
  * and over cpu_s. */

@@ -5,7 +5,7 @@
 # taken together (computed here), the same output with one worker or two,
 # the CSV's bag column; bad --jobs, an empty folder, --plots with several
 # bags, a bad bag among good ones. And --bench: the per-stage table's rows,
-# every figure finite.
+# every figure finite, each stage's p99 and max not below its median.
 #   test_many_bags.sh FIRMNESS_REPORT STRIKE_BAG   (run in the devel space's environment)
 source "$(dirname "$0")/../cli/harness.sh" "$1"
 SB=${2:?path to strike_bag}
@@ -109,11 +109,12 @@ EOF
 if $PY - "$tmp/bench" <<'EOF'; then ok; else bad "--bench table: $(cat "$tmp/bench")"; fi
 import math, re, sys
 text = open(sys.argv[1]).read()
-rows = {}
+rows, tails = {}, {}
 for line in text.splitlines():
-    m = re.match(r'^  (\w+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)', line)
+    m = re.match(r'^  (\w+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)', line)
     if m and m.group(1) != 'stage':
         rows[m.group(1)] = [m.group(k) for k in range(2, 7)]
+        tails[m.group(1)] = [m.group(7), m.group(8)]
 stages = ['setup', 'detect', 'window', 'predict', 'fft', 'modes', 'fit', 'verdict', 'serialize']
 assert list(rows) == stages + ['other', 'all'], list(rows)
 for name in stages:
@@ -121,6 +122,9 @@ for name in stages:
     for v in (median, mean, total, share):
         assert math.isfinite(float(v)) and float(v) >= 0, (name, v)
     assert int(calls) >= 1, (name, calls)
+    # the tail per strike: median <= p99 <= max, all finite
+    p99, top = (float(v) for v in tails[name])
+    assert float(median) <= p99 <= top and math.isfinite(top), (name, median, p99, top)
 for name in ('detect', 'fft', 'modes', 'fit', 'serialize'):
     assert float(rows[name][1]) > 0, (name, rows[name])   # a median of real work
 assert int(rows['setup'][0]) == 3 and int(rows['fit'][0]) == 9 and int(rows['serialize'][0]) == 9
