@@ -71,8 +71,9 @@
  *    first analysed sample (onset_index).
  *
  * Several modes at once: af_response_execute_peaks lists every damped mode of a band
- * from one analysis (subtracting each before seeking the next, two poles
- * for a blend), for modes.h to decide which is the 0S2.
+ * from one analysis (subtracting each before seeking the next, with the
+ * share of it the trend fit took; two poles for a blend), for modes.h to
+ * decide which is the 0S2.
  *
  * From frequency to firmness (lamb.h, not repeated here): with the
  * apple's mass m [kg], the stiffness factor is

@@ -98,10 +98,14 @@ static int list_judge(const af_response *r, const af_peak *pk, double noise, dou
          out->frequency_hz <= f_hi_hz && isfinite(out->q);
 }
 
-/* Takes the mode pk off the spectrum and its power over [lo, hi]. */
+/* Takes the mode pk off the spectrum and its power over [lo, hi], as the
+ * transform holds it: less the share the trend fit took of it (its DC and
+ * hum terms, response_trend.c), which would otherwise stay behind as false
+ * peaks at the removed harmonics. */
 static void list_subtract(af_response *r, const af_peak *pk, size_t lo, size_t hi)
 {
   af_mode_k q = af_response_mode_consts(r, pk);
+  af_response_add_trend_share(r, pk, lo, hi);
   for (size_t i = lo; i <= hi; ++i) {
     r->spec[i] -= af_response_mode_at(r, &q, i);
     r->power[i] = creal(r->spec[i] * conj(r->spec[i]));

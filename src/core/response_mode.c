@@ -39,15 +39,20 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
  * form (three geometric sums; (a e^{+-i theta})^L = -a^L). With al = a^L,
  * e = e^{i theta}, h = e^{i theta / 2}, inv_1a = 1 / (1 - a):
  *   F = (1 - al) / (2 (1 - a)) + (1 + al) / 4 (h / (1 - a e) + conj(h) / (1 - a conj(e))). */
-static double complex fade_sum(const af_response *r, double complex a, double complex al,
-                               double complex inv_1a)
+double complex af_response_fade_part(size_t fade_samples, double complex e, double complex eh,
+                                     double complex a, double complex al, double complex inv_1a)
 {
-  if (r->fade_samples == 0)
+  if (fade_samples == 0)
     return 0.0;
-  double complex e = r->fade_e, eh = r->fade_eh;
   return 0.5 * (1.0 - al) * inv_1a +
          0.25 * (1.0 + al) *
              (eh * complex_recip(1.0 - a * e) + conj(eh) * complex_recip(1.0 - a * conj(e)));
+}
+
+static double complex fade_sum(const af_response *r, double complex a, double complex al,
+                               double complex inv_1a)
+{
+  return af_response_fade_part(r->fade_samples, r->fade_e, r->fade_eh, a, al, inv_1a);
 }
 
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk)

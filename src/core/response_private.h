@@ -6,7 +6,8 @@
  * The files, one job each:
  *  response.c           the object (create, destroy, configuration), the
  *                       result record and af_response_execute;
- *  response_trend.c     DC and mains-hum trend: least-squares fit, removal;
+ *  response_trend.c     DC and mains-hum trend: least-squares fit, removal,
+ *                       and its share of a listed mode;
  *  response_transform.c onset, window, zero-pad, the FFTW r2c transform;
  *  response_noise.c     the noise floor: the reference, the band's median;
  *  response_peaks.c     peak finding and the closed-form stage-1 reading;
@@ -113,6 +114,12 @@ struct af_response {
   double *trend_table;                /* the basis over one hum period (NULL without one):
                                          row j holds sample j's 1 + 2 hum_harmonics terms */
   double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
+  size_t share_terms;                 /* the trend's terms as windowed poles: the DC and
+                                         hum_harmonics (with a hum), 0 without the exponential
+                                         window */
+  double complex *share_g, *share_p;  /* per term and side (its pole, then the conjugate),
+                                         every bin: 1 / (1 - z u) less the fade-in's part, and
+                                         1 / (1 - z u) (af_response_add_trend_share) */
   af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
 
@@ -182,6 +189,15 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
 size_t af_response_hum_period(const af_response_config *c);
 /* Fills r->trend_table (made at create when r->hum_period > 0). */
 void af_response_fill_trend_table(af_response *r);
+/* The trend's windowed poles (share_terms of them) for af_response_trend_share. */
+size_t af_response_share_terms(const af_response_config *c);
+/* Fills r->share_g and r->share_p (made at create when share_terms > 0). */
+void af_response_fill_share_tables(af_response *r);
+/* Adds to r->spec over [lo, hi] what the last trend fit (over the
+ * r->split_len analysed samples) took of the mode pk with the trend, as the
+ * window holds it: its DC and hum terms, which the transform lacks of the
+ * mode. r->phase_um must hold [lo, hi]. Nothing without share tables. */
+void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, size_t hi);
 
 /* ---- response_transform.c ---- */
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
@@ -229,6 +245,10 @@ void af_response_log_parabola(const af_response *r, size_t k, af_peak *out);
 /* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
 double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
                                      double complex c, size_t k);
+/* The fade-in's part F(a) of sum_k a^k (al = a^L, inv_1a = 1 / (1 - a);
+ * e, eh: exp(i pi / L), exp(i pi / 2L)); 0 without a fade-in. */
+double complex af_response_fade_part(size_t fade_samples, double complex e, double complex eh,
+                                     double complex a, double complex al, double complex inv_1a);
 /* |X(f0)|^2 of the mode alone through the window, fade-in included. */
 double af_response_mode_peak_power(const af_response *r, double complex c, double sigma_windowed);
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);

@@ -10,7 +10,9 @@
  *  - one clean mode: one peak, frequency within 0.05 %, Q within 3 %, its
  *    fits converged;
  *  - two modes 4 % apart at the same amplitude (one peak for both: the
- *    two-pole split's case): both listed within 0.3 %. */
+ *    two-pole split's case): both listed within 0.3 %;
+ *  - one mode in a 40 ms window with the hum removed: listed alone, with no
+ *    false maxima from the trend fit's share of it (test_trend_share). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -194,11 +196,57 @@ static void test_close_modes(void)
   af_response_destroy(r);
 }
 
+/* One mode in a window as the station analyses it (40 ms: 1920 samples at
+ * 48 kHz, the mains hum's DC and harmonics removed by the trend fit, a list
+ * band as wide as the line's, 208-1728 Hz): the trend fit takes a little of
+ * the ringing with it, which the transform lacks as steady tones at 0, 50,
+ * 100 and 150 Hz. A mode taken off the list without that share left those
+ * tones' skirts behind as false maxima at the band's lower edge, each tried
+ * with a one-pole fit, three two-pole starts and a refinement (issue 17: 87 %
+ * of the line-rate bag's two-pole fits, none kept). With the share taken
+ * off too, each window needs the mode's own fit alone: one fit per window,
+ * a maximum the noise makes adding one now and then (at most 10 % more). */
+static void test_trend_share(void)
+{
+  af_response_config c = af_response_config_default();
+  af_response *r = NULL;
+  AF_CHECK_STATUS(af_response_create(&c, &r), AF_OK);
+  enum { M = 1920, TRIALS = 40 };
+  static float x[N];
+  size_t found = 0, fits = 0;
+  double worst = 0.0;
+  for (int t = 0; t < TRIALS; ++t) {
+    double f = 400.0 + 12.5 * t;
+    memset(x, 0, sizeof x);
+    add_mode(x, f, 30.0, 1.0, -0.5 * PI); /* a sine: no step at the first sample */
+    add_noise(x, 0.03 / sqrt(2.0));       /* 30 dB below the amplitude */
+    af_response_reset_fit_stats(r);
+    af_response_result peaks[AF_RESPONSE_MAX_PEAKS];
+    size_t n = 0;
+    if (af_response_execute_peaks(r, x, M, 208.5, 1727.5, peaks, AF_RESPONSE_MAX_PEAKS, &n) ==
+            AF_OK &&
+        n == 1 && fabs(peaks[0].frequency_hz - f) <= 5e-4 * f) {
+      found++;
+      worst = fmax(worst, fabs(peaks[0].frequency_hz - f) / f);
+    }
+    af_response_fit_stats st;
+    af_response_get_fit_stats(r, &st);
+    fits += total_fits(&st);
+  }
+  printf("one mode, 40 ms, hum removed: listed alone within 0.05 %% in %zu of %d (worst %.4f %%); "
+         "%.2f fits per window\n",
+         found, TRIALS, 100.0 * worst, (double)fits / TRIALS);
+  AF_CHECK(found == TRIALS);
+  AF_CHECK(fits <= TRIALS + TRIALS / 10); /* before the share: 56 fits over these 40 */
+  af_response_destroy(r);
+}
+
 int main(void)
 {
   test_names();
   test_hostile();
   test_clean_mode();
   test_close_modes();
+  test_trend_share();
   return af_test_summary("test_response_fit");
 }
