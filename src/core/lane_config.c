@@ -488,7 +488,8 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
    * per point): 86 bytes per FFT point measured (test_settings), counted as
    * 128 so that a buffer added there does not outgrow the estimate */
   const double fft = (double)mc->measure.response.fft_size;
-  m->microphone = 128.0 * fft + 8.0 * (double)mc->measure.response.window_samples;
+  m->microphone = 128.0 * fft + 8.0 * (double)mc->measure.response.window_samples +
+                  (double)af_response_share_table_bytes(&mc->measure.response);
   /* pulse fit (GSL's n x p workspace and the oversampled model buffers)
    * and the pulse's spectrum (4 x zero-padded) */
   const double n = (double)mc->measure.fit.max_samples;

@@ -144,7 +144,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->share_terms = af_response_share_terms(cfg);
   if (r->share_terms > 0) {
-    r->share_g = fftw_alloc_complex(4 * r->share_terms * r->bins);
+    r->share_g = fftw_alloc_complex(af_response_share_table_bytes(cfg) / sizeof *r->share_g);
     r->share_p = r->share_g != NULL ? r->share_g + 2 * r->share_terms * r->bins : NULL;
   }
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);

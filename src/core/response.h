@@ -293,6 +293,13 @@ typedef struct {
 
 /* r's counts into *out (zeros for NULL r); reset zeroes them (NULL-safe). */
 void af_response_get_fit_stats(const af_response *r, af_response_fit_stats *out);
+
+/* Bytes of the tables a response made with c keeps for the peak list's
+ * subtraction of the trend's share (response_trend.c): 64 (1 +
+ * hum_harmonics) per FFT bin with the exponential window and a transform of
+ * at most 65,536 points, else 0; for the lane's memory bound
+ * (lane_config.c). */
+size_t af_response_share_table_bytes(const af_response_config *c);
 void af_response_reset_fit_stats(af_response *r);
 
 #ifdef __cplusplus

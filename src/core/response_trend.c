@@ -250,11 +250,25 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
  * alone, so they are tabled once per process (memo.h); the cut's a^m =
  * z^m u^m is the call's. */
 
+/* The tables are kept for transforms up to this size [points]: 8 MiB with
+ * the default 3 harmonics (48 kHz: windows up to 0.34 s at the default
+ * padding). A larger transform (a rate of several hundred kHz, or windows
+ * of seconds) would need tens to hundreds of MiB per lane; its list takes
+ * the modes off without their share, as before 2026-11-28. */
+#define AF_RESPONSE_SHARE_MAX_FFT 65536
+
 size_t af_response_share_terms(const af_response_config *c)
 {
-  if (c->window != AF_RESPONSE_WINDOW_EXPONENTIAL)
-    return 0; /* a pole on the unit circle: not modelled */
+  if (c->window != AF_RESPONSE_WINDOW_EXPONENTIAL || c->fft_size > AF_RESPONSE_SHARE_MAX_FFT)
+    return 0; /* a pole on the unit circle: not modelled; or tables too large */
   return 1 + (c->hum_hz > 0.0 ? c->hum_harmonics : 0);
+}
+
+size_t af_response_share_table_bytes(const af_response_config *c)
+{
+  return c == NULL
+             ? 0
+             : 4 * af_response_share_terms(c) * (c->fft_size / 2 + 1) * sizeof(double complex);
 }
 
 /* The tables' arguments (no padding: the key is its bytes). */
