@@ -70,6 +70,48 @@ static void keep_locked(const char *kind, const void *key, size_t key_size, cons
   bytes_kept += size;
 }
 
+/* The kept value of kind and key, or NULL. Under the lock. */
+static const void *lookup_locked(const char *kind, const void *key, size_t key_size, size_t size)
+{
+  for (size_t k = 0; k < n_entries; k++)
+    if (same(&entries[k], kind, key, key_size, size))
+      return entries[k].value;
+  return NULL;
+}
+
+const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_memo_fn *fn,
+                        size_t size)
+{
+  call_once(&lock_once, lock_init);
+  if (!lock_ok || key_size > AF_MEMO_KEY_MAX || size == 0 || size > AF_MEMO_BYTES ||
+      mtx_lock(&lock) != thrd_success)
+    return NULL;
+  const void *kept = lookup_locked(kind, key, key_size, size);
+  mtx_unlock(&lock);
+  if (kept != NULL)
+    return kept;
+  void *value = malloc(size); /* computed outside the lock, kept as it is */
+  if (value == NULL || fn(key, value) != AF_OK || mtx_lock(&lock) != thrd_success) {
+    free(value);
+    return NULL;
+  }
+  kept = lookup_locked(kind, key, key_size, size); /* another thread's, meanwhile */
+  if (kept == NULL && n_entries < AF_MEMO_ENTRIES && size <= AF_MEMO_BYTES - bytes_kept) {
+    entry *e = &entries[n_entries++];
+    e->kind = kind;
+    memcpy(e->key, key, key_size);
+    e->key_size = key_size;
+    e->size = size;
+    e->value = value;
+    bytes_kept += size;
+    kept = value;
+    value = NULL;
+  }
+  mtx_unlock(&lock);
+  free(value);
+  return kept;
+}
+
 af_status af_memo_get(const char *kind, const void *key, size_t key_size, af_memo_fn *fn, void *out,
                       size_t size)
 {

@@ -38,6 +38,14 @@ typedef af_status af_memo_fn(const void *key, void *out);
 af_status af_memo_get(const char *kind, const void *key, size_t key_size, af_memo_fn *fn, void *out,
                       size_t size);
 
+/* The kept value itself, read-only and shared by every caller for the
+ * process's life (computed by fn on the first call): for tables too large
+ * to copy per caller (a lane made per fuzz input paid a page fault per 4 kB
+ * of the copy). NULL when it cannot be kept (the store full, no memory, fn
+ * failed): the caller then computes its own. */
+const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_memo_fn *fn,
+                        size_t size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -143,10 +143,6 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
     r->trend_table = fftw_alloc_real(r->hum_period * (1 + 2 * cfg->hum_harmonics));
   r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->share_terms = af_response_share_terms(cfg);
-  if (r->share_terms > 0) {
-    r->share_g = fftw_alloc_complex(af_response_share_table_bytes(cfg) / sizeof *r->share_g);
-    r->share_p = r->share_g != NULL ? r->share_g + 2 * r->share_terms * r->bins : NULL;
-  }
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
@@ -155,7 +151,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
       r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
       r->trend_fold == NULL || (r->hum_period > 0 && r->trend_table == NULL) ||
       r->noise_cum == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
-      r->trend_coef == NULL || (r->share_terms > 0 && r->share_g == NULL)) {
+      r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -170,8 +166,10 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   af_response_fill_window(r);
   af_response_fill_phases(r);
   af_response_fill_trend_table(r);
-  if (r->share_terms > 0)
-    af_response_fill_share_tables(r);
+  if (r->share_terms > 0 && af_response_fill_share_tables(r) != AF_OK) {
+    af_response_destroy(r);
+    return AF_ENOMEM;
+  }
   *out = r;
   return AF_OK;
 }
@@ -195,7 +193,7 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_um);
   fftw_free(r->trend_fold);
   fftw_free(r->trend_table);
-  fftw_free(r->share_g);
+  fftw_free(r->share_own);
   fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);

@@ -117,9 +117,11 @@ struct af_response {
   size_t share_terms;                 /* the trend's terms as windowed poles: the DC and
                                          hum_harmonics (with a hum), 0 without the exponential
                                          window */
-  double complex *share_g, *share_p;  /* per term and side (its pole, then the conjugate),
-                                         every bin: 1 / (1 - z u) less the fade-in's part, and
-                                         1 / (1 - z u) (af_response_add_trend_share) */
+  const double complex *share_g;      /* bin by bin, per term and side (its pole, then the
+                                         conjugate): 1 / (1 - z u) less the fade-in's part */
+  const double complex *share_p;      /*   and 1 / (1 - z u) (af_response_add_trend_share);
+                                         both the process's (memo.h), or in share_own */
+  double complex *share_own;          /* the tables when the process could not keep them */
   af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
 };
 
@@ -191,8 +193,10 @@ size_t af_response_hum_period(const af_response_config *c);
 void af_response_fill_trend_table(af_response *r);
 /* The trend's windowed poles (share_terms of them) for af_response_trend_share. */
 size_t af_response_share_terms(const af_response_config *c);
-/* Fills r->share_g and r->share_p (made at create when share_terms > 0). */
-void af_response_fill_share_tables(af_response *r);
+/* Points r->share_g and r->share_p at the process's tables for r's
+ * configuration (or fills r->share_own); AF_ENOMEM. At create, when
+ * share_terms > 0. */
+af_status af_response_fill_share_tables(af_response *r);
 /* Adds to r->spec over [lo, hi] what the last trend fit (over the
  * r->split_len analysed samples) took of the mode pk with the trend, as the
  * window holds it: its DC and hum terms, which the transform lacks of the

@@ -307,14 +307,24 @@ static af_status share_values(const void *key, void *out)
   return AF_OK;
 }
 
-void af_response_fill_share_tables(af_response *r)
+af_status af_response_fill_share_tables(af_response *r)
 {
   const af_response_config *c = &r->cfg;
   const share_key key = {c->fft_size,       r->fade_samples,           r->share_terms,
                          c->sample_rate_hz, c->window_time_constant_s, c->hum_hz};
   static const char kind[] = "response trend share";
-  (void)af_memo_get(kind, &key, sizeof key, share_values, r->share_g,
-                    4 * r->share_terms * r->bins * sizeof *r->share_g);
+  const size_t size = af_response_share_table_bytes(c);
+  /* shared read-only: 1 MiB by default, a copy per lane was most of making one */
+  const double complex *t = af_memo_ref(kind, &key, sizeof key, share_values, size);
+  if (t == NULL) {
+    if ((r->share_own = fftw_alloc_complex(size / sizeof *r->share_own)) == NULL)
+      return AF_ENOMEM;
+    (void)share_values(&key, r->share_own);
+    t = r->share_own;
+  }
+  r->share_g = t;
+  r->share_p = t + 2 * r->share_terms * r->bins;
+  return AF_OK;
 }
 
 /* T(a) = sum_{k < m} a^k = (1 - a^m) / (1 - a), a = exp(la). */

@@ -1,7 +1,8 @@
 /* test_memo.c — the process-wide memo of pure functions (memo.h): one call
  * of the function per kind and key, the kept bytes copied exactly, failures
  * not kept, the bounds (entries, key length) falling back to calling the
- * function, and two threads asking at once. */
+ * function, the shared references of af_memo_ref, and two threads asking at
+ * once. */
 #include <string.h>
 #include <threads.h>
 
@@ -85,6 +86,35 @@ static void test_bounds(void)
         af_memo_get(kind_square, long_key, sizeof long_key, square_table, out, sizeof out), AF_OK);
   AF_CHECK(calls == 2);
   AF_CHECK_ABS(out[0], 3.0, 0.0);
+  /* the store full: a reference cannot be kept */
+  double fresh = -1.0;
+  AF_CHECK(af_memo_ref(kind_square, &fresh, sizeof fresh, square_table, sizeof out) == NULL);
+}
+
+/* af_memo_ref: one call per key and the same shared bytes for every caller;
+ * a failure is not kept (NULL, then the function again); a value larger than
+ * the whole store, or asked past AF_MEMO_ENTRIES, gives NULL (the caller
+ * computes its own). Runs before test_bounds fills the store. */
+static void test_ref(void)
+{
+  static const char kind_ref[] = "test ref", kind_ref_fail[] = "test ref refused";
+  double x = 4.5, expect[100];
+  for (int k = 0; k < 100; k++)
+    expect[k] = (x + k) * (x + k) / 3.0;
+  calls = 0;
+  const double *a = af_memo_ref(kind_ref, &x, sizeof x, square_table, sizeof expect);
+  const double *b = af_memo_ref(kind_ref, &x, sizeof x, square_table, sizeof expect);
+  AF_CHECK(a != NULL && a == b && calls == 1);
+  AF_CHECK(a != NULL && memcmp(a, expect, sizeof expect) == 0);
+  double y = 5.5;
+  const double *c = af_memo_ref(kind_ref, &y, sizeof y, square_table, sizeof expect);
+  AF_CHECK(c != NULL && c != a && calls == 2 && c[0] == y * y / 3.0);
+  AF_CHECK(af_memo_ref(kind_ref_fail, &x, sizeof x, refuse, sizeof expect) == NULL);
+  AF_CHECK(af_memo_ref(kind_ref_fail, &x, sizeof x, refuse, sizeof expect) == NULL);
+  AF_CHECK(calls == 4);
+  AF_CHECK(af_memo_ref(kind_ref, &x, sizeof x, square_table, AF_MEMO_BYTES + 1) == NULL);
+  double long_key[16] = {4.5}; /* longer than a kept key */
+  AF_CHECK(af_memo_ref(kind_ref, long_key, sizeof long_key, square_table, sizeof expect) == NULL);
 }
 
 /* Two threads ask the same key (a value already kept: the table is full by
@@ -118,6 +148,7 @@ int main(void)
 {
   test_once_per_key();
   test_failure_not_kept();
+  test_ref();
   test_bounds();
   test_threads();
   return af_test_summary("test_memo");
