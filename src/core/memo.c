@@ -35,41 +35,6 @@ static bool same(const entry *e, const char *kind, const void *key, size_t key_s
          memcmp(e->key, key, key_size) == 0;
 }
 
-/* Copies the kept value into out; false when there is none. Under the lock. */
-static bool find_locked(const char *kind, const void *key, size_t key_size, void *out, size_t size)
-{
-  for (size_t k = 0; k < n_entries; k++) {
-    if (same(&entries[k], kind, key, key_size, size)) {
-      memcpy(out, entries[k].value, size);
-      return true;
-    }
-  }
-  return false;
-}
-
-/* Keeps a copy of value when there is room and no other thread kept it
- * first. Under the lock. */
-static void keep_locked(const char *kind, const void *key, size_t key_size, const void *value,
-                        size_t size)
-{
-  for (size_t k = 0; k < n_entries; k++)
-    if (same(&entries[k], kind, key, key_size, size))
-      return;
-  if (n_entries == AF_MEMO_ENTRIES || size > AF_MEMO_BYTES - bytes_kept)
-    return;
-  void *copy = malloc(size);
-  if (copy == NULL)
-    return; /* not kept: the next caller computes it again */
-  memcpy(copy, value, size);
-  entry *e = &entries[n_entries++];
-  e->kind = kind;
-  memcpy(e->key, key, key_size);
-  e->key_size = key_size;
-  e->size = size;
-  e->value = copy;
-  bytes_kept += size;
-}
-
 /* The kept value of kind and key, or NULL. Under the lock. */
 static const void *lookup_locked(const char *kind, const void *key, size_t key_size, size_t size)
 {
@@ -77,6 +42,46 @@ static const void *lookup_locked(const char *kind, const void *key, size_t key_s
     if (same(&entries[k], kind, key, key_size, size))
       return entries[k].value;
   return NULL;
+}
+
+/* Copies the kept value into out; false when there is none. Under the lock. */
+static bool find_locked(const char *kind, const void *key, size_t key_size, void *out, size_t size)
+{
+  const void *kept = lookup_locked(kind, key, key_size, size);
+  if (kept != NULL)
+    memcpy(out, kept, size);
+  return kept != NULL;
+}
+
+/* Keeps value (malloc'd, size bytes; the store owns it then) when there is
+ * room; false when not. Under the lock. */
+static bool add_locked(const char *kind, const void *key, size_t key_size, void *value, size_t size)
+{
+  if (n_entries == AF_MEMO_ENTRIES || size > AF_MEMO_BYTES - bytes_kept)
+    return false;
+  entry *e = &entries[n_entries++];
+  e->kind = kind;
+  memcpy(e->key, key, key_size);
+  e->key_size = key_size;
+  e->size = size;
+  e->value = value;
+  bytes_kept += size;
+  return true;
+}
+
+/* Keeps a copy of value when there is room and no other thread kept it
+ * first. Under the lock. */
+static void keep_locked(const char *kind, const void *key, size_t key_size, const void *value,
+                        size_t size)
+{
+  if (lookup_locked(kind, key, key_size, size) != NULL)
+    return;
+  void *copy = malloc(size);
+  if (copy == NULL)
+    return; /* not kept: the next caller computes it again */
+  memcpy(copy, value, size);
+  if (!add_locked(kind, key, key_size, copy, size))
+    free(copy);
 }
 
 const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_memo_fn *fn,
@@ -96,14 +101,7 @@ const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_m
     return NULL;
   }
   kept = lookup_locked(kind, key, key_size, size); /* another thread's, meanwhile */
-  if (kept == NULL && n_entries < AF_MEMO_ENTRIES && size <= AF_MEMO_BYTES - bytes_kept) {
-    entry *e = &entries[n_entries++];
-    e->kind = kind;
-    memcpy(e->key, key, key_size);
-    e->key_size = key_size;
-    e->size = size;
-    e->value = value;
-    bytes_kept += size;
+  if (kept == NULL && add_locked(kind, key, key_size, value, size)) {
     kept = value;
     value = NULL;
   }
