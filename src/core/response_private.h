@@ -191,7 +191,7 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
 size_t af_response_hum_period(const af_response_config *c);
 /* Fills r->trend_table (made at create when r->hum_period > 0). */
 void af_response_fill_trend_table(af_response *r);
-/* The trend's windowed poles (share_terms of them) for af_response_trend_share. */
+/* The trend's windowed poles (share_terms of them) for af_response_add_trend_share. */
 size_t af_response_share_terms(const af_response_config *c);
 /* Points r->share_g and r->share_p at the process's tables for r's
  * configuration (or fills r->share_own); AF_ENOMEM. At create, when
@@ -204,6 +204,12 @@ af_status af_response_fill_share_tables(af_response *r);
 void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, size_t hi);
 
 /* ---- response_transform.c ---- */
+/* u_k^power, u_k = exp(-2 pi i k / fft_size): the phase of bin k after
+ * power samples (the phase tables' entries). */
+double complex af_response_phase(size_t k, size_t fft_size, double power);
+/* exp(i theta) and exp(i theta / 2), theta = pi / L, of a fade-in of L
+ * samples (theta 0 without one): the constants of af_response_fade_part. */
+void af_response_fade_phases(size_t fade_samples, double complex *e, double complex *eh);
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
 af_status af_response_mean(const float *x, size_t n, double *mean);
 /* First sample whose |x - mean| reaches fraction of the largest. */

@@ -90,13 +90,24 @@ typedef struct {
 
 /* u_k = exp(-2 pi i k / N), or (faded) u_k^L with L = fade_samples, for
  * k < bins, into out. */
+double complex af_response_phase(size_t k, size_t fft_size, double power)
+{
+  double w = -2.0 * AF_PI * (double)k / (double)fft_size;
+  return cexp(I * w * power);
+}
+
+void af_response_fade_phases(size_t fade_samples, double complex *e, double complex *eh)
+{
+  double theta = fade_samples > 0 ? AF_PI / (double)fade_samples : 0.0;
+  *e = cexp(I * theta);
+  *eh = cexp(0.5 * I * theta);
+}
+
 static af_status phases(const phase_key *key, bool faded, double complex *out)
 {
-  double n_fft = (double)key->fft_size, length = (double)key->fade_samples;
-  for (size_t k = 0; k < key->bins; ++k) {
-    double w = -2.0 * AF_PI * (double)k / n_fft;
-    out[k] = faded ? cexp(I * w * length) : cexp(I * w);
-  }
+  double power = faded ? (double)key->fade_samples : 1.0;
+  for (size_t k = 0; k < key->bins; ++k)
+    out[k] = af_response_phase(k, key->fft_size, power);
   return AF_OK;
 }
 
@@ -120,10 +131,7 @@ void af_response_fill_phases(af_response *r)
   const size_t size = r->bins * sizeof *r->phase_u;
   (void)af_memo_get(kind_u, &key, sizeof key, phases_u, r->phase_u, size);
   (void)af_memo_get(kind_ul, &key, sizeof key, phases_ul, r->phase_ul, size);
-  double length = (double)r->fade_samples;
-  double theta = r->fade_samples > 0 ? AF_PI / length : 0.0;
-  r->fade_e = cexp(I * theta);
-  r->fade_eh = cexp(0.5 * I * theta);
+  af_response_fade_phases(r->fade_samples, &r->fade_e, &r->fade_eh);
 }
 
 /* Bins of [lo_hz, hi_hz] on a grid of bin_hz, clipped to 1..last. */

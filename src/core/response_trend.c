@@ -277,29 +277,30 @@ typedef struct {
   double sample_rate_hz, window_time_constant_s, hum_hz;
 } share_key;
 
-/* log z of term h's pole, side 0 (its own) or 1 (the conjugate), from the key. */
-static double complex share_log_pole(const share_key *k, size_t h, int side)
+/* log z of term h's pole: the h-th harmonic of hum_hz (h = 0 the DC) on the
+ * window's decay 1 / tau_s. */
+static double complex term_log_pole(double fs_hz, double tau_s, double hum_hz, size_t h)
 {
-  double w = 2.0 * AF_PI * (double)h * k->hum_hz / k->sample_rate_hz;
-  double complex lz = -1.0 / (k->sample_rate_hz * k->window_time_constant_s) + I * w;
-  return side ? conj(lz) : lz;
+  double w = 2.0 * AF_PI * (double)h * hum_hz / fs_hz;
+  return -1.0 / (fs_hz * tau_s) + I * w;
 }
 
 static af_status share_values(const void *key, void *out)
 {
   const share_key *k = key;
   size_t bins = k->fft_size / 2 + 1, length = k->fade_samples;
-  double n_fft = (double)k->fft_size, theta = length > 0 ? AF_PI / (double)length : 0.0;
-  double complex e = cexp(I * theta), eh = cexp(0.5 * I * theta);
+  double complex e, eh;
+  af_response_fade_phases(length, &e, &eh);
   size_t sides = 2 * k->terms;
   double complex *g = out, *pinv = g + sides * bins;
   for (size_t t = 0; t < sides; ++t) {
-    double complex lz = share_log_pole(k, t / 2, (int)(t % 2));
+    double complex lz =
+        term_log_pole(k->sample_rate_hz, k->window_time_constant_s, k->hum_hz, t / 2);
+    lz = t % 2 ? conj(lz) : lz; /* side 0 the pole, 1 its conjugate */
     double complex z = cexp(lz), zl = cexp((double)length * lz);
     for (size_t i = 0; i < bins; ++i) {
-      double w = -2.0 * AF_PI * (double)i / n_fft;
-      double complex a = z * cexp(I * w), inv = 1.0 / (1.0 - a);
-      double complex al = zl * cexp(I * w * (double)length);
+      double complex a = z * af_response_phase(i, k->fft_size, 1.0), inv = 1.0 / (1.0 - a);
+      double complex al = zl * af_response_phase(i, k->fft_size, (double)length);
       pinv[i * sides + t] = inv; /* bin by bin: a bin's terms side by side */
       g[i * sides + t] = inv - af_response_fade_part(length, e, eh, a, al, inv);
     }
@@ -379,11 +380,11 @@ void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, s
   double complex c[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)],
       czm[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)];
   const af_response_config *cf = &r->cfg;
-  double m = r->split_len, decay = -m / (cf->sample_rate_hz * cf->window_time_constant_s);
+  double m = r->split_len;
   for (size_t h = 0; h < terms; ++h) {
     double complex ch = h == 0 ? 0.5 * a[0] : 0.5 * (a[2 * h - 1] - I * a[2 * h]);
     double complex zm =
-        cexp(decay + I * m * 2.0 * AF_PI * (double)h * cf->hum_hz / cf->sample_rate_hz);
+        cexp(m * term_log_pole(cf->sample_rate_hz, cf->window_time_constant_s, cf->hum_hz, h));
     c[2 * h] = ch;
     c[2 * h + 1] = conj(ch);
     czm[2 * h] = ch * zm;
