@@ -146,7 +146,8 @@ void af_report_bench_print(FILE *out, const af_report_bench *b, size_t strikes, 
     stages_ns += b->total_ns[s];
   const double all_ns = cpu_s * 1e9 + (double)b->total_ns[AF_STAGE_SERIALIZE];
   fprintf(out,
-          "bench: cost per stage over %zu strikes (CPU time of the thread that runs it; "
+          "bench: cost per stage over %zu strikes (the time of the thread that runs it, on the "
+          "monotonic clock; all: the workers' CPU time; "
           "median: of each strike's time in the stage, detect and predict: the force chunks "
           "and apples since the previous strike, setup: per lane)\n",
           strikes);
