@@ -8,7 +8,9 @@
 # build-san/fuzz/corpus/<name>; a crash, a timeout (an input over a second)
 # or an out-of-memory (over 2 GB) leaves its input in build-san/fuzz/ and
 # fails the run: copy it into test/fuzz/<name>/ as a regression input once
-# fixed. Prints executions per harness.
+# fixed. A harness that leaves its scratch file behind (af_fuzz_*_<pid>.*
+# in /dev/shm or /tmp: test/fuzz/fuzz_scratch.h removes them at exit) fails
+# the run too. Prints executions per harness.
 #
 #   bash scripts/fuzz.sh [--seconds S] [--only NAME] [--jobs N] [--timeout T] [--seed N] [--no-build]
 #
@@ -98,16 +100,19 @@ run_one() {
   mkdir -p "$out/corpus/$n"
   # -close_fd_mask=3: the harnesses' own output (analyze's JSON, refusal
   # lines) is discarded; libFuzzer's reports still show.
-  "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout="$timeout" -seed="$seed" \
+  # exec: the job's PID is the harness's, whose scratch files bear it
+  exec "$exe" "$out/corpus/$n" "$root/test/fuzz/$n" -max_total_time="$seconds" -timeout="$timeout" -seed="$seed" \
     -rss_limit_mb=2048 -max_len="$(max_len "$n")" -print_final_stats=1 -close_fd_mask=3 \
     -artifact_prefix="$out/$n-" >"$out/$n.log" 2>&1
 }
 
 status=0
 pids=()
+declare -A pid_of
 for n in "${names[@]}"; do
   run_one "$n" &
   pids+=($!)
+  pid_of[$n]=$!
   if [ "${#pids[@]}" -ge "$jobs" ]; then
     wait "${pids[0]}" || status=1
     pids=("${pids[@]:1}")
@@ -135,6 +140,12 @@ for n in "${names[@]}"; do
   if [ "$found" -gt 0 ] || grep -q -e 'ERROR: libFuzzer: deadly signal' -e 'out-of-memory' \
     -e 'ERROR: AddressSanitizer' -e 'runtime error:' -e 'ERROR: LeakSanitizer' "$log"; then
     result="FAILED ($found input(s) in $out; log $log)"
+    status=1
+  fi
+  # a harness removes its scratch files when it exits (test/fuzz/fuzz_scratch.h)
+  left=$(find /dev/shm /tmp -maxdepth 1 -name "af_fuzz_*_${pid_of[$n]}.*" 2>/dev/null | wc -l)
+  if [ "$left" -gt 0 ]; then
+    result="FAILED ($left scratch file(s) af_fuzz_*_${pid_of[$n]}.* left in /dev/shm or /tmp)"
     status=1
   fi
   printf '%-10s %8s %12s %10s %8s  %s\n' "$n" "$seconds" "${execs:-?}" "${rate:-?}" "$corpus" "$result"

@@ -10,9 +10,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "analyze.h"
+#include "fuzz_scratch.h"
 
 static void write_file(const char *path, const uint8_t *p, size_t n)
 {
@@ -25,13 +25,14 @@ static void write_file(const char *path, const uint8_t *p, size_t n)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  static char force[64], audio[64];
   static const char *const rates[] = {"25600", "44100", "48000", "50000"};
-  if (force[0] == '\0') {
-    snprintf(force, sizeof force, "/tmp/af_fuzz_force_%ld.f32", (long)getpid());
-    snprintf(audio, sizeof audio, "/tmp/af_fuzz_audio_%ld.f32", (long)getpid());
+  static int quiet;
+  const char *force = af_fuzz_scratch(0, "force", "f32");
+  const char *audio = af_fuzz_scratch(1, "audio", "f32");
+  if (!quiet) {
     if (freopen("/dev/null", "w", stdout) == NULL)
       abort();
+    quiet = 1;
   }
   if (size < 1)
     return 0;
@@ -45,9 +46,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   char *argv[] = {"firmness_model",
                   "analyze",
                   "--force",
-                  force,
+                  (char *)force,
                   "--audio",
-                  audio,
+                  (char *)audio,
                   "--rate-force",
                   (char *)rates[head & 3],
                   "--rate-audio",

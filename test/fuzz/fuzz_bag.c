@@ -7,19 +7,14 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "af_bag.h"
+#include "fuzz_scratch.h"
 
-/* The input goes to a file (the reader takes a path): in /dev/shm (tmpfs)
- * when there is one. On ext4, rewriting a truncated file forces its blocks
- * out at close (auto_da_alloc), a wait on the disk per input. */
+/* The input goes to a file (the reader takes a path; fuzz_scratch.h). */
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  static char path[64];
-  if (path[0] == '\0')
-    snprintf(path, sizeof path, "%s/af_fuzz_bag_%ld.bag",
-             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp", (long)getpid());
+  const char *path = af_fuzz_scratch(0, "bag", "bag");
   FILE *f = fopen(path, "wb");
   if (f == NULL)
     return 0;

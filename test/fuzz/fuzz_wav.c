@@ -15,8 +15,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "fuzz_scratch.h"
 #include "recording.h"
 #include "wav.h"
 
@@ -55,11 +55,7 @@ static void check_parse(const uint8_t *p, size_t n)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  /* In /dev/shm (tmpfs) when there is one: no disk wait per input. */
-  static char path[64];
-  if (path[0] == '\0')
-    snprintf(path, sizeof path, "%s/af_fuzz_wav_%ld.wav",
-             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp", (long)getpid());
+  const char *path = af_fuzz_scratch(0, "wav", "wav"); /* fuzz_scratch.h */
   if (size < 1)
     return 0;
   uint8_t head = data[0];

@@ -9,12 +9,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "fuzz_scratch.h"
 #include "lane_config.h"
 #include "settings.h"
-
-static char path[64];
 
 static void one_line(const char *err)
 {
@@ -24,12 +22,7 @@ static void one_line(const char *err)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  /* In /dev/shm (tmpfs) when there is one: on ext4, rewriting a truncated
-   * file forces its blocks out at close (auto_da_alloc), a disk wait per
-   * input. */
-  if (path[0] == '\0')
-    snprintf(path, sizeof path, "%s/af_fuzz_yaml_%ld.yaml",
-             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp", (long)getpid());
+  const char *path = af_fuzz_scratch(0, "yaml", "yaml"); /* fuzz_scratch.h */
   FILE *f = fopen(path, "wb");
   if (f == NULL)
     return 0;
