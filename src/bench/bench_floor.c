@@ -7,11 +7,11 @@
  * It makes the same ROS subscriptions through the same shim (src/shim):
  * force and audio as SignalChunk (queue 1000, deserialized into the C
  * structs), apple as AppleEstimate (queue 10), a TF listener, and /clock
- * when use_sim_time is set; it spins on its own thread with the node's 50 ms
- * timeout. Its callbacks only count. What it costs is what roscpp's receive
+ * when use_sim_time is set; its main thread spins as the node's does, with
+ * the node's 50 ms timeout. Its callbacks only count. What it costs is what roscpp's receive
  * path costs on this machine for these messages, whatever the node does
  * with them. Prints the messages it took when ROS shuts it down (SIGINT).
- * Exit 0; 1 when ROS or a subscription cannot be made. */
+ * Exit 0; 1 when ROS, a subscription or a spin fails (one line on stderr). */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -41,22 +41,34 @@ static af_status subscribe(af_ros *ros, unsigned long long n[3])
   return s;
 }
 
+/* The TF listener and the subscriptions; *what names the part that failed. */
+static af_status setup(af_ros *ros, af_tf **tf, unsigned long long n[3], const char **what)
+{
+  *what = "the TF listener";
+  af_status s = af_tf_create(ros, tf);
+  if (s != AF_OK)
+    return s;
+  *what = "the subscriptions";
+  return subscribe(ros, n);
+}
+
 int main(int argc, char **argv)
 {
   af_ros *ros = NULL;
   af_tf *tf = NULL;
   unsigned long long n[3] = {0, 0, 0}; /* force, audio, apple messages taken */
+  const char *what = "ROS start-up";
   af_status s = af_ros_create(&argc, argv, "bench_floor", &ros);
   if (s == AF_OK)
-    s = af_tf_create(ros, &tf);
+    s = setup(ros, &tf, n, &what);
   if (s == AF_OK)
-    s = subscribe(ros, n);
-  if (s != AF_OK)
-    fprintf(stderr, "af_bench_floor: ROS set-up failed: %s %s\n", af_strerror(s),
-            ros ? af_ros_last_error(ros) : "");
+    what = "a spin";
   while (s == AF_OK && af_ros_ok(ros))
     s = af_ros_spin_once(ros, FLOOR_SPIN_TIMEOUT_S);
-  if (s == AF_OK)
+  if (s != AF_OK)
+    fprintf(stderr, "af_bench_floor: %s failed: %s %s\n", what, af_strerror(s),
+            ros ? af_ros_last_error(ros) : "");
+  else
     printf("af_bench_floor: took %llu force, %llu audio and %llu apple messages\n", n[0], n[1],
            n[2]);
   af_tf_destroy(tf);
