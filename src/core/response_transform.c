@@ -88,8 +88,6 @@ typedef struct {
   size_t fft_size, fade_samples, bins;
 } phase_key;
 
-/* u_k = exp(-2 pi i k / N), or (faded) u_k^L with L = fade_samples, for
- * k < bins, into out. */
 double complex af_response_phase(size_t k, size_t fft_size, double power)
 {
   double w = -2.0 * AF_PI * (double)k / (double)fft_size;
@@ -103,6 +101,8 @@ void af_response_fade_phases(size_t fade_samples, double complex *e, double comp
   *eh = cexp(0.5 * I * theta);
 }
 
+/* u_k = exp(-2 pi i k / N), or (faded) u_k^L with L = fade_samples, for
+ * k < bins, into out. */
 static af_status phases(const phase_key *key, bool faded, double complex *out)
 {
   double power = faded ? (double)key->fade_samples : 1.0;

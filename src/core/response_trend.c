@@ -10,9 +10,8 @@
  * the window. */
 #include "response_private.h"
 
-#include <stdint.h>
-
 #include <math.h>
+#include <stdint.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
