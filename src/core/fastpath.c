@@ -1,5 +1,4 @@
 /* fastpath.c — the table of normalised pulses and its interpolation. */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "fastpath.h"
 
 #include <math.h>
@@ -8,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <threads.h>
-#include <time.h>
 
 #include "criteria.h"
 #include "impact.h"
@@ -16,6 +14,7 @@
 #include "lamb.h"
 #include "settings.h"
 #include "spectrum.h"
+#include "stage.h"
 #include "stress.h"
 
 #ifndef M_PI
@@ -276,14 +275,6 @@ static void shared_build(void)
   shared.table = t;
 }
 
-/* The calling thread's CPU time [s] (a row's build is counted in CPU time). */
-static double thread_cpu_s(void)
-{
-  struct timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Whether row i of t is built, building it first if no thread has. */
 static bool row_ready(af_fp_table *t, int i)
 {
@@ -293,7 +284,7 @@ static bool row_ready(af_fp_table *t, int i)
   mtx_lock(&t->lock);
   state = atomic_load_explicit(&t->row[i], memory_order_relaxed);
   if (state == ROW_EMPTY) {
-    const double t0_s = thread_cpu_s();
+    const int64_t t0_ns = af_stage_cpu_ns(); /* a row's build is counted in CPU time */
     af_status st = AF_OK;
     for (int j = 0; j < AF_FP_NGAM && st == AF_OK; j++)
       st = build_node(t, t->imp, t->spec, t->force, t->defo, i * AF_FP_CHI_STEP, j * AF_FP_GAM_STEP,
@@ -301,7 +292,7 @@ static bool row_ready(af_fp_table *t, int i)
     state = st == AF_OK ? ROW_READY : ROW_FAILED;
     if (st != AF_OK && t->row_error == AF_OK)
       t->row_error = st;
-    t->build_cpu_s += thread_cpu_s() - t0_s;
+    t->build_cpu_s += (double)(af_stage_cpu_ns() - t0_ns) * 1e-9;
     atomic_store_explicit(&t->row[i], state, memory_order_release);
   }
   mtx_unlock(&t->lock);

@@ -11,9 +11,19 @@ const char *af_stage_name(af_stage stage)
   return (unsigned)stage < AF_STAGES ? names[stage] : "?";
 }
 
-int64_t af_stage_now_ns(void)
+static int64_t clock_ns(clockid_t id)
 {
   struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(id, &ts);
   return (int64_t)ts.tv_sec * 1000000000LL + (int64_t)ts.tv_nsec;
+}
+
+int64_t af_stage_now_ns(void)
+{
+  return clock_ns(CLOCK_MONOTONIC);
+}
+
+int64_t af_stage_cpu_ns(void)
+{
+  return clock_ns(CLOCK_THREAD_CPUTIME_ID);
 }

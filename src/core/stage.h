@@ -61,6 +61,10 @@ const char *af_stage_name(af_stage stage);
  * (src/report/session.c). */
 int64_t af_stage_now_ns(void);
 
+/* The calling thread's CPU time, CLOCK_THREAD_CPUTIME_ID [ns]: for work
+ * counted rarely (a table row's build, fastpath.c), not per stage. */
+int64_t af_stage_cpu_ns(void);
+
 /* The start of a stage: the clock when h times, else 0 (no clock read). */
 static inline int64_t af_stage_begin(const af_stage_hook *h)
 {
