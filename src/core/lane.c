@@ -15,6 +15,15 @@
  * leaves its apple without a strike, and the next strike must not take it
  * silently (issue 11: at 80x replay, a dropped chunk's strike). */
 #define AF_LANE_GAPS 16
+/* Strikes over which the observed transit (strike minus estimate stamp) is
+ * summarised: enough for a stable median, recent enough to follow a camera
+ * that starts stamping late. */
+#define AF_LANE_TRANSITS 32
+/* A systematic lag is named once this many of the latest AF_LANE_TRANSITS
+ * strikes found no estimate in their window. */
+#define AF_LANE_UNMATCHED_WARN 8
+/* Strikes remembered after their report, for estimates that come late. */
+#define AF_LANE_REPORTED 16
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -24,6 +33,12 @@ typedef struct {
   uint64_t refused;   /* refused (non-finite) force samples in the measured span */
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_pending;
+
+/* A strike reported: when, and to which estimate (0: none). */
+typedef struct {
+  int64_t start_ns, apple_stamp_ns;
+  uint32_t apple_id;
+} af_lane_reported;
 
 typedef struct {
   bool used;
@@ -56,7 +71,7 @@ struct af_lane {
   float *audio_buf, *noise_buf;
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
-  int64_t newest_apple_ns;  /* stamp of the newest estimate received */
+  int64_t newest_apple_ns;  /* stamp of the newest estimate accepted */
   uint64_t apples_received; /* estimates so far: the slots' order */
   bool any_apple;
   int64_t now_ns;
@@ -67,13 +82,27 @@ struct af_lane {
   af_lane_stats stats;
   af_hammer_health *health; /* the hammer's running statistics (hammer_health.h) */
   af_onset *onset;          /* tap-only: the strikes found in the audio (onset.h) */
+  af_prediction refused;    /* the prediction of the latest estimate refused before the model */
+  double transit_s[AF_LANE_TRANSITS];   /* strike minus stamp of the latest matched strikes [s] */
+  double unmatched_s[AF_LANE_TRANSITS]; /* ... of the nearest estimate, unmatched strikes [s] */
+  uint64_t transits, unmatched;         /* written so far into each */
+  bool recent_unmatched[AF_LANE_TRANSITS]; /* the latest strikes: without an apple? */
+  uint64_t recent;
+  af_lane_reported reported[AF_LANE_REPORTED]; /* the latest strikes reported */
+  size_t reported_n;                           /* written so far */
 };
 
 /* --- the apple match -------------------------------------------------------- */
 
-/* The newest apple stamped at or before t_ns and at most apple_stale_after_s
- * before it; NULL when none. */
-static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
+/* The lag [s] of a strike at t_ns behind the stamp of estimate a. */
+static double lag_s(const af_apple_slot *a, int64_t t_ns)
+{
+  return (double)(t_ns - a->apple.stamp_ns) * 1e-9;
+}
+
+/* One apple a recording (the desk tools' single_apple): the newest apple
+ * stamped at or before t_ns and at most apple_stale_after_s before it. */
+static af_apple_slot *match_newest(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
 {
   const int64_t stale_ns = (int64_t)llround(l->mc->apple_stale_after_s * 1e9);
   af_apple_slot *best = NULL;
@@ -87,8 +116,8 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot 
       *tie = NULL;
     } else if (a->apple.stamp_ns == best->apple.stamp_ns &&
                a->apple.apple_id != best->apple.apple_id) {
-      /* Two apples at one stamp: the match is ambiguous (issue 18). The
-       * later received is taken and the other named. */
+      /* Two apples at one stamp: the match is ambiguous. The later
+       * received is taken and the other named. */
       const bool later = a->order > best->order;
       *tie = later ? best : a;
       best = later ? a : best;
@@ -99,47 +128,164 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot 
   return best;
 }
 
+/* A line: the estimate whose stamp + apple_transit_s lies nearest t_ns,
+ * within apple_transit_tolerance_s (the latest received on a tie, an apple
+ * sent again); NULL when none. *tie: another apple in the window too. With
+ * several apples between the camera and the hammer, the newest estimate
+ * before a strike is another apple's: only the transit tells them apart. */
+static af_apple_slot *match_transit(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
+{
+  const double transit_s = l->mc->apple_transit_s, tol_s = l->mc->apple_transit_tolerance_s;
+  af_apple_slot *best = NULL;
+  double best_d = INFINITY;
+  *tie = NULL;
+  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
+    af_apple_slot *a = &l->apples[k];
+    const double d = a->used ? fabs(lag_s(a, t_ns) - transit_s) : INFINITY;
+    if (d > tol_s)
+      continue;
+    if (best == NULL || d < best_d || (d == best_d && a->order > best->order)) {
+      best = a;
+      best_d = d;
+    }
+  }
+  for (size_t k = 0; best != NULL && k < AF_LANE_APPLES; k++) {
+    const af_apple_slot *a = &l->apples[k];
+    if (a->used && a->apple.apple_id != best->apple.apple_id &&
+        fabs(lag_s(a, t_ns) - transit_s) <= tol_s)
+      *tie = a;
+  }
+  return best;
+}
+
+static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot **tie)
+{
+  return l->mc->single_apple ? match_newest(l, t_ns, tie) : match_transit(l, t_ns, tie);
+}
+
+/* The estimate stamped nearest t_ns in time, within apple_stale_after_s
+ * beyond the transit window; NULL when none: what an unmatched strike names,
+ * so that a camera stamping late or early shows its lag. */
+static const af_apple_slot *nearest_apple(const af_lane *l, int64_t t_ns)
+{
+  const double reach_s =
+      fabs(l->mc->apple_transit_s) + l->mc->apple_transit_tolerance_s + l->mc->apple_stale_after_s;
+  const af_apple_slot *best = NULL;
+  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
+    const af_apple_slot *a = &l->apples[k];
+    if (a->used && fabs(lag_s(a, t_ns)) <= reach_s &&
+        (best == NULL || fabs(lag_s(a, t_ns)) < fabs(lag_s(best, t_ns))))
+      best = a;
+  }
+  return best;
+}
+
 /* Whether the apple of p can still change: not once an estimate stamped
- * after its contact start has come, nor once apple_wait_s has passed after
- * p, on the lane's clock since it was queued or in the force stream's own
- * data since its contact start, whichever comes first: a clock that
- * disagrees with the stamps, or stops (a replay's simulated time after the
- * bag), must not hold a strike forever. */
+ * after its window has come (estimates arrive in stamp order), nor once
+ * apple_wait_s has passed after p, on the lane's clock since it was queued
+ * or in the force stream's own data since its contact start, whichever
+ * comes first: a clock that disagrees with the stamps, or stops (a replay's
+ * simulated time after the bag), must not hold a strike forever. */
 static bool apple_decided(const af_lane *l, const af_pending *p)
 {
-  if (l->finished || (l->any_apple && l->newest_apple_ns > p->start_ns))
+  const af_measured_config *mc = l->mc;
+  const int64_t window_end_ns =
+      mc->single_apple
+          ? p->start_ns
+          : p->start_ns -
+                (int64_t)llround((mc->apple_transit_s - mc->apple_transit_tolerance_s) * 1e9);
+  if (l->finished || (l->any_apple && l->newest_apple_ns > window_end_ns))
     return true;
-  const double wait_s = l->mc->apple_wait_s;
+  const double wait_s = mc->apple_wait_s;
   const double data_after_s =
       (double)(af_stream_time_ns(&l->force, (double)af_ring_end(l->force.ring)) - p->start_ns) *
       1e-9;
   return (double)(l->now_ns - p->queued_ns) * 1e-9 >= wait_s || data_after_s >= wait_s;
 }
 
-/* An estimate stamped before strikes already reported against another apple
- * (or none) came too late: say so; a report cannot be taken back. */
+/* An estimate that comes after a strike it should have taken was reported
+ * (against another apple, or none) came too late: say so; a report cannot
+ * be taken back. One apple a recording: a strike stamped after it went to
+ * an older estimate. A line: a strike lay in its transit window. */
 static uint32_t check_late(af_lane *l, const af_apple *a)
 {
-  af_apple_slot *matched = NULL;
-  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
-    af_apple_slot *s = &l->apples[k];
-    if (s->used && s->strikes > 0 && s->apple.stamp_ns < a->stamp_ns &&
-        s->last_strike_ns >= a->stamp_ns)
-      matched = s;
+  const af_measured_config *mc = l->mc;
+  const af_lane_reported *hit = NULL;
+  for (size_t k = 0; k < AF_LANE_REPORTED && k < l->reported_n; k++) {
+    const af_lane_reported *r = &l->reported[k];
+    const double lag = (double)(r->start_ns - a->stamp_ns) * 1e-9;
+    const bool late = mc->single_apple
+                          ? r->apple_id != 0 && r->apple_stamp_ns < a->stamp_ns && lag >= 0.0
+                          : r->apple_id != a->apple_id &&
+                                fabs(lag - mc->apple_transit_s) <= mc->apple_transit_tolerance_s;
+    if (late && (hit == NULL || r->start_ns > hit->start_ns))
+      hit = r;
   }
-  if (matched == NULL)
+  if (hit == NULL)
     return 0;
   l->stats.late_apples++;
-  af_text(l->stats.last_late_apple, sizeof l->stats.last_late_apple,
-          "apple %u's estimate arrived after a strike it should have taken was reported "
-          "against apple %u",
-          a->apple_id, matched->apple.apple_id);
-  return matched->apple.apple_id;
+  if (hit->apple_id == 0)
+    af_text(l->stats.last_late_apple, sizeof l->stats.last_late_apple,
+            "apple %u's estimate arrived after its strike at %.3f s was reported without an "
+            "apple",
+            a->apple_id, (double)hit->start_ns * 1e-9);
+  else
+    af_text(l->stats.last_late_apple, sizeof l->stats.last_late_apple,
+            "apple %u's estimate arrived after a strike it should have taken was reported "
+            "against apple %u",
+            a->apple_id, hit->apple_id);
+  return hit->apple_id;
+}
+
+/* Why estimate a cannot be used ("" when it can): apple_id 0 is the
+ * StrikeReport's "no apple", and a stamp further than apple_stale_after_s
+ * from the newest data (force; tap-only: audio; before any: the lane's
+ * clock, when it runs) is a clock far off, which would take or hold every
+ * strike's match. */
+static bool refuse_apple(af_lane *l, const af_apple *a, char *why, size_t len)
+{
+  const af_stream *data = l->mc->tap_only ? &l->audio : &l->force;
+  int64_t ref_ns = l->now_ns;
+  const char *ref = "the lane's clock";
+  if (data->seen) {
+    ref_ns = af_stream_time_ns(data, (double)af_ring_end(data->ring));
+    ref = l->mc->tap_only ? "the newest audio sample" : "the newest force sample";
+  }
+  why[0] = '\0';
+  const double off_s = (double)(a->stamp_ns - ref_ns) * 1e-9;
+  if (a->apple_id == 0)
+    af_text(why, len, "apple_id 0 is reserved for \"no apple\"");
+  else if (ref_ns != 0 && fabs(off_s) > l->mc->apple_stale_after_s)
+    af_text(why, len,
+            "stamped %.3f s %s %s (apple_stale_after_s %g s): a clock that far off would "
+            "mismatch strikes",
+            fabs(off_s), off_s > 0.0 ? "after" : "before", ref, l->mc->apple_stale_after_s);
+  return why[0] != '\0';
+}
+
+/* A refused estimate: counted and said, its prediction invalid, no slot
+ * taken, so that it changes no other strike's match. */
+static af_status refuse(af_lane *l, const af_apple *a, const char *why, const af_prediction **out)
+{
+  l->stats.apples++;
+  l->stats.apples_refused++;
+  l->stats.apples_implausible++;
+  af_text(l->stats.last_implausible_apple, sizeof l->stats.last_implausible_apple,
+          "apple %u refused: %s", a->apple_id, why);
+  memset(&l->refused, 0, sizeof l->refused);
+  l->refused.valid = false;
+  af_text(l->refused.why, sizeof l->refused.why, "AppleEstimate refused: %s", why);
+  if (out)
+    *out = &l->refused;
+  return AF_EINVAL;
 }
 
 af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_prediction **out)
 {
   l->now_ns = now_ns;
+  char why[AF_LANE_TEXT_MAX];
+  if (refuse_apple(l, a, why, sizeof why))
+    return refuse(l, a, why, out);
   const uint32_t late_after = check_late(l, a);
   af_apple_slot *s = &l->apples[l->apple_next];
   l->apple_next = (l->apple_next + 1) % AF_LANE_APPLES;
@@ -297,6 +443,10 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
   }
   v->apple_id = lane_v->apple_id;
   v->apple_stale_s = lane_v->apple_stale_s;
+  v->apple_transit_s = lane_v->apple_transit_s;
+  v->apple_tolerance_s = lane_v->apple_tolerance_s;
+  v->nearest_apple_id = lane_v->nearest_apple_id;
+  v->nearest_apple_lag_s = lane_v->nearest_apple_lag_s;
   v->measure_status = lane_v->measure_status;
   memcpy(v->apple_why, lane_v->apple_why, sizeof v->apple_why);
   memcpy(v->doubtful_why, lane_v->doubtful_why, sizeof v->doubtful_why);
@@ -333,17 +483,31 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   if (a == NULL) {
     v->flags |= AF_VERDICT_NO_APPLE;
     v->apple_stale_s = l->mc->apple_stale_after_s;
+    if (!l->mc->single_apple) {
+      v->apple_transit_s = l->mc->apple_transit_s;
+      v->apple_tolerance_s = l->mc->apple_transit_tolerance_s;
+      const af_apple_slot *n = nearest_apple(l, p->start_ns);
+      v->nearest_apple_id = n ? n->apple.apple_id : 0;
+      v->nearest_apple_lag_s = n ? lag_s(n, p->start_ns) : NAN;
+    }
     return NULL;
   }
   v->apple_id = a->apple.apple_id;
   if (!a->prediction.valid) {
     v->flags |= AF_VERDICT_NO_PREDICTION;
     af_text(v->apple_why, sizeof v->apple_why, "%s", a->prediction.why);
-  } else if (tie != NULL) {
+  } else if (tie != NULL && l->mc->single_apple) {
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,
             "apple %u has the same stamp %.9f s; the strike may be either's", tie->apple.apple_id,
             (double)a->apple.stamp_ns * 1e-9);
+  } else if (tie != NULL) {
+    v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
+    af_text(v->doubtful_why, sizeof v->doubtful_why,
+            "apple %u, stamped %.3f s before the strike, fits apple_transit_s %g +- %g s too; "
+            "the strike may be either's",
+            tie->apple.apple_id, lag_s(tie, p->start_ns), l->mc->apple_transit_s,
+            l->mc->apple_transit_tolerance_s);
   } else if (a->strikes > 0 && !l->mc->single_apple) {
     v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
     af_text(v->doubtful_why, sizeof v->doubtful_why,
@@ -358,7 +522,11 @@ static af_apple_slot *apple_flags(af_lane *l, const af_pending *p, af_verdict *v
   } else if (!l->mc->single_apple) {
     /* Not struck yet, but force samples were lost after its estimate: its
      * own strike may have been among them, and this one another apple's. */
-    const int64_t g = force_lost_between(l, a->apple.stamp_ns, p->start_ns);
+    /* Its own strike could only have been in its transit window. */
+    const int64_t from_ns =
+        a->apple.stamp_ns +
+        (int64_t)llround((l->mc->apple_transit_s - l->mc->apple_transit_tolerance_s) * 1e9);
+    const int64_t g = force_lost_between(l, from_ns, p->start_ns);
     if (g != 0) {
       v->flags |= AF_VERDICT_APPLE_DOUBTFUL;
       af_text(v->doubtful_why, sizeof v->doubtful_why,
@@ -417,6 +585,77 @@ static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
   }
 }
 
+/* The median of x[0..n) (n <= AF_LANE_TRANSITS), NaN when n is 0. */
+static double median_of(const double *x, size_t n)
+{
+  double y[AF_LANE_TRANSITS];
+  if (n == 0)
+    return NAN;
+  memcpy(y, x, n * sizeof *y);
+  for (size_t i = 1; i < n; i++) /* insertion sort: n is small */
+    for (size_t j = i; j > 0 && y[j - 1] > y[j]; j--) {
+      const double t = y[j];
+      y[j] = y[j - 1];
+      y[j - 1] = t;
+    }
+  return n % 2 ? y[n / 2] : 0.5 * (y[n / 2 - 1] + y[n / 2]);
+}
+
+/* The transit words: a systematic lag once most recent strikes found no
+ * estimate in their window, or a matched transit drifting from the table's. */
+static void transit_words(af_lane *l)
+{
+  af_lane_stats *s = &l->stats;
+  const double want_s = l->mc->apple_transit_s, tol_s = l->mc->apple_transit_tolerance_s;
+  s->transit_warning[0] = '\0';
+  if (s->unmatched_strikes >= AF_LANE_UNMATCHED_WARN && isfinite(s->unmatched_lag_s)) {
+    const double lag = s->unmatched_lag_s;
+    af_text(s->transit_warning, sizeof s->transit_warning,
+            "%zu of the latest %zu strikes found no apple estimate stamped %g +- %g s before "
+            "them; the nearest estimates are stamped %.0f ms %s their strikes%s (apple_transit_s "
+            "%.3f would match them)",
+            s->unmatched_strikes,
+            (size_t)(l->recent < AF_LANE_TRANSITS ? l->recent : AF_LANE_TRANSITS), want_s, tol_s,
+            1e3 * fabs(lag), lag >= 0.0 ? "before" : "after",
+            lag < 0.0 ? ": is the camera stamping at publish time?"
+                      : ": check apple_transit_s against the conveyor",
+            lag);
+  } else if (s->transit_strikes >= AF_LANE_UNMATCHED_WARN &&
+             fabs(s->transit_observed_s - want_s) > 0.5 * tol_s) {
+    af_text(s->transit_warning, sizeof s->transit_warning,
+            "apple estimates lead their strikes by %.0f ms, apple_transit_s is %.0f ms (+- %.0f): "
+            "the conveyor or the camera's stamps have drifted",
+            1e3 * s->transit_observed_s, 1e3 * want_s, 1e3 * tol_s);
+  }
+}
+
+/* What strike p's match tells of the transit (a line only; one apple a
+ * recording has none), and p kept for the estimates that come late. */
+static void observe_transit(af_lane *l, const af_pending *p, const af_apple_slot *a)
+{
+  af_lane_reported *r = &l->reported[l->reported_n++ % AF_LANE_REPORTED];
+  r->start_ns = p->start_ns;
+  r->apple_id = a ? a->apple.apple_id : 0;
+  r->apple_stamp_ns = a ? a->apple.stamp_ns : 0;
+  if (l->mc->single_apple)
+    return;
+  af_lane_stats *s = &l->stats;
+  const af_apple_slot *n = a ? NULL : nearest_apple(l, p->start_ns);
+  if (a)
+    l->transit_s[l->transits++ % AF_LANE_TRANSITS] = lag_s(a, p->start_ns);
+  else if (n)
+    l->unmatched_s[l->unmatched++ % AF_LANE_TRANSITS] = lag_s(n, p->start_ns);
+  l->recent_unmatched[l->recent++ % AF_LANE_TRANSITS] = a == NULL && n != NULL;
+  s->transit_strikes = l->transits < AF_LANE_TRANSITS ? l->transits : AF_LANE_TRANSITS;
+  s->transit_observed_s = median_of(l->transit_s, s->transit_strikes);
+  const size_t nu = l->unmatched < AF_LANE_TRANSITS ? l->unmatched : AF_LANE_TRANSITS;
+  s->unmatched_lag_s = median_of(l->unmatched_s, nu);
+  s->unmatched_strikes = 0;
+  for (size_t k = 0; k < AF_LANE_TRANSITS && k < l->recent; k++)
+    s->unmatched_strikes += l->recent_unmatched[k];
+  transit_words(l);
+}
+
 /* Measures p with its audio (n_audio 0: none, lane_v says why) and calls back. */
 static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verdict *lane_v)
 {
@@ -448,6 +687,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
     a->last_strike_ns = p->start_ns;
   }
   count(l, p, o);
+  observe_transit(l, p, a);
   /* Only a strike whose 0S2 and E2 were both measured and judged reliable
    * feeds the learned factor (af_factor_learn_push refuses the others). */
   (void)af_factor_learn_push(l->factor, o->report.reliable && o->with_audio,
@@ -719,6 +959,7 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   if ((s = af_hammer_health_create(&cfg->health, &l->health)) != AF_OK)
     goto fail;
   l->stats.health = *af_hammer_health_get_stats(l->health);
+  l->stats.transit_observed_s = l->stats.unmatched_lag_s = NAN;
   *what = "the learned modulus factor";
   if ((s = af_factor_learn_create(&cfg->factor_learn, &l->factor)) != AF_OK)
     goto fail;

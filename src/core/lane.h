@@ -20,16 +20,27 @@
  *          come (af_audio_cause: the stream is stale, the window left the
  *          ring, holds lost samples, lies before the stream began, or has
  *          not come stream_stale_after_s + delay + window after the strike);
- *        - its apple: an AppleEstimate stamped after the contact start has
- *          arrived (estimates arrive in stamp order, so none stamped before
- *          the strike can still come), or apple_wait_s has passed since the
- *          strike, on the lane's clock or in the force stream's own data
- *          (a replay's simulated clock stops with the bag). The strike then belongs to the
- *          newest estimate stamped at or before its contact start and at most
- *          apple_stale_after_s before it.
+ *        - its apple: an AppleEstimate stamped after the strike's transit
+ *          window has arrived (estimates arrive in stamp order, so none in
+ *          the window can still come), or apple_wait_s has passed since the
+ *          strike, on the lane's clock or in the force stream's own data (a
+ *          replay's simulated clock stops with the bag). The strike then
+ *          belongs to the estimate stamped nearest apple_transit_s before its
+ *          contact start, within apple_transit_tolerance_s: on a line with
+ *          several apples between the camera and the hammer, the newest
+ *          estimate before a strike is another apple's. (The desk tools'
+ *          one apple a recording, single_apple: the newest estimate stamped
+ *          at or before the contact start, at most apple_stale_after_s.)
  *       A full queue measures its oldest strike at once, with what there is.
  *   apple ──> af_prediction_execute (prediction.h) and a short history of
- *       predictions, so that a late strike still finds its own apple.
+ *       predictions, so that a late strike still finds its own apple. An
+ *       estimate with apple_id 0 (the StrikeReport's "no apple") or stamped
+ *       further than apple_stale_after_s from the newest data is refused and
+ *       counted (apples_implausible): it never takes or decides a match.
+ *
+ * The transit is watched: the median lag of the matched strikes, and of the
+ * estimate nearest each strike that found none; a systematic lag (a camera
+ * stamping at publish time) is put in words (af_lane_stats.transit_warning).
  *
  * A doubtful match is never silent: an apple that already has a strike gets
  * AF_VERDICT_APPLE_DOUBTFUL on the next one (its own estimate may be the one
@@ -87,6 +98,16 @@ typedef struct {
   uint64_t no_resonance, no_apple, no_audio, doubtful, unreliable;
   uint64_t overflows, measure_errors, pulse_cut, late_apples;
   uint64_t apples, apples_refused;
+  uint64_t apples_implausible; /* of apples_refused: apple_id 0, or stamped far off the data */
+  char last_implausible_apple[AF_LANE_TEXT_MAX];
+  /* The transit observed: the median of strike minus estimate stamp over the
+   * latest matched strikes (NaN: none yet), and, over the latest strikes
+   * without an apple, the median lag of the estimate nearest each. */
+  double transit_observed_s;
+  size_t transit_strikes;
+  double unmatched_lag_s;
+  size_t unmatched_strikes;               /* of the latest AF_LANE_TRANSITS strikes */
+  char transit_warning[AF_LANE_TEXT_MAX]; /* a systematic lag, in words; "" when none */
   char last_no_audio[AF_LANE_TEXT_MAX];   /* the latest strike without audio, and why */
   char last_late_apple[AF_LANE_TEXT_MAX]; /* the latest estimate that came too late */
   char last_unreliable[AF_LANE_TEXT_MAX]; /* "apple N: reason" */

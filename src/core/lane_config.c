@@ -407,6 +407,8 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   mc->pending_size = (size_t)num(s, AF_SETTING_STRIKE_PENDING_SIZE);
   mc->apple_stale_after_s = num(s, AF_SETTING_APPLE_STALE_AFTER_S);
   mc->apple_wait_s = num(s, AF_SETTING_APPLE_WAIT_S);
+  mc->apple_transit_s = num(s, AF_SETTING_APPLE_TRANSIT_S);
+  mc->apple_transit_tolerance_s = num(s, AF_SETTING_APPLE_TRANSIT_TOLERANCE_S);
   double fs = c->audio.sample_rate_hz;
   /* Rounded as the measurement rounds them (measure.c). */
   double window = round(m->audio_window_s * fs), noise = round(m->noise_window_s * fs);

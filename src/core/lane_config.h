@@ -40,14 +40,16 @@ typedef struct {
 /* The measured strikes: the detector on the force stream, the measurement of
  * each strike, the queue of strikes waiting for their audio and apple. */
 typedef struct {
-  af_strike_config strike;       /* strike_*; sample rate = force_sample_rate_hz */
-  af_measure_config measure;     /* measure_*; response and fit sized from them */
-  size_t pending_size;           /* strike_pending_size: strikes waiting for audio */
-  size_t pulse_capacity_samples; /* longest event span the detector can emit */
-  size_t audio_window_samples;   /* round(measure_audio_window_s * audio rate) */
-  size_t noise_window_samples;   /* round(measure_noise_window_s * audio rate); 0 = none */
-  double apple_stale_after_s;    /* a strike matches an apple stamped at most this long before */
-  double apple_wait_s;           /* a strike waits this long for its own apple's estimate [s] */
+  af_strike_config strike;          /* strike_*; sample rate = force_sample_rate_hz */
+  af_measure_config measure;        /* measure_*; response and fit sized from them */
+  size_t pending_size;              /* strike_pending_size: strikes waiting for audio */
+  size_t pulse_capacity_samples;    /* longest event span the detector can emit */
+  size_t audio_window_samples;      /* round(measure_audio_window_s * audio rate) */
+  size_t noise_window_samples;      /* round(measure_noise_window_s * audio rate); 0 = none */
+  double apple_stale_after_s;       /* a strike matches an apple stamped at most this long before */
+  double apple_wait_s;              /* a strike waits this long for its own apple's estimate [s] */
+  double apple_transit_s;           /* a strike comes this long after its estimate's stamp [s] */
+  double apple_transit_tolerance_s; /* ... within this [s] */
   bool single_apple;     /* desk tools: one apple stands for a whole recording, so a second strike
                             on it is expected, not a doubtful match; false (0) in the node */
   bool tap_only;         /* tap_only: strikes from the audio onset, no force input (onset.h) */

@@ -172,10 +172,19 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
               "strikes waiting for their audio; a full queue measures its oldest without audio"),
     [AF_SETTING_APPLE_STALE_AFTER_S] =
         NUM("apple_stale_after_s", "1.0", "(0, 3600] s", S,
-            "a strike is matched to the newest AppleEstimate stamped at most this long before it"),
+            "an AppleEstimate stamped further than this from the newest force data (tap-only: "
+            "audio) is refused and counted: a clock that far off would mismatch every strike"),
     [AF_SETTING_APPLE_WAIT_S] = NUM("apple_wait_s", "0.5", "[0, 10] s", S,
                                     "how long a strike waits for the AppleEstimate that "
                                     "belongs to it"),
+    [AF_SETTING_APPLE_TRANSIT_S] =
+        NUM("apple_transit_s", "0.2", "[-10, 60] s", S,
+            "the conveyor's transit: a strike belongs to the AppleEstimate stamped this long "
+            "before its contact start (negative: a camera downstream of the hammer)"),
+    [AF_SETTING_APPLE_TRANSIT_TOLERANCE_S] =
+        NUM("apple_transit_tolerance_s", "0.04", "[0.0001, 60] s", S,
+            "how far a strike may lie from its estimate's stamp + apple_transit_s; keep it "
+            "under half the apples' spacing, so that one estimate at most fits"),
     [AF_SETTING_MEASURE_FIT_VELOCITY] = BOOLEAN("measure_fit_velocity", "false", S,
                                                 "fit the contact velocity too (false: the rig "
                                                 "sets it, strike_velocity_m_s)"),

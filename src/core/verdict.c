@@ -14,6 +14,7 @@ void af_verdict_clear(af_verdict *v)
   v->fit_residual = v->snr_db = v->snr_threshold_db = NAN;
   v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
   v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = NAN;
+  v->apple_transit_s = v->apple_tolerance_s = v->nearest_apple_lag_s = NAN;
 }
 
 /* Appends one part, "; "-separated, never overflowing. */
@@ -157,6 +158,27 @@ static void add_criteria(const af_verdict *v, char *buf, size_t len)
     add(buf, len, "%s", part);
 }
 
+/* No estimate matched: the window searched and, when one lay near, the
+ * estimate nearest the strike, so that a systematic lag names itself. */
+static void no_apple(const af_verdict *v, char *buf, size_t len)
+{
+  if (isnan(v->apple_transit_s)) {
+    add(buf, len, "no apple estimate within %g s before the strike", v->apple_stale_s);
+    return;
+  }
+  if (v->nearest_apple_id == 0) {
+    add(buf, len, "no apple estimate stamped %g +- %g s before the strike", v->apple_transit_s,
+        v->apple_tolerance_s);
+    return;
+  }
+  const double lag_s = v->nearest_apple_lag_s;
+  add(buf, len,
+      "no apple estimate stamped %g +- %g s before the strike (the nearest, apple %u, is "
+      "stamped %.3f s %s it)",
+      v->apple_transit_s, v->apple_tolerance_s, v->nearest_apple_id, fabs(lag_s),
+      lag_s >= 0.0 ? "before" : "after");
+}
+
 void af_verdict_format(const af_verdict *v, char *buf, size_t len)
 {
   if (buf == NULL || len == 0)
@@ -166,7 +188,7 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
     return;
   const uint32_t f = v->flags;
   if (f & AF_VERDICT_NO_APPLE)
-    add(buf, len, "no apple estimate within %g s before the strike", v->apple_stale_s);
+    no_apple(v, buf, len);
   if (f & AF_VERDICT_NO_PREDICTION)
     add(buf, len, "apple %u got no prediction: %s", v->apple_id, v->apple_why);
   if (f & AF_VERDICT_APPLE_DOUBTFUL)

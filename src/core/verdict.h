@@ -74,7 +74,12 @@ typedef struct {
   uint32_t flags; /* af_verdict_flag bits; 0 = reliable */
   /* The values the reasons name (meaningful when their flag is set). */
   uint32_t apple_id;
-  double apple_stale_s;                   /* NO_APPLE: the match window [s] */
+  double apple_stale_s;                      /* NO_APPLE, one apple a recording: the window [s] */
+  double apple_transit_s, apple_tolerance_s; /* NO_APPLE: the estimate expected this long
+                                                before the strike, within that [s]; NaN: one
+                                                apple a recording */
+  uint32_t nearest_apple_id;  /* NO_APPLE: the estimate stamped nearest the strike; 0 = none */
+  double nearest_apple_lag_s; /* ... the strike's contact start minus its stamp [s] */
   char apple_why[AF_VERDICT_TEXT_MAX];    /* NO_PREDICTION: why the apple was refused */
   char doubtful_why[AF_VERDICT_TEXT_MAX]; /* APPLE_DOUBTFUL */
   af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;

@@ -320,6 +320,11 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes measured without audio since the last report";
   else if (s->no_apple != m->seen.no_apple)
     w = "strikes without an apple estimate since the last report";
+  else if (s->transit_warning[0] != '\0')
+    w = s->transit_warning; /* held while it lasts, as the hammer's */
+  else if (s->apples_implausible != m->seen.apples_implausible)
+    w = "apple estimates refused (apple_id 0, or stamped far from the data) since the last "
+        "report";
   else if (s->health.warnings != 0)
     w = s->health.text; /* held while it lasts: the lane's stats outlive the report */
   m->seen = *s;
@@ -394,6 +399,20 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "strikes with a doubtful apple match", "%llu", (unsigned long long)s->doubtful);
   af_diag_add(d, "apple estimates after their strike", "%llu (last: %s)",
               (unsigned long long)s->late_apples, s->last_late_apple);
+  if (s->transit_strikes > 0)
+    af_diag_add(d, "apple transit [s]",
+                "%.4f observed (median of the latest %zu matched strikes; "
+                "apple_transit_s %g +- %g)",
+                s->transit_observed_s, s->transit_strikes, m->cfg->lane.measured.apple_transit_s,
+                m->cfg->lane.measured.apple_transit_tolerance_s);
+  else
+    af_diag_add(d, "apple transit [s]", "none observed yet (apple_transit_s %g +- %g)",
+                m->cfg->lane.measured.apple_transit_s,
+                m->cfg->lane.measured.apple_transit_tolerance_s);
+  af_diag_add(d, "apple transit check", "%s",
+              s->transit_warning[0] != '\0' ? s->transit_warning : "OK");
+  af_diag_add(d, "apple estimates refused as implausible", "%llu (last: %s)",
+              (unsigned long long)s->apples_implausible, s->last_implausible_apple);
   af_diag_add(d, "strikes without audio", "%llu", (unsigned long long)s->no_audio);
   af_diag_add(d, "strikes unreliable", "%llu (measurement errors %llu)",
               (unsigned long long)s->unreliable, (unsigned long long)s->measure_errors);

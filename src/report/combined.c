@@ -96,6 +96,16 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.overflows += s->stats.overflows;
   t->stats.late_apples += s->stats.late_apples;
   t->stats.pulse_cut += s->stats.pulse_cut;
+  t->stats.apples_implausible += s->stats.apples_implausible;
+  if (s->stats.apples_implausible > 0)
+    memcpy(t->stats.last_implausible_apple, s->stats.last_implausible_apple,
+           sizeof t->stats.last_implausible_apple);
+  if (s->stats.transit_warning[0] != '\0' || t->stats.transit_strikes == 0) {
+    /* The medians are a bag's own: the latest bag that says something. */
+    t->stats.transit_observed_s = s->stats.transit_observed_s;
+    t->stats.transit_strikes = s->stats.transit_strikes;
+    memcpy(t->stats.transit_warning, s->stats.transit_warning, sizeof t->stats.transit_warning);
+  }
   t->messages += s->messages;
   t->refused_messages += s->refused_messages;
   t->refused_apples += s->refused_apples;

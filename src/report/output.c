@@ -169,6 +169,24 @@ static void text_health(FILE *out, const af_session *s)
           first_at(h->first_warning_strike[2], b[2], sizeof b[2]), h->warned_strikes, h->strikes);
 }
 
+/* The apples' transit from the camera to the hammer, as observed, and the
+ * estimates refused before any match. */
+static void text_transit(FILE *out, const af_lane_stats *st)
+{
+  if (st->transit_strikes > 0)
+    fprintf(out,
+            "  apple transit: %.1f ms from estimate to strike (median of the latest %zu matched "
+            "strikes)\n",
+            1e3 * st->transit_observed_s, st->transit_strikes);
+  else
+    fprintf(out, "  apple transit: no strike matched to an estimate\n");
+  if (st->transit_warning[0] != '\0')
+    fprintf(out, "  WARN apple estimates: %s\n", st->transit_warning);
+  if (st->apples_implausible > 0)
+    fprintf(out, "  WARN apple estimates refused: %" PRIu64 " (last: %s)\n", st->apples_implausible,
+            st->last_implausible_apple);
+}
+
 void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
 {
   fprintf(out, "\nsummary\n");
@@ -219,6 +237,7 @@ void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m)
           "  lane: %" PRIu64 " strike queue overflows, %" PRIu64
           " estimates after their strike, %" PRIu64 " strike pulses cut\n",
           s->stats.overflows, s->stats.late_apples, s->stats.pulse_cut);
+  text_transit(out, &s->stats);
   text_health(out, s);
   fprintf(out,
           "  bag: %" PRIu64 " messages read, %" PRIu64

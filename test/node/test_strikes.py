@@ -322,8 +322,9 @@ class StrikesTest(unittest.TestCase):
         self.assertTrue(math.isfinite(r.band_high), 'the band needs no apple')
         self.assertEqual(rel.apple_id, 0)
         self.assertFalse(rel.reliable)
-        self.assertIn('no apple estimate within %g s' % float(sc.param('apple_stale_after_s')),
-                      rel.reason)
+        self.assertIn('no apple estimate stamped %g +- %g s before the strike'
+                      % (float(sc.param('apple_transit_s')),
+                         float(sc.param('apple_transit_tolerance_s'))), rel.reason)
 
     def _refused(self, changes, *words):
         pkg = rospkg.RosPack().get_path(sc.PKG)
