@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "audio_clip.h"
 #include "onset.h"
 #include "text.h"
 
@@ -432,9 +433,14 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
   af_verdict *v = &r->verdict;
   const uint32_t lane_flags = AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION |
                               AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED |
-                              AF_VERDICT_REFUSED_SAMPLES;
+                              AF_VERDICT_REFUSED_SAMPLES | AF_VERDICT_AUDIO_CLIPPED;
   v->flags |= lane_v->flags & lane_flags;
   v->refused_samples = lane_v->refused_samples;
+  v->audio_clip_samples = lane_v->audio_clip_samples;
+  v->audio_clip_tops = lane_v->audio_clip_tops;
+  v->audio_clip_max = lane_v->audio_clip_max;
+  v->audio_clip_min = lane_v->audio_clip_min;
+  r->audio_clipped = (v->flags & AF_VERDICT_AUDIO_CLIPPED) != 0;
   if ((v->flags & AF_VERDICT_REFUSED_SAMPLES) && (v->flags & AF_VERDICT_LOST_SAMPLES)) {
     /* The refused samples read as lost to the detector: said once, as refused. */
     v->lost_samples -= v->lost_samples < v->refused_samples ? v->lost_samples : v->refused_samples;
@@ -656,6 +662,22 @@ static void observe_transit(af_lane *l, const af_pending *p, const af_apple_slot
   transit_words(l);
 }
 
+/* A saturated microphone in the strike's audio window: flagged and counted
+ * (its 0S2 and Q would be read off a distorted ring). */
+static void check_clipping(af_lane *l, size_t n_audio, af_verdict *v)
+{
+  af_audio_clip c;
+  af_audio_clip_check(n_audio ? l->audio_buf : NULL, n_audio, &c);
+  if (!c.clipped)
+    return;
+  v->flags |= AF_VERDICT_AUDIO_CLIPPED;
+  v->audio_clip_samples = c.at_extremes;
+  v->audio_clip_tops = c.flat_tops;
+  v->audio_clip_max = c.max;
+  v->audio_clip_min = c.min;
+  l->stats.audio_clipped++;
+}
+
 /* Measures p with its audio (n_audio 0: none, lane_v says why) and calls back. */
 static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verdict *lane_v)
 {
@@ -666,6 +688,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
     lane_v->flags |= AF_VERDICT_REFUSED_SAMPLES;
     lane_v->refused_samples = p->refused;
   }
+  check_clipping(l, n_audio, lane_v);
   int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);

@@ -99,6 +99,7 @@ typedef struct {
                                  the rig sets it or the fit failed [m/s] */
   bool double_hit, clipped;
   uint32_t lost_samples;
+  bool audio_clipped; /* the microphone saturated in the audio window (the lane's audio_clip.h) */
   bool excites_mode, no_damage, reliable;
   double max_shear_stress_pa, yield_shear_stress_pa;
   bool tap_only;      /* measured from the microphone alone (af_measure_execute_tap): no pulse, no

@@ -33,6 +33,7 @@ typedef enum {
   F_DOUBLE_HIT,
   F_CLIPPED,
   F_LOST_SAMPLES,
+  F_AUDIO_CLIPPED,
   F_GRADE_INDEX,
   F_GRADE,
   F_GRADE_REASON,
@@ -91,6 +92,8 @@ static const af_serial_field fields[F_COUNT] = {
                    "a force sample reached full scale"},
     [F_LOST_SAMPLES] = {"lost_samples", AF_SERIAL_INT, "samples", SR, "lost_samples",
                         "force samples missing around the strike"},
+    [F_AUDIO_CLIPPED] = {"audio_clipped", AF_SERIAL_BOOL, "-", SR, "audio_clipped",
+                         "the microphone saturated in the strike's audio window"},
     [F_GRADE_INDEX] = {"grade_index", AF_SERIAL_INT, "-", SR, "grade_index",
                        "firmness class 1..N, softest first; 0 = ungraded"},
     [F_GRADE] = {"grade", AF_SERIAL_TEXT, "", SR, "grade", "the class name, or \"ungraded\""},
@@ -156,6 +159,7 @@ static value value_of(const af_serial_strike *s, field_id id)
   case F_DOUBLE_HIT: v.boolean = r->double_hit; break;
   case F_CLIPPED: v.boolean = r->clipped; break;
   case F_LOST_SAMPLES: v.integer = r->lost_samples; break;
+  case F_AUDIO_CLIPPED: v.boolean = r->audio_clipped; break;
   case F_GRADE_INDEX: v.integer = s->grade->index; break;
   case F_GRADE: v.text = s->grade->name; break;
   case F_GRADE_REASON: v.text = s->grade->reason; break;

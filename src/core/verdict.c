@@ -13,7 +13,8 @@ void af_verdict_clear(af_verdict *v)
   memset(v, 0, sizeof *v);
   v->fit_residual = v->snr_db = v->snr_threshold_db = NAN;
   v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
-  v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = NAN;
+  v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = v->audio_clip_max =
+      v->audio_clip_min = NAN;
   v->apple_transit_s = v->apple_tolerance_s = v->nearest_apple_lag_s = NAN;
 }
 
@@ -215,6 +216,11 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
     add(buf, len, "fit failed: %s", fit_failure(v->fit_status));
   if (f & AF_VERDICT_POISSON)
     add(buf, len, "Poisson ratio: %s", af_strerror(v->judge_status));
+  if (f & AF_VERDICT_AUDIO_CLIPPED)
+    add(buf, len,
+        "microphone clipped (%zu samples at its extremes %.4g and %.4g, %zu flat tops): lower "
+        "the microphone gain",
+        v->audio_clip_samples, v->audio_clip_max, v->audio_clip_min, v->audio_clip_tops);
   add_audio(v, buf, len);
   add_criteria(v, buf, len);
 }
@@ -242,6 +248,7 @@ const char *af_verdict_flag_name(af_verdict_flag f)
   case AF_VERDICT_OUTSIDE_BAND: return "outside_band";
   case AF_VERDICT_DAMAGE: return "damage";
   case AF_VERDICT_REFUSED_SAMPLES: return "refused_samples";
+  case AF_VERDICT_AUDIO_CLIPPED: return "audio_clipped";
   }
   return "unknown";
 }

@@ -22,26 +22,27 @@ extern "C" {
 
 /* In the order the reason lists them. */
 typedef enum {
-  AF_VERDICT_NO_APPLE = 1u << 0,        /* no AppleEstimate matches the strike */
-  AF_VERDICT_NO_PREDICTION = 1u << 1,   /* its apple was refused (apple_why) */
-  AF_VERDICT_APPLE_DOUBTFUL = 1u << 2,  /* matched, but its own estimate may not have come */
-  AF_VERDICT_MEASURE_FAILED = 1u << 3,  /* af_measure_execute refused (measure_status) */
-  AF_VERDICT_DOUBLE_HIT = 1u << 4,      /* the hammer bounced */
-  AF_VERDICT_CLIPPED = 1u << 5,         /* a force sample at full scale */
-  AF_VERDICT_LOST_SAMPLES = 1u << 6,    /* force samples missing (lost_samples) */
-  AF_VERDICT_TRUNCATED = 1u << 7,       /* the contact was cut */
-  AF_VERDICT_SPECTRUM_FAILED = 1u << 8, /* the pulse's spectrum (spectrum_status) */
-  AF_VERDICT_FIT_FAILED = 1u << 9,      /* the inverse fit (fit_status, fit_residual) */
-  AF_VERDICT_POISSON = 1u << 10,        /* Lamb's root or the shear ratio (judge_status) */
-  AF_VERDICT_NO_AUDIO = 1u << 11,       /* no audio window (audio_cause) */
-  AF_VERDICT_NO_RESONANCE = 1u << 12,   /* no 0S2 above the SNR threshold */
-  AF_VERDICT_RANGE_NYQUIST = 1u << 13,  /* the 0S2 range lies beyond Nyquist */
-  AF_VERDICT_AUDIO_FAILED = 1u << 14,   /* the audio analysis (audio_status) */
-  AF_VERDICT_MODE_AMBIGUOUS = 1u << 15, /* two candidates for the 0S2 (mode_text) */
-  AF_VERDICT_NO_LOBE = 1u << 16,        /* the configured lobe does not exist */
-  AF_VERDICT_OUTSIDE_BAND = 1u << 17,   /* the 0S2 outside the lobe's half-power band */
-  AF_VERDICT_DAMAGE = 1u << 18,         /* the shear reaches the yield: bruise */
-  AF_VERDICT_REFUSED_SAMPLES = 1u << 19 /* non-finite force samples measured (refused_samples) */
+  AF_VERDICT_NO_APPLE = 1u << 0,         /* no AppleEstimate matches the strike */
+  AF_VERDICT_NO_PREDICTION = 1u << 1,    /* its apple was refused (apple_why) */
+  AF_VERDICT_APPLE_DOUBTFUL = 1u << 2,   /* matched, but its own estimate may not have come */
+  AF_VERDICT_MEASURE_FAILED = 1u << 3,   /* af_measure_execute refused (measure_status) */
+  AF_VERDICT_DOUBLE_HIT = 1u << 4,       /* the hammer bounced */
+  AF_VERDICT_CLIPPED = 1u << 5,          /* a force sample at full scale */
+  AF_VERDICT_LOST_SAMPLES = 1u << 6,     /* force samples missing (lost_samples) */
+  AF_VERDICT_TRUNCATED = 1u << 7,        /* the contact was cut */
+  AF_VERDICT_SPECTRUM_FAILED = 1u << 8,  /* the pulse's spectrum (spectrum_status) */
+  AF_VERDICT_FIT_FAILED = 1u << 9,       /* the inverse fit (fit_status, fit_residual) */
+  AF_VERDICT_POISSON = 1u << 10,         /* Lamb's root or the shear ratio (judge_status) */
+  AF_VERDICT_NO_AUDIO = 1u << 11,        /* no audio window (audio_cause) */
+  AF_VERDICT_NO_RESONANCE = 1u << 12,    /* no 0S2 above the SNR threshold */
+  AF_VERDICT_RANGE_NYQUIST = 1u << 13,   /* the 0S2 range lies beyond Nyquist */
+  AF_VERDICT_AUDIO_FAILED = 1u << 14,    /* the audio analysis (audio_status) */
+  AF_VERDICT_MODE_AMBIGUOUS = 1u << 15,  /* two candidates for the 0S2 (mode_text) */
+  AF_VERDICT_NO_LOBE = 1u << 16,         /* the configured lobe does not exist */
+  AF_VERDICT_OUTSIDE_BAND = 1u << 17,    /* the 0S2 outside the lobe's half-power band */
+  AF_VERDICT_DAMAGE = 1u << 18,          /* the shear reaches the yield: bruise */
+  AF_VERDICT_REFUSED_SAMPLES = 1u << 19, /* non-finite force samples measured (refused_samples) */
+  AF_VERDICT_AUDIO_CLIPPED = 1u << 20    /* the microphone saturated (audio_clip_*) */
 } af_verdict_flag;
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
@@ -96,6 +97,8 @@ typedef struct {
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */
+  size_t audio_clip_samples, audio_clip_tops;     /* AUDIO_CLIPPED: at the extremes, flat tops */
+  double audio_clip_max, audio_clip_min;          /* ... the extremes, in the audio's unit */
   uint32_t model_only; /* af_verdict_model_only bits: judged from the model only; 0 = measured */
 } af_verdict;
 

@@ -108,6 +108,7 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->double_hit = q->double_hit;
   r->clipped = q->clipped;
   r->lost_samples = q->lost_samples;
+  r->audio_clipped = q->audio_clipped;
   r->tap_only = q->tap_only;
   af_text(r->judged_from_model, sizeof r->judged_from_model, "%s", q->model_only_text);
 }
@@ -320,6 +321,8 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes measured without audio since the last report";
   else if (s->no_apple != m->seen.no_apple)
     w = "strikes without an apple estimate since the last report";
+  else if (s->audio_clipped != m->seen.audio_clipped)
+    w = "the microphone clipped since the last report: lower the microphone gain";
   else if (s->transit_warning[0] != '\0')
     w = s->transit_warning; /* held while it lasts, as the hammer's */
   else if (s->apples_implausible != m->seen.apples_implausible)
@@ -393,6 +396,9 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "strike double hits", "%llu", (unsigned long long)s->double_hits);
   af_diag_add(d, "strikes clipped", "%llu (truncated %llu)", (unsigned long long)s->clipped,
               (unsigned long long)s->truncated);
+  af_diag_add(d, "strikes with the microphone clipped", "%llu%s",
+              (unsigned long long)s->audio_clipped,
+              s->audio_clipped ? " (lower the microphone gain)" : "");
   af_diag_add(d, "strike force samples lost", "%llu", (unsigned long long)s->lost_force_samples);
   af_diag_add(d, "strikes without resonance", "%llu", (unsigned long long)s->no_resonance);
   af_diag_add(d, "strikes without apple", "%llu", (unsigned long long)s->no_apple);

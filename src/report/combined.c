@@ -97,6 +97,7 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.late_apples += s->stats.late_apples;
   t->stats.pulse_cut += s->stats.pulse_cut;
   t->stats.apples_implausible += s->stats.apples_implausible;
+  t->stats.audio_clipped += s->stats.audio_clipped;
   if (s->stats.apples_implausible > 0)
     memcpy(t->stats.last_implausible_apple, s->stats.last_implausible_apple,
            sizeof t->stats.last_implausible_apple);

@@ -182,6 +182,9 @@ static void text_transit(FILE *out, const af_lane_stats *st)
     fprintf(out, "  apple transit: no strike matched to an estimate\n");
   if (st->transit_warning[0] != '\0')
     fprintf(out, "  WARN apple estimates: %s\n", st->transit_warning);
+  if (st->audio_clipped > 0)
+    fprintf(out, "  WARN microphone clipped on %" PRIu64 " strikes: lower the microphone gain\n",
+            st->audio_clipped);
   if (st->apples_implausible > 0)
     fprintf(out, "  WARN apple estimates refused: %" PRIu64 " (last: %s)\n", st->apples_implausible,
             st->last_implausible_apple);

@@ -119,6 +119,7 @@ typedef struct {
   bool double_hit;
   bool clipped;
   uint32_t lost_samples; /* force samples missing around the strike */
+  bool audio_clipped;    /* the microphone saturated in the strike's audio window */
   /* The firmness grade (src/core/grade.h). */
   uint8_t grade_index;            /* class 1..N of grade_classes, softest first; 0 = ungraded */
   char grade[AF_GRADE_NAME_TEXT]; /* the class name, or "ungraded" */
