@@ -686,6 +686,17 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
 
 /* ---- settings that cannot work together --------------------------------------- */
 
+/* x rounded to 4 significant digits, up or down: a bound suggested in a
+ * message must itself pass (1e-9: a product of decimals a hair off an exact
+ * digit is not rounded a whole digit further). */
+static double round_4(double x, bool up)
+{
+  if (!(x > 0.0) || !isfinite(x))
+    return x;
+  const double scale = pow(10.0, 3.0 - floor(log10(x)));
+  return (up ? ceil(x * scale - 1e-9) : floor(x * scale + 1e-9)) / scale;
+}
+
 /* How long after its contact start the detector emits a strike, at the
  * latest [s]: its longest event, a contact and a bounce of
  * strike_max_contact_s each, the gap between them, the wait after
@@ -734,7 +745,7 @@ static af_status check_audio_ring(const af_settings *s, const af_lane_config *c,
                   af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text, after,
                   af_settings_name_of(s, AF_SETTING_STREAM_STALE_AFTER_S).text,
                   c->stream_stale_after_s, af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text,
-                  needed_s);
+                  round_4(needed_s, true));
   return AF_EINVAL;
 }
 
@@ -761,7 +772,8 @@ static af_status check_force_ring(const af_settings *s, const af_lane_config *c,
       af_settings_name_of(s, AF_SETTING_STRIKE_MAX_CONTACT_S).text,
       af_settings_name_of(s, AF_SETTING_STRIKE_DOUBLE_HIT_GAP_S).text,
       af_settings_name_of(s, AF_SETTING_STRIKE_POST_S).text, d->pre_trigger_s + emission_s(d),
-      af_settings_name_of(s, AF_SETTING_FORCE_BUFFER_S).text, event / c->force.sample_rate_hz);
+      af_settings_name_of(s, AF_SETTING_FORCE_BUFFER_S).text,
+      round_4(event / c->force.sample_rate_hz, true));
   return AF_EINVAL;
 }
 
@@ -801,7 +813,8 @@ static af_status check_noise_band_vs_0s2(const af_settings *s, const af_lane_con
       af_settings_name_of(s, AF_SETTING_MASS_MIN_KG).text, c->mass_min_kg,
       af_settings_name_of(s, AF_SETTING_MASS_MAX_KG).text, c->mass_max_kg,
       af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
-      af_settings_name_of(s, AF_SETTING_MEASURE_RANGE_MARGIN).text, margin, f_hi, f_lo);
+      af_settings_name_of(s, AF_SETTING_MEASURE_RANGE_MARGIN).text, margin, ceil(f_hi),
+      floor(f_lo));
   return AF_EINVAL;
 }
 
@@ -828,7 +841,7 @@ static af_status check_radius_vs_mass(const af_settings *s, const af_lane_config
   const bool too_small = c->equatorial_radius_max_m < smallest;
   if (!too_small && c->equatorial_radius_min_m <= largest)
     return AF_OK;
-  const double bound = too_small ? smallest : largest;
+  const double bound = round_4(too_small ? smallest : largest, too_small);
   const af_setting_id radius = too_small ? AF_SETTING_EQUATORIAL_RADIUS_MAX_M
                                          : AF_SETTING_EQUATORIAL_RADIUS_MIN_M,
                       mass = too_small ? AF_SETTING_MASS_MIN_KG : AF_SETTING_MASS_MAX_KG,
@@ -836,14 +849,14 @@ static af_status check_radius_vs_mass(const af_settings *s, const af_lane_config
                           too_small ? AF_SETTING_ASPECT_RATIO_MAX : AF_SETTING_ASPECT_RATIO_MIN;
   af_settings_say(err, len,
                   "%s = %g m is %s than any apple the cultivar accepts: %s = %g kg at %s = %g "
-                  "kg/m3 and %s = %g has an equatorial radius of %.4g m (cbrt(3 m / (4 pi rho "
+                  "kg/m3 and %s = %g has an equatorial radius of %.5g m (cbrt(3 m / (4 pi rho "
                   "aspect))): every apple would be refused: %s %s to %s %.4g m",
                   af_settings_name_of(s, radius).text, num(s, radius),
                   too_small ? "smaller" : "larger", af_settings_name_of(s, mass).text, num(s, mass),
                   af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
-                  af_settings_name_of(s, aspect).text, num(s, aspect), bound,
-                  too_small ? "raise" : "lower", af_settings_name_of(s, radius).text,
-                  too_small ? "at least" : "at most", bound);
+                  af_settings_name_of(s, aspect).text, num(s, aspect),
+                  too_small ? smallest : largest, too_small ? "raise" : "lower",
+                  af_settings_name_of(s, radius).text, too_small ? "at least" : "at most", bound);
   return AF_EINVAL;
 }
 
