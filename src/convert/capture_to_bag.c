@@ -32,6 +32,7 @@
 #include "options.h"
 #include "recording.h"
 #include "settings.h"
+#include "tool_config.h"
 
 #define AF_C2B_EXIT_USAGE 2
 #define AF_C2B_ERR_MAX 1024
@@ -418,6 +419,53 @@ static void c2b_station_note(const af_c2b_args *a, const af_c2b_stream *s)
          a->audio_unit);
 }
 
+/* The station (its defaults at the recording's rates and audio unit, as
+ * c2b_station_note tells it to read the bag) takes chunks up to each
+ * stream's ring (lane_config.h, max_chunk_samples): with a longer --chunk it
+ * would refuse every chunk of that stream. 2 with one line, else 0; when
+ * the station refuses its defaults at these rates, a note and 0 (the lab
+ * will give it other settings). */
+static int c2b_check_chunk(const af_c2b_args *a, const af_c2b_stream *s)
+{
+  static af_lane_config cfg; /* large; main's one call */
+  af_settings d;
+  char err[AF_C2B_ERR_MAX / 2], arg[96];
+  af_settings_reset(&d);
+  snprintf(arg, sizeof arg, "force_sample_rate_hz=%.17g", s[0].rate_hz);
+  af_status st = af_settings_set_arg(&d, arg, err, sizeof err);
+  snprintf(arg, sizeof arg, "audio_sample_rate_hz=%.17g", s[1].rate_hz);
+  if (st == AF_OK)
+    st = af_settings_set_arg(&d, arg, err, sizeof err);
+  snprintf(arg, sizeof arg, "audio_unit=%s", a->audio_unit);
+  if (st == AF_OK)
+    st = af_settings_set_arg(&d, arg, err, sizeof err);
+  if (st == AF_OK)
+    st = af_lane_config_for_tool(&d, &cfg, err, sizeof err);
+  if (st != AF_OK) {
+    fprintf(stderr,
+            "capture_to_bag: note: the station's defaults at these rates are refused (%s)\n", err);
+    return 0;
+  }
+  for (int k = 0; k < 2; k++) {
+    const af_stream_config *sc = k == 0 ? &cfg.force : &cfg.audio;
+    if ((size_t)a->chunk <= sc->max_chunk_samples)
+      continue;
+    char msg[AF_C2B_ERR_MAX];
+    snprintf(msg, sizeof msg,
+             "--chunk %ld: a %s chunk of %g s at %.17g Hz is longer than the station's %s ring "
+             "(%s_buffer_s = %g s, %zu samples), and the station refuses every longer chunk: "
+             "--chunk at most %zu",
+             a->chunk, k == 0 ? "force" : "audio", (double)a->chunk / sc->sample_rate_hz,
+             sc->sample_rate_hz, k == 0 ? "force" : "audio", k == 0 ? "force" : "audio",
+             sc->buffer_s, sc->max_chunk_samples,
+             cfg.force.max_chunk_samples < cfg.audio.max_chunk_samples
+                 ? cfg.force.max_chunk_samples
+                 : cfg.audio.max_chunk_samples);
+    return c2b_bad(msg);
+  }
+  return 0;
+}
+
 static int c2b_run(const af_c2b_args *a, af_c2b_stream *s)
 {
   int rc = c2b_load(a->force, "force", a->rate_force_hz, a->force_channel, a->force_scale, &s[0]);
@@ -428,6 +476,9 @@ static int c2b_run(const af_c2b_args *a, af_c2b_stream *s)
   s[0].frame = "force_transducer", s[0].unit = "N";
   s[1].frame = "microphone", s[1].unit = a->audio_unit;
   s[1].offset_ns = (int64_t)llround(a->audio_offset_s * 1e9);
+  rc = c2b_check_chunk(a, s);
+  if (rc != 0)
+    return rc;
   if (s[1].offset_ns < -(int64_t)a->start_s * 1000000000LL + 1)
     return c2b_bad("--audio-offset: the audio would start before 1970 (raise --start)");
   const double force_s = (double)s[0].rec.n / s[0].rate_hz;

@@ -185,6 +185,7 @@ static af_status derive_stream(const af_settings *s, af_setting_id rate, af_sett
     return AF_EINVAL;
   }
   sc->capacity_samples = (size_t)samples;
+  sc->max_chunk_samples = sc->capacity_samples;
   return AF_OK;
 }
 
@@ -685,6 +686,198 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
   return AF_EINVAL;
 }
 
+/* ---- settings that cannot work together --------------------------------------- */
+
+/* x rounded to 4 significant digits, up or down: a bound suggested in a
+ * message must itself pass (1e-9: a product of decimals a hair off an exact
+ * digit is not rounded a whole digit further). */
+static double round_4(double x, bool up)
+{
+  if (!(x > 0.0) || !isfinite(x))
+    return x;
+  const double scale = pow(10.0, 3.0 - floor(log10(x)));
+  return (up ? ceil(x * scale - 1e-9) : floor(x * scale + 1e-9)) / scale;
+}
+
+/* How long after its contact start the detector emits a strike, at the
+ * latest [s]: its longest event, a contact and a bounce of
+ * strike_max_contact_s each, the gap between them, the wait after
+ * (strike.c; derive_detector's span without the pre-trigger). */
+static double emission_s(const af_strike_config *d)
+{
+  return 2.0 * d->max_contact_s + d->double_hit_gap_s + d->post_s;
+}
+
+/* The audio ring must still hold a strike's audio when the lane reads it
+ * (lane.c, audio_for): from the noise reference (measure_noise_window_s
+ * ending measure_noise_guard_s before the contact start) to the newest audio
+ * received by then. The strike is read once its apple is decided
+ * (apple_decided: apple_wait_s of force after the contact start, not before
+ * the detector emits it) and its window (measure_audio_delay_s +
+ * measure_audio_window_s) is complete; by then the audio may have run ahead
+ * of the force by up to stream_stale_after_s (a chunk, or a force stream
+ * late by less than the lane calls stale). */
+static af_status check_audio_ring(const af_settings *s, const af_lane_config *c, char *err,
+                                  size_t len)
+{
+  const af_measure_config *m = &c->measured.measure;
+  const double before_s = m->noise_window_s > 0.0 ? m->noise_window_s + m->noise_guard_s : 0.0;
+  const double window_s = m->audio_delay_s + m->audio_window_s;
+  const double decided_s = fmax(c->measured.apple_wait_s, emission_s(&c->measured.strike));
+  const double needed_s = before_s + fmax(window_s, decided_s) + c->stream_stale_after_s;
+  if (c->audio.buffer_s >= needed_s)
+    return AF_OK;
+  char after[200];
+  if (window_s >= decided_s)
+    snprintf(after, sizeof after, "%s + %s = %g s",
+             af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_DELAY_S).text,
+             af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, window_s);
+  else if (c->measured.apple_wait_s >= decided_s)
+    snprintf(after, sizeof after, "%s %g s", af_settings_name_of(s, AF_SETTING_APPLE_WAIT_S).text,
+             c->measured.apple_wait_s);
+  else
+    snprintf(after, sizeof after, "the strike detector's emission %g s after the contact start",
+             decided_s);
+  af_settings_say(err, len,
+                  "%s = %g s is shorter than the audio a strike must find still held when it is "
+                  "read: %g s of noise reference before the contact (%s + %s), %s after it, and "
+                  "%s %g s the audio may run ahead of the force: raise %s to at least %g s",
+                  af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text, c->audio.buffer_s,
+                  before_s, af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
+                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text, after,
+                  af_settings_name_of(s, AF_SETTING_STREAM_STALE_AFTER_S).text,
+                  c->stream_stale_after_s, af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text,
+                  round_4(needed_s, true));
+  return AF_EINVAL;
+}
+
+/* The largest chunk either station (the node on the wire, firmness_report
+ * in the bag) takes is its stream's ring: a longer one could not be held
+ * whole. The force ring must then take a chunk that holds one strike's
+ * whole event (pre-trigger, contact, bounce, gap, wait after), or a sender
+ * that chunks strike by strike has every chunk refused. */
+static af_status check_force_ring(const af_settings *s, const af_lane_config *c, char *err,
+                                  size_t len)
+{
+  const af_strike_config *d = &c->measured.strike;
+  const double event = (double)c->measured.pulse_capacity_samples;
+  if ((double)c->force.max_chunk_samples >= event)
+    return AF_OK;
+  af_settings_say(
+      err, len,
+      "%s = %g s holds %zu samples at %s = %g Hz, fewer than one strike's event of "
+      "%.0f samples (%s + 2 x %s + %s + %s = %g s): the station refuses every force "
+      "chunk longer than its ring: raise %s to at least %g s",
+      af_settings_name_of(s, AF_SETTING_FORCE_BUFFER_S).text, c->force.buffer_s,
+      c->force.max_chunk_samples, af_settings_name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text,
+      c->force.sample_rate_hz, event, af_settings_name_of(s, AF_SETTING_STRIKE_PRE_TRIGGER_S).text,
+      af_settings_name_of(s, AF_SETTING_STRIKE_MAX_CONTACT_S).text,
+      af_settings_name_of(s, AF_SETTING_STRIKE_DOUBLE_HIT_GAP_S).text,
+      af_settings_name_of(s, AF_SETTING_STRIKE_POST_S).text, d->pre_trigger_s + emission_s(d),
+      af_settings_name_of(s, AF_SETTING_FORCE_BUFFER_S).text,
+      round_4(event / c->force.sample_rate_hz, true));
+  return AF_EINVAL;
+}
+
+/* The noise band's floor (used without a noise reference: response_noise.c,
+ * the median of the band) must be measured where the 0S2 cannot be: outside
+ * the range the measurement searches for it (measure.c, lamb_range), over
+ * the cultivar's masses and moduli: from the softest, heaviest apple to the
+ * firmest, lightest, widened by measure_range_margin, kept below the audio
+ * Nyquist frequency. */
+static af_status check_noise_band_vs_0s2(const af_settings *s, const af_lane_config *c, char *err,
+                                         size_t len)
+{
+  const af_model_params *m = &c->model;
+  const af_response_config *rc = &c->measured.measure.response;
+  const double nu = m->impact.fruit_poisson, rho = m->fruit_density_kg_m3;
+  const double margin = c->measured.measure.range_margin, fs = c->audio.sample_rate_hz;
+  const double f_lo =
+      (1.0 - margin) * af_lamb_frequency_hz(c->resonance_xi, m->modulus_factor * c->modulus_min_pa,
+                                            nu, rho, c->mass_max_kg);
+  const double f_hi = fmin(
+      (1.0 + margin) * af_lamb_frequency_hz(c->resonance_xi, m->modulus_factor * c->modulus_max_pa,
+                                            nu, rho, c->mass_min_kg),
+      0.5 * 0.98 * fs); /* measure.c's AF_MEASURE_NYQUIST_FRACTION */
+  const double band_hi = fmin(rc->noise_band_hi_hz, 0.5 * fs);
+  if (!(rc->noise_band_lo_hz < f_hi && band_hi > f_lo))
+    return AF_OK;
+  af_settings_say(
+      err, len,
+      "%s = %g .. %s = %g Hz overlaps the 0S2's search range %.0f .. %.0f Hz (%s = %g .. %s = "
+      "%g Pa x %s = %g, %s = %g .. %s = %g kg at %s = %g kg/m3, widened by %s = %g): the noise "
+      "floor would be measured on the 0S2 itself: put the band above %.0f Hz or below %.0f Hz",
+      af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text, rc->noise_band_lo_hz,
+      af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ).text, rc->noise_band_hi_hz,
+      f_lo, f_hi, af_settings_name_of(s, AF_SETTING_MODULUS_MIN_PA).text, c->modulus_min_pa,
+      af_settings_name_of(s, AF_SETTING_MODULUS_MAX_PA).text, c->modulus_max_pa,
+      af_settings_name_of(s, AF_SETTING_MODULUS_FACTOR).text, m->modulus_factor,
+      af_settings_name_of(s, AF_SETTING_MASS_MIN_KG).text, c->mass_min_kg,
+      af_settings_name_of(s, AF_SETTING_MASS_MAX_KG).text, c->mass_max_kg,
+      af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
+      af_settings_name_of(s, AF_SETTING_MEASURE_RANGE_MARGIN).text, margin, ceil(f_hi),
+      floor(f_lo));
+  return AF_EINVAL;
+}
+
+/* Equatorial semi-axis [m] of an apple of mass m_kg and density rho whose
+ * polar / equatorial semi-axis ratio is aspect: m = 4/3 pi rho a^2 c with
+ * c = aspect x a. */
+static double equatorial_radius_m(double m_kg, double rho_kg_m3, double aspect)
+{
+  return cbrt(3.0 * m_kg / (4.0 * M_PI * rho_kg_m3 * aspect));
+}
+
+/* Some apple must pass the prediction's checks (prediction.c): a mass in
+ * [mass_min_kg, mass_max_kg] and an equatorial radius in
+ * [equatorial_radius_min_m, equatorial_radius_max_m] whose implied aspect
+ * (the polar semi-axis from mass and density over the radius) lies in
+ * [aspect_ratio_min, aspect_ratio_max]. The lightest, tallest apple has the
+ * smallest radius, the heaviest, flattest the largest. */
+static af_status check_radius_vs_mass(const af_settings *s, const af_lane_config *c, char *err,
+                                      size_t len)
+{
+  const double rho = c->model.fruit_density_kg_m3;
+  const double smallest = equatorial_radius_m(c->mass_min_kg, rho, c->aspect_ratio_max);
+  const double largest = equatorial_radius_m(c->mass_max_kg, rho, c->aspect_ratio_min);
+  const bool too_small = c->equatorial_radius_max_m < smallest;
+  if (!too_small && c->equatorial_radius_min_m <= largest)
+    return AF_OK;
+  const double bound = round_4(too_small ? smallest : largest, too_small);
+  const af_setting_id radius = too_small ? AF_SETTING_EQUATORIAL_RADIUS_MAX_M
+                                         : AF_SETTING_EQUATORIAL_RADIUS_MIN_M,
+                      mass = too_small ? AF_SETTING_MASS_MIN_KG : AF_SETTING_MASS_MAX_KG,
+                      aspect =
+                          too_small ? AF_SETTING_ASPECT_RATIO_MAX : AF_SETTING_ASPECT_RATIO_MIN;
+  af_settings_say(err, len,
+                  "%s = %g m is %s than any apple the cultivar accepts: %s = %g kg at %s = %g "
+                  "kg/m3 and %s = %g has an equatorial radius of %.5g m (cbrt(3 m / (4 pi rho "
+                  "aspect))): every apple would be refused: %s %s to %s %.4g m",
+                  af_settings_name_of(s, radius).text, num(s, radius),
+                  too_small ? "smaller" : "larger", af_settings_name_of(s, mass).text, num(s, mass),
+                  af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
+                  af_settings_name_of(s, aspect).text, num(s, aspect),
+                  too_small ? smallest : largest, too_small ? "raise" : "lower",
+                  af_settings_name_of(s, radius).text, too_small ? "at least" : "at most", bound);
+  return AF_EINVAL;
+}
+
+/* Settings each valid alone that cannot work together: refused at start-up,
+ * one line naming both sides, rather than every strike or apple refused on
+ * the line. */
+static af_status check_together(const af_settings *s, const af_lane_config *c, char *err,
+                                size_t len)
+{
+  af_status st = c->measured.tap_only ? AF_OK : check_force_ring(s, c, err, len);
+  if (st == AF_OK)
+    st = check_audio_ring(s, c, err, len);
+  if (st == AF_OK)
+    st = check_noise_band_vs_0s2(s, c, err, len);
+  if (st == AF_OK)
+    st = check_radius_vs_mass(s, c, err, len);
+  return st;
+}
+
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len)
 {
   if (s == NULL || out == NULL) {
@@ -720,5 +913,7 @@ af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char 
   out->model.impact.hammer_mass_kg = num(s, AF_SETTING_HAMMER_MASS_KG);
   out->model.impact.hammer_radius_m = num(s, AF_SETTING_HAMMER_TIP_RADIUS_M);
   st = check_model(s, out, err, len);
-  return st == AF_OK ? derive_health(s, out, err, len) : st;
+  if (st == AF_OK)
+    st = derive_health(s, out, err, len);
+  return st == AF_OK ? check_together(s, out, err, len) : st;
 }

@@ -32,6 +32,9 @@ typedef struct {
   double sample_rate_hz;           /* expected rate; other rates are refused and counted [Hz] */
   double buffer_s;                 /* ring length [s] */
   size_t capacity_samples;         /* ceil(buffer_s * sample_rate_hz) */
+  size_t max_chunk_samples;        /* the longest chunk the station takes, the node on the wire and
+                                      firmness_report in a bag alike: the ring (a longer chunk could
+                                      not be held whole) */
   char units[2][AF_LANE_UNIT_MAX]; /* accepted units ("" = unused slot) */
   double to_si; /* each sample times this into the ring and the detector: 1 = as sent; a force
                    in V: 1 / force_sensitivity_v_per_n [N/V] */
@@ -94,8 +97,14 @@ typedef struct {
  * the noise band's low end below the audio Nyquist frequency, the memory the
  * lane would take (at most AF_LANE_MEMORY_MAX_BYTES, checked before anything
  * is allocated), trial creates of the strike detector and the measurement,
- * Lamb's 0S2 root, and the model's own check over the corners the lane
- * evaluates (extreme masses, moduli, both ends of the R2 search). Derived:
+ * Lamb's 0S2 root, the model's own check over the corners the lane
+ * evaluates (extreme masses, moduli, both ends of the R2 search), and the
+ * settings that cannot work together: the audio ring against what a strike's
+ * audio must wait (noise reference, apple_wait_s or the window, and
+ * stream_stale_after_s), the force ring against one strike's event (the
+ * largest chunk taken is the ring), the noise band against the cultivar's
+ * 0S2 search range, the equatorial-radius range against the masses, density
+ * and aspect ratios. Derived:
  * ring capacities ceil(s x rate), the latitude tolerance in rad, the
  * detector's longest event span, the audio and noise windows round(s x
  * rate), the response window (the longer) and FFT size (power of two >=

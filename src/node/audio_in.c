@@ -48,7 +48,7 @@ static size_t cap_bytes(const af_audio_in *a)
 {
   const size_t frame = a->usable ? af_pcm_sample_bytes(a->format) * a->info.channels
                                  : AF_AUDIO_IN_WIDEST_SAMPLE_BYTES;
-  return a->cfg->lane.audio.capacity_samples * frame + 4096; /* + the header, frame_id and all */
+  return a->cfg->lane.audio.max_chunk_samples * frame + 4096; /* + the header, frame_id and all */
 }
 
 /* a and b equal but for the case of ASCII letters. */

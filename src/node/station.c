@@ -614,11 +614,12 @@ static void on_audio_refused(bool oversized, const char *why, void *user)
 }
 
 /* A chunk longer than its stream's ring can never be used: the cap on the
- * wire, so that it is never deserialized (issue 18). */
+ * wire, so that it is never deserialized; firmness_report caps each stream
+ * alike (lane_config.h, max_chunk_samples). */
 static size_t ring_samples(const af_station *st, bool force)
 {
   const af_lane *l = af_lane_io_lane(st->measured);
-  return (force ? af_lane_force_stream(l) : af_lane_audio_stream(l))->cfg->capacity_samples;
+  return (force ? af_lane_force_stream(l) : af_lane_audio_stream(l))->cfg->max_chunk_samples;
 }
 
 /* The cap on roscpp's message buffers: the largest message the node can

@@ -222,6 +222,14 @@ static void refused(af_session_ctx *c, int which, bool oversized, const char *wh
             c->o->bag_path, why, (unsigned long long)n);
 }
 
+/* The longest chunk the stream of topic 'which' takes (the node's cap on
+ * the wire for that stream). */
+static size_t stream_cap(const af_session_ctx *c, int which)
+{
+  return which == AF_TOPIC_FORCE ? c->o->cfg->force.max_chunk_samples
+                                 : c->o->cfg->audio.max_chunk_samples;
+}
+
 /* Every message of the three topics into the lane. */
 static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF_SESSION_TOPIC_MAX],
                 uint64_t total, char *err, size_t len)
@@ -253,6 +261,13 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
       (void)af_lane_apple(c->lane, &a, now, &pr);
       if (!add_apple(c, &a, pr))
         c->out_of_memory = true;
+    } else if (m.msg.chunk.n > stream_cap(c, which)) {
+      char why[160];
+      af_text(why, sizeof why,
+              "a SignalChunk of %zu samples, above the cap of %zu (the ring; a longer chunk can "
+              "never be used)",
+              m.msg.chunk.n, stream_cap(c, which));
+      refused(c, which, true, why);
     } else {
       const af_signal_chunk *k = &m.msg.chunk;
       af_chunk ch = {ns_of(k->header.stamp),
@@ -307,10 +322,12 @@ static af_bag_reader *open(const af_session_options *o,
     af_text(err, len, "%s", af_bag_reader_error(NULL));
     return NULL;
   }
-  /* A chunk longer than its ring can never be used: the cap (issue 18). */
-  size_t cap = o->cfg->force.capacity_samples > o->cfg->audio.capacity_samples
-                   ? o->cfg->force.capacity_samples
-                   : o->cfg->audio.capacity_samples;
+  /* A chunk longer than its ring can never be used: the reader's cap is the
+   * longer stream's, and feed refuses each stream's longer chunks as the
+   * node does on the wire (lane_config.h, max_chunk_samples). */
+  size_t cap = o->cfg->force.max_chunk_samples > o->cfg->audio.max_chunk_samples
+                   ? o->cfg->force.max_chunk_samples
+                   : o->cfg->audio.max_chunk_samples;
   af_bag_reader_limit(bag, cap);
   *total = 0;
   const bool tap_only = o->cfg->measured.tap_only;

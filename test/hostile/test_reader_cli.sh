@@ -135,8 +135,14 @@ hostile_case analyze_rate_4000 2 \
 hostile_case analyze_rate_8055 2 \
   'measure_noise_band_low_hz = 4000 .. measure_noise_band_high_hz = 16000 Hz, clipped to the Nyquist frequency 4027.5 Hz \(audio_sample_rate_hz = 8055\), holds 7 FFT bins of 3.93 Hz, fewer than the 8' \
   2 256 -- "${analyze[@]}" --rate-audio 8055
+# At 1000 Hz the 0S2's search range (257 .. 490 Hz for Jonagold) fills the
+# spectrum up to 0.98 x Nyquist: the noise band must lie below it.
 hostile_case analyze_rate_1000_band_lowered 0 '"strikes": \[' 2 256 -- \
-  "${analyze[@]}" --rate-audio 1000 --set measure_noise_band_low_hz=200
+  "${analyze[@]}" --rate-audio 1000 --set measure_noise_band_low_hz=100 \
+  --set measure_noise_band_high_hz=250
+hostile_case analyze_rate_1000_band_on_0s2 2 \
+  'measure_noise_band_low_hz = 200 \.\. measure_noise_band_high_hz = 16000 Hz overlaps the 0S2.s search range 257 \.\. 490 Hz' \
+  2 256 -- "${analyze[@]}" --rate-audio 1000 --set measure_noise_band_low_hz=200
 
 # ---- finding 9 (CLI): a repeated flag ----------------------------------------
 hostile_case profile_twice 2 \
