@@ -433,7 +433,8 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
   af_verdict *v = &r->verdict;
   const uint32_t lane_flags = AF_VERDICT_NO_APPLE | AF_VERDICT_NO_PREDICTION |
                               AF_VERDICT_APPLE_DOUBTFUL | AF_VERDICT_MEASURE_FAILED |
-                              AF_VERDICT_REFUSED_SAMPLES | AF_VERDICT_AUDIO_CLIPPED;
+                              AF_VERDICT_REFUSED_SAMPLES | AF_VERDICT_AUDIO_CLIPPED |
+                              AF_VERDICT_CLOCK_FAULT;
   v->flags |= lane_v->flags & lane_flags;
   v->refused_samples = lane_v->refused_samples;
   v->audio_clip_samples = lane_v->audio_clip_samples;
@@ -456,6 +457,7 @@ static void merge_verdict(af_measure_report *r, const af_verdict *lane_v)
   v->measure_status = lane_v->measure_status;
   memcpy(v->apple_why, lane_v->apple_why, sizeof v->apple_why);
   memcpy(v->doubtful_why, lane_v->doubtful_why, sizeof v->doubtful_why);
+  memcpy(v->clock_why, lane_v->clock_why, sizeof v->clock_why);
   if (lane_v->flags & AF_VERDICT_NO_AUDIO) { /* the lane knows why there is none */
     v->flags |= AF_VERDICT_NO_AUDIO;
     v->audio_cause = lane_v->audio_cause;
@@ -678,6 +680,25 @@ static void check_clipping(af_lane *l, size_t n_audio, af_verdict *v)
   l->stats.audio_clipped++;
 }
 
+/* A strike within stream_stale_after_s of a clock fault of either stream
+ * (or while a stream's stamps contradict its rate): its window and its
+ * apple were found by stamps that cannot be trusted. Flagged, so that the
+ * fruit is not blamed. */
+static void check_clocks(af_lane *l, const af_pending *p, af_verdict *v)
+{
+  const int64_t margin_ns = (int64_t)llround(l->cfg->stream_stale_after_s * 1e9);
+  const af_stream *s = NULL;
+  if (!l->mc->tap_only && af_stream_clock_fault_near(&l->force, p->start_ns, margin_ns))
+    s = &l->force;
+  else if (af_stream_clock_fault_near(&l->audio, p->start_ns, margin_ns))
+    s = &l->audio;
+  if (s == NULL)
+    return;
+  v->flags |= AF_VERDICT_CLOCK_FAULT;
+  af_text(v->clock_why, sizeof v->clock_why, "%s", s->clock_problem);
+  l->stats.clock_faulted++;
+}
+
 /* Measures p with its audio (n_audio 0: none, lane_v says why) and calls back. */
 static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verdict *lane_v)
 {
@@ -689,6 +710,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
     lane_v->refused_samples = p->refused;
   }
   check_clipping(l, n_audio, lane_v);
+  check_clocks(l, p, lane_v);
   int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);

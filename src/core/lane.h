@@ -98,6 +98,7 @@ typedef struct {
   uint64_t no_resonance, no_apple, no_audio, doubtful, unreliable;
   uint64_t overflows, measure_errors, pulse_cut, late_apples;
   uint64_t audio_clipped; /* strikes whose audio window the microphone saturated */
+  uint64_t clock_faulted; /* strikes judged across a stream's clock fault */
   uint64_t apples, apples_refused;
   uint64_t apples_implausible; /* of apples_refused: apple_id 0, or stamped far off the data */
   char last_implausible_apple[AF_LANE_TEXT_MAX];

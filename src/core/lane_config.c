@@ -176,6 +176,7 @@ static af_status derive_stream(const af_settings *s, af_setting_id rate, af_sett
 {
   sc->sample_rate_hz = num(s, rate);
   sc->buffer_s = num(s, buffer);
+  sc->clock_step_s = num(s, AF_SETTING_STREAM_CLOCK_STEP_S);
   double samples = ceil(sc->buffer_s * sc->sample_rate_hz);
   if (samples > AF_RING_MAX_SAMPLES) {
     af_settings_say(

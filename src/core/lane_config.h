@@ -38,6 +38,8 @@ typedef struct {
   char units[2][AF_LANE_UNIT_MAX]; /* accepted units ("" = unused slot) */
   double to_si; /* each sample times this into the ring and the detector: 1 = as sent; a force
                    in V: 1 / force_sensitivity_v_per_n [N/V] */
+  double clock_step_s; /* a chunk stamped further than this from where the samples put it is a
+                          clock step (stream_clock_step_s) [s] */
 } af_stream_config;
 
 /* The measured strikes: the detector on the force stream, the measurement of

@@ -181,6 +181,11 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         NUM("apple_transit_s", "0.2", "[-10, 60] s", S,
             "the conveyor's transit: a strike belongs to the AppleEstimate stamped this long "
             "before its contact start (negative: a camera downstream of the hammer)"),
+    [AF_SETTING_STREAM_CLOCK_STEP_S] =
+        NUM("stream_clock_step_s", "0.02", "[0.0001, 10] s", S,
+            "a chunk stamped further than this from where its samples put it (the chunk before's "
+            "stamp + the samples between / rate) is a clock step: named, and the strikes near "
+            "it flagged"),
     [AF_SETTING_APPLE_TRANSIT_TOLERANCE_S] =
         NUM("apple_transit_tolerance_s", "0.04", "[0.0001, 60] s", S,
             "how far a strike may lie from its estimate's stamp + apple_transit_s; keep it "

@@ -27,6 +27,7 @@ af_status af_stream_create(af_stream *s, const char *name, const af_stream_confi
   memset(s, 0, sizeof *s);
   s->name = name;
   s->cfg = cfg;
+  s->clock_rate_hz = s->clock_last_step_s = NAN;
   if ((s->si = malloc(2 * AF_STREAM_BLOCK * sizeof *s->si)) == NULL) /* + the ring's, to compare */
     return AF_ENOMEM;
   return af_ring_create(cfg->capacity_samples, &s->ring);
@@ -186,6 +187,80 @@ static af_chunk_verdict check(af_stream *s, const af_chunk *c)
   return AF_CHUNK_OK;
 }
 
+/* --- the clock ---------------------------------------------------------------- */
+
+static const af_stream_anchor *anchor(const af_stream *s, size_t k);
+
+static void clock_fault(af_stream *s, const af_chunk *c)
+{
+  s->clock_fault_ns = c->stamp_ns;
+  s->clock_base = (af_stream_anchor){c->stamp_ns, c->first_sample};
+  s->clock_based = true;
+}
+
+/* The rate the stamps advance at since the base, once AF_STREAM_RATE_SPAN_S
+ * of them: a fault while it contradicts the chunks' rate. */
+static void clock_rate(af_stream *s, const af_chunk *c)
+{
+  const double span_s = (double)(c->stamp_ns - s->clock_base.stamp_ns) * 1e-9;
+  if (span_s < AF_STREAM_RATE_SPAN_S)
+    return;
+  const double rate_hz = (double)(c->first_sample - s->clock_base.first_sample) / span_s;
+  const double nominal_hz = s->cfg->sample_rate_hz;
+  s->clock_rate_hz = rate_hz;
+  s->clock_rate_wrong = fabs(rate_hz / nominal_hz - 1.0) > AF_STREAM_RATE_TOL;
+  if (s->clock_rate_wrong) {
+    s->clock_fault_ns = c->stamp_ns;
+    snprintf(s->clock_problem, sizeof s->clock_problem,
+             "%s stamps advance at %.0f Hz of samples while the chunks say %.0f Hz: a clock "
+             "that contradicts the sample rate",
+             s->name, rate_hz, nominal_hz);
+  }
+}
+
+/* Chunk c against the newest anchor (before it is added): a step, frozen
+ * stamps, or a rate that contradicts the samples. After a gap the samples
+ * between still count (first_sample says how many were lost); after a
+ * restart the old indices mean nothing. */
+static void check_clock(af_stream *s, const af_chunk *c, bool restarted)
+{
+  if (restarted || s->anchor_count == 0 || !s->clock_based) {
+    s->clock_base = (af_stream_anchor){c->stamp_ns, c->first_sample};
+    s->clock_based = true;
+    return;
+  }
+  const af_stream_anchor *prev = anchor(s, 0);
+  if (c->first_sample <= prev->first_sample)
+    return;
+  const double after_s = (double)(c->first_sample - prev->first_sample) / s->cfg->sample_rate_hz;
+  const double off_s = (double)(c->stamp_ns - prev->stamp_ns) * 1e-9 - after_s;
+  if (c->stamp_ns <= prev->stamp_ns) {
+    s->clock_frozen++;
+    clock_fault(s, c);
+    snprintf(s->clock_problem, sizeof s->clock_problem,
+             "%s stamps frozen: the chunk at sample %llu is stamped %.6f s, no later than the "
+             "one %.6f s of samples before it",
+             s->name, (unsigned long long)c->first_sample, (double)c->stamp_ns * 1e-9, after_s);
+  } else if (fabs(off_s) > s->cfg->clock_step_s) {
+    s->clock_steps++;
+    s->clock_last_step_s = off_s;
+    clock_fault(s, c);
+    snprintf(s->clock_problem, sizeof s->clock_problem,
+             "%s clock stepped %+.6f s at sample %llu (stamp against the samples since the "
+             "chunk before; stream_clock_step_s %g s)",
+             s->name, off_s, (unsigned long long)c->first_sample, s->cfg->clock_step_s);
+  } else {
+    clock_rate(s, c);
+  }
+}
+
+bool af_stream_clock_fault_near(const af_stream *s, int64_t t_ns, int64_t margin_ns)
+{
+  if (s->clock_rate_wrong)
+    return true;
+  return s->clock_fault_ns != 0 && llabs(t_ns - s->clock_fault_ns) <= margin_ns;
+}
+
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                                 af_ring_write_info *info)
 {
@@ -213,6 +288,7 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
     s->chunks++;
     s->seen = true;
     s->last_rx_ns = now_ns;
+    check_clock(s, c, w.restarted);
     if (w.restarted)
       s->anchor_count = 0; /* the old indices mean nothing now (the spans' are kept: a
                               window of the new stream that meets one is flagged, at worst

@@ -41,6 +41,12 @@ extern "C" {
 /* Spans of refused samples remembered for af_stream_refused_in: more than a
  * strike's pulse and audio window can ever meet between two strikes. */
 #define AF_STREAM_SPANS 64
+/* The stamps' rate is judged over this much of the stream [s], against the
+ * rate sent with the chunks, with this tolerance [-]: far above a crystal's
+ * 100 ppm and a capture stack's jitter over that span, far below the 8.8 %
+ * of 44.1 kHz labelled 48 kHz. */
+#define AF_STREAM_RATE_SPAN_S 2.0
+#define AF_STREAM_RATE_TOL 0.01
 
 typedef struct {
   int64_t stamp_ns;      /* time of the chunk's first sample [ns] */
@@ -104,6 +110,21 @@ typedef struct {
   af_stream_anchor anchors[AF_STREAM_ANCHORS];
   size_t anchor_next, anchor_count;
   char frame_id[AF_STREAM_FRAME_MAX];
+  /* The clock (af_stream_push): each contiguous chunk's stamp against the
+   * previous chunk's stamp + the samples between / rate. A difference beyond
+   * cfg->clock_step_s is a step; a stamp that does not advance while the
+   * samples do, frozen; stamps advancing at a rate beyond AF_STREAM_RATE_TOL
+   * of the chunks' own over AF_STREAM_RATE_SPAN_S, a stamp clock that
+   * contradicts the sample rate (a card running at 44.1 kHz labelled 48). */
+  uint64_t clock_steps, clock_frozen;
+  double clock_last_step_s;    /* the latest step [s]: stamp minus expected */
+  double clock_rate_hz;        /* the rate the stamps advance at since the last fault; NaN: not
+                                  yet AF_STREAM_RATE_SPAN_S of it */
+  bool clock_rate_wrong;       /* clock_rate_hz beyond AF_STREAM_RATE_TOL of the rate */
+  int64_t clock_fault_ns;      /* stamp of the latest fault's chunk; 0: none */
+  af_stream_anchor clock_base; /* the chunk the rate is measured from */
+  bool clock_based;
+  char clock_problem[AF_STREAM_TEXT_MAX]; /* the latest clock fault in words; "" when none */
   float *si; /* AF_STREAM_BLOCK samples in the lane's unit, non-finite ones as NaN; then
                 AF_STREAM_BLOCK of the ring's, to compare a duplicate */
 } af_stream;
@@ -140,6 +161,10 @@ int64_t af_stream_time_ns(const af_stream *s, double index);
 /* The (fractional) sample index at time t_ns, through the newest chunk
  * stamped at or before it (the oldest kept for earlier times). */
 double af_stream_index_at(const af_stream *s, int64_t t_ns);
+
+/* Whether a clock fault of s (a step, frozen stamps, a wrong rate) lies
+ * within margin_ns of t_ns, or the stamps' rate is wrong now. */
+bool af_stream_clock_fault_near(const af_stream *s, int64_t t_ns, int64_t margin_ns);
 
 /* Refused chunks so far, all kinds. */
 uint64_t af_stream_bad_chunks(const af_stream *s);

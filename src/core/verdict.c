@@ -194,6 +194,8 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
     add(buf, len, "apple %u got no prediction: %s", v->apple_id, v->apple_why);
   if (f & AF_VERDICT_APPLE_DOUBTFUL)
     add(buf, len, "doubtful apple match (apple %u: %s)", v->apple_id, v->doubtful_why);
+  if (f & AF_VERDICT_CLOCK_FAULT)
+    add(buf, len, "judged across a clock fault, not the fruit's: %s", v->clock_why);
   if (f & AF_VERDICT_MEASURE_FAILED)
     add(buf, len, "measurement failed: %s", af_strerror(v->measure_status));
   if (f & AF_VERDICT_DOUBLE_HIT)
@@ -249,6 +251,7 @@ const char *af_verdict_flag_name(af_verdict_flag f)
   case AF_VERDICT_DAMAGE: return "damage";
   case AF_VERDICT_REFUSED_SAMPLES: return "refused_samples";
   case AF_VERDICT_AUDIO_CLIPPED: return "audio_clipped";
+  case AF_VERDICT_CLOCK_FAULT: return "clock_fault";
   }
   return "unknown";
 }

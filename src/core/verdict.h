@@ -42,7 +42,8 @@ typedef enum {
   AF_VERDICT_OUTSIDE_BAND = 1u << 17,    /* the 0S2 outside the lobe's half-power band */
   AF_VERDICT_DAMAGE = 1u << 18,          /* the shear reaches the yield: bruise */
   AF_VERDICT_REFUSED_SAMPLES = 1u << 19, /* non-finite force samples measured (refused_samples) */
-  AF_VERDICT_AUDIO_CLIPPED = 1u << 20    /* the microphone saturated (audio_clip_*) */
+  AF_VERDICT_AUDIO_CLIPPED = 1u << 20,   /* the microphone saturated (audio_clip_*) */
+  AF_VERDICT_CLOCK_FAULT = 1u << 21 /* a stream's clock stepped, froze or ran off (clock_why) */
 } af_verdict_flag;
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
@@ -83,6 +84,7 @@ typedef struct {
   double nearest_apple_lag_s; /* ... the strike's contact start minus its stamp [s] */
   char apple_why[AF_VERDICT_TEXT_MAX];    /* NO_PREDICTION: why the apple was refused */
   char doubtful_why[AF_VERDICT_TEXT_MAX]; /* APPLE_DOUBTFUL */
+  char clock_why[AF_VERDICT_TEXT_MAX];    /* CLOCK_FAULT: the stream's fault in words */
   af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;
   double fit_residual; /* RMS / peak; NaN when the fit did not run */
   uint64_t lost_samples;

@@ -70,7 +70,9 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
-  unsigned long long too_long_seen;        /* messages too long to read, at the last one */
+  unsigned long long clock_faults_seen;    /* clock steps + frozen chunks at the last one */
+  unsigned long long force_clock_seen, audio_clock_seen; /* each stream's, at its last chunk */
+  unsigned long long too_long_seen; /* messages too long to read, at the last one */
   int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
   bool absent_logged;       /* the stream-absent warning went to the log */
   char absent[AF_TEXT_MAX]; /* the stream-absent warning; "" = none (absent.h) */
@@ -394,6 +396,13 @@ static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
                                                      : 0;
   if (power_of_two(count))
     af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu so far)", s->last_problem, count);
+  const unsigned long long faults = s->clock_steps + s->clock_frozen + s->clock_rate_wrong;
+  unsigned long long *seen = s == af_lane_force_stream(af_lane_io_lane(st->measured))
+                                 ? &st->force_clock_seen
+                                 : &st->audio_clock_seen;
+  if (faults != *seen && power_of_two(faults))
+    af_ros_log(st->ros, AF_LOG_WARN, "%s (%llu clock faults so far)", s->clock_problem, faults);
+  *seen = faults;
 }
 
 static void on_force(const void *msg, void *user)
@@ -438,6 +447,15 @@ static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
   af_diag_add(d, key, "%llu non-finite in %llu spans of %llu chunks",
               (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans,
               (unsigned long long)s->refused_chunks);
+  af_text(key, sizeof key, "%s clock", s->name);
+  if (isnan(s->clock_rate_hz))
+    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; rate not yet judged",
+                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
+                (unsigned long long)s->clock_frozen);
+  else
+    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; stamps advance at %.1f Hz of samples",
+                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
+                (unsigned long long)s->clock_frozen, s->clock_rate_hz);
   af_text(key, sizeof key, "%s last problem", s->name);
   af_diag_add(d, key, "%s", s->last_problem);
   af_text(key, sizeof key, "%s ring [samples]", s->name);
@@ -498,6 +516,12 @@ static void diag_task(af_diag_status *d, void *user)
   bool audio_stale = af_stream_stale(audio, now_ns, c->lane.stream_stale_after_s);
   unsigned long long problems = force->gaps + audio->gaps + af_stream_bad_chunks(force) +
                                 af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
+  const unsigned long long clock_faults =
+      force->clock_steps + force->clock_frozen + audio->clock_steps + audio->clock_frozen;
+  const bool clock_fault =
+      clock_faults != st->clock_faults_seen || force->clock_rate_wrong || audio->clock_rate_wrong;
+  st->clock_faults_seen = clock_faults;
+  const char *clock_words = force->clock_problem[0] ? force->clock_problem : audio->clock_problem;
   bool new_problems = problems != st->stream_problems_seen;
   st->stream_problems_seen = problems;
   af_wire_guard_stats guard;
@@ -521,6 +545,7 @@ static void diag_task(af_diag_status *d, void *user)
   /* The first problem, in this order of importance; NULL = none. */
   const char *warning = st->last_apple_invalid ? "last apple got no prediction"
                         : too_long     ? "a message too long to read dropped since the last report"
+                        : clock_fault  ? clock_words
                         : new_problems ? "stream gaps or bad chunks since the last report"
                         : force_stale || audio_stale ? "a stream went silent"
                         : absent                     ? st->absent

@@ -53,6 +53,11 @@ static void add_stream(af_session_stream *into, const af_session_stream *s)
   into->duplicates += s->duplicates;
   into->overlaps += s->overlaps;
   into->duplicate_samples += s->duplicate_samples;
+  into->clock_steps += s->clock_steps;
+  into->clock_frozen += s->clock_frozen;
+  into->clock_rate_wrong |= s->clock_rate_wrong;
+  if (s->clock_problem[0] != '\0')
+    memcpy(into->clock_problem, s->clock_problem, sizeof into->clock_problem);
 }
 
 static void add_counts(af_summary *into, const af_summary *m)
@@ -98,6 +103,7 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.pulse_cut += s->stats.pulse_cut;
   t->stats.apples_implausible += s->stats.apples_implausible;
   t->stats.audio_clipped += s->stats.audio_clipped;
+  t->stats.clock_faulted += s->stats.clock_faulted;
   if (s->stats.apples_implausible > 0)
     memcpy(t->stats.last_implausible_apple, s->stats.last_implausible_apple,
            sizeof t->stats.last_implausible_apple);

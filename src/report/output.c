@@ -87,6 +87,9 @@ static void text_stream(FILE *out, const char *name, const af_session_stream *s)
           s->bad_rate + s->bad_unit + s->bad_index + s->malformed + s->oversized, s->bad_rate,
           s->bad_unit, s->bad_index, s->malformed, s->oversized, s->refused_samples,
           s->refused_spans);
+  if (s->clock_steps + s->clock_frozen > 0 || s->clock_rate_wrong)
+    fprintf(out, "  WARN %s clock: %" PRIu64 " steps, %" PRIu64 " frozen chunks; last: %s\n", name,
+            s->clock_steps, s->clock_frozen, s->clock_problem);
 }
 
 static double share(size_t part, size_t whole)
@@ -182,6 +185,10 @@ static void text_transit(FILE *out, const af_lane_stats *st)
     fprintf(out, "  apple transit: no strike matched to an estimate\n");
   if (st->transit_warning[0] != '\0')
     fprintf(out, "  WARN apple estimates: %s\n", st->transit_warning);
+  if (st->clock_faulted > 0)
+    fprintf(out,
+            "  WARN %" PRIu64 " strikes judged across a stream's clock fault (flag clock_fault)\n",
+            st->clock_faulted);
   if (st->audio_clipped > 0)
     fprintf(out, "  WARN microphone clipped on %" PRIu64 " strikes: lower the microphone gain\n",
             st->audio_clipped);

@@ -180,6 +180,11 @@ static void copy_stream(af_session_stream *out, const af_stream *s)
   out->oversized = s->oversized;
   out->refused_samples = s->refused_samples;
   out->refused_spans = s->refused_spans;
+  out->clock_steps = s->clock_steps;
+  out->clock_frozen = s->clock_frozen;
+  out->clock_rate_hz = s->clock_rate_hz;
+  out->clock_rate_wrong = s->clock_rate_wrong;
+  memcpy(out->clock_problem, s->clock_problem, sizeof out->clock_problem);
 }
 
 static void show_progress(uint64_t done, uint64_t total, bool final)

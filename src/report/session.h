@@ -91,7 +91,11 @@ typedef struct {
   uint64_t duplicates;                     /* chunks that repeat samples already held */
   uint64_t overlaps, duplicate_samples;    /* chunks whose head repeated held samples (tail kept);
                                               samples sent again (stream.h) */
-  int64_t first_ns, end_ns; /* time of the first sample, end of the last chunk [ns] */
+  int64_t first_ns, end_ns;           /* time of the first sample, end of the last chunk [ns] */
+  uint64_t clock_steps, clock_frozen; /* the stream's clock faults (stream.h) */
+  double clock_rate_hz;               /* the rate its stamps advance at; NaN: not judged */
+  bool clock_rate_wrong;
+  char clock_problem[AF_STREAM_TEXT_MAX]; /* the latest in words; "" when none */
 } af_session_stream;
 
 typedef struct {

@@ -12,9 +12,13 @@ Python API, never by the station's own code:
                       card whose capture stamps late
   force_step=T,S      every force chunk stamped after T s (bag-relative)
                       moved by S seconds: a step in the DAQ's clock
-  audio_clip=L        audio samples clipped at +-L (the microphone's gain too
-                      high: L a fraction of each chunk's peak is not used;
-                      L is absolute, in the chunk's unit)
+  audio_clip=L        audio samples clipped at +-L, in the chunk's unit (the
+                      microphone's gain too high)
+  audio_stamp_rate=R  every audio chunk stamped as if sampled at R Hz (the
+                      first chunk's stamp + first_sample / R) while its
+                      sample_rate still says the true rate
+  force_frozen=T      every force chunk after T s stamped as the last one
+                      before T (a driver whose stamps froze)
 """
 import sys
 
@@ -39,6 +43,7 @@ def main():
     with rosbag.Bag(src_path) as src, rosbag.Bag(dst_path, 'w') as dst:
         t0 = src.get_start_time()
         first = True
+        audio0 = frozen = None
         for topic, msg, t in src.read_messages():
             if first and 'apple_bogus' in edits and topic.endswith('/apple'):
                 bogus = msg.__class__()
@@ -55,6 +60,11 @@ def main():
                 msg.header.stamp = shifted(msg.header.stamp, s)
                 t = shifted(t, s)
             elif topic.endswith('/audio'):
+                if 'audio_stamp_rate' in edits:
+                    if audio0 is None:
+                        audio0 = (msg.header.stamp.to_sec(), msg.first_sample)
+                    msg.header.stamp = genpy.Time.from_sec(
+                        audio0[0] + (msg.first_sample - audio0[1]) / edits['audio_stamp_rate'][0])
                 if 'audio_shift' in edits:
                     msg.header.stamp = shifted(msg.header.stamp, edits['audio_shift'][0])
                 if 'audio_clip' in edits:
@@ -64,6 +74,11 @@ def main():
                 at, s = edits['force_step']
                 if msg.header.stamp.to_sec() - t0 > at:
                     msg.header.stamp = shifted(msg.header.stamp, s)
+            elif topic.endswith('/force') and 'force_frozen' in edits:
+                if msg.header.stamp.to_sec() - t0 <= edits['force_frozen'][0]:
+                    frozen = msg.header.stamp
+                else:
+                    msg.header.stamp = frozen
             dst.write(topic, msg, t)
 
 
