@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "audio_clip.h"
+#include "audio_lag.h"
 #include "onset.h"
 #include "text.h"
 
@@ -32,6 +33,10 @@ typedef struct {
   int64_t start_ns;   /* contact start */
   int64_t queued_ns;  /* lane clock when queued, for the time-outs */
   uint64_t refused;   /* refused (non-finite) force samples in the measured span */
+  bool lag_done;      /* its audio lag measured, or given up */
+  double lag_s;       /* the sound's onset by the audio's stamps minus the contact start [s];
+                         NaN: not measured */
+  double applied_s;   /* the audio lag its window was moved by [s] */
   char frame_id[AF_STREAM_FRAME_MAX];
 } af_pending;
 
@@ -89,6 +94,11 @@ struct af_lane {
   uint64_t transits, unmatched;         /* written so far into each */
   bool recent_unmatched[AF_LANE_TRANSITS]; /* the latest strikes: without an apple? */
   uint64_t recent;
+  af_audio_lag lag; /* the audio clock's lag behind the force's (audio_lag.h) */
+  float *lag_buf;   /* audio searched for a strike's onset: lag_cap samples */
+  size_t lag_cap;
+  int64_t last_start_ns; /* the previous strike's contact start, for the search's reach */
+  bool any_start;
   af_lane_reported reported[AF_LANE_REPORTED]; /* the latest strikes reported */
   size_t reported_n;                           /* written so far */
 };
@@ -323,7 +333,8 @@ static size_t read_noise(af_lane *l, const af_pending *p)
 {
   const af_stream *s = &l->audio;
   const size_t nn = l->mc->noise_window_samples;
-  const double at = af_stream_index_at(s, p->start_ns) -
+  const int64_t lag_ns = (int64_t)llround(p->applied_s * 1e9);
+  const double at = af_stream_index_at(s, p->start_ns + lag_ns) -
                     l->mc->measure.noise_guard_s * l->mc->measure.response.sample_rate_hz;
   if (nn == 0 || at < (double)nn)
     return 0;
@@ -355,7 +366,7 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
     v->audio_seconds = l->cfg->stream_stale_after_s;
     return AF_NONE;
   }
-  const int64_t delay_ns = (int64_t)llround(mc->audio_delay_s * 1e9);
+  const int64_t delay_ns = (int64_t)llround((mc->audio_delay_s + p->applied_s) * 1e9);
   const double first = af_stream_index_at(s, p->start_ns + delay_ns);
   if (first < -0.5) {
     v->audio_cause = AF_AUDIO_BEFORE_STREAM;
@@ -388,6 +399,86 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
     v->n_audio = (size_t)refused;
   }
   return v->n_audio > 0 ? AF_NONE : AF_READY;
+}
+
+/* --- the audio clock's lag ----------------------------------------------------- */
+
+/* Whether p's audio can no longer be waited for (as audio_for's time-out). */
+static bool audio_timed_out(const af_lane *l, const af_pending *p)
+{
+  const af_measure_config *mc = &l->mc->measure;
+  const double wait_s = l->cfg->stream_stale_after_s + mc->audio_delay_s + mc->audio_window_s;
+  return l->finished || (double)(l->now_ns - p->queued_ns) * 1e-9 > wait_s;
+}
+
+/* Searches p's sound onset within +-h of the contact start moved by the
+ * applied lag, h = audio_lag_max_s, at most half the time since the previous
+ * strike (whose own sound must not be taken); the lag then feeds the median.
+ * AF_WAIT while the audio of the search has not come. */
+static af_decision measure_lag(af_lane *l, af_pending *p)
+{
+  const af_stream *s = &l->audio;
+  p->applied_s = l->lag.applied_s;
+  if (l->mc->tap_only || !s->seen) { /* tap-only: the onset is the strike */
+    p->lag_done = true;
+    return AF_READY;
+  }
+  const double fs = s->cfg->sample_rate_hz;
+  const size_t block = (size_t)fmax(1.0, round(AF_AUDIO_LAG_BLOCK_S * fs));
+  double h_s = l->mc->audio_lag_max_s;
+  if (l->any_start)
+    h_s = fmin(h_s, 0.5e-9 * (double)(p->start_ns - l->last_start_ns));
+  const int64_t centre_ns = p->start_ns + (int64_t)llround(p->applied_s * 1e9);
+  const int64_t h_ns = (int64_t)llround(h_s * 1e9);
+  const double lo =
+      af_stream_index_at(s, centre_ns - h_ns) - (double)(AF_AUDIO_LAG_REF_BLOCKS * block);
+  const double hi = af_stream_index_at(s, centre_ns + h_ns) + (double)block;
+  if (hi > (double)af_ring_end(s->ring) && !audio_timed_out(l, p))
+    return AF_WAIT;
+  p->lag_done = true;
+  const double begin = (double)af_ring_begin(s->ring), end = (double)af_ring_end(s->ring);
+  const double first = fmax(ceil(lo), begin), last = fmin(floor(hi), end);
+  if (!(last - first >= (double)((AF_AUDIO_LAG_REF_BLOCKS + 1) * block)))
+    return AF_READY;
+  const uint64_t i0 = (uint64_t)first;
+  const size_t n = (size_t)fmin(last - first, (double)l->lag_cap);
+  size_t at;
+  if (af_ring_read(s->ring, i0, n, l->lag_buf) != AF_OK || count_bad(l->lag_buf, n) > 0 ||
+      !af_audio_onset_find(l->lag_buf, n, block, &at)) {
+    l->stats.lag_no_onset++;
+    return AF_READY;
+  }
+  p->lag_s = (double)(af_stream_time_ns(s, (double)(i0 + at)) - p->start_ns) * 1e-9;
+  if (af_audio_lag_push(&l->lag, p->lag_s, l->mc->audio_lag_learn)) {
+    l->stats.lag_moves++;
+    af_text(l->stats.lag_warning, sizeof l->stats.lag_warning,
+            "the audio lag moved: a strike's sound came %.1f ms after its contact by the audio's "
+            "stamps, the median was %.1f ms",
+            1e3 * p->lag_s, 1e3 * l->lag.median_s);
+  }
+  l->stats.lag_median_s = l->lag.median_s;
+  l->stats.lag_mad_s = l->lag.mad_s;
+  l->stats.lag_applied_s = l->lag.applied_s;
+  l->stats.lag_strikes = l->lag.n;
+  return AF_READY;
+}
+
+/* A strike whose own sound lies off the window it was judged by (the lag
+ * not yet learned, or moved): its 0S2 was read where the ring was not, so
+ * the fruit must not be blamed. */
+static void check_lag(af_lane *l, const af_pending *p, af_verdict *v)
+{
+  if (isnan(p->lag_s) || fabs(p->lag_s - p->applied_s) < AF_AUDIO_LAG_MOVE_S)
+    return;
+  v->flags |= AF_VERDICT_CLOCK_FAULT;
+  af_text(v->clock_why, sizeof v->clock_why,
+          "its sound's onset lies %.1f ms after the contact by the audio's stamps, its audio "
+          "window was taken %.1f ms after (%s)",
+          1e3 * p->lag_s, 1e3 * p->applied_s,
+          !l->mc->audio_lag_learn ? "audio_lag_learn false"
+          : l->lag.stable         ? "the audio lag moved"
+                                  : "the audio lag is not learned yet");
+  l->stats.clock_faulted++;
 }
 
 /* --- one strike ------------------------------------------------------------------- */
@@ -711,6 +802,8 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   }
   check_clipping(l, n_audio, lane_v);
   check_clocks(l, p, lane_v);
+  if (!(lane_v->flags & AF_VERDICT_CLOCK_FAULT))
+    check_lag(l, p, lane_v);
   int64_t t0_ns = af_stage_begin(h);
   size_t n_noise = n_audio ? read_noise(l, p) : 0;
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);
@@ -727,6 +820,10 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   o->prediction = a ? &a->prediction : NULL;
   o->with_audio = n_audio > 0;
   o->event = &p->ev;
+  o->report.audio_lag_s = p->lag_s;
+  o->report.audio_lag_applied_s = p->applied_s;
+  l->last_start_ns = p->start_ns;
+  l->any_start = true;
   if (a && a->prediction.valid) {
     a->strikes++;
     a->last_strike_ns = p->start_ns;
@@ -752,6 +849,8 @@ static void process(af_lane *l)
     if (!apple_decided(l, p))
       return;
     const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
+    if (!p->lag_done && measure_lag(l, p) == AF_WAIT)
+      return;
     af_decision d = audio_for(l, p, &v);
     if (d == AF_WAIT)
       return;
@@ -804,6 +903,9 @@ static void on_strike(const af_strike_event *ev, void *user)
   p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
   p->queued_ns = l->now_ns;
   p->refused = af_stream_refused_in(&l->force, ev->span_first, ev->span_end - ev->span_first);
+  p->lag_done = false;
+  p->lag_s = NAN;
+  p->applied_s = 0.0;
   memcpy(p->frame_id, l->force.frame_id, sizeof p->frame_id);
   l->count++;
 }
@@ -862,6 +964,9 @@ static void on_onset(const af_onset_event *ev, void *user)
   p->start_ns = af_stream_time_ns(&l->audio, ev->sample);
   p->queued_ns = l->now_ns;
   p->refused = 0;
+  p->lag_done = false;
+  p->lag_s = NAN;
+  p->applied_s = 0.0;
   memcpy(p->frame_id, l->audio.frame_id, sizeof p->frame_id);
   l->count++;
 }
@@ -1020,7 +1125,15 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   l->pulses = calloc(n * cap, sizeof *l->pulses);
   l->audio_buf = calloc(l->mc->audio_window_samples + 1, sizeof *l->audio_buf);
   l->noise_buf = calloc(l->mc->noise_window_samples + 1, sizeof *l->noise_buf);
-  if (!l->pending || !l->pulses || !l->audio_buf || !l->noise_buf)
+  /* The onset search: +-audio_lag_max_s, the reference before it, a block. */
+  const double lag_blocks = AF_AUDIO_LAG_REF_BLOCKS + 2;
+  l->lag_cap = (size_t)ceil((2.0 * l->mc->audio_lag_max_s + lag_blocks * AF_AUDIO_LAG_BLOCK_S) *
+                            cfg->audio.sample_rate_hz) +
+               (size_t)lag_blocks + 1;
+  l->lag_buf = calloc(l->lag_cap, sizeof *l->lag_buf);
+  af_audio_lag_reset(&l->lag);
+  l->stats.lag_median_s = l->stats.lag_mad_s = NAN;
+  if (!l->pending || !l->pulses || !l->audio_buf || !l->noise_buf || !l->lag_buf)
     goto fail;
   for (size_t k = 0; k < n; k++)
     l->pending[k].pulse = l->pulses + k * cap;
@@ -1047,6 +1160,7 @@ void af_lane_destroy(af_lane *l)
   free(l->pulses);
   free(l->audio_buf);
   free(l->noise_buf);
+  free(l->lag_buf);
   free(l);
 }
 

@@ -99,6 +99,13 @@ typedef struct {
   uint64_t overflows, measure_errors, pulse_cut, late_apples;
   uint64_t audio_clipped; /* strikes whose audio window the microphone saturated */
   uint64_t clock_faulted; /* strikes judged across a stream's clock fault */
+  /* The audio clock's lag behind the force's (audio_lag.h): the median and
+   * its median absolute deviation over the latest strikes, the lag the
+   * windows are moved by, the strikes whose onset was not found, the moves. */
+  double lag_median_s, lag_mad_s, lag_applied_s;
+  size_t lag_strikes;
+  uint64_t lag_no_onset, lag_moves;
+  char lag_warning[AF_LANE_TEXT_MAX]; /* the latest move, in words; "" when none */
   uint64_t apples, apples_refused;
   uint64_t apples_implausible; /* of apples_refused: apple_id 0, or stamped far off the data */
   char last_implausible_apple[AF_LANE_TEXT_MAX];

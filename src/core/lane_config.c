@@ -411,6 +411,8 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   mc->apple_wait_s = num(s, AF_SETTING_APPLE_WAIT_S);
   mc->apple_transit_s = num(s, AF_SETTING_APPLE_TRANSIT_S);
   mc->apple_transit_tolerance_s = num(s, AF_SETTING_APPLE_TRANSIT_TOLERANCE_S);
+  mc->audio_lag_learn = num(s, AF_SETTING_AUDIO_LAG_LEARN) != 0.0;
+  mc->audio_lag_max_s = num(s, AF_SETTING_AUDIO_LAG_MAX_S);
   double fs = c->audio.sample_rate_hz;
   /* Rounded as the measurement rounds them (measure.c). */
   double window = round(m->audio_window_s * fs), noise = round(m->noise_window_s * fs);

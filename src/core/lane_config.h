@@ -55,10 +55,12 @@ typedef struct {
   double apple_wait_s;              /* a strike waits this long for its own apple's estimate [s] */
   double apple_transit_s;           /* a strike comes this long after its estimate's stamp [s] */
   double apple_transit_tolerance_s; /* ... within this [s] */
-  bool single_apple;     /* desk tools: one apple stands for a whole recording, so a second strike
-                            on it is expected, not a doubtful match; false (0) in the node */
-  bool tap_only;         /* tap_only: strikes from the audio onset, no force input (onset.h) */
-  af_onset_config onset; /* onset_*: the audio onset detector, at the audio rate */
+  bool audio_lag_learn;   /* align the audio window by the learned audio lag (audio_lag.h) */
+  double audio_lag_max_s; /* the onset searched within this of the contact start [s] */
+  bool single_apple;      /* desk tools: one apple stands for a whole recording, so a second strike
+                             on it is expected, not a doubtful match; false (0) in the node */
+  bool tap_only;          /* tap_only: strikes from the audio onset, no force input (onset.h) */
+  af_onset_config onset;  /* onset_*: the audio onset detector, at the audio rate */
 } af_measured_config;
 
 typedef struct {

@@ -100,6 +100,9 @@ typedef struct {
   bool double_hit, clipped;
   uint32_t lost_samples;
   bool audio_clipped; /* the microphone saturated in the audio window (the lane's audio_clip.h) */
+  double audio_lag_s; /* the sound's onset by the audio's stamps minus the contact start (the
+                         lane's audio_lag.h); NaN: not measured [s] */
+  double audio_lag_applied_s; /* the audio window was taken this much later [s] */
   bool excites_mode, no_damage, reliable;
   double max_shear_stress_pa, yield_shear_stress_pa;
   bool tap_only;      /* measured from the microphone alone (af_measure_execute_tap): no pulse, no

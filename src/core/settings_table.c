@@ -186,6 +186,14 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
             "a chunk stamped further than this from where its samples put it (the chunk before's "
             "stamp + the samples between / rate) is a clock step: named, and the strikes near "
             "it flagged"),
+    [AF_SETTING_AUDIO_LAG_LEARN] =
+        BOOLEAN("audio_lag_learn", "true", S,
+                "align each strike's audio window by the median audio lag (the sound's onset by "
+                "the audio's stamps minus the contact start by the force's) once it is stable"),
+    [AF_SETTING_AUDIO_LAG_MAX_S] =
+        NUM("audio_lag_max_s", "0.25", "[0.005, 1] s", S,
+            "the audio lag is searched within this of the contact start (at most half the time "
+            "since the strike before)"),
     [AF_SETTING_APPLE_TRANSIT_TOLERANCE_S] =
         NUM("apple_transit_tolerance_s", "0.04", "[0.0001, 60] s", S,
             "how far a strike may lie from its estimate's stamp + apple_transit_s; keep it "
