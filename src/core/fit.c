@@ -303,8 +303,9 @@ static af_status fit_alloc_buffers(af_fit *w)
   w->jac_n = malloc(AF_FIT_MAX_PARAMS * w->cfg.max_samples * sizeof *w->jac_n);
   w->check_n = malloc(w->cfg.max_samples * sizeof *w->check_n);
   w->res_n = malloc(w->cfg.max_samples * sizeof *w->res_n);
+  w->final_res_n = malloc(w->cfg.max_samples * sizeof *w->final_res_n);
   return w->model_n && w->probe_n && w->base_at_n && w->base_slope_n_s && w->jac_n && w->check_n &&
-                 w->res_n
+                 w->res_n && w->final_res_n
              ? AF_OK
              : AF_ENOMEM;
 }
@@ -346,6 +347,7 @@ void af_fit_destroy(af_fit *w)
   if (w == NULL)
     return;
   af_impact_destroy(w->impact);
+  free(w->final_res_n);
   free(w->res_n);
   free(w->check_n);
   free(w->jac_n);
@@ -628,8 +630,11 @@ static af_status fit_report(af_fit *w, af_fit_result *out)
     out->peak_force_n = w->base_res.peak_force_n;
   }
   double ss = 0.0;
-  for (size_t k = 0; k < w->n; k++)
-    ss += (model_at_n[k] - w->pulse_n[k]) * (model_at_n[k] - w->pulse_n[k]);
+  for (size_t k = 0; k < w->n; k++) {
+    w->final_res_n[k] = w->pulse_n[k] - model_at_n[k];
+    ss += w->final_res_n[k] * w->final_res_n[k];
+  }
+  w->final_n = w->n;
   out->residual_rms_n = sqrt(ss / (double)w->n);
   out->relative_residual = out->residual_rms_n / w->peak_n;
 
@@ -730,6 +735,8 @@ af_status af_fit_execute(af_fit *w, const af_impact_params *start, const double 
   if (out == NULL)
     return AF_EINVAL;
   fit_result_clear(out);
+  if (w != NULL)
+    w->final_n = 0;
   af_status st = fit_check(w, start, pulse_n, n, dt_s, t0_s);
   if (st != AF_OK)
     return fit_finish(out, st, NULL);
@@ -749,9 +756,19 @@ af_status af_fit_execute(af_fit *w, const af_impact_params *start, const double 
     fit_result_clear(out);
     out->path = path;
     out->check_shift = shift;
+    w->final_n = 0;
   }
   st = fit_search(w, false, out, NULL);
   return fit_finish(out, st, w);
+}
+
+af_status af_fit_get_residual(const af_fit *w, const double **residual_n, size_t *n)
+{
+  if (w == NULL || residual_n == NULL || n == NULL)
+    return AF_EINVAL;
+  *residual_n = w->final_n > 0 ? w->final_res_n : NULL;
+  *n = w->final_n;
+  return w->final_n > 0 ? AF_OK : AF_ENODATA;
 }
 
 void af_fit_counts(const af_fit *w, size_t *from_table, size_t *fallbacks)

@@ -189,6 +189,16 @@ typedef struct {
 af_status af_fit_execute(af_fit *f, const af_impact_params *start, const double *pulse_n, size_t n,
                          double dt_s, double t0_s, af_fit_result *out);
 
+/* The residual of the last af_fit_execute at the parameters it reported,
+ * pulse_k - model_k [N] for k = 0 .. n-1 (the samples residual_rms_n
+ * summarises): a clean strike leaves white noise, a pulse the model does not
+ * describe (a hammer bounce inside the contact) a structure. *residual_n is
+ * borrowed: valid until the next af_fit_execute or af_fit_destroy.
+ * AF_EINVAL for a NULL argument; AF_ENODATA (NULL, 0) when the last call
+ * left no final model (refused before the search, or the model failed at
+ * its end). No allocation. */
+af_status af_fit_get_residual(const af_fit *f, const double **residual_n, size_t *n);
+
 /* Fits of f since create that the table answered, and that fell back to the
  * ODE fit (AF_FIT_PATH_FALLBACK_*); fits refused before any search (AF_EINVAL,
  * AF_ESIZE from the checks, AF_ENODATA without a peak) count in neither. */

@@ -51,6 +51,8 @@ struct af_fit {
   double *check_n;                     /* the ODE model at k dt - t0, the check [N] */
   double tc_grad_s[AF_FIT_MAX_PARAMS]; /* d t_c / d x_j at the base [s] */
   size_t from_table, fallbacks;        /* af_fit_counts */
+  double *final_res_n;                 /* pulse - model at the reported point [N] ... */
+  size_t final_n;                      /* ... its length; 0: no final model (af_fit_get_residual) */
 
   /* The problem of the current af_fit_execute call. */
   af_impact_params start; /* damping overridden by cfg */

@@ -27,11 +27,38 @@
  * response needs f_hi < Nyquist, and a microphone's anti-alias filter has
  * eaten the last few per cent anyway. */
 #define AF_MEASURE_NYQUIST_FRACTION 0.98
+/* A hammer bounce inside the contact: a second touch 0.2-0.3 ms after the
+ * first, at 15-20 % of it, leaves the fit a residual that is smooth over the
+ * contact, where a clean strike leaves white noise. The residual is averaged
+ * over AF_MEASURE_BOUNCE_WINDOW_S (9 samples at 50 kHz, at least 3); the mean
+ * square of that average against white noise's (the detector's noise RMS
+ * squared over the window) and its RMS against the peak are the figures.
+ * Two stages, both needed:
+ *  - the fit with the rig's v0 (every strike, O(n)): a bounce leaves 45 x
+ *    and 2 % of the peak and more; but so does a clean strike whose hammer
+ *    ran 5 % off the set v0 (11 x, 1.1 % at 40 dB; 1200 x at 60 dB);
+ *  - then, only past both limits, a fit with v0 free (one more fit): a
+ *    clean strike at any v0 leaves noise (1.6 x at most, 0.4 % of the peak
+ *    at 40 dB; 4.6 x but 0.02 % at 80 dB), a second touch of its own shape
+ *    (sin^1.5 over 0.4 ms) 6.9 x and 1.0 % of the peak and more.
+ * A bounce that is a scaled copy of the first pulse is a Hertz pulse of
+ * another v0, E2 and e to the fit with v0 free (its residual is noise): it
+ * is not seen here (its impulse reads a v0 10-20 % high). Measured in
+ * test_bounce.c and with E2 4-12 MPa, e 0.4-0.8, 40-80 dB. */
+#define AF_MEASURE_BOUNCE_WINDOW_S 0.18e-3
+#define AF_MEASURE_BOUNCE_MIN_WINDOW 3
+#define AF_MEASURE_BOUNCE_RIG_RATIO 8.0    /* stage 1: x white noise's mean square */
+#define AF_MEASURE_BOUNCE_FREE_RATIO 4.0   /* stage 2 */
+#define AF_MEASURE_BOUNCE_PEAK_RATIO 0.005 /* both: the smoothed residual's RMS / peak */
+/* Fewer than this many windows in the pulse: too short to tell a bounce
+ * from the pulse's own shape (the 9-sample pulses of a steel tip). */
+#define AF_MEASURE_BOUNCE_MIN_WINDOWS 4
 
 struct af_measure {
   af_measure_config cfg;
   af_spectrum *spectrum;
   af_fit *fit;
+  af_fit *shape_fit; /* the same fit with v0 free: the bounce test's second stage */
   af_response *response;
   size_t window_samples; /* audio analysed at most [samples] */
   size_t noise_samples;  /* noise reference used at most [samples] */
@@ -50,8 +77,11 @@ struct af_measure {
 typedef struct {
   af_status band_status; /* af_strike_measure_band */
   af_lobe band;
-  af_status fit_status;   /* af_fit_execute */
-  double fit_residual;    /* relative residual, NaN when the fit did not run */
+  af_status fit_status; /* af_fit_execute */
+  double fit_residual;  /* relative residual, NaN when the fit did not run */
+  bool bounce;          /* the fit's residual is structured: a second impact inside the
+                           contact */
+  double bounce_noise_ratio, bounce_peak_ratio; /* its figures (af_verdict's), NaN untested */
   af_status audio_status; /* af_response_execute; AF_ENODATA also for no audio */
   size_t n_audio;
   double f_lo_hz, f_hi_hz; /* searched 0S2 range */
@@ -150,6 +180,10 @@ af_status af_measure_create(const af_measure_config *cfg, af_measure **out)
   af_shear_cache_reset(&m->shear);
   af_sphere_modes_cache_reset(&m->sphere);
   af_status st = af_fit_create(&cfg->fit, &m->fit);
+  af_fit_config shape = cfg->fit;
+  shape.fit_velocity = true;
+  if (st == AF_OK)
+    st = af_fit_create(&shape, &m->shape_fit);
   if (st == AF_OK)
     st = measure_spectrum_create(cfg->fit.max_samples, &m->spectrum);
   if (st == AF_OK)
@@ -168,6 +202,7 @@ void af_measure_destroy(af_measure *m)
     return;
   af_spectrum_destroy(m->spectrum);
   af_fit_destroy(m->fit);
+  af_fit_destroy(m->shape_fit);
   af_response_destroy(m->response);
   free(m);
 }
@@ -233,6 +268,63 @@ static void step_band(af_measure *m, const af_strike_event *ev, af_band_level le
   out->band_high_hz = s->band.band_high_hz;
 }
 
+/* The smoothed residual of fit f (AF_MEASURE_BOUNCE_WINDOW_S), as mean
+ * square against white noise's (*noise_ratio) and RMS against the peak
+ * (*peak_ratio): a running sum, O(n), no buffer. False when f left no
+ * residual or the pulse is too short for the test. */
+static bool residual_structure(const af_fit *f, const af_strike_event *ev, double *noise_ratio,
+                               double *peak_ratio)
+{
+  const double *r = NULL;
+  size_t n = 0;
+  if (af_fit_get_residual(f, &r, &n) != AF_OK || !(ev->peak_force_n > 0.0))
+    return false;
+  size_t w = (size_t)lround(AF_MEASURE_BOUNCE_WINDOW_S / ev->dt_s);
+  w = w < AF_MEASURE_BOUNCE_MIN_WINDOW ? AF_MEASURE_BOUNCE_MIN_WINDOW : w;
+  if (n < AF_MEASURE_BOUNCE_MIN_WINDOWS * w)
+    return false;
+  double sum = 0.0, ms = 0.0; /* the window's sum; the mean square of its mean [N^2] */
+  for (size_t k = 0; k < n; k++) {
+    sum += r[k] - (k >= w ? r[k - w] : 0.0);
+    if (k + 1 >= w)
+      ms += (sum / (double)w) * (sum / (double)w);
+  }
+  ms /= (double)(n + 1 - w);
+  const double noise_ms = ev->noise_rms_n * ev->noise_rms_n / (double)w;
+  *noise_ratio = noise_ms > 0.0 ? ms / noise_ms : INFINITY;
+  *peak_ratio = sqrt(ms) / ev->peak_force_n;
+  return true;
+}
+
+/* The bounce test's two stages (AF_MEASURE_BOUNCE_WINDOW_S): the figures
+ * are the last stage run's, NaN when the pulse is too short. */
+static void step_bounce(af_measure *m, const af_strike_event *ev, const af_impact_params *start,
+                        af_measure_steps *s)
+{
+  double rig = NAN, peak = NAN;
+  /* A clipped, cut or holed pulse is not a Hertz pulse either, and has its
+   * own flag: a bounce would only hide the clearer reason. */
+  if (ev->clipped || ev->truncated || ev->lost_samples > 0 ||
+      !residual_structure(m->fit, ev, &rig, &peak))
+    return;
+  s->bounce_noise_ratio = rig;
+  s->bounce_peak_ratio = peak;
+  if (rig < AF_MEASURE_BOUNCE_RIG_RATIO || peak < AF_MEASURE_BOUNCE_PEAK_RATIO)
+    return;
+  const af_fit *f = m->fit;
+  if (!m->cfg.fit.fit_velocity) { /* else the rig's fit had v0 free already */
+    af_fit_result r;
+    if (af_fit_execute(m->shape_fit, start, ev->pulse_n, ev->n_samples, ev->dt_s, ev->pulse_t0_s,
+                       &r) != AF_OK)
+      return;
+    f = m->shape_fit;
+  }
+  if (!residual_structure(f, ev, &s->bounce_noise_ratio, &s->bounce_peak_ratio))
+    return;
+  s->bounce = s->bounce_noise_ratio >= AF_MEASURE_BOUNCE_FREE_RATIO &&
+              s->bounce_peak_ratio >= AF_MEASURE_BOUNCE_PEAK_RATIO;
+}
+
 /* E2 and e (v0 when configured free, t0) from the prediction's nominal
  * apple. The start's e must lie inside the fit's open range: an elastic
  * (e = 1) prediction starts just below it. */
@@ -250,6 +342,8 @@ static void step_fit(af_measure *m, const af_strike_event *ev, const af_measure_
   out->fit_residual = s->fit_residual;
   if (s->fit_status != AF_OK)
     return;
+  step_bounce(m, ev, &start, s);
+  out->double_hit |= s->bounce;
   out->fitted_modulus_pa = r.modulus_pa;
   out->fitted_modulus_se_pa = r.modulus_se_pa;
   out->fitted_restitution = r.restitution;
@@ -424,6 +518,10 @@ static void verdict_clean(const af_strike_event *ev, const af_measure_steps *s, 
               (ev->clipped ? AF_VERDICT_CLIPPED : 0u) |
               (ev->lost_samples > 0 ? AF_VERDICT_LOST_SAMPLES : 0u) |
               (ev->truncated ? AF_VERDICT_TRUNCATED : 0u);
+  v->flags |= s->bounce ? AF_VERDICT_DOUBLE_HIT : 0u;
+  v->bounce_inside = s->bounce;
+  v->bounce_noise_ratio = s->bounce_noise_ratio;
+  v->bounce_peak_ratio = s->bounce_peak_ratio;
   v->lost_samples = ev->lost_samples;
   v->spectrum_status = s->band_status;
   if (s->band_status != AF_OK && s->band_status != AF_ENOLOBE)
@@ -527,7 +625,12 @@ af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
   if (m == NULL || ev == NULL || apple == NULL || out == NULL || (audio == NULL && n_audio > 0) ||
       !(isfinite(ev->dt_s) && ev->dt_s > 0.0) || !apple_valid(apple))
     return AF_EINVAL;
-  af_measure_steps s = {.band_status = AF_OK, .fit_residual = NAN, .f_lo_hz = NAN, .f_hi_hz = NAN};
+  af_measure_steps s = {.band_status = AF_OK,
+                        .fit_residual = NAN,
+                        .bounce_noise_ratio = NAN,
+                        .bounce_peak_ratio = NAN,
+                        .f_lo_hz = NAN,
+                        .f_hi_hz = NAN};
   const af_stage_hook *h = m->cfg.stages;
   report_start(ev, apple->model.lobe, out);
   int64_t t0_ns = af_stage_begin(h);

@@ -19,7 +19,9 @@
  *                   no_damage: tau_max from the measured peak force and the
  *                   fitted E2 (elastic Hertz contact radius), below the yield
  *                   stress of the fitted E2; reliable = both and a clean
- *                   strike (no double hit, clipping, lost samples, failed fit,
+ *                   strike (no double hit: a bounce after the contact, or a
+ *                   second impact inside it, seen as a structured residual of
+ *                   the fit; no clipping, lost samples, failed fit,
  *                   or resonance below the SNR threshold), with the reason.
  *
  * Create once (all workspaces), then af_measure_execute per strike: no
@@ -97,7 +99,9 @@ typedef struct {
   double fitted_modulus_se_pa, fitted_restitution_se;
   double fitted_velocity_m_s; /* v0 of the fit when measure_fit_velocity frees it; NaN when
                                  the rig sets it or the fit failed [m/s] */
-  bool double_hit, clipped;
+  bool double_hit; /* the detector's bounce after the contact, or one inside it: the fit's
+                      residual structured (verdict.bounce_noise_ratio, measure.c) */
+  bool clipped;
   uint32_t lost_samples;
   bool audio_clipped; /* the microphone saturated in the audio window (the lane's audio_clip.h) */
   double audio_lag_s; /* the sound's onset by the audio's stamps minus the contact start (the
