@@ -8,9 +8,37 @@
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 static const char *g_tool = "af";
+
+/* The cause of a write error that stdio did not keep: a large write goes
+ * past the buffer straight to the descriptor, and when it fails its data is
+ * dropped, so the final flush has nothing left to fail on. Told from what
+ * the descriptor is: a regular file at the file-size limit (EFBIG) or on a
+ * full filesystem (ENOSPC), or /dev/full (ENOSPC). 0 when none fits. */
+static int diagnose(int fd)
+{
+  struct stat st;
+  if (fd < 0 || fstat(fd, &st) != 0)
+    return EBADF;
+  if (S_ISCHR(st.st_mode) && major(st.st_rdev) == 1 && minor(st.st_rdev) == 7)
+    return ENOSPC; /* /dev/full */
+  if (!S_ISREG(st.st_mode))
+    return 0;
+  struct rlimit lim;
+  if (getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY &&
+      (rlim_t)st.st_size >= lim.rlim_cur)
+    return EFBIG;
+  struct statvfs fs;
+  if (fstatvfs(fd, &fs) == 0 && fs.f_bavail == 0)
+    return ENOSPC;
+  return 0;
+}
 
 /* Flushes and closes f; the cause of the first failure in *err (0 when
  * stdio kept no errno: an earlier write failed and its data was dropped). */
@@ -21,8 +49,11 @@ static bool close_checked(FILE *f, int *err)
   errno = 0;
   bool ok = fflush(f) == 0;
   *err = ok ? 0 : errno;
-  if (ferror(f))
+  if (ferror(f)) {
     ok = false;
+    if (*err == 0)
+      *err = diagnose(fileno(f));
+  }
   errno = 0;
   if (fclose(f) != 0 && ok) {
     ok = false;
