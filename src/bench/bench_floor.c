@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "closeout.h"
 #include "af_msgs.h"
 #include "af_ros.h"
 #include "af_tf.h"
@@ -54,6 +55,7 @@ static af_status setup(af_ros *ros, af_tf **tf, unsigned long long n[3], const c
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("af_bench_floor");
   af_ros *ros = NULL;
   af_tf *tf = NULL;
   unsigned long long n[3] = {0, 0, 0}; /* force, audio, apple messages taken */

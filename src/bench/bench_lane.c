@@ -21,6 +21,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "closeout.h"
 #include "fastpath.h"
 #include "fit.h"
 #include "impact.h"
@@ -188,6 +189,7 @@ static int parse_runs(int argc, char **argv, size_t *runs)
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("af_bench_lane");
   size_t runs;
   int code = parse_runs(argc, argv, &runs);
   if (code != 0)

@@ -20,6 +20,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "closeout.h"
 #include "modes.h"
 #include "response.h"
 
@@ -50,6 +51,7 @@ static int usage(const char *msg)
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("af_bench_response");
   long repeat = 5;
   if (argc != 3 && argc != 5)
     return usage("two files and optionally --repeat N");

@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "closeout.h"
 #include "af_bag.h"
 #include "apple_csv.h"
 #include "options.h"
@@ -387,6 +388,11 @@ static int c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_apple 
     return st == AF_EIO ? AF_C2B_EXIT_USAGE : 1;
   }
   st = c2b_merge(bag, s, apples, n_apples, apple_topic, a);
+  if (st == AF_EIO) { /* the file failed (a full disk): the close removes the partial bag */
+    (void)af_bag_close(bag);
+    fprintf(stderr, "capture_to_bag: cannot write %s\n", af_bag_last_error(NULL));
+    return 1;
+  }
   if (st != AF_OK) {
     fprintf(stderr, "capture_to_bag: writing %s: %s (%s)\n", a->out, af_strerror(st),
             af_bag_last_error(bag));
@@ -394,7 +400,7 @@ static int c2b_write(const af_c2b_args *a, af_c2b_stream *s, const af_csv_apple 
     return 1;
   }
   if (af_bag_close(bag) != AF_OK) {
-    fprintf(stderr, "capture_to_bag: closing %s: %s\n", a->out, af_bag_last_error(NULL));
+    fprintf(stderr, "capture_to_bag: cannot write %s\n", af_bag_last_error(NULL));
     return 1;
   }
   return 0;
@@ -505,6 +511,7 @@ static int c2b_run(const af_c2b_args *a, af_c2b_stream *s)
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("capture_to_bag");
   if (!af_options_args_plain("capture_to_bag", argc, argv))
     return 2;
   if (af_options_want_help(argc, argv, 1)) {

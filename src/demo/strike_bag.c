@@ -4,6 +4,7 @@
  *   strike_bag --strikes N --out FILE [--seed S] [--truth FILE] [--ns NAME]
  *              [--spacing S] [--velocity-drift X] [--modulus-factor F]
  *              [--modulus-factor-spread S] [--unreliable-fraction P] [--tap-only]
+ *              [--max-size GB]
  *                                     (flags: the table `options`; --help)
  *
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
@@ -58,9 +59,22 @@
  * the audio and the apples as above (the node and firmness_report then run
  * with tap_only true).
  *
+ * Size: before anything is written, the bag's size (1024-sample chunks of
+ * 4 bytes a sample, plus rosbag's records) and the tool's peak memory are
+ * estimated; a bag above --max-size (default 16 GB) or above the free space
+ * of the output's folder is refused with one line giving the estimate and
+ * the limit. The strikes are drawn twice from the seed (the truth and the
+ * smallest peak, then the bag), each pulse held only while its chunks are
+ * made: memory does not grow with --strikes (only rosbag's chunk index
+ * does, by some 3 bytes a message). A write that fails (a full disk, a
+ * file-size limit) ends the tool with one line and exit 1, the partial bag
+ * removed.
+ *
  * Seeded (af_synth_rng, splitmix64): the same seed gives the same bag on
  * every machine. Exit 0, 2 on bad arguments, 1 on failure. */
+#define _POSIX_C_SOURCE 200809L /* statvfs, dirname */
 #include <errno.h>
+#include <libgen.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -68,7 +82,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/statvfs.h>
 
+#include "closeout.h"
 #include "af_bag.h"
 #include "impact.h"
 #include "model_table.h"
@@ -148,6 +164,7 @@ typedef struct {
   double unreliable_fraction; /* share of clipped strikes [-] */
   double factor_spread;       /* relative SD (log) of the factor between apples [-] */
   bool tap_only;              /* --tap-only: no force topic */
+  double max_size_gb;         /* --max-size: the largest bag written [GB] */
 } args;
 
 #define STRIKES_MAX 100000    /* strikes in one bag */
@@ -157,9 +174,12 @@ typedef struct {
 #define UNRELIABLE_MAX 0.9    /* share of clipped strikes */
 #define FACTOR_SPREAD_MAX 0.3 /* relative SD of the factor between apples */
 #define CLIP_OVERDRIVE 1.25   /* a clipped strike's peak / strike_full_scale_n */
+#define MAX_SIZE_GB 16        /* --max-size default: 100000 strikes at 0.5 s are 20 GB [GB] */
+#define MAX_SIZE_CAP_GB 1e6   /* --max-size at most [GB] */
 
 /* The defaults the parser starts from; --strikes and --out are required. */
-static const args args_defaults = {0, NULL, NULL, "lane1", 1, 0.5, 0.0, 1.0, 0.0, 0.0, false};
+static const args args_defaults = {0,   NULL, NULL, "lane1", 1,     0.5,
+                                   0.0, 1.0,  0.0,  0.0,     false, MAX_SIZE_GB};
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
@@ -193,6 +213,10 @@ static const af_option options[] = {
      "0: none clipped"},
     {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1,
      "a microphone-only rig: no force topic (audio and apples only)", NULL},
+    {"--max-size", "GB", AF_OPTION_NUMBER, AF_ARG(max_size_gb), -1,
+     "refuse, before writing, a bag estimated above this size or the free disk space, in (0, "
+     "1e6] [GB]",
+     NULL},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -270,6 +294,10 @@ static int parse(int argc, char **argv, args *a)
       if (errno || *end || !(a->factor_spread >= 0.0 && a->factor_spread <= FACTOR_SPREAD_MAX))
         return usage(
             "--modulus-factor-spread must be in [0, " AF_OPTION_STR(FACTOR_SPREAD_MAX) "], got", v);
+    } else if (strcmp(flag, "--max-size") == 0) {
+      a->max_size_gb = strtod(v, &end);
+      if (errno || *end || end == v || !(a->max_size_gb > 0.0 && a->max_size_gb <= MAX_SIZE_CAP_GB))
+        return usage("--max-size must be in (0, 1e6] GB, got", v);
     } else if (strcmp(flag, "--unreliable-fraction") == 0) {
       a->unreliable_fraction = strtod(v, &end);
       if (errno || *end ||
@@ -358,50 +386,216 @@ static int fail(const char *what, af_status st)
   return 1;
 }
 
-/* Draws the strikes and runs the model for each; *min_peak_n: the smallest peak. */
-static int make_strikes(const args *a, const station *st, af_impact *w, double *fine, strike *s,
-                        size_t n, double *min_peak_n)
-{
-  const af_lane_config *c = &st->lane;
-  const af_impact_params nominal = st->model.impact;
-  const double xi = c->resonance_xi, density = st->model.fruit_density_kg_m3;
+/* The strikes, drawn in order from the seed. Drawn twice with the same
+ * streams, so that nothing of the whole bag is held: first for the truth
+ * CSV and the smallest peak (which sets the force noise of every chunk),
+ * then again while the bag is written, each strike's pulse kept only while
+ * chunks it reaches are being made. The model is deterministic: both passes
+ * give the same strikes, bit for bit. */
+typedef struct {
+  const args *a;
+  const station *st;
+  af_impact *w;
+  double *fine; /* the model's scratch: FINE_CAP fine steps */
   af_synth_rng g, clip;
-  af_synth_rng_seed(&g, a->seed);
-  af_synth_rng_seed(&clip, a->seed ^ 0x636c6970u); /* "clip": its own stream */
-  *min_peak_n = INFINITY;
-  for (size_t k = 0; k < n; k++) {
-    strike *sk = &s[k];
-    sk->modulus_pa =
-        c->modulus_min_pa + (c->modulus_max_pa - c->modulus_min_pa) * af_synth_uniform(&g);
-    sk->mass_kg = c->mass_min_kg + (c->mass_max_kg - c->mass_min_kg) * af_synth_uniform(&g);
-    sk->radius_m = af_lamb_sphere_radius_m(sk->mass_kg, density);
-    /* sub-sample offsets */
-    sk->t_s = LEAD_IN_S + (double)k * a->spacing_s + 1e-3 * af_synth_uniform(&g);
-    sk->modulus_factor = a->modulus_factor * exp(a->factor_spread * af_synth_gauss(&clip));
-    sk->resonance_hz = af_lamb_frequency_hz(xi, sk->modulus_factor * sk->modulus_pa,
-                                            nominal.fruit_poisson, density, sk->mass_kg);
-    sk->clipped = af_synth_uniform(&clip) < a->unreliable_fraction;
-    sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
-    const double ramp = n > 1 ? (double)k / (double)(n - 1) : 0.0;
-    sk->velocity_m_s = nominal.velocity_m_s * (1.0 + a->velocity_drift * ramp);
-    af_impact_params p = impact_for(st, sk);
-    af_status rc = af_synth_pulse_rk4(w, &p, fine_dt_s(st), fine, FINE_CAP, &sk->pulse);
-    if (rc != AF_OK)
-      return fail("impact model", rc);
+  size_t n;     /* strikes in the bag */
+  size_t drawn; /* strikes drawn so far */
+} strike_source;
+
+static void source_start(strike_source *src, const args *a, const station *st, af_impact *w,
+                         double *fine)
+{
+  src->a = a;
+  src->st = st;
+  src->w = w;
+  src->fine = fine;
+  src->n = (size_t)a->strikes;
+  src->drawn = 0;
+  af_synth_rng_seed(&src->g, a->seed);
+  af_synth_rng_seed(&src->clip, a->seed ^ 0x636c6970u); /* "clip": its own stream */
+}
+
+/* Draws the next strike into *sk and runs the model for it; its pulse is in
+ * the shared scratch (sk->pulse.force_n = src->fine) until the next draw. */
+static int source_next(strike_source *src, strike *sk)
+{
+  const af_lane_config *c = &src->st->lane;
+  const af_impact_params nominal = src->st->model.impact;
+  const double xi = c->resonance_xi, density = src->st->model.fruit_density_kg_m3;
+  const size_t k = src->drawn++, n = src->n;
+  memset(sk, 0, sizeof *sk);
+  sk->modulus_pa =
+      c->modulus_min_pa + (c->modulus_max_pa - c->modulus_min_pa) * af_synth_uniform(&src->g);
+  sk->mass_kg = c->mass_min_kg + (c->mass_max_kg - c->mass_min_kg) * af_synth_uniform(&src->g);
+  sk->radius_m = af_lamb_sphere_radius_m(sk->mass_kg, density);
+  /* sub-sample offsets */
+  sk->t_s = LEAD_IN_S + (double)k * src->a->spacing_s + 1e-3 * af_synth_uniform(&src->g);
+  sk->modulus_factor =
+      src->a->modulus_factor * exp(src->a->factor_spread * af_synth_gauss(&src->clip));
+  sk->resonance_hz = af_lamb_frequency_hz(xi, sk->modulus_factor * sk->modulus_pa,
+                                          nominal.fruit_poisson, density, sk->mass_kg);
+  sk->clipped = af_synth_uniform(&src->clip) < src->a->unreliable_fraction;
+  sk->tau_s = MODE_Q / (M_PI * sk->resonance_hz);
+  const double ramp = n > 1 ? (double)k / (double)(n - 1) : 0.0;
+  sk->velocity_m_s = nominal.velocity_m_s * (1.0 + src->a->velocity_drift * ramp);
+  af_impact_params p = impact_for(src->st, sk);
+  af_status rc =
+      af_synth_pulse_rk4(src->w, &p, fine_dt_s(src->st), src->fine, FINE_CAP, &sk->pulse);
+  if (rc != AF_OK)
+    return fail("impact model", rc);
+  sk->force_gain =
+      sk->clipped ? CLIP_OVERDRIVE * c->measured.strike.full_scale_n / sk->pulse.res.peak_force_n
+                  : 1.0;
+  return 0;
+}
+
+/* The strikes whose chunks are being written, in order: strike lo + i in
+ * s[i], each owning a copy of its pulse. At least 0.1 s apart, and a strike
+ * is kept from its AppleEstimate (0.2 s ahead) to the end of its audio
+ * (0.5 s): about ten at most. */
+#define WINDOW_MAX 64
+typedef struct {
+  strike s[WINDOW_MAX];
+  size_t lo, len;
+} strike_window;
+
+/* Draws strikes into w until strike `index` is in it and the last one
+ * drawn starts at or after until_s (or every strike is drawn). */
+static int window_fill(strike_window *w, strike_source *src, size_t index, double until_s)
+{
+  while (src->drawn < src->n &&
+         (src->drawn <= index || w->len == 0 || w->s[w->len - 1].t_s < until_s)) {
+    if (w->len == WINDOW_MAX)
+      return fail("more strikes in flight than the window holds", AF_ESIZE);
+    strike *sk = &w->s[w->len];
+    int rc = source_next(src, sk);
+    if (rc != 0)
+      return rc;
     sk->force_n = malloc((sk->pulse.n + 1) * sizeof *sk->force_n);
     if (!sk->force_n)
       return fail("pulse", AF_ENOMEM);
-    memcpy(sk->force_n, fine, sk->pulse.n * sizeof *fine);
+    memcpy(sk->force_n, src->fine, sk->pulse.n * sizeof *src->fine);
     sk->pulse.force_n = sk->force_n; /* off the shared scratch buffer */
-    *min_peak_n = fmin(*min_peak_n, sk->pulse.res.peak_force_n);
-    sk->force_gain =
-        sk->clipped ? CLIP_OVERDRIVE * c->measured.strike.full_scale_n / sk->pulse.res.peak_force_n
-                    : 1.0;
+    w->len++;
   }
   return 0;
 }
 
-static int write_truth(const char *path, const strike *s, size_t n)
+/* Drops the strikes at the front that no chunk and no estimate still to be
+ * written reaches: their AppleEstimate written, and ended (contact, audio
+ * ring) before the next chunk of each stream starts. */
+static void window_drop(strike_window *w, size_t next_apple, bool force_stream, double force_next_s,
+                        double audio_next_s)
+{
+  size_t k = 0;
+  while (k < w->len && w->lo + k < next_apple &&
+         (!force_stream || w->s[k].t_s + w->s[k].pulse.res.contact_time_s <= force_next_s) &&
+         w->s[k].t_s + 0.5 <= audio_next_s) {
+    free(w->s[k].force_n);
+    k++;
+  }
+  if (k > 0) {
+    memmove(w->s, w->s + k, (w->len - k) * sizeof w->s[0]);
+    w->len -= k;
+    w->lo += k;
+  }
+}
+
+static void window_free(strike_window *w)
+{
+  for (size_t k = 0; k < w->len; k++)
+    free(w->s[k].force_n);
+  w->len = 0;
+}
+
+/* ---- the size, before anything is written ---------------------------------------- */
+
+/* What one message costs in the bag beyond its samples: the SignalChunk's
+ * other fields, rosbag's record header and its index entry (a bag of 200
+ * strikes: 4215 bytes per 1024-sample chunk) [bytes]. */
+#define MSG_OVERHEAD_BYTES 120.0
+#define APPLE_MSG_BYTES 300.0 /* an AppleEstimate with its record and index entry [bytes] */
+#define TRUTH_ROW_BYTES 120.0 /* a row of the truth CSV [bytes] */
+/* Memory: the tool's own (the libraries, the model's scratch, the strike
+ * window, rosbag's chunk buffer), whatever the bag; and rosbag's index of
+ * its chunks, kept until the bag is closed: a ChunkInfo per 768 kB chunk,
+ * some 3 bytes per message (measured: 20 MB peak for 2,000 strikes, 35 MB
+ * for 100,000) [bytes]. */
+#define BASE_MEMORY_BYTES 20e6
+#define INDEX_BYTES_PER_MSG 4.0
+
+typedef struct {
+  double messages;     /* SignalChunks and AppleEstimates [-] */
+  double bytes;        /* the bag and the truth CSV [bytes] */
+  double memory_bytes; /* peak resident memory [bytes] */
+} size_estimate;
+
+static size_estimate estimate(const args *a, const station *st)
+{
+  const double strikes = (double)a->strikes;
+  const double duration_s = LEAD_IN_S + strikes * a->spacing_s + TAIL_S;
+  double chunks = floor(duration_s * st->lane.audio.sample_rate_hz / CHUNK);
+  if (!a->tap_only)
+    chunks += floor(duration_s * st->lane.force.sample_rate_hz / CHUNK);
+  size_estimate e;
+  e.messages = chunks + strikes;
+  e.bytes = chunks * (CHUNK * sizeof(float) + MSG_OVERHEAD_BYTES) +
+            strikes * (APPLE_MSG_BYTES + TRUTH_ROW_BYTES);
+  e.memory_bytes = BASE_MEMORY_BYTES + e.messages * INDEX_BYTES_PER_MSG;
+  return e;
+}
+
+/* bytes as "2.4 TB", "812 MB" (decimal units, as df -H). */
+static void human(double bytes, char *buf, size_t len)
+{
+  static const char *const unit[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+  size_t k = 0;
+  while (bytes >= 1000.0 && k + 1 < sizeof unit / sizeof unit[0]) {
+    bytes /= 1000.0;
+    k++;
+  }
+  snprintf(buf, len, "%.*f %s", bytes < 10.0 && k > 0 ? 1 : 0, bytes, unit[k]);
+}
+
+/* Refuses (exit 1, one line) a bag estimated above --max-size or the free
+ * space of the folder it goes to: a refusal costs nothing, a bag cut by a
+ * full disk costs the time spent on it and the disk of everyone else. */
+static int check_size(const args *a, const station *st)
+{
+  const size_estimate e = estimate(a, st);
+  char size[32], mem[32], cap[32];
+  human(e.bytes, size, sizeof size);
+  human(e.memory_bytes, mem, sizeof mem);
+  human(a->max_size_gb * 1e9, cap, sizeof cap);
+  if (e.bytes > a->max_size_gb * 1e9) {
+    fprintf(stderr,
+            "strike_bag: refused: %ld strikes %g s apart make about %s (%.3g messages; about %s "
+            "of memory), above the --max-size cap of %s\n",
+            a->strikes, a->spacing_s, size, e.messages, mem, cap);
+    return 1;
+  }
+  char dir[4096];
+  snprintf(dir, sizeof dir, "%s", a->out);
+  const char *folder = dirname(dir);
+  struct statvfs fs;
+  if (statvfs(folder, &fs) != 0) /* no such folder: the open says so, naming it */
+    return 0;
+  const double free_bytes = (double)fs.f_bavail * (double)fs.f_frsize;
+  if (e.bytes > free_bytes) {
+    char avail[32];
+    human(free_bytes, avail, sizeof avail);
+    fprintf(stderr,
+            "strike_bag: refused: %ld strikes %g s apart make about %s (about %s of memory), "
+            "above the %s free in %s\n",
+            a->strikes, a->spacing_s, size, mem, avail, folder);
+    return 1;
+  }
+  return 0;
+}
+
+/* The first pass: every strike drawn once, its truth row written;
+ * *min_peak_n: the smallest peak of the bag. */
+static int write_truth(const char *path, strike_source *src, double *min_peak_n)
 {
   FILE *tf = fopen(path, "w");
   if (!tf) {
@@ -410,23 +604,33 @@ static int write_truth(const char *path, const strike *s, size_t n)
   }
   fprintf(tf, "apple_id,modulus_pa,mass_kg,resonance_hz,contact_time_s,peak_force_n,"
               "contact_start_s,velocity_m_s,modulus_factor,clipped\n");
-  for (size_t k = 0; k < n; k++)
-    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f,%.6f,%.6f,%d\n", k + 1, s[k].modulus_pa,
-            s[k].mass_kg, s[k].resonance_hz, s[k].pulse.res.contact_time_s,
-            s[k].pulse.res.peak_force_n, BAG_START_S + s[k].t_s, s[k].velocity_m_s,
-            s[k].modulus_factor, s[k].clipped);
-  if (fclose(tf) != 0) {
-    fprintf(stderr, "strike_bag: cannot write %s\n", path);
-    return 1;
+  *min_peak_n = INFINITY;
+  int rc = 0;
+  for (size_t k = 0; k < src->n && rc == 0 && !ferror(tf); k++) {
+    strike sk;
+    rc = source_next(src, &sk);
+    if (rc != 0)
+      break;
+    *min_peak_n = fmin(*min_peak_n, sk.pulse.res.peak_force_n);
+    fprintf(tf, "%zu,%.6e,%.6f,%.6f,%.9e,%.6f,%.9f,%.6f,%.6f,%d\n", k + 1, sk.modulus_pa,
+            sk.mass_kg, sk.resonance_hz, sk.pulse.res.contact_time_s, sk.pulse.res.peak_force_n,
+            BAG_START_S + sk.t_s, sk.velocity_m_s, sk.modulus_factor, sk.clipped);
   }
-  af_options_wrote(path);
-  return 0;
+  if (af_closeout_file(tf, path) != 0)
+    return 1;
+  if (rc == 0)
+    af_options_wrote(path);
+  return rc;
 }
 
 /* The bag: the three streams merged in bag-time order. */
-static int write_bag(const args *a, const station *sta, const strike *s, size_t n,
-                     double force_noise, double audio_noise, const char *truth_path)
+/* The second pass: the strikes drawn again through a window (src restarted). */
+static int write_bag(const args *a, const station *sta, strike_source *src, double force_noise,
+                     double audio_noise, const char *truth_path)
 {
+  const size_t n = src->n;
+  static strike_window win; /* static: 64 strikes are large for the stack */
+  memset(&win, 0, sizeof win);
   const double force_rate_hz = sta->lane.force.sample_rate_hz;
   const double audio_rate_hz = sta->lane.audio.sample_rate_hz;
   char topic[3][128]; /* force, audio, apple */
@@ -447,13 +651,24 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
   for (;;) {
     double tf_s = (double)(next_force + CHUNK) / force_rate_hz; /* bag time: the last sample */
     double ta_s = (double)(next_audio + CHUNK) / audio_rate_hz;
-    double tp_s = next_apple < n ? s[next_apple].t_s - APPLE_LEAD_S : INFINITY;
+    window_drop(&win, next_apple, !a->tap_only, (double)next_force / force_rate_hz,
+                (double)next_audio / audio_rate_hz);
+    /* Every strike that starts before either next chunk ends, and the next
+     * AppleEstimate's. */
+    if (window_fill(&win, src, next_apple, fmax(tf_s, ta_s)) != 0) {
+      window_free(&win);
+      (void)af_bag_close(bag);
+      return 1;
+    }
+    const strike *s = win.s;
+    const size_t in_window = win.len;
+    double tp_s = next_apple < n ? s[next_apple - win.lo].t_s - APPLE_LEAD_S : INFINITY;
     bool force_due = !a->tap_only && tf_s <= duration_s, audio_due = ta_s <= duration_s;
     if (!force_due && !audio_due && next_apple >= n)
       break;
     af_signal_chunk c;
     if (tp_s <= fmin(force_due ? tf_s : INFINITY, audio_due ? ta_s : INFINITY)) {
-      const strike *sk = &s[next_apple];
+      const strike *sk = &s[next_apple - win.lo];
       af_apple_estimate e;
       memset(&e, 0, sizeof e);
       e.header.stamp = stamp_of(tp_s);
@@ -467,24 +682,34 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
       st = af_bag_write(bag, topic[2], AF_MSG_APPLE_ESTIMATE, &e, e.header.stamp);
       next_apple++;
     } else if (force_due && (!audio_due || tf_s <= ta_s)) {
-      make_chunk(sta, s, n, true, next_force, &gf, force_noise, buf, &c);
+      make_chunk(sta, s, in_window, true, next_force, &gf, force_noise, buf, &c);
       st = af_bag_write(bag, topic[0], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(tf_s));
       next_force += CHUNK;
     } else {
-      make_chunk(sta, s, n, false, next_audio, &ga, audio_noise, buf, &c);
+      make_chunk(sta, s, in_window, false, next_audio, &ga, audio_noise, buf, &c);
       st = af_bag_write(bag, topic[1], AF_MSG_SIGNAL_CHUNK, &c, stamp_of(ta_s));
       next_audio += CHUNK;
+    }
+    if (st == AF_EIO) { /* the file failed (a full disk): the close removes the partial bag */
+      window_free(&win);
+      (void)af_bag_close(bag);
+      fprintf(stderr, "strike_bag: cannot write %s\n", af_bag_last_error(NULL));
+      return 1;
     }
     if (st != AF_OK) {
       fprintf(stderr, "strike_bag: writing %s: %s (%s)\n", a->out, af_strerror(st),
               af_bag_last_error(bag));
+      window_free(&win);
       af_bag_close(bag);
       return 1;
     }
   }
+  window_free(&win);
   st = af_bag_close(bag);
-  if (st != AF_OK)
-    return fail(a->out, st);
+  if (st != AF_OK) {
+    fprintf(stderr, "strike_bag: cannot write %s\n", af_bag_last_error(NULL));
+    return 1;
+  }
   af_options_wrote(a->out);
   printf("strike_bag: %zu strikes, %.1f s (force %llu samples at %.0f Hz%s, audio %llu at %.0f "
          "Hz), seed %llu -> %s, truth %s\n",
@@ -496,6 +721,7 @@ static int write_bag(const args *a, const station *sta, const strike *s, size_t 
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("strike_bag");
   args a;
   if (!af_options_args_plain("strike_bag", argc, argv))
     return 2;
@@ -523,24 +749,25 @@ int main(int argc, char **argv)
     fprintf(stderr, "strike_bag: the parameter table's defaults: %s\n", err);
     return 1;
   }
-  const size_t n = (size_t)a.strikes;
-  strike *s = calloc(n, sizeof *s);
+  rc = check_size(&a, &sta);
+  if (rc != 0)
+    return rc;
   double *fine = calloc(FINE_CAP, sizeof *fine);
   af_impact *w = NULL;
   double min_peak_n = INFINITY;
-  if (!s || !fine || af_impact_create(&w) != AF_OK)
+  strike_source src;
+  if (!fine || af_impact_create(&w) != AF_OK)
     rc = fail("workspace", AF_ENOMEM);
-  if (rc == 0)
-    rc = make_strikes(&a, &sta, w, fine, s, n, &min_peak_n);
-  if (rc == 0)
-    rc = write_truth(truth_path, s, n);
-  if (rc == 0)
-    rc = write_bag(&a, &sta, s, n, af_synth_noise_rms(min_peak_n, FORCE_SNR_DB),
+  if (rc == 0) {
+    source_start(&src, &a, &sta, w, fine);
+    rc = write_truth(truth_path, &src, &min_peak_n);
+  }
+  if (rc == 0) {
+    source_start(&src, &a, &sta, w, fine);
+    rc = write_bag(&a, &sta, &src, af_synth_noise_rms(min_peak_n, FORCE_SNR_DB),
                    af_synth_noise_rms(MODE_AMPLITUDE_PA, AUDIO_SNR_DB), truth_path);
-  for (size_t k = 0; s && k < n; k++)
-    free(s[k].force_n);
+  }
   af_impact_destroy(w);
   free(fine);
-  free(s);
   return rc;
 }

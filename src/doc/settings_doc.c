@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "closeout.h"
 #include "grade.h"
 #include "lamb.h"
 #include "settings.h"
@@ -213,6 +214,7 @@ static int print_yaml(FILE *out, unsigned file)
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("af_settings_doc");
   int st = 0;
   if (argc == 1) {
     puts("### config/station.yaml (the station: rig, strike, streams, detector, measurement)\n");

@@ -47,6 +47,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "closeout.h"
 #include "combined.h"
 #include "options.h"
 #include "output.h"
@@ -657,6 +658,7 @@ static int run_report(const af_report_args *a, const char *ns, const af_lane_con
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("firmness_report");
   if (!af_options_args_plain("firmness_report", argc, argv))
     return 2;
   if (af_options_want_help(argc, argv, 1)) {
@@ -699,10 +701,9 @@ int main(int argc, char **argv)
     af_status_init(); /* GSL's handler, once, before any worker runs */
     code = run_report(&a, ns, &cfg, csv);
   }
-  if (csv && fclose(csv) != 0 && code == 0) {
-    fprintf(stderr, "firmness_report: --csv %s: write failed\n", a.csv);
+  if (csv && af_closeout_file(csv, a.csv) != 0 && code == 0)
     code = 1;
-  } else if (csv && code == 0)
+  else if (csv && code == 0)
     af_options_wrote(a.csv);
   free_bags(&a);
   return code;

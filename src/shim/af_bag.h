@@ -35,13 +35,20 @@ af_status af_bag_open_write(const char *path, af_bag **out);
  * bag time stamp (what `rosbag play` publishes it at; > 0). Types as
  * af_ros_advertise, AF_MSG_MARKER_ARRAY included. AF_EINVAL for a NULL
  * argument, an empty topic, an unknown type, a zero stamp or a struct that
- * cannot be represented; AF_EIO when rosbag fails. */
+ * cannot be represented; AF_EIO when rosbag fails (a full disk, a file-size
+ * limit: af_bag_last_error(bag) gives rosbag's message and the cause). After
+ * AF_EIO the bag takes no more writes (AF_EIO again): close it, which
+ * removes the partial file. */
 af_status af_bag_write(af_bag *bag, const char *topic, af_msg_type type, const void *msg,
                        af_time stamp);
 
 /* Closes the file (writes the index) and frees bag. NULL-safe (AF_OK).
- * Returns AF_EIO when the close failed (the message is then in
- * af_bag_last_error(NULL)); bag is freed either way. */
+ * Returns AF_EIO when the close failed or an earlier write had failed: the
+ * file, a bag cut short, is then removed, and af_bag_last_error(NULL) is one
+ * line "PATH: CAUSE; the partial bag is removed" (or "... is left behind,
+ * not a readable bag" when it cannot be removed). Never aborts: rosbag's
+ * exceptions, its destructor's included, stay inside. bag is freed either
+ * way. */
 af_status af_bag_close(af_bag *bag);
 
 /* The last error of bag, or of the last handle-less call of the calling

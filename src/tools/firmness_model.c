@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "closeout.h"
 #include "analyze.h"
 #include "bench.h"
 #include "cli_flags.h"
@@ -130,6 +131,7 @@ static int single(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+  af_closeout_install("firmness_model");
   if (!af_options_args_plain("firmness_model", argc, argv))
     return AF_CLI_EXIT_USAGE;
   for (size_t k = 0; argc > 1 && k < N_SUBCOMMANDS; k++)

@@ -24,6 +24,7 @@
 #include <sys/stat.h>
 
 #include "cli_flags.h"
+#include "closeout.h"
 #include "design.h"
 #include "impact.h"
 #include "model.h"
@@ -886,7 +887,7 @@ static int write_report(af_paper *w, af_claim_row rows[][2])
   }
   fprintf(md, "## The designer against the paper's optimum\n\n");
   int rc = design_section(md);
-  if (fclose(md) != 0)
+  if (af_closeout_file(md, path) != 0)
     rc = 1;
   if (rc == 0)
     af_options_wrote(path);

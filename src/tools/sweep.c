@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cli_flags.h"
+#include "closeout.h"
 #include "options.h"
 #include "report.h"
 
@@ -271,10 +272,9 @@ int af_sweep_main(int argc, char **argv, int first)
     return 1;
   }
   code = run_sweep(&a, &base, out);
-  if (a.csv_path && fclose(out) != 0 && code == 0) {
-    fprintf(stderr, "firmness_model sweep: error closing %s\n", a.csv_path);
+  if (a.csv_path && af_closeout_file(out, a.csv_path) != 0 && code == 0)
     code = 1;
-  } else if (a.csv_path && code == 0)
+  else if (a.csv_path && code == 0)
     af_options_wrote(a.csv_path);
   return code;
 }
