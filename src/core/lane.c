@@ -26,6 +26,11 @@
 #define AF_LANE_UNMATCHED_WARN 8
 /* Strikes remembered after their report, for estimates that come late. */
 #define AF_LANE_REPORTED 16
+/* A strike's impulse this far above the hammer's recent clean strikes [-]
+ * (v0 from the impulse: the rig holds it within a few per cent, an apple's
+ * restitution moves it by less), judged once the window holds this many. */
+#define AF_LANE_BOUNCE_EXCESS 0.08
+#define AF_LANE_BOUNCE_STRIKES 8
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -98,6 +103,8 @@ struct af_lane {
   float *lag_buf;   /* audio searched for a strike's onset: lag_cap samples */
   size_t lag_cap;
   int64_t last_start_ns; /* the previous strike's contact start, for the search's reach */
+  double v0_ref[AF_LANE_BOUNCE_STRIKES]; /* v0 from the impulse of the latest clean strikes */
+  size_t v0_count;
   bool any_start;
   af_lane_reported reported[AF_LANE_REPORTED]; /* the latest strikes reported */
   size_t reported_n;                           /* written so far */
@@ -449,7 +456,13 @@ static af_decision measure_lag(af_lane *l, af_pending *p)
     return AF_READY;
   }
   p->lag_s = (double)(af_stream_time_ns(s, (double)(i0 + at)) - p->start_ns) * 1e-9;
-  if (af_audio_lag_push(&l->lag, p->lag_s, l->mc->audio_lag_learn)) {
+  const bool moved = af_audio_lag_push(&l->lag, p->lag_s, l->mc->audio_lag_learn);
+  /* Until the median is stable, a strike whose own onset was found is
+   * aligned by its own lag (the first strikes of a shift, a lag that moved). */
+  p->applied_s = l->lag.stable || !l->mc->audio_lag_learn   ? l->lag.applied_s
+                 : fabs(p->lag_s) > AF_AUDIO_LAG_DEADBAND_S ? p->lag_s
+                                                            : 0.0;
+  if (moved) {
     l->stats.lag_moves++;
     af_text(l->stats.lag_warning, sizeof l->stats.lag_warning,
             "the audio lag moved: a strike's sound came %.1f ms after its contact by the audio's "
@@ -475,9 +488,7 @@ static void check_lag(af_lane *l, const af_pending *p, af_verdict *v)
           "its sound's onset lies %.1f ms after the contact by the audio's stamps, its audio "
           "window was taken %.1f ms after (%s)",
           1e3 * p->lag_s, 1e3 * p->applied_s,
-          !l->mc->audio_lag_learn ? "audio_lag_learn false"
-          : l->lag.stable         ? "the audio lag moved"
-                                  : "the audio lag is not learned yet");
+          !l->mc->audio_lag_learn ? "audio_lag_learn false" : "the audio lag moved");
   l->stats.clock_faulted++;
 }
 
@@ -653,7 +664,7 @@ static void watch_hammer(af_lane *l, const af_pending *p, const af_lane_strike *
       .fitted_velocity_m_s = o->report.fitted_velocity_m_s,
       .fitted_restitution = o->report.fitted_restitution,
       .clipped = ev->clipped,
-      .clean = !ev->double_hit && !ev->clipped && !ev->truncated && ev->lost_samples == 0 &&
+      .clean = !o->report.double_hit && !ev->clipped && !ev->truncated && ev->lost_samples == 0 &&
                p->refused == 0,
   };
   (void)af_hammer_health_push(l->health, &h); /* both pointers are the lane's own */
@@ -666,7 +677,7 @@ static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
   watch_hammer(l, p, o);
   const uint32_t f = o->report.verdict.flags;
   s->strikes++;
-  s->double_hits += p->ev.double_hit;
+  s->double_hits += o->report.double_hit;
   s->clipped += p->ev.clipped;
   s->truncated += p->ev.truncated;
   s->lost_force_samples += p->ev.lost_samples;
@@ -755,6 +766,40 @@ static void observe_transit(af_lane *l, const af_pending *p, const af_apple_slot
   transit_words(l);
 }
 
+/* A second impact inside the contact that has the first one's shape fits
+ * the impact model (with another E2 and e, no structured residual), but it
+ * adds its impulse: the strike's v0 from its impulse then lies above that of
+ * the latest AF_LANE_BOUNCE_STRIKES clean strikes (hammer_health.h's v0;
+ * the rig holds it within a few per cent, an apple's restitution moves it
+ * less) by more than AF_LANE_BOUNCE_EXCESS and four of their standard
+ * deviations. The reference is the lane's own, of strikes that passed, so
+ * that a run of bounces cannot empty it. */
+static void check_impulse(af_lane *l, const af_pending *p, af_measure_report *r)
+{
+  if (l->mc->tap_only || !(p->ev.impulse_n_s > 0.0))
+    return;
+  const double v0 =
+      af_hammer_health_velocity_m_s(&l->cfg->health, p->ev.impulse_n_s, p->ev.contact_time_s);
+  const size_t n = l->v0_count < AF_LANE_BOUNCE_STRIKES ? l->v0_count : AF_LANE_BOUNCE_STRIKES;
+  if (!r->double_hit && n == AF_LANE_BOUNCE_STRIKES) {
+    double mean = 0.0, var = 0.0;
+    for (size_t k = 0; k < n; k++)
+      mean += l->v0_ref[k] / (double)n;
+    for (size_t k = 0; k < n; k++)
+      var += (l->v0_ref[k] - mean) * (l->v0_ref[k] - mean) / (double)(n - 1);
+    const double excess = v0 / mean - 1.0;
+    if (excess > fmax(AF_LANE_BOUNCE_EXCESS, 4.0 * sqrt(var) / mean)) {
+      r->double_hit = true;
+      r->verdict.flags |= AF_VERDICT_DOUBLE_HIT;
+      r->verdict.bounce_impulse_excess = excess;
+    }
+  }
+  const af_strike_event *ev = &p->ev;
+  if (!r->double_hit && !ev->clipped && !ev->truncated && ev->lost_samples == 0 &&
+      p->refused == 0 && isfinite(v0))
+    l->v0_ref[l->v0_count++ % AF_LANE_BOUNCE_STRIKES] = v0;
+}
+
 /* A saturated microphone in the strike's audio window: flagged and counted
  * (its 0S2 and Q would be read off a distorted ring). */
 static void check_clipping(af_lane *l, size_t n_audio, af_verdict *v)
@@ -809,6 +854,7 @@ static void measure_one(af_lane *l, const af_pending *p, size_t n_audio, af_verd
   af_stage_end(h, AF_STAGE_WINDOW, t0_ns);
   o->modulus_factor = af_factor_learn_get(l->factor)->applied;
   measure_with_apple(l, p, a, n_audio, n_noise, lane_v);
+  check_impulse(l, p, &o->report);
   t0_ns = af_stage_begin(h);
   merge_verdict(&o->report, lane_v);
   af_grade_strike(&l->cfg->grade, &o->report, &o->grade); /* after the lane's flags */

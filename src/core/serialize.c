@@ -34,6 +34,8 @@ typedef enum {
   F_CLIPPED,
   F_LOST_SAMPLES,
   F_AUDIO_CLIPPED,
+  F_AUDIO_LAG,
+  F_AUDIO_LAG_APPLIED,
   F_GRADE_INDEX,
   F_GRADE,
   F_GRADE_REASON,
@@ -94,6 +96,11 @@ static const af_serial_field fields[F_COUNT] = {
                         "force samples missing around the strike"},
     [F_AUDIO_CLIPPED] = {"audio_clipped", AF_SERIAL_BOOL, "-", SR, "audio_clipped",
                          "the microphone saturated in the strike's audio window"},
+    [F_AUDIO_LAG] = {"audio_lag_s", AF_SERIAL_REAL, "s", SR, "audio_lag",
+                     "the sound's onset by the audio's stamps minus the contact start; NaN: "
+                     "not measured"},
+    [F_AUDIO_LAG_APPLIED] = {"audio_lag_applied_s", AF_SERIAL_REAL, "s", SR, "audio_lag_applied",
+                             "the audio window was taken this much later (audio_lag_learn)"},
     [F_GRADE_INDEX] = {"grade_index", AF_SERIAL_INT, "-", SR, "grade_index",
                        "firmness class 1..N, softest first; 0 = ungraded"},
     [F_GRADE] = {"grade", AF_SERIAL_TEXT, "", SR, "grade", "the class name, or \"ungraded\""},
@@ -160,6 +167,8 @@ static value value_of(const af_serial_strike *s, field_id id)
   case F_CLIPPED: v.boolean = r->clipped; break;
   case F_LOST_SAMPLES: v.integer = r->lost_samples; break;
   case F_AUDIO_CLIPPED: v.boolean = r->audio_clipped; break;
+  case F_AUDIO_LAG: v.real = r->audio_lag_s; break;
+  case F_AUDIO_LAG_APPLIED: v.real = r->audio_lag_applied_s; break;
   case F_GRADE_INDEX: v.integer = s->grade->index; break;
   case F_GRADE: v.text = s->grade->name; break;
   case F_GRADE_REASON: v.text = s->grade->reason; break;

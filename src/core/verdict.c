@@ -12,7 +12,7 @@ void af_verdict_clear(af_verdict *v)
 {
   memset(v, 0, sizeof *v);
   v->fit_residual = v->snr_db = v->snr_threshold_db = NAN;
-  v->bounce_noise_ratio = v->bounce_peak_ratio = NAN;
+  v->bounce_noise_ratio = v->bounce_peak_ratio = v->bounce_impulse_excess = NAN;
   v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
   v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = v->audio_clip_max =
       v->audio_clip_min = NAN;
@@ -204,6 +204,11 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
         "double hit (a second impact inside the contact: the fit leaves a structured residual, "
         "%.3g x the noise's power, %.2g %% of the peak)",
         v->bounce_noise_ratio, 100.0 * v->bounce_peak_ratio);
+  else if ((f & AF_VERDICT_DOUBLE_HIT) && isfinite(v->bounce_impulse_excess))
+    add(buf, len,
+        "double hit (a second impact inside the contact: the impulse is %.0f %% above the "
+        "hammer's recent strikes, beyond their spread)",
+        100.0 * v->bounce_impulse_excess);
   else if (f & AF_VERDICT_DOUBLE_HIT)
     add(buf, len, "double hit");
   if (f & AF_VERDICT_CLIPPED)

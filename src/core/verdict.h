@@ -86,13 +86,15 @@ typedef struct {
   char doubtful_why[AF_VERDICT_TEXT_MAX]; /* APPLE_DOUBTFUL */
   char clock_why[AF_VERDICT_TEXT_MAX];    /* CLOCK_FAULT: the stream's fault in words */
   af_status measure_status, spectrum_status, fit_status, judge_status, audio_status;
-  bool bounce_inside;        /* DOUBLE_HIT: a second impact inside the contact (the fit's
-                                residual structured); else the detector's bounce after it */
-  double bounce_noise_ratio; /* the inside test, whenever it ran (NaN: not run): the fit's
-                                residual, smoothed, in mean square against white noise's
-                                (about 1 for a clean strike) ... */
-  double bounce_peak_ratio;  /* ... and the smoothed residual's RMS / the peak [-] */
-  double fit_residual;       /* RMS / peak; NaN when the fit did not run */
+  bool bounce_inside;           /* DOUBLE_HIT: a second impact inside the contact (the fit's
+                                   residual structured); else the detector's bounce after it */
+  double bounce_noise_ratio;    /* the inside test, whenever it ran (NaN: not run): the fit's
+                                   residual, smoothed, in mean square against white noise's
+                                   (about 1 for a clean strike) ... */
+  double bounce_peak_ratio;     /* ... and the smoothed residual's RMS / the peak [-] */
+  double bounce_impulse_excess; /* DOUBLE_HIT by the impulse (the lane): the strike's v0 from its
+                                   impulse over the hammer's recent mean, - 1; NaN: not [-] */
+  double fit_residual;          /* RMS / peak; NaN when the fit did not run */
   uint64_t lost_samples;
   uint64_t refused_samples; /* REFUSED_SAMPLES: non-finite force samples in the span */
   af_audio_cause audio_cause;

@@ -109,6 +109,8 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->clipped = q->clipped;
   r->lost_samples = q->lost_samples;
   r->audio_clipped = q->audio_clipped;
+  r->audio_lag_s = q->audio_lag_s;
+  r->audio_lag_applied_s = q->audio_lag_applied_s;
   r->tap_only = q->tap_only;
   af_text(r->judged_from_model, sizeof r->judged_from_model, "%s", q->model_only_text);
 }
@@ -323,6 +325,11 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes without an apple estimate since the last report";
   else if (s->audio_clipped != m->seen.audio_clipped)
     w = "the microphone clipped since the last report: lower the microphone gain";
+  else if (s->lag_moves != m->seen.lag_moves)
+    w = s->lag_warning;
+  else if (s->clock_faulted != m->seen.clock_faulted)
+    w = "strikes judged across a clock fault since the last report (their audio or apple found "
+        "by stamps that cannot be trusted)";
   else if (s->transit_warning[0] != '\0')
     w = s->transit_warning; /* held while it lasts, as the hammer's */
   else if (s->apples_implausible != m->seen.apples_implausible)
@@ -396,6 +403,15 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "strike double hits", "%llu", (unsigned long long)s->double_hits);
   af_diag_add(d, "strikes clipped", "%llu (truncated %llu)", (unsigned long long)s->clipped,
               (unsigned long long)s->truncated);
+  af_diag_add(d, "audio lag [s]",
+              "median %.4f (MAD %.4f over %zu strikes), applied %.4f (audio_lag_learn %s); sound "
+              "onset not found in %llu strikes; %llu moves%s%s",
+              s->lag_median_s, s->lag_mad_s, s->lag_strikes, s->lag_applied_s,
+              m->cfg->lane.measured.audio_lag_learn ? "true" : "false",
+              (unsigned long long)s->lag_no_onset, (unsigned long long)s->lag_moves,
+              s->lag_warning[0] ? ": " : "", s->lag_warning);
+  af_diag_add(d, "strikes judged across a clock fault", "%llu",
+              (unsigned long long)s->clock_faulted);
   af_diag_add(d, "strikes with the microphone clipped", "%llu%s",
               (unsigned long long)s->audio_clipped,
               s->audio_clipped ? " (lower the microphone gain)" : "");

@@ -104,6 +104,16 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.apples_implausible += s->stats.apples_implausible;
   t->stats.audio_clipped += s->stats.audio_clipped;
   t->stats.clock_faulted += s->stats.clock_faulted;
+  t->stats.lag_no_onset += s->stats.lag_no_onset;
+  t->stats.lag_moves += s->stats.lag_moves;
+  if (s->stats.lag_strikes > 0) { /* the medians are a bag's own: the latest */
+    t->stats.lag_median_s = s->stats.lag_median_s;
+    t->stats.lag_mad_s = s->stats.lag_mad_s;
+    t->stats.lag_applied_s = s->stats.lag_applied_s;
+    t->stats.lag_strikes = s->stats.lag_strikes;
+  }
+  if (s->stats.lag_moves > 0)
+    memcpy(t->stats.lag_warning, s->stats.lag_warning, sizeof t->stats.lag_warning);
   if (s->stats.apples_implausible > 0)
     memcpy(t->stats.last_implausible_apple, s->stats.last_implausible_apple,
            sizeof t->stats.last_implausible_apple);

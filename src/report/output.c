@@ -185,6 +185,15 @@ static void text_transit(FILE *out, const af_lane_stats *st)
     fprintf(out, "  apple transit: no strike matched to an estimate\n");
   if (st->transit_warning[0] != '\0')
     fprintf(out, "  WARN apple estimates: %s\n", st->transit_warning);
+  if (st->lag_strikes > 0)
+    fprintf(out,
+            "  audio lag: %.2f ms median (MAD %.2f ms over the latest %zu strikes), windows moved "
+            "%.2f ms; onset not found in %" PRIu64 " strikes\n",
+            1e3 * st->lag_median_s, 1e3 * st->lag_mad_s, st->lag_strikes, 1e3 * st->lag_applied_s,
+            st->lag_no_onset);
+  if (st->lag_moves > 0)
+    fprintf(out, "  WARN audio lag moved %" PRIu64 " times (last: %s)\n", st->lag_moves,
+            st->lag_warning);
   if (st->clock_faulted > 0)
     fprintf(out,
             "  WARN %" PRIu64 " strikes judged across a stream's clock fault (flag clock_fault)\n",

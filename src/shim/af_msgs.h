@@ -120,6 +120,8 @@ typedef struct {
   bool clipped;
   uint32_t lost_samples; /* force samples missing around the strike */
   bool audio_clipped;    /* the microphone saturated in the strike's audio window */
+  double audio_lag_s, audio_lag_applied_s; /* the sound's onset minus the contact start; the
+                                              window's shift [s] */
   /* The firmness grade (src/core/grade.h). */
   uint8_t grade_index;            /* class 1..N of grade_classes, softest first; 0 = ungraded */
   char grade[AF_GRADE_NAME_TEXT]; /* the class name, or "ungraded" */

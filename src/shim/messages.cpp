@@ -194,6 +194,8 @@ void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m)
   m.clipped = c.clipped;
   m.lost_samples = c.lost_samples;
   m.audio_clipped = c.audio_clipped;
+  m.audio_lag = c.audio_lag_s;
+  m.audio_lag_applied = c.audio_lag_applied_s;
   m.grade_index = c.grade_index;
   assign_string(c.grade, m.grade);
   assign_string(c.grade_reason, m.grade_reason);
@@ -222,6 +224,8 @@ void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
   c.clipped = m.clipped != 0;
   c.lost_samples = m.lost_samples;
   c.audio_clipped = m.audio_clipped != 0;
+  c.audio_lag_s = m.audio_lag;
+  c.audio_lag_applied_s = m.audio_lag_applied;
   c.grade_index = m.grade_index;
   copy_string(m.grade, c.grade);
   copy_string(m.grade_reason, c.grade_reason);
