@@ -1033,10 +1033,23 @@ af_status af_lane_prime_audio(af_lane *l, const float *x, size_t n)
   return af_onset_prime(l->onset, x, n);
 }
 
+/* A force stream that stalls inside a contact must not hold its strike
+ * until data comes back: after stream_stale_after_s on the lane's clock the
+ * strike goes, cut (truncated: the contact had not ended). */
+static void check_stall(af_lane *l)
+{
+  if (!l->mc->tap_only && af_stream_stale(&l->force, l->now_ns, l->cfg->stream_stale_after_s) &&
+      af_strike_in_progress(l->detector)) {
+    l->stats.force_stalls++;
+    (void)af_strike_flush(l->detector, on_strike, l);
+  }
+}
+
 af_chunk_verdict af_lane_audio(af_lane *l, const af_chunk *c, int64_t now_ns,
                                af_ring_write_info *info)
 {
   l->now_ns = now_ns;
+  check_stall(l);
   af_chunk_verdict v = af_stream_push(&l->audio, c, now_ns, info);
   if (v == AF_CHUNK_OK && l->mc->tap_only)
     detect_onsets(l, c);
@@ -1047,6 +1060,7 @@ af_chunk_verdict af_lane_audio(af_lane *l, const af_chunk *c, int64_t now_ns,
 void af_lane_poll(af_lane *l, int64_t now_ns)
 {
   l->now_ns = now_ns;
+  check_stall(l);
   process(l);
 }
 

@@ -99,6 +99,7 @@ typedef struct {
   uint64_t overflows, measure_errors, pulse_cut, late_apples;
   uint64_t audio_clipped; /* strikes whose audio window the microphone saturated */
   uint64_t clock_faulted; /* strikes judged across a stream's clock fault */
+  uint64_t force_stalls;  /* strikes emitted cut because the force stream stalled in them */
   /* The audio clock's lag behind the force's (audio_lag.h): the median and
    * its median absolute deviation over the latest strikes, the lag the
    * windows are moved by, the strikes whose onset was not found, the moves. */

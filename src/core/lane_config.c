@@ -489,6 +489,9 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
   m->detector_queue = 4.0 * (span + 1024.0) + 20.0 * span + 8.0 * 8192.0 +
                       (double)mc->pending_size * (8.0 * span + 256.0) +
                       4.0 * ((double)mc->audio_window_samples + (double)mc->noise_window_samples);
+  /* the audio lag's onset search (lane.c): +-audio_lag_max_s and its
+   * reference blocks, float */
+  m->detector_queue += 4.0 * ((2.0 * mc->audio_lag_max_s + 0.012) * c->audio.sample_rate_hz + 16.0);
   /* microphone analysis: the FFT input, its complex and real spectra, the
    * mode analysis's work arrays, FFTW's plan (its twiddles about one complex
    * per point): 86 bytes per FFT point measured (test_settings), counted as
@@ -503,6 +506,8 @@ void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
   const double ms = n > 1024.0 ? n : 1024.0, sfft = pow2_at_least(4.0 * ms);
   m->fit_spectrum = 16.0 * (4.0 * n * over + 1.0) + 16.0 * n + 8.0 * n * 20.0 + 8.0 * sfft +
                     (sfft / 2.0 + 1.0) * 24.0 + 16.0 * sfft + 64.0 * (ms / 2.0 + 1.0);
+  /* the second fit, v0 free, of the bounce test (measure.c): as the first */
+  m->fit_spectrum += 16.0 * (4.0 * n * over + 1.0) + 16.0 * n + 8.0 * n * 20.0;
   /* the model workspace (fixed: 4096-point FFT, 1024 samples), the
    * objects themselves and the hammer health's ring */
   m->fixed = 1048576.0 + (double)af_hammer_health_bytes();

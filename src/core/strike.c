@@ -508,6 +508,11 @@ af_status af_strike_write(af_strike *d, uint64_t first_sample, const float *x, s
   return AF_OK;
 }
 
+bool af_strike_in_progress(const af_strike *d)
+{
+  return d != NULL && (d->phase == AF_PHASE_CONTACT || d->phase == AF_PHASE_AFTER);
+}
+
 af_status af_strike_flush(af_strike *d, af_strike_fn *fn, void *user)
 {
   if (d == NULL)

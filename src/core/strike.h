@@ -287,6 +287,9 @@ af_status af_strike_prime(af_strike *d, const float *x, size_t n);
  * AF_EINVAL for a NULL d. No allocation. */
 af_status af_strike_flush(af_strike *d, af_strike_fn *fn, void *user);
 
+/* Whether an event is in progress (a contact, or the wait after one). */
+bool af_strike_in_progress(const af_strike *d);
+
 /* Why no strike was found (af_strike_diagnosis.why). */
 typedef enum {
   AF_STRIKE_FOUND = 0,       /* at least one strike emitted since the stream started */

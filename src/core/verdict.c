@@ -204,7 +204,7 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
         "double hit (a second impact inside the contact: the fit leaves a structured residual, "
         "%.3g x the noise's power, %.2g %% of the peak)",
         v->bounce_noise_ratio, 100.0 * v->bounce_peak_ratio);
-  else if ((f & AF_VERDICT_DOUBLE_HIT) && isfinite(v->bounce_impulse_excess))
+  else if ((f & AF_VERDICT_DOUBLE_HIT) && v->bounce_impulse_excess > 0.0)
     add(buf, len,
         "double hit (a second impact inside the contact: the impulse is %.0f %% above the "
         "hammer's recent strikes, beyond their spread)",

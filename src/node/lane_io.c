@@ -415,6 +415,8 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "strikes with the microphone clipped", "%llu%s",
               (unsigned long long)s->audio_clipped,
               s->audio_clipped ? " (lower the microphone gain)" : "");
+  af_diag_add(d, "strikes cut by a stalled force stream", "%llu",
+              (unsigned long long)s->force_stalls);
   af_diag_add(d, "strike force samples lost", "%llu", (unsigned long long)s->lost_force_samples);
   af_diag_add(d, "strikes without resonance", "%llu", (unsigned long long)s->no_resonance);
   af_diag_add(d, "strikes without apple", "%llu", (unsigned long long)s->no_apple);

@@ -481,6 +481,50 @@ static void test_without_audio(void)
   free_session(&s);
 }
 
+/* The force stream stalls 0.2 ms into a contact while the audio goes on: the
+ * strike is reported, truncated, once the force has been silent
+ * stream_stale_after_s (1 s), not held until force data comes back. */
+static void test_force_stall(void)
+{
+  const double strikes[] = {0.5};
+  session s = make_session(strikes, 1);
+  af_lane_config cfg = config(NULL, 0);
+  reports out;
+  af_lane *l = make_lane(&cfg, &out);
+  const size_t stop = (size_t)((0.5 + 0.2e-3) * FS_FORCE); /* force samples sent */
+  size_t kf = 0, ka = 0;
+  scheduled_apple ap[] = {{apple(1, 0.3), 0.3, false}};
+  while (ka < s.n_audio) {
+    const double t = (double)ka / FS_AUDIO;
+    if (!ap[0].done && t >= 0.3) {
+      (void)af_lane_apple(l, &ap[0].a, (int64_t)llround(t * 1e9), NULL);
+      ap[0].done = true;
+    }
+    while (kf < stop && (double)kf / FS_FORCE <= t) {
+      const size_t n = stop - kf < 64 ? stop - kf : 64;
+      af_chunk c = {
+          (int64_t)llround((double)kf / FS_FORCE * 1e9), kf, FS_FORCE, "N", "f", s.force + kf, n};
+      AF_CHECK(af_lane_force(l, &c, (int64_t)llround((double)(kf + n) / FS_FORCE * 1e9), NULL) ==
+               AF_CHUNK_OK);
+      kf += n;
+    }
+    af_chunk c = {(int64_t)llround(t * 1e9), ka, FS_AUDIO, "Pa", "m", s.audio + ka, 1024};
+    const int64_t now = (int64_t)llround((double)(ka + 1024) / FS_AUDIO * 1e9);
+    AF_CHECK(af_lane_audio(l, &c, now, NULL) == AF_CHUNK_OK);
+    ka += 1024;
+    if (now < (int64_t)1400000000) /* not before the force is 1 s silent (at 1.5 s) */
+      AF_CHECK(out.n == 0);
+    if (now > (int64_t)2300000000) /* + apple_wait_s, the wait for its own estimate */
+      break;
+  }
+  AF_CHECK(out.n == 1 && (out.r[0].verdict.flags & AF_VERDICT_TRUNCATED));
+  AF_CHECK(out.n == 1 && out.apple_id[0] == 1); /* stamped 0.3 s: 0.2 s before it */
+  AF_CHECK(af_lane_get_stats(l)->force_stalls == 1);
+  printf("force stall: %zu strike, %s\n", out.n, out.n ? out.r[0].reason : "");
+  af_lane_destroy(l);
+  free_session(&s);
+}
+
 int main(void)
 {
   test_waits_for_its_own_apple();
@@ -492,5 +536,6 @@ int main(void)
   test_no_apple();
   test_chunking_and_order();
   test_without_audio();
+  test_force_stall();
   return af_test_summary("test_lane");
 }

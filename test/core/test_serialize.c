@@ -392,7 +392,8 @@ static void test_all_nan(void)
                      &report.stiffness_factor,      &report.modulus_from_resonance_pa,
                      &report.fitted_modulus_pa,     &report.fitted_restitution,
                      &report.fit_residual,          &report.max_shear_stress_pa,
-                     &report.yield_shear_stress_pa, &report.modes.confidence};
+                     &report.yield_shear_stress_pa, &report.modes.confidence,
+                     &report.audio_lag_s,           &report.audio_lag_applied_s};
   for (size_t k = 0; k < sizeof reals / sizeof reals[0]; k++)
     *reals[k] = NAN;
   size_t nf, n_real = 0;

@@ -804,8 +804,8 @@ static void test_derive_errors(void)
                      "strike_max_contact_s=1", "strike_double_hit_gap_s=1", "strike_post_s=1"),
               AF_EINVAL, err, "the lane would allocate about ");
   AF_CHECK(strstr(err, "above the 256 MiB accepted") != NULL);
-  /* Both rings at their most that the memory cap leaves: 2 x 28 s at 1 MHz. */
-  AF_CHECK_STATUS(DERIVE(err, "force_buffer_s=28", "force_sample_rate_hz=1e6", "audio_buffer_s=28",
+  /* Both rings at their most that the memory cap leaves: 2 x 27 s at 1 MHz. */
+  AF_CHECK_STATUS(DERIVE(err, "force_buffer_s=27", "force_sample_rate_hz=1e6", "audio_buffer_s=27",
                          "audio_sample_rate_hz=1e6"),
                   AF_OK);
   CHECK_WORDS(DERIVE(err, "force_buffer_s=60", "force_sample_rate_hz=1e6", "audio_buffer_s=30",
@@ -957,7 +957,7 @@ static void test_memory_estimate(void)
 #endif
   static const char *const cases[][7] = {
       {NULL},
-      {"force_buffer_s=28", "force_sample_rate_hz=1e6", "audio_buffer_s=28",
+      {"force_buffer_s=27", "force_sample_rate_hz=1e6", "audio_buffer_s=27",
        "audio_sample_rate_hz=1e6", NULL},
       {"audio_sample_rate_hz=1e6", "audio_buffer_s=2", "measure_audio_window_s=0.2",
        "measure_noise_window_s=0.2", NULL},

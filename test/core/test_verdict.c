@@ -55,6 +55,33 @@ static void test_station_flags(void)
   v.apple_id = 4;
   strcpy(v.doubtful_why, "struck twice");
   AF_CHECK(says(&v, "doubtful apple match (apple 4: struck twice)"));
+  /* A line: the transit window, and the estimate nearest the strike. */
+  v = with(AF_VERDICT_NO_APPLE);
+  v.apple_transit_s = 0.2;
+  v.apple_tolerance_s = 0.04;
+  AF_CHECK(says(&v, "no apple estimate stamped 0.2 +- 0.04 s before the strike"));
+  v.nearest_apple_id = 9;
+  v.nearest_apple_lag_s = -0.05;
+  AF_CHECK(says(&v, "no apple estimate stamped 0.2 +- 0.04 s before the strike (the nearest, "
+                    "apple 9, is stamped 0.050 s after it)"));
+  v = with(AF_VERDICT_CLOCK_FAULT);
+  strcpy(v.clock_why, "force clock stepped +0.3 s");
+  AF_CHECK(says(&v, "judged across a clock fault, not the fruit's: force clock stepped +0.3 s"));
+}
+
+static void test_rig_flags(void)
+{
+  af_verdict v = with(AF_VERDICT_AUDIO_CLIPPED);
+  v.audio_clip_samples = 60;
+  v.audio_clip_tops = 12;
+  v.audio_clip_max = 0.3;
+  v.audio_clip_min = -0.3;
+  AF_CHECK(says(&v, "microphone clipped (60 samples at its extremes 0.3 and -0.3, 12 flat tops): "
+                    "lower the microphone gain"));
+  v = with(AF_VERDICT_DOUBLE_HIT);
+  v.bounce_impulse_excess = 0.2;
+  AF_CHECK(says(&v, "double hit (a second impact inside the contact: the impulse is 20 % above "
+                    "the hammer's recent strikes, beyond their spread)"));
 }
 
 static void test_pulse_flags(void)
@@ -249,16 +276,18 @@ static void test_flag_names(void)
       "no_apple",       "no_prediction", "apple_doubtful", "measure_failed",  "double_hit",
       "clipped",        "lost_samples",  "truncated",      "spectrum_failed", "fit_failed",
       "poisson",        "no_audio",      "no_resonance",   "range_nyquist",   "audio_failed",
-      "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples"};
+      "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples",
+      "audio_clipped",  "clock_fault"};
   for (unsigned k = 0; k < sizeof names / sizeof names[0]; k++)
     AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << k)), names[k]) == 0);
-  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 20)), "unknown") == 0);
+  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 22)), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)0), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)3), "unknown") == 0); /* two bits */
 }
 
 int main(void)
 {
+  test_rig_flags();
   test_clear();
   test_station_flags();
   test_pulse_flags();
