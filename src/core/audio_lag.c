@@ -86,7 +86,7 @@ bool af_audio_lag_push(af_audio_lag *g, double lag_s, bool apply)
   g->n += g->n < AF_AUDIO_LAG_HISTORY;
   if (g->n < AF_AUDIO_LAG_MIN)
     return moved;
-  double dev[AF_AUDIO_LAG_HISTORY];
+  double dev[AF_AUDIO_LAG_HISTORY] = {0};
   g->median_s = median(g->lag_s, g->n);
   for (size_t k = 0; k < g->n; k++)
     dev[k] = fabs(g->lag_s[k] - g->median_s);
