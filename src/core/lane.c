@@ -106,6 +106,8 @@ struct af_lane {
   double v0_ref[AF_LANE_BOUNCE_STRIKES]; /* v0 from the impulse of the latest clean strikes */
   size_t v0_count;
   bool any_start;
+  uint64_t force_origin; /* the force stream's first index (after a restart: that chunk's) */
+  bool force_origin_set;
   af_lane_reported reported[AF_LANE_REPORTED]; /* the latest strikes reported */
   size_t reported_n;                           /* written so far */
 };
@@ -216,7 +218,7 @@ static bool apple_decided(const af_lane *l, const af_pending *p)
     return true;
   const double wait_s = mc->apple_wait_s;
   const double data_after_s =
-      (double)(af_stream_time_ns(&l->force, (double)af_ring_end(l->force.ring)) - p->start_ns) *
+      (double)(af_stream_time_of_ns(&l->force, af_ring_end(l->force.ring), 0.0) - p->start_ns) *
       1e-9;
   return (double)(l->now_ns - p->queued_ns) * 1e-9 >= wait_s || data_after_s >= wait_s;
 }
@@ -266,7 +268,7 @@ static bool refuse_apple(af_lane *l, const af_apple *a, char *why, size_t len)
   int64_t ref_ns = l->now_ns;
   const char *ref = "the lane's clock";
   if (data->seen) {
-    ref_ns = af_stream_time_ns(data, (double)af_ring_end(data->ring));
+    ref_ns = af_stream_time_of_ns(data, af_ring_end(data->ring), 0.0);
     ref = l->mc->tap_only ? "the newest audio sample" : "the newest force sample";
   }
   why[0] = '\0';
@@ -341,11 +343,16 @@ static size_t read_noise(af_lane *l, const af_pending *p)
   const af_stream *s = &l->audio;
   const size_t nn = l->mc->noise_window_samples;
   const int64_t lag_ns = (int64_t)llround(p->applied_s * 1e9);
-  const double at = af_stream_index_at(s, p->start_ns + lag_ns) -
-                    l->mc->measure.noise_guard_s * l->mc->measure.response.sample_rate_hz;
-  if (nn == 0 || at < (double)nn)
+  uint64_t i;
+  double f;
+  if (nn == 0 || !af_stream_pos_at(s, p->start_ns + lag_ns, &i, &f))
     return 0;
-  const uint64_t j1 = (uint64_t)floor(at), j0 = j1 - nn;
+  /* It ends at i + f - guard: j1 = floor of that, back from i. */
+  const double back = l->mc->measure.noise_guard_s * l->mc->measure.response.sample_rate_hz - f;
+  const uint64_t b = back > 0.0 ? (uint64_t)ceil(back) : 0;
+  if (b > i || i - b < nn)
+    return 0;
+  const uint64_t j1 = i - b, j0 = j1 - nn;
   if (j0 < af_ring_begin(s->ring) || j1 > af_ring_end(s->ring) ||
       af_ring_read(s->ring, j0, nn, l->noise_buf) != AF_OK || count_bad(l->noise_buf, nn) > 0)
     return 0;
@@ -374,14 +381,19 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
     return AF_NONE;
   }
   const int64_t delay_ns = (int64_t)llround((mc->audio_delay_s + p->applied_s) * 1e9);
-  const double first = af_stream_index_at(s, p->start_ns + delay_ns);
-  if (first < -0.5) {
-    v->audio_cause = AF_AUDIO_BEFORE_STREAM;
-    v->audio_seconds = -first / s->cfg->sample_rate_hz;
-    return AF_NONE;
+  uint64_t i0;
+  double f;
+  if (!af_stream_pos_at(s, p->start_ns + delay_ns, &i0, &f)) {
+    const double first = af_stream_index_at(s, p->start_ns + delay_ns);
+    if (first < -0.5) {
+      v->audio_cause = AF_AUDIO_BEFORE_STREAM;
+      v->audio_seconds = -first / s->cfg->sample_rate_hz;
+      return AF_NONE;
+    }
+    i0 = 0; /* within half a sample of the first: that one */
+  } else {
+    i0 += f > 1e-6; /* the first sample at or after the window's start */
   }
-  /* The first sample at or after the window's start. */
-  const uint64_t i0 = first <= 0.0 ? 0 : (uint64_t)ceil(first - 1e-6);
   const uint64_t begin = af_ring_begin(s->ring), end = af_ring_end(s->ring);
   v->audio_first = i0;
   v->audio_last = i0 + n;
@@ -437,25 +449,31 @@ static af_decision measure_lag(af_lane *l, af_pending *p)
     h_s = fmin(h_s, 0.5e-9 * (double)(p->start_ns - l->last_start_ns));
   const int64_t centre_ns = p->start_ns + (int64_t)llround(p->applied_s * 1e9);
   const int64_t h_ns = (int64_t)llround(h_s * 1e9);
-  const double lo =
-      af_stream_index_at(s, centre_ns - h_ns) - (double)(AF_AUDIO_LAG_REF_BLOCKS * block);
-  const double hi = af_stream_index_at(s, centre_ns + h_ns) + (double)block;
-  if (hi > (double)af_ring_end(s->ring) && !audio_timed_out(l, p))
+  uint64_t i_lo, i_hi;
+  double f;
+  if (!af_stream_pos_at(s, centre_ns + h_ns, &i_hi, &f)) { /* all before the stream */
+    p->lag_done = true;
+    return AF_READY;
+  }
+  const uint64_t ref = (uint64_t)(AF_AUDIO_LAG_REF_BLOCKS * block);
+  const uint64_t hi = i_hi + 1 + block;
+  if (hi > af_ring_end(s->ring) && !audio_timed_out(l, p))
     return AF_WAIT;
   p->lag_done = true;
-  const double begin = (double)af_ring_begin(s->ring), end = (double)af_ring_end(s->ring);
-  const double first = fmax(ceil(lo), begin), last = fmin(floor(hi), end);
-  if (!(last - first >= (double)((AF_AUDIO_LAG_REF_BLOCKS + 1) * block)))
+  const uint64_t lo =
+      af_stream_pos_at(s, centre_ns - h_ns, &i_lo, &f) && i_lo > ref ? i_lo - ref : 0;
+  const uint64_t begin = af_ring_begin(s->ring), end = af_ring_end(s->ring);
+  const uint64_t i0 = lo > begin ? lo : begin, last = hi < end ? hi : end;
+  if (last <= i0 || last - i0 < ref + block)
     return AF_READY;
-  const uint64_t i0 = (uint64_t)first;
-  const size_t n = (size_t)fmin(last - first, (double)l->lag_cap);
+  const size_t n = last - i0 < l->lag_cap ? (size_t)(last - i0) : l->lag_cap;
   size_t at;
   if (af_ring_read(s->ring, i0, n, l->lag_buf) != AF_OK || count_bad(l->lag_buf, n) > 0 ||
       !af_audio_onset_find(l->lag_buf, n, block, &at)) {
     l->stats.lag_no_onset++;
     return AF_READY;
   }
-  p->lag_s = (double)(af_stream_time_ns(s, (double)(i0 + at)) - p->start_ns) * 1e-9;
+  p->lag_s = (double)(af_stream_time_of_ns(s, i0 + at, 0.0) - p->start_ns) * 1e-9;
   const bool moved = af_audio_lag_push(&l->lag, p->lag_s, l->mc->audio_lag_learn);
   /* Until the median is stable, a strike whose own onset was found is
    * aligned by its own lag (the first strikes of a shift, a lag that moved). */
@@ -930,6 +948,19 @@ static af_pending *next_slot(af_lane *l)
   return &l->pending[(l->head + l->count) % size];
 }
 
+/* The time [ns] of a detector's (fractional) index: the detector counts
+ * from the force stream's origin, so that its indices stay small and exact
+ * in a double whatever the stream's running index (2^53, 2^63 and beyond). */
+static int64_t force_time_ns(const af_lane *l, double rel)
+{
+  const double whole = floor(rel);
+  const uint64_t back = whole < 0.0 ? (uint64_t)(-whole) : 0;
+  const uint64_t index = whole >= 0.0              ? l->force_origin + (uint64_t)whole
+                         : back <= l->force_origin ? l->force_origin - back
+                                                   : 0;
+  return af_stream_time_of_ns(&l->force, index, rel - whole);
+}
+
 /* The detector's callback: a strike, copied into the next pending slot. */
 static void on_strike(const af_strike_event *ev, void *user)
 {
@@ -946,9 +977,10 @@ static void on_strike(const af_strike_event *ev, void *user)
     memcpy(pulse, ev->pulse_n, n * sizeof *pulse);
   p->ev.pulse_n = pulse;
   p->ev.n_samples = n;
-  p->start_ns = af_stream_time_ns(&l->force, ev->start_sample);
+  p->start_ns = force_time_ns(l, ev->start_sample);
   p->queued_ns = l->now_ns;
-  p->refused = af_stream_refused_in(&l->force, ev->span_first, ev->span_end - ev->span_first);
+  p->refused = af_stream_refused_in(&l->force, l->force_origin + ev->span_first,
+                                    ev->span_end - ev->span_first);
   p->lag_done = false;
   p->lag_s = NAN;
   p->applied_s = 0.0;
@@ -966,7 +998,8 @@ static void detect(af_lane *l, const af_chunk *c)
   for (size_t at = l->force.last_held; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
-    (void)af_strike_write(l->detector, c->first_sample + at, l->force.si, m, on_strike, l);
+    (void)af_strike_write(l->detector, c->first_sample + at - l->force_origin, l->force.si, m,
+                          on_strike, l);
   }
 }
 
@@ -979,6 +1012,10 @@ af_chunk_verdict af_lane_force(af_lane *l, const af_chunk *c, int64_t now_ns,
     info = &own;
   memset(info, 0, sizeof *info);
   af_chunk_verdict v = af_stream_push(&l->force, c, now_ns, info);
+  if (v == AF_CHUNK_OK && (!l->force_origin_set || info->restarted)) {
+    l->force_origin = c->first_sample; /* the detector's index 0 */
+    l->force_origin_set = true;
+  }
   if (v == AF_CHUNK_OK && (info->gap_samples > 0 || info->restarted))
     l->force_gap_ns[l->force_gaps++ % AF_LANE_GAPS] = c->stamp_ns;
   if (v == AF_CHUNK_OK) {
@@ -1007,7 +1044,7 @@ static void on_onset(const af_onset_event *ev, void *user)
   p->ev.start_sample = (double)ev->sample;
   p->ev.contact_time_s = p->ev.peak_force_n = p->ev.impulse_n_s = NAN;
   p->ev.baseline_n = p->ev.noise_rms_n = NAN;
-  p->start_ns = af_stream_time_ns(&l->audio, ev->sample);
+  p->start_ns = af_stream_time_of_ns(&l->audio, ev->sample, 0.0);
   p->queued_ns = l->now_ns;
   p->refused = 0;
   p->lag_done = false;

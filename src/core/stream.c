@@ -383,6 +383,36 @@ static const af_stream_anchor *holding(const af_stream *s, double index, int64_t
   return anchor(s, k);
 }
 
+/* The newest anchor at or before a whole index; the oldest kept when all
+ * are later. */
+static const af_stream_anchor *holding_index(const af_stream *s, uint64_t index)
+{
+  size_t k = 0;
+  while (k + 1 < s->anchor_count && anchor(s, k)->first_sample > index)
+    k++;
+  return anchor(s, k);
+}
+
+int64_t af_stream_time_of_ns(const af_stream *s, uint64_t index, double frac)
+{
+  const af_stream_anchor *a = holding_index(s, index);
+  /* The difference in integers first: small, whatever the index. */
+  const double offset = (double)(int64_t)(index - a->first_sample) + frac;
+  return a->stamp_ns + (int64_t)llround(offset / s->cfg->sample_rate_hz * 1e9);
+}
+
+bool af_stream_pos_at(const af_stream *s, int64_t t_ns, uint64_t *index, double *frac)
+{
+  const af_stream_anchor *a = holding(s, 0.0, t_ns, true);
+  const double offset = (double)(t_ns - a->stamp_ns) * 1e-9 * s->cfg->sample_rate_hz;
+  const double whole = floor(offset);
+  *frac = offset - whole;
+  if (whole < 0.0 && -whole > (double)a->first_sample)
+    return false;
+  *index = whole < 0.0 ? a->first_sample - (uint64_t)(-whole) : a->first_sample + (uint64_t)whole;
+  return true;
+}
+
 int64_t af_stream_time_ns(const af_stream *s, double index)
 {
   const af_stream_anchor *a = holding(s, index, 0, false);

@@ -162,6 +162,13 @@ int64_t af_stream_time_ns(const af_stream *s, double index);
  * stamped at or before it (the oldest kept for earlier times). */
 double af_stream_index_at(const af_stream *s, int64_t t_ns);
 
+/* The same two in integer sample indices, whole and fraction in [0, 1): a
+ * running index beyond 2^53 (a DAQ's counter after a long run, or one that
+ * starts high) keeps its sub-sample part, which a double would round away.
+ * af_stream_pos_at: false when t_ns lies before sample 0. */
+int64_t af_stream_time_of_ns(const af_stream *s, uint64_t index, double frac);
+bool af_stream_pos_at(const af_stream *s, int64_t t_ns, uint64_t *index, double *frac);
+
 /* Whether a clock fault of s (a step, frozen stamps, a wrong rate) lies
  * within margin_ns of t_ns, or the stamps' rate is wrong now. */
 bool af_stream_clock_fault_near(const af_stream *s, int64_t t_ns, int64_t margin_ns);

@@ -19,6 +19,8 @@ Python API, never by the station's own code:
                       sample_rate still says the true rate
   force_frozen=T      every force chunk after T s stamped as the last one
                       before T (a driver whose stamps froze)
+  index_offset=N      N added to every chunk's first_sample, both streams (a
+                      DAQ whose sample counter has run long: 2^53, 2^63)
 """
 import sys
 
@@ -30,7 +32,7 @@ def parse(edits):
     out = {}
     for e in edits:
         name, _, value = e.partition('=')
-        out[name] = [float(v) for v in value.split(',')]
+        out[name] = [int(value)] if name == 'index_offset' else [float(v) for v in value.split(',')]
     return out
 
 
@@ -79,6 +81,8 @@ def main():
                     frozen = msg.header.stamp
                 else:
                     msg.header.stamp = frozen
+            if 'index_offset' in edits and not topic.endswith('/apple'):
+                msg.first_sample += edits['index_offset'][0]
             dst.write(topic, msg, t)
 
 
