@@ -155,6 +155,19 @@ static void test_audio_flags(void)
   AF_CHECK(says(&v, "no 0S2 resonance above the SNR threshold (10 dB; silence in [599, 1401] Hz)"));
   v.snr_db = NAN;
   AF_CHECK(says(&v, "no 0S2 resonance above the SNR threshold (10 dB; silence in [599, 1401] Hz)"));
+  /* a resonance just outside the range: named with the E2 it implies */
+  v.outside_hz = 1650.4;
+  v.outside_snr_db = 31.2;
+  v.outside_modulus_pa = 16.64e6;
+  v.modulus_min_pa = 4e6;
+  v.modulus_max_pa = 12.5e6;
+  AF_CHECK(says(&v, "a 31 dB peak at 1650 Hz lies above the cultivar's 0S2 range [599, 1401] Hz: "
+                    "E2 16.6 MPa by Lamb, outside modulus_min_pa..modulus_max_pa 4..12.5 MPa"));
+  v.outside_hz = 550.0;
+  v.outside_modulus_pa = 3.5e6;
+  AF_CHECK(says(&v, "a 31 dB peak at 550 Hz lies below the cultivar's 0S2 range [599, 1401] Hz: "
+                    "E2 3.5 MPa by Lamb, outside modulus_min_pa..modulus_max_pa 4..12.5 MPa"));
+  v.outside_hz = v.outside_snr_db = v.outside_modulus_pa = NAN;
   v.flags = AF_VERDICT_RANGE_NYQUIST;
   AF_CHECK(says(&v, "0S2 range [599, 1401] Hz beyond the audio's Nyquist frequency"));
   v.flags = AF_VERDICT_AUDIO_FAILED;
@@ -249,10 +262,11 @@ static void test_flag_names(void)
       "no_apple",       "no_prediction", "apple_doubtful", "measure_failed",  "double_hit",
       "clipped",        "lost_samples",  "truncated",      "spectrum_failed", "fit_failed",
       "poisson",        "no_audio",      "no_resonance",   "range_nyquist",   "audio_failed",
-      "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples"};
+      "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples",
+      "audio_clipped"};
   for (unsigned k = 0; k < sizeof names / sizeof names[0]; k++)
     AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << k)), names[k]) == 0);
-  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 20)), "unknown") == 0);
+  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 21)), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)0), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)3), "unknown") == 0); /* two bits */
 }
