@@ -50,19 +50,21 @@ static char *trim(char *s)
   return s;
 }
 
-/* Splits line at commas into at most max fields; the field count. */
+/* Splits line at commas into at most max fields, each trimmed once cut
+ * (blanks before a comma too); the field count. */
 static size_t split(char *line, char **fields, size_t max)
 {
   size_t n = 0;
-  for (char *p = line;; p++) {
+  for (char *p = line;;) {
     char *comma = strchr(p, ',');
+    if (comma != NULL)
+      *comma = '\0';
     if (n < max)
       fields[n] = trim(p);
     n++;
     if (comma == NULL)
       return n;
-    *comma = '\0';
-    p = comma;
+    p = comma + 1;
   }
 }
 
@@ -118,7 +120,7 @@ static void range_of(const af_csv *c, af_csv_col col, double *lo, double *hi, bo
     snprintf(text, len, "a number in [0, 1]");
   } else if (col == COL_ID) {
     *lo = 1.0, *hi = 4294967295.0;
-    snprintf(text, len, "a whole number in [1, 4294967295]");
+    snprintf(text, len, "a whole number in [1, 4294967295] (0 is StrikeReport's \"no apple\")");
   } else {
     *lo = -INFINITY, *hi = INFINITY;
     snprintf(text, len, "a finite number");
@@ -222,7 +224,9 @@ static af_status rows_of(af_csv *c, FILE *f, af_csv_apple **rows, size_t *n)
                AF_APPLE_CSV_LINE_MAX - 1);
       return AF_EINVAL;
     }
-    char *t = trim(line);
+    /* A UTF-8 byte-order mark, as spreadsheets write it, before the header. */
+    char *t = c->line == 1 && strncmp(line, "\xEF\xBB\xBF", 3) == 0 ? line + 3 : line;
+    t = trim(t);
     if (t[0] == '\0')
       continue;
     if (!have_header) {

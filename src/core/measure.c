@@ -87,6 +87,10 @@ typedef struct {
   double f_lo_hz, f_hi_hz; /* searched 0S2 range */
   af_status judge_status;  /* Lamb root or shear ratio failed (a bad Poisson ratio) */
   bool tap_only;           /* no pulse: the 0S2's prior from the mass and the modulus range */
+  /* No candidate in the range, but a peak just outside it (verdict.h):
+   * its frequency [Hz], SNR [dB] and E2 by Lamb [Pa]. */
+  bool outside;
+  double outside_hz, outside_snr_db, outside_modulus_pa;
 } af_measure_steps;
 
 /* ---- configuration and life cycle ------------------------------------------ */
@@ -404,6 +408,33 @@ static double predicted_0s2_hz(const af_measure_apple *apple, const af_measure_r
                               p->impact.fruit_poisson, p->fruit_density_kg_m3, p->fruit_mass_kg);
 }
 
+/* No candidate in the range: the strongest listed peak above the SNR
+ * threshold within AF_VERDICT_OUTSIDE_FACTOR below or above it, for the
+ * reason to name with the modulus it implies (the strike stays unreliable).
+ * The list's band reaches 0.8 f_lo below the range (af_modes_list_band), so
+ * a peak under that is not seen. */
+static void outside_peak(const af_measure *m, const af_measure_apple *apple, double xi,
+                         size_t n_peaks, af_measure_steps *s)
+{
+  const af_model_params *p = &apple->model;
+  const double lo = s->f_lo_hz / AF_VERDICT_OUTSIDE_FACTOR,
+               hi = s->f_hi_hz * AF_VERDICT_OUTSIDE_FACTOR;
+  for (size_t k = 0; k < n_peaks; k++) {
+    const af_response_result *r = &m->peaks[k];
+    const double f = r->frequency_hz;
+    const bool near = (f >= lo && f < s->f_lo_hz) || (f > s->f_hi_hz && f <= hi);
+    if (!near || !(r->snr_db >= m->cfg.response.snr_threshold_db) ||
+        (s->outside && !(r->snr_db > s->outside_snr_db)))
+      continue;
+    s->outside = true;
+    s->outside_hz = f;
+    s->outside_snr_db = r->snr_db;
+    s->outside_modulus_pa = af_lamb_modulus_pa(xi, f, p->impact.fruit_poisson,
+                                               p->fruit_density_kg_m3, p->fruit_mass_kg) /
+                            p->modulus_factor;
+  }
+}
+
 /* Lists the damped peaks around the 0S2 range and identifies the 0S2 among
  * them (modes.h); the status of step_audio's old single-peak reading:
  * AF_OK (an identification, ambiguous or not), AF_ENODATA (no candidate
@@ -449,6 +480,7 @@ static af_status identify(af_measure *m, const af_measure_apple *apple, const fl
     for (size_t k = 0; k < n_peaks; k++)
       if (m->peaks[k].frequency_hz >= s->f_lo_hz && m->peaks[k].frequency_hz <= s->f_hi_hz)
         out->snr_db = fmax(out->snr_db, m->peaks[k].snr_db);
+    outside_peak(m, apple, xi, n_peaks, s);
   }
   return st;
 }
@@ -549,9 +581,14 @@ static void verdict_audio(const af_measure *m, const af_measure_steps *s,
   if (s->n_audio < AF_MEASURE_MIN_AUDIO) {
     v->flags |= AF_VERDICT_NO_AUDIO;
     v->audio_cause = s->n_audio == 0 ? AF_AUDIO_NOT_GIVEN : AF_AUDIO_TOO_SHORT;
-  } else if (s->audio_status == AF_ENODATA)
+  } else if (s->audio_status == AF_ENODATA) {
     v->flags |= AF_VERDICT_NO_RESONANCE;
-  else if (s->audio_status == AF_EINVAL)
+    if (s->outside) {
+      v->outside_hz = s->outside_hz;
+      v->outside_snr_db = s->outside_snr_db;
+      v->outside_modulus_pa = s->outside_modulus_pa;
+    }
+  } else if (s->audio_status == AF_EINVAL)
     v->flags |= AF_VERDICT_RANGE_NYQUIST;
   else
     v->flags |= AF_VERDICT_AUDIO_FAILED;
@@ -598,6 +635,8 @@ static void verdict_judge(const af_measure *m, const af_strike_event *ev,
   out->no_damage = isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
                    af_criteria_no_damage(out->max_shear_stress_pa, out->yield_shear_stress_pa);
   verdict_clean(ev, s, v);
+  v->modulus_min_pa = apple->modulus_min_pa;
+  v->modulus_max_pa = apple->modulus_max_pa;
   verdict_audio(m, s, out, v);
   verdict_modes(out, v);
   verdict_criteria(apple, s, out, v);

@@ -18,22 +18,34 @@ typedef struct {
   const char *unit;
 } af_field_check;
 
-static bool field_ok(const af_field_check *f, char *why, size_t len)
+static bool field_ok(const af_field_check *f, const char *what, char *why, size_t len)
 {
   if (isfinite(f->value) &&
       ((f->zero_ok && f->value == 0.0) || (f->value >= f->lo && f->value <= f->hi)))
     return true;
   const char *sp = f->unit[0] ? " " : "";
   if (isinf(f->lo) && isinf(f->hi))
-    af_text(why, len,
-            "invalid AppleEstimate: %s = %g is outside the accepted range (any finite value)",
+    af_text(why, len, "%s: %s = %g is outside the accepted range (any finite value)", what,
             f->field, f->value);
   else
-    af_text(why, len,
-            "invalid AppleEstimate: %s = %g%s%s is outside the accepted range %s[%g, %g]%s%s",
+    af_text(why, len, "%s: %s = %g%s%s is outside the accepted range %s[%g, %g]%s%s", what,
             f->field, f->value, sp, f->unit, f->zero_ok ? "0 (unknown) or " : "", f->lo, f->hi, sp,
             f->unit);
   return false;
+}
+
+af_status af_prediction_check_apple(const af_lane_config *cfg, double mass_kg,
+                                    double strike_radius_m, const char *what, char *why, size_t len)
+{
+  const af_field_check checks[] = {
+      {"mass", mass_kg, cfg->mass_min_kg, cfg->mass_max_kg, false, "kg"},
+      {"strike_radius", strike_radius_m, cfg->strike_radius_min_m, cfg->strike_radius_max_m, true,
+       "m"},
+  };
+  for (size_t k = 0; k < sizeof checks / sizeof checks[0]; k++)
+    if (!field_ok(&checks[k], what, why, len))
+      return AF_EINVAL;
+  return AF_OK;
 }
 
 /* Every field finite and in range, and mass and radius a plausible shape. */
@@ -51,7 +63,7 @@ static bool apple_valid(const af_lane_config *c, const af_apple *a, af_predictio
       {"confidence", a->confidence, 0.0, 1.0, false, ""},
   };
   for (size_t k = 0; k < sizeof checks / sizeof checks[0]; k++)
-    if (!field_ok(&checks[k], out->why, sizeof out->why))
+    if (!field_ok(&checks[k], "invalid AppleEstimate", out->why, sizeof out->why))
       return false;
   /* The shape follows from mass, density and equatorial radius; an absurd
    * aspect means the estimates disagree with each other. */

@@ -61,6 +61,16 @@ typedef struct {
 af_status af_prediction_execute(af_model *model, const af_lane_config *cfg, const af_apple *a,
                                 af_prediction *out);
 
+/* An apple's mass [kg] and strike radius [m] (0 = unknown) against the
+ * cultivar's and the station's ranges in cfg (mass_min_kg..mass_max_kg,
+ * strike_radius_min_m..strike_radius_max_m), in the words
+ * af_prediction_execute refuses an AppleEstimate with, `what` leading them
+ * ("invalid AppleEstimate"). AF_OK, or AF_EINVAL with one line in why. For
+ * what the model is asked about an apple the lane would refuse. */
+af_status af_prediction_check_apple(const af_lane_config *cfg, double mass_kg,
+                                    double strike_radius_m, const char *what, char *why,
+                                    size_t len);
+
 /* The same on the fast path (fastpath.h; what the lane runs): the strike and
  * every step of the R2_min search from the process's shared table, within
  * 0.1 % of the ODE path's figures (test/core/test_prediction_fast.c), a

@@ -17,6 +17,8 @@ void af_verdict_clear(af_verdict *v)
   v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = v->audio_clip_max =
       v->audio_clip_min = NAN;
   v->apple_transit_s = v->apple_tolerance_s = v->nearest_apple_lag_s = NAN;
+  v->outside_hz = v->outside_snr_db = v->outside_modulus_pa = NAN;
+  v->modulus_min_pa = v->modulus_max_pa = NAN;
 }
 
 /* Appends one part, "; "-separated, never overflowing. */
@@ -120,7 +122,14 @@ static void add_audio(const af_verdict *v, char *buf, size_t len)
 {
   if (v->flags & AF_VERDICT_NO_AUDIO)
     add_no_audio(v, buf, len);
-  if ((v->flags & AF_VERDICT_NO_RESONANCE) && isfinite(v->snr_db))
+  if ((v->flags & AF_VERDICT_NO_RESONANCE) && isfinite(v->outside_hz))
+    add(buf, len,
+        "a %.0f dB peak at %.0f Hz lies %s the cultivar's 0S2 range [%.0f, %.0f] Hz: E2 %.1f MPa "
+        "by Lamb, outside modulus_min_pa..modulus_max_pa %g..%g MPa",
+        v->outside_snr_db, v->outside_hz, v->outside_hz < v->f_lo_hz ? "below" : "above",
+        v->f_lo_hz, v->f_hi_hz, 1e-6 * v->outside_modulus_pa, 1e-6 * v->modulus_min_pa,
+        1e-6 * v->modulus_max_pa);
+  else if ((v->flags & AF_VERDICT_NO_RESONANCE) && isfinite(v->snr_db))
     add(buf, len,
         "no 0S2 resonance above the SNR threshold (%.0f dB; best %.1f dB in [%.0f, %.0f] Hz)",
         v->snr_threshold_db, v->snr_db, v->f_lo_hz, v->f_hi_hz);

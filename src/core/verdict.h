@@ -64,6 +64,12 @@ typedef enum {
 
 #define AF_VERDICT_TEXT_MAX 160
 
+/* How far outside the 0S2 search range a peak is still named as the
+ * resonance of a fruit outside the cultivar's range (a frequency ratio: 1.5
+ * is a modulus 2.25 times off; farther, a peak is more likely another mode
+ * or the support than this fruit's 0S2). */
+#define AF_VERDICT_OUTSIDE_FACTOR 1.5
+
 /* What a tap-only strike (no force input, onset.h) judged from the model's
  * prediction for the configured hammer instead of a measurement: notes, not
  * reasons (a strike may be reliable with them), in af_verdict.model_only. */
@@ -101,9 +107,15 @@ typedef struct {
   uint64_t audio_first, audio_last, audio_end; /* sample indices of the window, stream end */
   double audio_seconds;                        /* wait_s, seconds_before or ring_s */
   size_t n_audio, queue_size;
-  double snr_db, snr_threshold_db;     /* NO_RESONANCE: best candidate (NaN/-inf: none) */
-  double f_lo_hz, f_hi_hz;             /* the 0S2 search range [Hz] */
-  char mode_text[AF_VERDICT_TEXT_MAX]; /* MODE_AMBIGUOUS: af_modes_format's line */
+  double snr_db, snr_threshold_db; /* NO_RESONANCE: best candidate (NaN/-inf: none) */
+  double f_lo_hz, f_hi_hz;         /* the 0S2 search range [Hz] */
+  /* NO_RESONANCE with a resonance just outside the range (a fruit softer or
+   * firmer than the cultivar's, or a wrong mass): the strongest listed peak
+   * above the SNR threshold within AF_VERDICT_OUTSIDE_FACTOR of the range
+   * [Hz], its SNR [dB] and the E2 Lamb's law gives it [Pa]; NaN: none. */
+  double outside_hz, outside_snr_db, outside_modulus_pa;
+  double modulus_min_pa, modulus_max_pa; /* ... the cultivar's E2 range [Pa] */
+  char mode_text[AF_VERDICT_TEXT_MAX];   /* MODE_AMBIGUOUS: af_modes_format's line */
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */

@@ -162,6 +162,7 @@ static int parse_fmt(const uint8_t *p, uint32_t size, af_wav_info *w, char *err,
       snprintf(err, len, "WAV extensible: %u valid bits in a %u-bit sample", valid, bits);
       return 0;
     }
+    w->valid_bits = sub == 1 ? valid : bits;
     tag = sub;
   }
   if (!format_of(tag, bits, &w->format, err, len))
@@ -181,6 +182,8 @@ static int parse_fmt(const uint8_t *p, uint32_t size, af_wav_info *w, char *err,
     return 0;
   }
   w->format_tag = tag;
+  if (w->valid_bits == 0)
+    w->valid_bits = bits;
   w->bits = bits;
   w->channels = channels;
   w->sample_rate_hz = rate;
@@ -206,7 +209,9 @@ af_status af_wav_parse(const uint8_t *head, size_t n, uint64_t file_bytes, af_wa
     snprintf(err, len, "not a RIFF/WAVE file (%llu bytes)", (unsigned long long)file_bytes);
     return AF_EINVAL;
   }
-  const uint64_t riff_end = 8 + (uint64_t)le32(head + 4);
+  const uint32_t riff_size = le32(head + 4);
+  out->streamed = riff_size == 0 || riff_size == UINT32_MAX;
+  const uint64_t riff_end = out->streamed ? file_bytes : 8 + (uint64_t)riff_size;
   if (riff_end > file_bytes) {
     snprintf(err, len, "WAV RIFF size says %llu bytes, the file has %llu",
              (unsigned long long)riff_end, (unsigned long long)file_bytes);
@@ -215,14 +220,26 @@ af_status af_wav_parse(const uint8_t *head, size_t n, uint64_t file_bytes, af_wa
   int have_fmt = 0;
   for (uint64_t pos = 12;;) {
     if (pos + 8 > riff_end || pos + 8 > n) {
-      snprintf(err, len, "WAV has no '%s' chunk%s", have_fmt ? "data" : "fmt ",
-               pos + 8 > riff_end ? "" : " in its first MiB");
+      const char *what = have_fmt ? "data" : "fmt ";
+      if (pos + 8 <= riff_end)
+        snprintf(err, len, "WAV has no '%s' chunk in its first MiB", what);
+      else if (riff_end < file_bytes) /* the size may be what is wrong, not the file */
+        snprintf(err, len,
+                 "WAV has no '%s' chunk within the %llu bytes its RIFF size (%u) says; the file "
+                 "has %llu",
+                 what, (unsigned long long)riff_end, riff_size, (unsigned long long)file_bytes);
+      else
+        snprintf(err, len, "WAV has no '%s' chunk", what);
       return AF_EINVAL;
     }
     char name[5];
     chunk_name(head + pos, name);
-    const uint32_t size = le32(head + pos + 4);
-    const uint64_t body = pos + 8, end = body + size;
+    uint32_t size = le32(head + pos + 4);
+    const uint64_t body = pos + 8;
+    if (out->streamed && have_fmt && memcmp(name, "data", 4) == 0 &&
+        (size == 0 || size == UINT32_MAX || body + size > riff_end)) /* never finalized */
+      size = (uint32_t)((riff_end - body) / out->frame_bytes * out->frame_bytes);
+    const uint64_t end = body + size;
     if (end > riff_end) {
       snprintf(err, len, "WAV chunk '%s' at byte %llu claims %u bytes, past the RIFF's end at %llu",
                name, (unsigned long long)pos, size, (unsigned long long)riff_end);
@@ -253,6 +270,36 @@ af_status af_wav_parse(const uint8_t *head, size_t n, uint64_t file_bytes, af_wa
     }
     pos = end + (size & 1u); /* chunks are padded to an even size */
   }
+}
+
+/* The sample of `bytes` bytes at p as a sign-extended integer. */
+static int64_t sample_int(const uint8_t *p, unsigned bytes)
+{
+  uint64_t u = 0;
+  for (unsigned k = 0; k < bytes; k++)
+    u |= (uint64_t)p[k] << (8 * k);
+  const uint64_t sign = (uint64_t)1 << (8 * bytes - 1);
+  return (int64_t)(u ^ sign) - (int64_t)sign;
+}
+
+void af_wav_justify_scan(const af_wav_info *w, const uint8_t *frames, size_t n, af_wav_justify *j)
+{
+  if (w->format_tag != 1 || w->valid_bits >= w->bits || w->bits < 16 || w->bits > 32)
+    return;
+  const unsigned bytes = w->bits / 8, shift = w->bits - w->valid_bits;
+  const int64_t low_mask = ((int64_t)1 << shift) - 1, top = (int64_t)1 << (w->valid_bits - 1);
+  for (size_t k = 0; k < n * w->channels; k++) {
+    const int64_t v = sample_int(frames + k * bytes, bytes);
+    j->low_used |= (v & low_mask) != 0;
+    j->top_not_ext |= v < -top || v >= top;
+  }
+}
+
+double af_wav_right_justified(const af_wav_info *w, const af_wav_justify *j)
+{
+  if (w->format_tag != 1 || w->valid_bits >= w->bits || !j->low_used || j->top_not_ext)
+    return 1.0;
+  return (double)((uint64_t)1 << (w->bits - w->valid_bits));
 }
 
 void af_wav_decode(const af_wav_info *w, const uint8_t *frames, size_t n, unsigned channel,

@@ -22,6 +22,7 @@
 #ifndef AF_WAV_H
 #define AF_WAV_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -59,6 +60,12 @@ typedef struct {
   uint64_t data_offset;    /* first byte of the first frame, from the file start */
   uint64_t frames;         /* whole frames in the 'data' chunk */
   size_t frame_bytes;      /* channels * bits / 8 */
+  unsigned valid_bits;     /* significant bits of an integer sample (extensible), else bits */
+  /* The RIFF size was 0 or 0xFFFFFFFF, as recorders leave a stream they
+   * never finalized: the chunks were read to the end of the file, and a
+   * 'data' chunk of size 0, 0xFFFFFFFF or past the end holds the whole
+   * frames up to it. */
+  bool streamed;
 } af_wav_info;
 
 /* Parses the header in head[0..n) of a file of file_bytes bytes (n <=
@@ -67,6 +74,23 @@ typedef struct {
  * adds it) when the file is not an accepted WAVE or its sizes lie. */
 af_status af_wav_parse(const uint8_t *head, size_t n, uint64_t file_bytes, af_wav_info *out,
                        char *err, size_t len);
+
+/* Fewer valid bits than the container's (extensible integer PCM): the spec
+ * puts them at the top (left-justified, the low bits zero). Some writers put
+ * them at the bottom (right-justified), the top bits only the sign's
+ * extension: read as the spec says, those samples come out 2^(bits - valid)
+ * times too small. af_wav_justify_scan looks at every sample of n frames
+ * (call it on each block read, from a zeroed af_wav_justify); then
+ * af_wav_right_justified gives the factor that corrects them (256 for 24
+ * valid bits in 32), or 1 when the samples are as the spec says, cannot be
+ * told (all zero) or fit neither. */
+typedef struct {
+  bool low_used;    /* a sample with a low (unused by the spec) bit set */
+  bool top_not_ext; /* a sample whose top bits are not the sign's extension */
+} af_wav_justify;
+
+void af_wav_justify_scan(const af_wav_info *w, const uint8_t *frames, size_t n, af_wav_justify *j);
+double af_wav_right_justified(const af_wav_info *w, const af_wav_justify *j);
 
 /* Channel `channel` (< w->channels) of n frames at frames, the bytes of
  * whole frames read from the data chunk, into out[0..n): integers at full

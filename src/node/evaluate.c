@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "model.h"
+#include "prediction.h"
 #include "lamb.h"
 #include "settings.h"
 #include "text.h"
@@ -88,6 +89,11 @@ static bool params_of(const af_evaluate *e, const af_evaluate_request *req, af_m
              &i->velocity_m_s, err, len) ||
       !field("hammer_mass", req->hammer_mass_kg, AF_SETTING_HAMMER_MASS_KG, i->hammer_mass_kg,
              &i->hammer_mass_kg, err, len))
+    return false;
+  /* The cultivar's ranges, as the lane's prediction refuses an apple: the
+   * table's alone would answer for fruit the lane never grades. */
+  if (af_prediction_check_apple(c, p->fruit_mass_kg, i->strike_radius_m,
+                                "the lane would refuse this apple", err, len) != AF_OK)
     return false;
   af_param_error pe;
   if (af_model_params_check(p, &pe) != AF_OK) {

@@ -215,13 +215,19 @@ static const char *type_name(af_msg_type t)
 /* A message the reader refused (too long, not its type): counted in its
  * stream (an apple's among the session's), one line on stderr for the 1st,
  * 2nd, 4th ... */
-static void refused(af_session_ctx *c, int which, bool oversized, const char *why)
+static uint64_t count_refused(af_session_ctx *c, int which, bool oversized, const char *why)
 {
   uint64_t n = ++c->s->refused_messages;
   if (which == AF_TOPIC_APPLE)
     c->s->refused_apples++;
   else
     af_lane_refuse(c->lane, which == AF_TOPIC_FORCE, oversized, why);
+  return n;
+}
+
+static void refused(af_session_ctx *c, int which, bool oversized, const char *why)
+{
+  uint64_t n = count_refused(c, which, oversized, why);
   if ((n & (n - 1)) == 0)
     fprintf(stderr, "firmness_report: %s: refused %s (%llu messages refused so far)\n",
             c->o->bag_path, why, (unsigned long long)n);
@@ -243,6 +249,12 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
   af_bag_message m;
   af_status st;
   uint64_t step = total / 200 + 1;
+  /* Per topic: messages of its own type, those of another (the first's
+   * type). A stray message of another type is refused alone, counted, and
+   * said once per topic at the end; a topic with nothing but other types is
+   * a wrong topic, and the bag is refused. */
+  uint64_t own[AF_TOPICS] = {0}, others[AF_TOPICS] = {0};
+  af_msg_type other[AF_TOPICS];
   while ((st = af_bag_read_next(bag, &m)) == AF_OK || st == AF_ESIZE || st == AF_EINVAL) {
     int64_t now = ns_of(m.bag_time);
     int which = strcmp(m.topic, topics[AF_TOPIC_FORCE]) == 0   ? AF_TOPIC_FORCE
@@ -253,10 +265,13 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
       continue;
     }
     af_msg_type want = which == AF_TOPIC_APPLE ? AF_MSG_APPLE_ESTIMATE : AF_MSG_SIGNAL_CHUNK;
-    if (m.type != want) {
-      af_text(err, len, "topic %s carries %s, not %s", m.topic, type_name(m.type), type_name(want));
-      return AF_SESSION_BAD_INPUT;
+    if (m.type != want) { /* one message of another type: refused, said at the end */
+      if (others[which]++ == 0)
+        other[which] = m.type;
+      (void)count_refused(c, which, false, "a message of another type on this topic");
+      continue;
     }
+    own[which]++;
     s->messages++;
     if (which == AF_TOPIC_FORCE && c->o->cfg->measured.tap_only)
       continue; /* tap-only: the strikes are the audio's onsets (said once by open) */
@@ -298,6 +313,19 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
   af_lane_finish(c->lane);
   if (c->o->progress)
     show_progress(s->messages, total, true);
+  for (int k = 0; k < AF_TOPICS; k++) {
+    const char *want = type_name(k == AF_TOPIC_APPLE ? AF_MSG_APPLE_ESTIMATE : AF_MSG_SIGNAL_CHUNK);
+    if (others[k] > 0 && own[k] == 0) {
+      af_text(err, len, "topic %s carries %s, not %s", topics[k], type_name(other[k]), want);
+      return AF_SESSION_BAD_INPUT;
+    }
+    if (others[k] > 0)
+      fprintf(stderr,
+              "firmness_report: %s: refused %llu message%s of another type on %s, which carries "
+              "%s (the first: %s): counted, the rest of the bag read\n",
+              c->o->bag_path, (unsigned long long)others[k], others[k] == 1 ? "" : "s", topics[k],
+              want, type_name(other[k]));
+  }
   if (c->out_of_memory) {
     af_text(err, len, "out of memory at the end of the bag");
     return AF_SESSION_FAILED;

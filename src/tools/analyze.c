@@ -546,6 +546,101 @@ static void print_bench(double rate_hz, const af_analyze_ctx *c, double cpu_s, s
           c->n_rows, seconds, 1e3 * cpu_s, cpu_s > 0.0 ? seconds / cpu_s : INFINITY);
 }
 
+/* What the force holds, read independently of the detector so that the
+ * reason can name a force with no finite sample or one of the wrong sign:
+ * the count of finite samples, and the largest excursions either side of
+ * their median [N] with the samples they are at. */
+typedef struct {
+  size_t finite;
+  double up_n, down_n; /* >= 0 and <= 0 [N] */
+  size_t up_at, down_at;
+} af_force_survey;
+
+static int cmp_float(const void *a, const void *b)
+{
+  const float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* false: out of memory for the median's copy (nothing said then). */
+static bool survey_force(const af_recording *force, af_force_survey *out)
+{
+  *out = (af_force_survey){0};
+  float *sorted = malloc((force->n > 0 ? force->n : 1) * sizeof *sorted);
+  if (sorted == NULL)
+    return false;
+  for (size_t k = 0; k < force->n; k++)
+    if (isfinite(force->x[k]))
+      sorted[out->finite++] = force->x[k];
+  if (out->finite > 0) {
+    qsort(sorted, out->finite, sizeof *sorted, cmp_float);
+    const double median = sorted[out->finite / 2];
+    for (size_t k = 0; k < force->n; k++) {
+      const double e = (double)force->x[k] - median;
+      if (!isfinite(e))
+        continue;
+      if (e > out->up_n) {
+        out->up_n = e;
+        out->up_at = k;
+      } else if (e < out->down_n) {
+        out->down_n = e;
+        out->down_at = k;
+      }
+    }
+  }
+  free(sorted);
+  return true;
+}
+
+/* A pulse of the wrong sign: its largest excursion is downwards, more than
+ * twice any excursion upwards (noise is about symmetric, a rebound smaller
+ * than its pulse) and larger than limit_n [N]. */
+static bool looks_inverted(const af_force_survey *g, double limit_n)
+{
+  return g->finite > 0 && -g->down_n > fmax(limit_n, 2.0 * g->up_n);
+}
+
+/* Why no strike came, from the force itself when it says more than the
+ * detector's state: no finite sample, or a pulse of the wrong sign. */
+static void why_no_strike(const af_analyze_args *a, const af_lane *lane, const af_recording *force,
+                          char *why, size_t len)
+{
+  af_force_survey g;
+  const bool surveyed = survey_force(force, &g);
+  if (surveyed && g.finite == 0) {
+    snprintf(why, len,
+             "the force recording %s holds no finite sample (%zu samples, all NaN or infinite)",
+             a->force_path, force->n);
+    return;
+  }
+  if (surveyed && looks_inverted(&g, 0.0)) {
+    snprintf(why, len,
+             "the largest excursion is %.3g N at sample %zu, against %.3g N at most upwards: is "
+             "the force inverted (transducer polarity)?",
+             g.down_n, g.down_at, g.up_n);
+    return;
+  }
+  (void)af_strike_explain(af_lane_detector(lane), why, len);
+}
+
+/* Strikes found, but the force's largest excursion is downwards and larger
+ * than every strike's peak: the strikes are likely its rebounds. */
+static void warn_inverted(const af_analyze_args *a, const af_analyze_ctx *c,
+                          const af_recording *force)
+{
+  af_force_survey g;
+  double peak_n = 0.0;
+  for (size_t i = 0; i < c->n_rows; i++)
+    if (isfinite(c->rows[i].report.peak_force_n))
+      peak_n = fmax(peak_n, c->rows[i].report.peak_force_n);
+  if (survey_force(force, &g) && looks_inverted(&g, 2.0 * peak_n))
+    fprintf(stderr,
+            "firmness_model analyze: warning: the largest excursion in %s is %.3g N at sample "
+            "%zu, against %.3g N for the largest strike found: is the force inverted "
+            "(transducer polarity)?\n",
+            a->force_path, g.down_n, g.down_at, peak_n);
+}
+
 /* Runs the lane over the recordings; prints the JSON (and why no strike). */
 static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
                        const af_recording *force, const af_recording *audio)
@@ -596,9 +691,10 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
       else if (force->n == 0)
         snprintf(why, sizeof why, "the force recording %s is empty", a->force_path);
       else
-        (void)af_strike_explain(af_lane_detector(lane), why, sizeof why);
+        why_no_strike(a, lane, force, why, sizeof why);
       fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
-    }
+    } else if (!cfg->measured.tap_only)
+      warn_inverted(a, &c, force);
     warn_refused(af_lane_force_stream(lane), a->force_path);
     warn_refused(af_lane_audio_stream(lane), a->audio_path);
     json_print(stdout, &c, lane, c.n_rows == 0 ? why : NULL);

@@ -179,16 +179,29 @@ static af_status read_wav(FILE *f, const char *path, const af_wav_info *w,
   if (s == AF_OK && fseeko(f, (off_t)w->data_offset, SEEK_SET) != 0)
     s = AF_EIO;
   const unsigned channel = spec->channel < 0 ? 0u : (unsigned)spec->channel;
+  af_wav_justify justify = {0};
   for (size_t done = 0; s == AF_OK && done < out->n;) {
     size_t n = out->n - done < block ? out->n - done : block;
     if (fread(buf, w->frame_bytes, n, f) != n)
       s = AF_EIO;
-    else
+    else {
+      af_wav_justify_scan(w, buf, n, &justify);
       af_wav_decode(w, buf, n, channel, spec->scale, out->x + done);
+    }
     done += n;
   }
   if (s != AF_OK)
     snprintf(err, len, "%s: cannot read %zu WAV frames: %s", path, out->n, af_strerror(s));
+  /* Right-justified samples: scaled by a power of two, exact in float. */
+  const double factor = s == AF_OK ? af_wav_right_justified(w, &justify) : 1.0;
+  if (factor != 1.0) {
+    for (size_t k = 0; k < out->n; k++)
+      out->x[k] = (float)(factor * out->x[k]);
+    fprintf(stderr,
+            "%s: note: its %u valid bits sit right-justified in %u-bit samples (the top bits only "
+            "the sign's extension, against the WAV spec): read as %u-bit samples (x %g)\n",
+            path, w->valid_bits, w->bits, w->valid_bits, factor);
+  }
   free(buf);
   return s;
 }
@@ -236,6 +249,11 @@ static af_status load_wav(FILE *f, const char *path, const uint8_t *head, size_t
     return AF_EINVAL;
   }
   af_status s = check_wav_flags(path, &w, spec, err, len);
+  if (s == AF_OK && w.streamed)
+    fprintf(stderr,
+            "%s: note: its RIFF size is %s, as a recorder leaves a stream it never finalized: "
+            "read to the end of the file, %llu frames\n",
+            path, head[4] == 0 ? "0" : "0xFFFFFFFF", (unsigned long long)w.frames);
   if (s == AF_OK)
     s = read_wav(f, path, &w, spec, out, err, len);
   if (s == AF_OK)

@@ -6,8 +6,11 @@
 # in wav_files.py) in every accepted form: 16-bit PCM, 32- and 64-bit float,
 # stereo with the signal in channel 1, 24- and 32-bit PCM, extensible PCM
 # (24 valid bits in 32, a LIST chunk before the data) and extensible float,
-# 8-bit PCM. Each must give what the raw float32 files give: every figure of
-# the strike within 0.1 % (8-bit: the peak within one step of 8 bits). Then
+# 8-bit PCM, the 24 valid bits right-justified (against the spec: read x 256
+# with a note), RIFF sizes of 0 and 0xFFFFFFFF (a stream never finalized:
+# read to the end of the file, with a note). Each must give what the raw
+# float32 files give: every figure of the strike within 0.1 % (8-bit: the
+# peak within one step of 8 bits). Then
 # every refusal: exit 2, one line naming the file.
 # Usage: test_wav.sh /path/to/firmness_model
 source "$(dirname "$0")/harness.sh" "$@"
@@ -36,6 +39,14 @@ W.write_float(out + '/ff32.wav', rate, [f], 32)
 W.write_float(out + '/ff64s.wav', rate, [other, f, other], 64)
 W.write_float(out + '/ffext.wav', rate, [f], 32, extensible=True)
 W.write_extensible_pcm(out + '/fext24in32.wav', rate, [other, f], 32, fs_n, valid_bits=24)
+# the same 24 valid bits right-justified, against the spec: the top byte only
+# the sign's extension
+ext = bytearray(open(out + '/fext24in32.wav', 'rb').read())
+at = ext.find(b'data') + 8
+for k in range(at, len(ext) - 3, 4):
+    v = struct.unpack_from('<i', ext, k)[0] >> 8  # arithmetic: sign-extended
+    struct.pack_into('<i', ext, k, v)
+open(out + '/fext24right.wav', 'wb').write(ext)
 W.write_float(out + '/a32.wav', rate, [a], 32)
 W.write_pcm(out + '/a16s.wav', rate, [[0.0] * len(a), a], 16, fs_a)
 
@@ -50,6 +61,16 @@ open(out + '/mp3tag.wav', 'wb').write(W.riff([W.fmt_chunk(0x55, 1, rate, 16), W.
 open(out + '/bits12.wav', 'wb').write(W.riff([W.fmt_chunk(1, 1, rate, 12)[:-2] + b'\x0c\x00', W.data_chunk(b'\0' * 8)]))
 open(out + '/float16.wav', 'wb').write(W.riff([W.fmt_chunk(3, 1, rate, 16), W.data_chunk(b'\0' * 8)]))
 open(out + '/nodata.wav', 'wb').write(W.riff([W.fmt_chunk(1, 1, rate, 16)]))
+# a stream never finalized: RIFF size 0; RIFF and 'data' sizes 0xFFFFFFFF and
+# half a frame at the end
+riff0 = bytearray(good); struct.pack_into('<I', riff0, 4, 0)
+open(out + '/riff0.wav', 'wb').write(riff0)
+riffff = bytearray(good) + b'\x01'; struct.pack_into('<I', riffff, 4, 0xFFFFFFFF)
+struct.pack_into('<I', riffff, riffff.find(b'data') + 4, 0xFFFFFFFF)
+open(out + '/riffff.wav', 'wb').write(riffff)
+# a RIFF size that holds 'WAVE' alone
+riff4 = bytearray(good); struct.pack_into('<I', riff4, 4, 4)
+open(out + '/riff4.wav', 'wb').write(riff4)
 # an MP3: an ID3v2 tag, then MPEG-1 layer III frames (128 kbit/s, 44.1 kHz: 417 bytes each)
 frame = b'\xff\xfb\x90\x64' + b'\0' * 413
 open(out + '/tagged.bin', 'wb').write(b'ID3\x04\x00\x00\x00\x00\x00\x00' + frame * 3)
@@ -111,6 +132,26 @@ same_as_raw 1e-3 --force "$tmp/f32i.wav" --force-channel 1 --force-scale "$FS_N"
 same_as_raw 1e-3 --force "$tmp/ff64s.wav" --force-channel 1 "${A[@]}"
 same_as_raw 1e-3 --force "$tmp/ffext.wav" "${A[@]}"
 same_as_raw 1e-3 --force "$tmp/fext24in32.wav" --force-channel 1 --force-scale "$FS_N" "${A[@]}"
+same_as_raw 1e-3 --force "$tmp/fext24right.wav" --force-channel 1 --force-scale "$FS_N" "${A[@]}"
+same_as_raw 1e-3 --force "$tmp/riff0.wav" --force-scale "$FS_N" "${A[@]}"
+same_as_raw 1e-3 --force "$tmp/riffff.wav" --force-scale "$FS_N" "${A[@]}"
+# each said in one line
+note_says() {
+  if "$FM" analyze "$@" "${A[@]}" "${apple[@]}" >/dev/null 2>"$tmp/err" && grep -q -- "$line" "$tmp/err"; then
+    ok
+  else
+    bad "'$*' does not say '$line': $(head -c 300 "$tmp/err")"
+  fi
+}
+line="fext24right.wav: note: its 24 valid bits sit right-justified in 32-bit samples (the top bits only the sign's extension, against the WAV spec): read as 24-bit samples (x 256)"
+note_says --force "$tmp/fext24right.wav" --force-channel 1 --force-scale "$FS_N"
+line="riff0.wav: note: its RIFF size is 0, as a recorder leaves a stream it never finalized: read to the end of the file, 25600 frames"
+note_says --force "$tmp/riff0.wav" --force-scale "$FS_N"
+line="riffff.wav: note: its RIFF size is 0xFFFFFFFF, as a recorder leaves a stream it never finalized: read to the end of the file, 25600 frames"
+note_says --force "$tmp/riffff.wav" --force-scale "$FS_N"
+# left-justified as the spec says: no note
+if "$FM" analyze --force "$tmp/fext24in32.wav" --force-channel 1 --force-scale "$FS_N" "${A[@]}" "${apple[@]}" \
+  >/dev/null 2>"$tmp/err" && ! grep -q "note:" "$tmp/err"; then ok; else bad "fext24in32.wav: $(head -c 300 "$tmp/err")"; fi
 # float32 in, float32 out: the very same figures
 same_as_raw 0 --force "$tmp/ff32.wav" "${A[@]}"
 
@@ -149,6 +190,7 @@ expect_usage "part_frame.wav: WAV 'data' chunk of 6 bytes is not a whole number 
 expect_usage "mp3tag.wav: WAV format tag 0x0055 (MPEG layer 3)" analyze --force "$tmp/mp3tag.wav" "${A[@]}" "${R[@]}"
 expect_usage "bits12.wav: WAV PCM of 12 bits" analyze --force "$tmp/bits12.wav" "${A[@]}" "${R[@]}"
 expect_usage "float16.wav: WAV IEEE float of 16 bits" analyze --force "$tmp/float16.wav" "${A[@]}" "${R[@]}"
+expect_usage "riff4.wav: WAV has no 'fmt ' chunk within the 12 bytes its RIFF size (4) says; the file has" analyze --force "$tmp/riff4.wav" "${A[@]}" "${R[@]}"
 expect_usage "nodata.wav: WAV has no 'data' chunk" analyze --force "$tmp/nodata.wav" "${A[@]}" "${R[@]}"
 expect_usage "odd.f32: 403 bytes is not a whole number of float32 samples" analyze --force "$tmp/odd.f32" --rate-force 25600 "${A[@]}" "${R[@]}"
 expect_usage "f16.wav: --rate-force 25000 disagrees with the WAV header's 25600 Hz" analyze --force "$tmp/f16.wav" --rate-force 25000 "${A[@]}" "${R[@]}"

@@ -15,6 +15,8 @@
 #    above the largest sample);
 #  - the same session as raw float32 + stereo WAV (other start, other lane):
 #    the same strikes, every figure within 0.1 % (16-bit quantisation);
+#  - the CSV as spreadsheets write it (a BOM, blanks around the fields): the
+#    same AppleEstimates;
 #  - refusals: exit 2, one line naming the flag, file, line, column and range.
 # Usage: test_capture_to_bag.sh CAPTURE_TO_BAG FIRMNESS_REPORT STRIKE_BAG
 #        (in the devel space's environment: rosbag's Python)
@@ -137,6 +139,28 @@ for p, q in zip(a, b):
 print('  bag B (raw float32 + stereo WAV) vs A: worst relative difference %.2e' % worst)
 EOF
 
+# --- the CSV as spreadsheets write it: a UTF-8 BOM before the header, blanks
+# around every field (before the commas too), blank lines at the end: the
+# same AppleEstimates as the plain CSV's
+"$PY" - "$tmp/apples.csv" "$tmp/sheet.csv" <<'EOF'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+out = ['\ufeff' + lines[0].replace(',', ' ,\t')] + [' ' + l.replace(',', '\t , ') + ' \t' for l in lines[1:]]
+open(sys.argv[2], 'w', encoding='utf-8').write('\n'.join(out) + '\n \n\t\n')
+EOF
+"$FM" --force "$tmp/force16.wav" --force-scale 100 --audio "$tmp/audio32.wav" --apples "$tmp/sheet.csv" \
+  --out "$tmp/sheet.bag" >/dev/null 2>"$tmp/sheet.err" || bad "the spreadsheet's CSV: $(cat "$tmp/sheet.err")"
+if "$PY" - "$tmp/a.bag" "$tmp/sheet.bag" <<'EOF'; then ok; else bad "the spreadsheet's CSV gave other apples"; fi
+import sys, rosbag
+def apples(path):
+    with rosbag.Bag(path) as b:
+        return [(t, m.apple_id, m.header.stamp.to_nsec(), m.mass, m.equatorial_radius, m.confidence)
+                for t, m, _ in b.read_messages() if m._type.endswith('AppleEstimate')]
+a, s = apples(sys.argv[1]), apples(sys.argv[2])
+print('  spreadsheet CSV: %d apples, the same as the plain CSV\'s: %s' % (len(s), a == s))
+sys.exit(0 if a == s and len(a) == 3 else 1)
+EOF
+
 # --- refusals ---------------------------------------------------------------------------
 G=(--force "$tmp/force16.wav" --audio "$tmp/audio32.wav" --out "$tmp/x.bag")
 csv_case() { # name sed-expression: a CSV made from apples.csv
@@ -158,6 +182,8 @@ csv_case conf 's/0.9$/1.5/'
 expect_usage "conf.csv:2: column confidence: '1.5' is not a number in \[0, 1\]" "${G[@]}" --apples "$tmp/conf.csv"
 csv_case radius 's/,0.04,/,0.0001,/'
 expect_usage "radius.csv:2: column strike_radius_m: '0.0001' is not 0 (unknown) or a number in \[0.0005, 1\] m" "${G[@]}" --apples "$tmp/radius.csv"
+csv_case id0 's/^11,/0,/'
+expect_usage "id0.csv:2: column apple_id: '0' is not a whole number in \[1, 4294967295\] (0 is StrikeReport's \"no apple\")" "${G[@]}" --apples "$tmp/id0.csv"
 csv_case id 's/^11,/11.5,/'
 expect_usage "id.csv:2: column apple_id: '11.5' is not a whole number" "${G[@]}" --apples "$tmp/id.csv"
 csv_case axis 's/,1,0,0,/,1,nan,0,/'

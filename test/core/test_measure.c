@@ -584,6 +584,43 @@ static void test_audio_failures(void)
   free_recording(&rec);
 }
 
+/* A 6 MPa apple under a cultivar of 9..12 MPa: its 0S2 (amplitude 1, Q 30)
+ * lies below the searched range, the louder mode at 1.84 x the top of the
+ * 2..12 MPa synthesis range lies beyond the named margin above it. The
+ * strike stays unreliable, and its reason names the peak below the range
+ * with the modulus it implies, not silence. */
+static void test_outside_range(void)
+{
+  const apple_truth soft = {6e6, 0.175, 1.0};
+  af_strike_config sc = af_strike_config_default();
+  recording rec;
+  synth_recording(&rec, &soft, 1, 85);
+  static pipeline p;
+  af_measure *m = make_measure();
+  af_measure_apple apple = prediction(&soft);
+  apple.modulus_min_pa = 9e6;
+  apple.modulus_max_pa = 12e6;
+  p = (pipeline){.m = m, .apple = &apple, .rec = &rec};
+  run_pipeline(&sc, &p, 0, 0);
+  AF_CHECK(p.n == 1);
+  if (p.n == 1) {
+    const af_measure_report *r = &p.reports[0];
+    const af_verdict *v = &r->verdict;
+    AF_CHECK_STATUS(p.status[0], AF_OK);
+    AF_CHECK(!r->reliable && (v->flags & AF_VERDICT_NO_RESONANCE) != 0);
+    AF_CHECK(isnan(r->resonance_hz));
+    AF_CHECK_REL(v->outside_hz, truth_f0(&soft), 0.005);
+    AF_CHECK_REL(v->outside_modulus_pa, 6e6, 0.02); /* f to 0.5 %: E to 1 % */
+    AF_CHECK(v->outside_snr_db >= af_measure_config_default().response.snr_threshold_db);
+    AF_CHECK(has(r, "dB peak at") && has(r, "Hz lies below the cultivar's 0S2 range [") &&
+             has(r, "Hz: E2 6.0 MPa by Lamb, outside modulus_min_pa..modulus_max_pa 9..12 MPa"));
+    AF_CHECK(strstr(r->reason, "silence") == NULL);
+    printf("outside the range: %s\n", r->reason);
+  }
+  af_measure_destroy(m);
+  free_recording(&rec);
+}
+
 /* A pulse the model cannot explain (white noise on a positive mean): the fit
  * fails, the figures that depend on it are NaN, the reason says so. */
 static void test_fit_failure(void)
@@ -782,6 +819,7 @@ int main(void)
   test_apples();
   test_flags();
   test_audio_failures();
+  test_outside_range();
   test_fit_failure();
   test_no_allocation();
   af_impact_destroy(impact);

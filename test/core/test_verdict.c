@@ -182,6 +182,19 @@ static void test_audio_flags(void)
   AF_CHECK(says(&v, "no 0S2 resonance above the SNR threshold (10 dB; silence in [599, 1401] Hz)"));
   v.snr_db = NAN;
   AF_CHECK(says(&v, "no 0S2 resonance above the SNR threshold (10 dB; silence in [599, 1401] Hz)"));
+  /* a resonance just outside the range: named with the E2 it implies */
+  v.outside_hz = 1650.4;
+  v.outside_snr_db = 31.2;
+  v.outside_modulus_pa = 16.64e6;
+  v.modulus_min_pa = 4e6;
+  v.modulus_max_pa = 12.5e6;
+  AF_CHECK(says(&v, "a 31 dB peak at 1650 Hz lies above the cultivar's 0S2 range [599, 1401] Hz: "
+                    "E2 16.6 MPa by Lamb, outside modulus_min_pa..modulus_max_pa 4..12.5 MPa"));
+  v.outside_hz = 550.0;
+  v.outside_modulus_pa = 3.5e6;
+  AF_CHECK(says(&v, "a 31 dB peak at 550 Hz lies below the cultivar's 0S2 range [599, 1401] Hz: "
+                    "E2 3.5 MPa by Lamb, outside modulus_min_pa..modulus_max_pa 4..12.5 MPa"));
+  v.outside_hz = v.outside_snr_db = v.outside_modulus_pa = NAN;
   v.flags = AF_VERDICT_RANGE_NYQUIST;
   AF_CHECK(says(&v, "0S2 range [599, 1401] Hz beyond the audio's Nyquist frequency"));
   v.flags = AF_VERDICT_AUDIO_FAILED;

@@ -5,6 +5,8 @@ with the rosbag Python API (never by hand-editing a file):
   bags.py GOOD.bag OUT_DIR [BIG_SAMPLES [big]]   (big: big_chunk.bag alone)
 
   string_on_force.bag  a std_msgs/String on the force topic, among the chunks
+  chunk_on_apple.bag   the first force SignalChunk written on the apple topic too
+                       (its own connection, of type SignalChunk)
   duplicates.bag       every force chunk written twice
   same_stamp.bag       every AppleEstimate followed by a second, another id,
                        at the same stamp
@@ -60,6 +62,20 @@ def main():
         if first_force(state, 'string', topic):
             dst.write(topic, String(data='not a chunk'), t)
 
+    def chunk_on_apple(dst, topic, raw, t):
+        plain(dst, topic, raw, t)
+        if first_force(state, 'chunk_on_apple', topic):
+            state['first_chunk'] = (raw, t)
+        if topic.endswith('/apple') and 'first_chunk' in state:
+            # A second connection on the apple topic, of type SignalChunk, as a
+            # recorder makes when two publishers of two types share a topic.
+            # rosbag's Python writer keeps one connection per topic: its map
+            # is set aside for this one message.
+            chunk, t0 = state.pop('first_chunk')
+            kept = dst._topic_connections.pop(topic)
+            dst.write(topic, chunk, t0, raw=True)
+            dst._topic_connections[topic] = kept
+
     def duplicates(dst, topic, raw, t):
         plain(dst, topic, raw, t)
         if topic.endswith('/force'):
@@ -74,6 +90,7 @@ def main():
 
     if not only_big:
         copy(good, out + '/string_on_force.bag', string_on_force)
+        copy(good, out + '/chunk_on_apple.bag', chunk_on_apple)
         copy(good, out + '/duplicates.bag', duplicates)
         copy(good, out + '/same_stamp.bag', same_stamp)
 

@@ -64,6 +64,13 @@ hostile_case string_on_force 0 '/lane1/force: a cut SignalChunk of 15 bytes .*wr
   2 256 -- "$fr" "$tmp/string_on_force.bag"
 hostile_case string_counted 0 'force +170 chunks.* 1 refused \(rate 0, unit 0, index 0, malformed 1' \
   2 256 -- "$fr" "$tmp/string_on_force.bag"
+# A SignalChunk on the apple topic: refused per message (named, counted), the
+# bag goes on with its 4 strikes (it once refused the whole bag).
+hostile_case chunk_on_apple 0 'refused 1 message of another type on /lane1/apple, which carries acoustic_firmness/AppleEstimate \(the first: acoustic_firmness/SignalChunk\): counted, the rest of the bag read' \
+  2 256 -- "$fr" "$tmp/chunk_on_apple.bag"
+hostile_case chunk_on_apple_counted 0 'refused \(oversized or not their type; 1 of them apples\)' \
+  2 256 -- "$fr" "$tmp/chunk_on_apple.bag"
+hostile_case chunk_on_apple_strikes 0 'strikes 4: 4 on an apple' 2 256 -- "$fr" "$tmp/chunk_on_apple.bag"
 # 7: every force chunk twice: duplicates, not restarts nor lost samples.
 hostile_case duplicates 0 'force +170 chunks, 0 gaps \(0 samples lost\), 0 restarts, 170 duplicates' \
   2 256 -- "$fr" "$tmp/duplicates.bag"

@@ -114,6 +114,18 @@ class EvaluateTest(unittest.TestCase):
         self.refused(EvaluateRequest(mass=0.175, strike_radius=0.04, hammer_mass=-1.0),
                      'hammer_mass = -1 is outside the accepted range [0.0005, 1] kg (the range of '
                      '~hammer_mass_kg)')
+        # In the table's range, outside the cultivar's (jonagold.yaml: mass_min_kg 0.1,
+        # mass_max_kg 0.25) or the station's (strike_radius_max_m 0.5): refused as the
+        # lane's prediction refuses such an apple, never answered "reliable".
+        self.refused(EvaluateRequest(mass=0.5, strike_radius=0.04),
+                     'the lane would refuse this apple: mass = 0.5 kg is outside the accepted '
+                     'range [0.1, 0.25] kg')
+        self.refused(EvaluateRequest(mass=0.05, strike_radius=0.04),
+                     'the lane would refuse this apple: mass = 0.05 kg is outside the accepted '
+                     'range [0.1, 0.25] kg')
+        self.refused(EvaluateRequest(mass=0.175, strike_radius=0.8),
+                     'the lane would refuse this apple: strike_radius = 0.8 m is outside the '
+                     'accepted range 0 (unknown) or [0.002, 0.5] m')
         # In the table's range, refused by the model's own check (exact damping: e >= 0.05).
         ans = self.call(EvaluateRequest(mass=0.175, strike_radius=0.04, restitution=0.02))
         self.assertFalse(ans.ok)
