@@ -9,9 +9,18 @@
 # when they differ.
 #   bash scripts/docs.sh [PAGE [CONFIG_DIR [REPORT_PAGE]]]
 #   (default doc/parameters.md, config, doc/report.md)
+#   bash scripts/docs.sh --examples [PAGE.md...]
+#   re-runs every "$ " example of README.md and doc/ (or of the pages given)
+#   against the build and rewrites in place the output of each that differs
+#   (test/scripts/test_doc_examples.sh with AF_DOC_UPDATE=1); it exits 1
+#   when it rewrote anything: read the diff before committing it.
 set -euo pipefail
 # shellcheck disable=SC1091
 source "$(dirname "$0")/env.sh"
+if [ "${1:-}" = "--examples" ]; then
+  shift
+  AF_DOC_UPDATE=1 exec bash "$AF_ROOT/test/scripts/test_doc_examples.sh" "$@"
+fi
 page=${1:-$AF_ROOT/doc/parameters.md}
 config=${2:-$AF_ROOT/config}
 report_page=${3:-$AF_ROOT/doc/report.md}

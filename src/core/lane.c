@@ -31,6 +31,9 @@
  * restitution moves it by less), judged once the window holds this many. */
 #define AF_LANE_BOUNCE_EXCESS 0.08
 #define AF_LANE_BOUNCE_STRIKES 8
+/* A detector made anew by a reconfigure is primed from this much of the
+ * latest force [s]: several of its baseline windows, a fraction of a ring. */
+#define AF_LANE_PRIME_S 0.5
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -82,9 +85,7 @@ struct af_lane {
   float *audio_buf, *noise_buf;
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
-  int64_t newest_apple_ns;  /* stamp of the newest estimate accepted */
   uint64_t apples_received; /* estimates so far: the slots' order */
-  bool any_apple;
   int64_t now_ns;
   int64_t force_gap_ns[AF_LANE_GAPS]; /* stamps of the chunks after force gaps or restarts */
   size_t force_gaps;                  /* written so far (the newest AF_LANE_GAPS kept) */
@@ -206,6 +207,25 @@ static const af_apple_slot *nearest_apple(const af_lane *l, int64_t t_ns)
  * or in the force stream's own data since its contact start, whichever
  * comes first: a clock that disagrees with the stamps, or stops (a replay's
  * simulated time after the bag), must not hold a strike forever. */
+/* Whether an estimate stamped after window_end_ns has come (estimates come
+ * in stamp order, so none in the window can still come), within reach of
+ * the strike at start_ns: an estimate stamped far off (a clock wrong by
+ * hours, accepted before any data could show it) must not decide for the
+ * strikes after it. */
+static bool estimate_after(const af_lane *l, int64_t window_end_ns, int64_t start_ns)
+{
+  const af_measured_config *mc = l->mc;
+  const double reach_s =
+      fabs(mc->apple_transit_s) + mc->apple_transit_tolerance_s + mc->apple_stale_after_s;
+  const int64_t reach_ns = start_ns + (int64_t)llround(reach_s * 1e9);
+  for (size_t k = 0; k < AF_LANE_APPLES; k++) {
+    const af_apple_slot *a = &l->apples[k];
+    if (a->used && a->apple.stamp_ns > window_end_ns && a->apple.stamp_ns <= reach_ns)
+      return true;
+  }
+  return false;
+}
+
 static bool apple_decided(const af_lane *l, const af_pending *p)
 {
   const af_measured_config *mc = l->mc;
@@ -214,7 +234,7 @@ static bool apple_decided(const af_lane *l, const af_pending *p)
           ? p->start_ns
           : p->start_ns -
                 (int64_t)llround((mc->apple_transit_s - mc->apple_transit_tolerance_s) * 1e9);
-  if (l->finished || (l->any_apple && l->newest_apple_ns > window_end_ns))
+  if (l->finished || estimate_after(l, window_end_ns, p->start_ns))
     return true;
   const double wait_s = mc->apple_wait_s;
   const double data_after_s =
@@ -259,23 +279,20 @@ static uint32_t check_late(af_lane *l, const af_apple *a)
 
 /* Why estimate a cannot be used ("" when it can): apple_id 0 is the
  * StrikeReport's "no apple", and a stamp further than apple_stale_after_s
- * from the newest data (force; tap-only: audio; before any: the lane's
- * clock, when it runs) is a clock far off, which would take or hold every
- * strike's match. */
+ * from the newest data (force; tap-only: audio) is a clock far off, which
+ * would take or hold strikes' matches. Before any data there is no strike
+ * to match and no clock to judge by: the estimate is taken (its prediction
+ * stands) and estimate_after keeps a far one from deciding anything. */
 static bool refuse_apple(af_lane *l, const af_apple *a, char *why, size_t len)
 {
   const af_stream *data = l->mc->tap_only ? &l->audio : &l->force;
-  int64_t ref_ns = l->now_ns;
-  const char *ref = "the lane's clock";
-  if (data->seen) {
-    ref_ns = af_stream_time_of_ns(data, af_ring_end(data->ring), 0.0);
-    ref = l->mc->tap_only ? "the newest audio sample" : "the newest force sample";
-  }
   why[0] = '\0';
+  const int64_t ref_ns = data->seen ? af_stream_time_of_ns(data, af_ring_end(data->ring), 0.0) : 0;
+  const char *ref = l->mc->tap_only ? "the newest audio sample" : "the newest force sample";
   const double off_s = (double)(a->stamp_ns - ref_ns) * 1e-9;
   if (a->apple_id == 0)
     af_text(why, len, "apple_id 0 is reserved for \"no apple\"");
-  else if (ref_ns != 0 && fabs(off_s) > l->mc->apple_stale_after_s)
+  else if (data->seen && fabs(off_s) > l->mc->apple_stale_after_s)
     af_text(why, len,
             "stamped %.3f s %s %s (apple_stale_after_s %g s): a clock that far off would "
             "mismatch strikes",
@@ -319,9 +336,6 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   af_stage_end(l->mc->measure.stages, AF_STAGE_PREDICT, t0_ns);
   l->stats.apples++;
   l->stats.apples_refused += st != AF_OK;
-  if (!l->any_apple || a->stamp_ns > l->newest_apple_ns)
-    l->newest_apple_ns = a->stamp_ns;
-  l->any_apple = true;
   if (out)
     *out = &s->prediction;
   return st;
@@ -457,7 +471,13 @@ static af_decision measure_lag(af_lane *l, af_pending *p)
   }
   const uint64_t ref = (uint64_t)(AF_AUDIO_LAG_REF_BLOCKS * block);
   const uint64_t hi = i_hi + 1 + block;
-  if (hi > af_ring_end(s->ring) && !audio_timed_out(l, p))
+  /* Waited for on the lane's clock, or until the force's own data is
+   * apple_wait_s past the search (a replay's clock stops with the bag). */
+  const double force_past_s =
+      (double)(af_stream_time_of_ns(&l->force, af_ring_end(l->force.ring), 0.0) -
+               (centre_ns + h_ns)) *
+      1e-9;
+  if (hi > af_ring_end(s->ring) && !audio_timed_out(l, p) && !(force_past_s >= l->mc->apple_wait_s))
     return AF_WAIT;
   p->lag_done = true;
   const uint64_t lo =
@@ -1127,6 +1147,21 @@ af_status af_lane_prime_force(af_lane *l, const float *x, size_t n)
   return s;
 }
 
+/* A detector made anew learns its baseline and noise from the force ring's
+ * latest AF_LANE_PRIME_S instead of a warm-up, during which every strike
+ * would pass unseen. Allocates (a reconfigure, not a chunk or a strike). */
+static void prime_from_ring(af_lane *l, af_strike *d)
+{
+  const af_ring *r = l->force.ring;
+  const uint64_t end = af_ring_end(r), begin = af_ring_begin(r);
+  const uint64_t want = (uint64_t)ceil(AF_LANE_PRIME_S * l->cfg->force.sample_rate_hz);
+  const uint64_t n = end - begin < want ? end - begin : want;
+  float *x = n > 0 ? malloc((size_t)n * sizeof *x) : NULL;
+  if (x != NULL && af_ring_read(r, end - n, (size_t)n, x) == AF_OK)
+    (void)af_strike_prime(d, x, (size_t)n); /* too little signal: the warm-up, as before */
+  free(x);
+}
+
 af_status af_lane_reconfigured(af_lane *l, const char **what)
 {
   af_measure *m = NULL;
@@ -1160,6 +1195,14 @@ af_status af_lane_reconfigured(af_lane *l, const char **what)
     af_factor_learn_set_applied(l->factor, l->factor_configured);
   }
   if (d) {
+    /* A strike in the old detector is lost with it: counted, said. */
+    if (af_strike_in_progress(l->detector)) {
+      l->stats.reconfigure_lost++;
+      af_text(l->stats.last_reconfigure_lost, sizeof l->stats.last_reconfigure_lost,
+              "a strike in progress at %.3f s was lost to a reconfigure of the strike detector",
+              (double)l->now_ns * 1e-9);
+    }
+    prime_from_ring(l, d);
     af_strike_destroy(l->detector);
     l->detector = d;
     l->detector_cfg = l->mc->strike;

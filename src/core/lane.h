@@ -97,9 +97,11 @@ typedef struct {
   uint64_t strikes, double_hits, clipped, truncated, lost_force_samples;
   uint64_t no_resonance, no_apple, no_audio, doubtful, unreliable;
   uint64_t overflows, measure_errors, pulse_cut, late_apples;
-  uint64_t audio_clipped; /* strikes whose audio window the microphone saturated */
-  uint64_t clock_faulted; /* strikes judged across a stream's clock fault */
-  uint64_t force_stalls;  /* strikes emitted cut because the force stream stalled in them */
+  uint64_t audio_clipped;    /* strikes whose audio window the microphone saturated */
+  uint64_t clock_faulted;    /* strikes judged across a stream's clock fault */
+  uint64_t force_stalls;     /* strikes emitted cut because the force stream stalled in them */
+  uint64_t reconfigure_lost; /* strikes in progress lost to a reconfigure of the detector */
+  char last_reconfigure_lost[AF_LANE_TEXT_MAX];
   /* The audio clock's lag behind the force's (audio_lag.h): the median and
    * its median absolute deviation over the latest strikes, the lag the
    * windows are moved by, the strikes whose onset was not found, the moves. */

@@ -325,6 +325,8 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes without an apple estimate since the last report";
   else if (s->audio_clipped != m->seen.audio_clipped)
     w = "the microphone clipped since the last report: lower the microphone gain";
+  else if (s->reconfigure_lost != m->seen.reconfigure_lost)
+    w = s->last_reconfigure_lost;
   else if (s->lag_moves != m->seen.lag_moves)
     w = s->lag_warning;
   else if (s->clock_faulted != m->seen.clock_faulted)
@@ -417,6 +419,10 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
               s->audio_clipped ? " (lower the microphone gain)" : "");
   af_diag_add(d, "strikes cut by a stalled force stream", "%llu",
               (unsigned long long)s->force_stalls);
+  af_diag_add(d, "strikes lost to a reconfigure",
+              "%llu (the detector made anew is primed from "
+              "the latest force, no warm-up)",
+              (unsigned long long)s->reconfigure_lost);
   af_diag_add(d, "strike force samples lost", "%llu", (unsigned long long)s->lost_force_samples);
   af_diag_add(d, "strikes without resonance", "%llu", (unsigned long long)s->no_resonance);
   af_diag_add(d, "strikes without apple", "%llu", (unsigned long long)s->no_apple);

@@ -30,8 +30,11 @@
  * blocks of ~20 ms. A chunk must never be dropped (it would be a gap under
  * a strike): 1000 chunks ride out 20 s of a real-time stream, or a bag
  * replayed several times faster than real time while a strike is measured.
- * The queue holds messages only while the node is behind. */
-#define AF_APPLE_QUEUE 10
+ * An estimate must not be dropped either (its strike would go without its
+ * apple), and roscpp drops the oldest of a full queue without a word: as
+ * many as chunks, 100 s of a 10-apples/s line. The queue holds messages
+ * only while the node is behind. */
+#define AF_APPLE_QUEUE 1000
 #define AF_CHUNK_QUEUE 1000
 /* Outgoing messages a slow subscriber may leave queued: a node catching up
  * on a backlog publishes a burst of reports, and roscpp drops what exceeds

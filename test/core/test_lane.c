@@ -367,6 +367,17 @@ static void test_implausible_estimates(void)
   AF_CHECK(strstr(st->last_implausible_apple, "apple 0 refused: apple_id 0 is reserved") != NULL);
   AF_CHECK(out.n == 2 && out.apple_id[0] == 1 && out.apple_id[1] == 2);
   AF_CHECK(!(out.r[1].verdict.flags & (AF_VERDICT_NO_APPLE | AF_VERDICT_APPLE_DOUBTFUL)));
+  /* The far one before any data: nothing to judge its clock by, so taken
+   * (its prediction stands), but it decides no strike's wait. */
+  reports out3;
+  af_lane *l3 = make_lane(&cfg, &out3);
+  scheduled_apple ap3[] = {
+      {far, 0.0, false}, {apple(1, 0.3), 0.3, false}, {apple(2, 1.3), 1.75, false}};
+  feed(l3, &s, 1024, 1024, false, ap3, 3, SPAN_S);
+  af_lane_finish(l3);
+  AF_CHECK(out3.n == 2 && out3.apple_id[0] == 1 && out3.apple_id[1] == 2);
+  AF_CHECK(!(out3.r[1].verdict.flags & (AF_VERDICT_NO_APPLE | AF_VERDICT_APPLE_DOUBTFUL)));
+  af_lane_destroy(l3);
   /* Refused, with the words of the far one. */
   reports out2;
   af_lane *l2 = make_lane(&cfg, &out2);

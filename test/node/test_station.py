@@ -276,7 +276,7 @@ class StationTest(unittest.TestCase):
             force.publish(RawChunk(raw))
         values = self.node_diag(lambda v: v.get('malformed messages dropped') == '2')
         self.assertEqual(values.get('malformed messages dropped'), '2')
-        self.ask(strike_radius=0.040)  # still answering
+        self.ask(strike_radius=0.040, stamp=rospy.Time(2000))  # still answering (near the data)
 
 
 if __name__ == '__main__':

@@ -294,7 +294,8 @@ class StrikesTest(unittest.TestCase):
         with self.lock:
             before = len(self.reports)
         # The audio first: the strike finds its window already in the ring.
-        for c in chunks(fa, sc.param('audio_unit'), int(0.3 * fa), lambda t: 0.001 * math.sin(7000.0 * t)):
+        # (and past the audio lag's search, audio_lag_max_s after it)
+        for c in chunks(fa, sc.param('audio_unit'), int(0.7 * fa), lambda t: 0.001 * math.sin(7000.0 * t)):
             audio.publish(c)
         # The force goes on past apple_wait_s after the strike: the strike
         # waits that long (in the stream's own time: the simulated clock

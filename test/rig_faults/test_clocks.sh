@@ -10,6 +10,8 @@
 #    it flagged clock_fault, none on another apple;
 #  - the audio clipped at 0.3 Pa: every strike flagged audio_clipped, the
 #    WARN "lower the microphone gain"; the clean bag: none;
+#  - the sample counters beyond 2^53, 2^60, 2^63: the same strikes, to the
+#    nanosecond;
 #  - a second impact of the first one's shape 0.2 and 0.3 ms into the
 #    contact at 15 and 20 %: every one flagged double_hit, never reliable;
 #    the clean bag: none.
@@ -107,6 +109,18 @@ for d in 0.0002 0.0003; do
   done
 done
 check bounce_reason "$(sed -n 10p "$tmp/bounce_0.0002_0.2.bag.csv")" 'double hit \(a second impact inside the contact'
+
+# A sample counter that has run long: 2^53, 2^60, 2^63 added to both streams'
+# first_sample. The same strikes at the same nanosecond, the same 0S2.
+for o in 9007199254740992 1152921504606846976 9223372036854775808; do
+  b=$tmp/index$o.bag
+  edit "$g" "$b" index_offset=$o
+  report "$b"
+  check "index_offset_$o" "$(/usr/bin/python3 -c "
+import csv, sys
+a, b = (list(csv.DictReader(open(p))) for p in sys.argv[1:3])
+print('strikes %d, stamps off %d ns, 0S2 equal %d' % (len(b), max([abs(int(x['stamp_ns']) - int(y['stamp_ns'])) for x, y in zip(a, b)] or [-1]), sum(x['resonance_hz'] == y['resonance_hz'] for x, y in zip(a, b))))" "$g.csv" "$b.csv")" '^strikes 40, stamps off 0 ns, 0S2 equal 40$'
+done
 
 echo "clocks, clipping, bounces: $fails failed"
 [ "$fails" = 0 ]

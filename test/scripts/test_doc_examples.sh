@@ -15,6 +15,10 @@
 # checks that every code block is closed and that every relative link of the
 # pages (file and heading) resolves. Registered in ctest as
 # scripts_doc_examples. Usage: test_doc_examples.sh [PAGE.md...]
+# AF_DOC_UPDATE=1 (scripts/docs.sh --examples): an example whose output
+# differs has its output lines rewritten in the page with what it printed
+# (the scratch folder and the checkout's path as "..."); the run still fails,
+# so that every rewrite is looked at before it is committed.
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 if [ "$#" -gt 0 ]; then
@@ -45,7 +49,7 @@ for page in pages:
         if cur:
             n += 1
             base = os.path.join(out, '%03d' % n)
-            for key in ('where', 'cmd', 'want', 'exit'):
+            for key in ('where', 'cmd', 'want', 'exit', 'span'):
                 with open(base + '.' + key, 'w', encoding='utf-8') as f:
                     f.write(cur[key] if key != 'want' else ''.join(l + '\n' for l in cur[key]))
         cur = None
@@ -63,7 +67,8 @@ for page in pages:
                 cmd = cmd[:-1] + ' ' + lines[i].strip()
             status = re.search(r'#\s*exit (\d+)\s*$', cmd)
             cur = {'where': '%s:%d' % (page, no), 'cmd': cmd,
-                   'exit': status.group(1) if status else '0', 'want': []}
+                   'exit': status.group(1) if status else '0', 'want': [],
+                   'span': '%s\n%d\n' % (page, i + 1)}
         elif in_code and cur is not None:
             cur['want'].append(line)
         i += 1
@@ -145,8 +150,33 @@ for want in "$tmp"/ex/*.want; do
     bad "${where#"$AF_ROOT"/}: exited $status, expected $expect"
   elif ! /usr/bin/python3 "$tmp/compare.py" "$tmp/out" "$want" >&2; then
     bad "${where#"$AF_ROOT"/}: the output differs from the page's"
+    if [ "${AF_DOC_UPDATE:-0}" = 1 ]; then
+      # page, first output line (0-based), how many, then the new lines
+      { cat "$base.span"; wc -l <"$want"; sed -e "s|$tmp/cwd|...|g" -e "s|$AF_ROOT|...|g" "$tmp/out"; } \
+        >"$tmp/ex/$(basename "$base").update"
+    fi
   fi
 done
+if [ "${AF_DOC_UPDATE:-0}" = 1 ]; then
+  # Bottom-up per page, so that earlier line numbers stay right.
+  /usr/bin/python3 - "$tmp"/ex/*.update <<'PY'
+import collections, sys
+by_page = collections.defaultdict(list)
+for path in sys.argv[1:]:
+    try:
+        page, start, n, *new = open(path, encoding='utf-8').read().rstrip('\n').split('\n')
+    except (FileNotFoundError, ValueError):
+        continue
+    by_page[page].append((int(start), int(n), new))
+for page, edits in by_page.items():
+    lines = open(page, encoding='utf-8').read().split('\n')
+    for start, n, new in sorted(edits, reverse=True):
+        lines[start:start + n] = new
+    with open(page, 'w', encoding='utf-8') as f:
+        f.write('\n'.join(lines))
+    print('rewrote %d examples of %s' % (len(edits), page))
+PY
+fi
 [ "$ran" -gt 0 ] || bad "no example found"
 [ "$fail" -eq 0 ] && echo "test_doc_examples: $ran examples passed"
 exit "$fail"
