@@ -127,6 +127,42 @@ if not match(got, want):
     sys.exit(1)
 PY
 
+# The page's lines kept where they still match (a "..." line keeps standing
+# for the lines it skipped, a line with "..." inside keeps its wildcard), the
+# printed lines where they differ or were added.
+cat >"$tmp/merge.py" <<'PY'
+import re, sys
+want = open(sys.argv[1], encoding='utf-8').read().rstrip('\n').split('\n')
+got = open(sys.argv[2], encoding='utf-8', errors='replace').read().rstrip('\n').split('\n')
+def same(g, w):
+    if '...' not in w:
+        return g == w
+    return re.fullmatch('.*'.join(re.escape(part) for part in w.split('...')), g) is not None
+out, j = [], 0
+for i, w in enumerate(want):
+    if w == '...':
+        nxt = next((x for x in want[i + 1:] if x != '...'), None)
+        k = j
+        while k < len(got) and not (nxt is not None and same(got[k], nxt)):
+            k += 1
+        if nxt is None:
+            k = len(got)
+        out.append('...')
+        j = k
+        continue
+    ahead = next((k for k in range(j, min(len(got), j + 20)) if same(got[k], w)), None)
+    if ahead is None:
+        if j < len(got):
+            out.append(got[j])
+            j += 1
+        continue
+    out.extend(got[j:ahead])
+    out.append(w)
+    j = ahead + 1
+out.extend(got[j:])
+print('\n'.join(out))
+PY
+
 ran=0 page="" port=""
 for want in "$tmp"/ex/*.want; do
   [ -e "$want" ] || break
@@ -152,7 +188,8 @@ for want in "$tmp"/ex/*.want; do
     bad "${where#"$AF_ROOT"/}: the output differs from the page's"
     if [ "${AF_DOC_UPDATE:-0}" = 1 ]; then
       # page, first output line (0-based), how many, then the new lines
-      { cat "$base.span"; wc -l <"$want"; sed -e "s|$tmp/cwd|...|g" -e "s|$AF_ROOT|...|g" "$tmp/out"; } \
+      sed -e "s|$tmp/cwd|...|g" -e "s|$AF_ROOT|...|g" "$tmp/out" >"$tmp/out.clean"
+      { cat "$base.span"; wc -l <"$want"; /usr/bin/python3 "$tmp/merge.py" "$want" "$tmp/out.clean"; } \
         >"$tmp/ex/$(basename "$base").update"
     fi
   fi
