@@ -119,7 +119,7 @@ static void c2b_usage(FILE *out)
                "equatorial_radius_m, strike_radius_m, stem_axis_x, stem_axis_y, stem_axis_z,\n"
                "confidence (any order), then one row per apple; stamp_s is the estimate's time\n"
                "from the force's first sample [s] (the node matches a strike to the newest\n"
-               "estimate at most apple_stale_after_s before it).\n\n"
+               "estimate stamped apple_transit_s +- apple_transit_tolerance_s before it).\n\n"
                "exit status: 0 done, 1 failure, 2 bad input\n");
 }
 
