@@ -391,6 +391,8 @@ static af_status derive_response(const af_settings *s, af_lane_config *c, char *
                      err, len);
   if (st == AF_OK)
     st = check_noise_band(s, rc, err, len);
+  if (st == AF_OK)
+    st = check_order(s, AF_SETTING_FRUIT_Q_MIN, AF_SETTING_FRUIT_Q_MAX, err, len);
   return st;
 }
 
@@ -406,6 +408,8 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   m->noise_window_s = num(s, AF_SETTING_MEASURE_NOISE_WINDOW_S);
   m->noise_guard_s = num(s, AF_SETTING_MEASURE_NOISE_GUARD_S);
   m->range_margin = num(s, AF_SETTING_MEASURE_RANGE_MARGIN);
+  m->fruit_q_min = num(s, AF_SETTING_FRUIT_Q_MIN);
+  m->fruit_q_max = num(s, AF_SETTING_FRUIT_Q_MAX);
   mc->pending_size = (size_t)num(s, AF_SETTING_STRIKE_PENDING_SIZE);
   mc->apple_stale_after_s = num(s, AF_SETTING_APPLE_STALE_AFTER_S);
   mc->apple_wait_s = num(s, AF_SETTING_APPLE_WAIT_S);

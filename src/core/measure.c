@@ -106,6 +106,8 @@ af_measure_config af_measure_config_default(void)
   c.noise_window_s = AF_DEFAULT_MEASURE_NOISE_WINDOW_S;
   c.noise_guard_s = AF_DEFAULT_MEASURE_NOISE_GUARD_S;
   c.range_margin = AF_DEFAULT_MEASURE_RANGE_MARGIN;
+  c.fruit_q_min = AF_DEFAULT_FRUIT_Q_MIN;
+  c.fruit_q_max = AF_DEFAULT_FRUIT_Q_MAX;
   c.modes = af_modes_config_default();
   c.modulus_prior_rel_sd = 0.10;
   c.stages = NULL;
@@ -126,7 +128,8 @@ static af_status measure_check(const af_measure_config *c, size_t *window_n, siz
       !(isfinite(c->audio_window_s) && c->audio_window_s > 0.0) ||
       !finite_nonneg(c->noise_window_s) || !finite_nonneg(c->noise_guard_s) ||
       !(c->range_margin >= 0.0 && c->range_margin < 1.0) ||
-      !(isfinite(c->modulus_prior_rel_sd) && c->modulus_prior_rel_sd > 0.0))
+      !(isfinite(c->modulus_prior_rel_sd) && c->modulus_prior_rel_sd > 0.0) ||
+      !(c->fruit_q_min > 0.0 && c->fruit_q_min < c->fruit_q_max && isfinite(c->fruit_q_max)))
     return AF_EINVAL;
   double w = round(c->audio_window_s * rate), z = round(c->noise_window_s * rate);
   double cap = (double)c->response.window_samples;
@@ -605,17 +608,23 @@ static void verdict_modes(const af_measure_report *out, af_verdict *v)
 
 /* The criteria on what was measured. A criterion that could not be judged
  * (no resonance, no fitted E2) is already flagged above. */
-static void verdict_criteria(const af_measure_apple *apple, const af_measure_steps *s,
+/* The heard mode is the evidence that the strike excited it: the paper's
+ * band criterion predicts, before a strike, whether it will (the
+ * prediction, excites_mode); on a measured strike the 0S2 heard above its
+ * SNR threshold and identified answers that. It must sound like fruit
+ * flesh: a Q outside fruit_q_min..fruit_q_max is another object's ring. */
+static void verdict_criteria(const af_measure *m, const af_measure_apple *apple,
                              const af_measure_report *out, af_verdict *v)
 {
   v->lobe = apple->model.lobe;
-  if (s->band_status == AF_ENOLOBE)
-    v->flags |= AF_VERDICT_NO_LOBE;
-  else if (s->band_status == AF_OK && isfinite(out->resonance_hz) && !out->excites_mode) {
-    v->flags |= AF_VERDICT_OUTSIDE_BAND;
+  const double q = out->resonance_q;
+  if (isfinite(out->resonance_hz) && isfinite(q) &&
+      (q < m->cfg.fruit_q_min || q > m->cfg.fruit_q_max)) {
+    v->flags |= AF_VERDICT_NOT_FRUIT;
     v->resonance_hz = out->resonance_hz;
-    v->band_low_hz = s->band.band_low_hz;
-    v->band_high_hz = s->band.band_high_hz;
+    v->resonance_q = q;
+    v->fruit_q_min = m->cfg.fruit_q_min;
+    v->fruit_q_max = m->cfg.fruit_q_max;
   }
   if (isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
       !out->no_damage) {
@@ -639,8 +648,8 @@ static void verdict_judge(const af_measure *m, const af_strike_event *ev,
   v->modulus_max_pa = apple->modulus_max_pa;
   verdict_audio(m, s, out, v);
   verdict_modes(out, v);
-  verdict_criteria(apple, s, out, v);
-  out->reliable = v->flags == 0 && out->excites_mode && out->no_damage;
+  verdict_criteria(m, apple, out, v);
+  out->reliable = v->flags == 0 && out->no_damage;
   af_verdict_format(v, out->reason, sizeof out->reason);
 }
 
@@ -740,7 +749,7 @@ af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
   const int64_t t0_ns = af_stage_begin(h);
   tap_from_prediction(predicted, &s, out);
   verdict_judge(m, &none, apple, &s, out);
-  out->verdict.model_only = AF_VERDICT_MODEL_EXCITATION | AF_VERDICT_MODEL_SHEAR;
+  out->verdict.model_only = AF_VERDICT_MODEL_SHEAR; /* excitation: the heard mode */
   af_verdict_format_model_only(&out->verdict, out->model_only_text, sizeof out->model_only_text);
   af_stage_end(h, AF_STAGE_VERDICT, t0_ns);
   return AF_OK;

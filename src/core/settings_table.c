@@ -300,6 +300,14 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
                                           "modulus_max_pa]"),
     [AF_SETTING_MODULUS_MIN_PA] =
         NUM("modulus_min_pa", "2.0e+6", "[1e5, 1e9] Pa", C, "softest fruit expected"),
+    [AF_SETTING_FRUIT_Q_MIN] =
+        NUM("fruit_q_min", "5.0", "[0.5, 1e4]", C,
+            "the 0S2 of fruit flesh rings at least this Q (pi f / decay rate): a duller sound "
+            "is not the fruit's free mode (a calibration: doc/tap_only.md)"),
+    [AF_SETTING_FRUIT_Q_MAX] =
+        NUM("fruit_q_max", "100.0", "[0.5, 1e4]", C,
+            "and at most this Q: a ring beyond it is an object (ceramic, glass, a fixture), not "
+            "fruit flesh, and is never graded (a calibration: doc/tap_only.md)"),
     [AF_SETTING_MODULUS_MAX_PA] =
         NUM("modulus_max_pa", "12.0e+6", "[1e5, 1e9] Pa", C, "firmest fruit expected"),
     [AF_SETTING_MASS_MIN_KG] =

@@ -14,6 +14,7 @@ void af_verdict_clear(af_verdict *v)
   v->fit_residual = v->snr_db = v->snr_threshold_db = NAN;
   v->bounce_noise_ratio = v->bounce_peak_ratio = v->bounce_impulse_excess = NAN;
   v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
+  v->resonance_q = v->fruit_q_min = v->fruit_q_max = NAN;
   v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = v->audio_clip_max =
       v->audio_clip_min = NAN;
   v->apple_transit_s = v->apple_tolerance_s = v->nearest_apple_lag_s = NAN;
@@ -238,6 +239,11 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
     add(buf, len, "fit failed: %s", fit_failure(v->fit_status));
   if (f & AF_VERDICT_POISSON)
     add(buf, len, "Poisson ratio: %s", af_strerror(v->judge_status));
+  if (f & AF_VERDICT_NOT_FRUIT)
+    add(buf, len, "Q %.0f at %.0f Hz: %s, not fruit flesh (fruit_q_min..fruit_q_max %g..%g)",
+        v->resonance_q, v->resonance_hz,
+        v->resonance_q > v->fruit_q_max ? "a ringing object" : "a dull thud", v->fruit_q_min,
+        v->fruit_q_max);
   if (f & AF_VERDICT_AUDIO_CLIPPED)
     add(buf, len,
         "microphone clipped (%zu samples at its extremes %.4g and %.4g, %zu flat tops): lower "
@@ -272,6 +278,7 @@ const char *af_verdict_flag_name(af_verdict_flag f)
   case AF_VERDICT_REFUSED_SAMPLES: return "refused_samples";
   case AF_VERDICT_AUDIO_CLIPPED: return "audio_clipped";
   case AF_VERDICT_CLOCK_FAULT: return "clock_fault";
+  case AF_VERDICT_NOT_FRUIT: return "not_fruit";
   }
   return "unknown";
 }

@@ -43,7 +43,8 @@ typedef enum {
   AF_VERDICT_DAMAGE = 1u << 18,          /* the shear reaches the yield: bruise */
   AF_VERDICT_REFUSED_SAMPLES = 1u << 19, /* non-finite force samples measured (refused_samples) */
   AF_VERDICT_AUDIO_CLIPPED = 1u << 20,   /* the microphone saturated (audio_clip_*) */
-  AF_VERDICT_CLOCK_FAULT = 1u << 21 /* a stream's clock stepped, froze or ran off (clock_why) */
+  AF_VERDICT_CLOCK_FAULT = 1u << 21, /* a stream's clock stepped, froze or ran off (clock_why) */
+  AF_VERDICT_NOT_FRUIT = 1u << 22    /* the heard mode's Q is not fruit flesh's (fruit_q_*) */
 } af_verdict_flag;
 
 /* Why a strike went without audio (AF_VERDICT_NO_AUDIO). */
@@ -118,6 +119,7 @@ typedef struct {
   char mode_text[AF_VERDICT_TEXT_MAX];   /* MODE_AMBIGUOUS: af_modes_format's line */
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
+  double resonance_q, fruit_q_min, fruit_q_max;   /* NOT_FRUIT */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */
   size_t audio_clip_samples, audio_clip_tops;     /* AUDIO_CLIPPED: at the extremes, flat tops */
   double audio_clip_max, audio_clip_min;          /* ... the extremes, in the audio's unit */

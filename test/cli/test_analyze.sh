@@ -109,7 +109,8 @@ json_check "len(d) == 3 and all(r['resonance_hz'] is None and r['reliable'] is F
 # no force: nothing to analyze, bad input (issue 11: it exited 0 saying nothing)
 expect_usage "--force $tmp/empty.f32 is empty" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
 # model flags land: the paper profile reads lobe 2 at power-half, which never holds the 0S2
-json_check "len(d) == 3 and all(r['excites_mode'] is False and 'lobe 2' in r['reason'] for r in d)" \
+# (reported as excites_mode, not a reason: the heard 0S2 is the evidence)
+json_check "len(d) == 3 and all(r['excites_mode'] is False and not (r['band_low_hz'] <= r['resonance_hz'] <= r['band_high_hz']) and 'lobe' not in r['reason'] for r in d)" \
   "${run[@]}" --profile paper
 
 # expect_analyze_usage pattern args...: as expect_usage, for `analyze args`.

@@ -78,6 +78,16 @@ static void test_rig_flags(void)
   v.audio_clip_min = -0.3;
   AF_CHECK(says(&v, "microphone clipped (60 samples at its extremes 0.3 and -0.3, 12 flat tops): "
                     "lower the microphone gain"));
+  v = with(AF_VERDICT_NOT_FRUIT);
+  v.resonance_q = 295.0;
+  v.resonance_hz = 478.0;
+  v.fruit_q_min = 5.0;
+  v.fruit_q_max = 100.0;
+  AF_CHECK(says(&v, "Q 295 at 478 Hz: a ringing object, not fruit flesh (fruit_q_min..fruit_q_max "
+                    "5..100)"));
+  v.resonance_q = 2.0;
+  AF_CHECK(
+      says(&v, "Q 2 at 478 Hz: a dull thud, not fruit flesh (fruit_q_min..fruit_q_max 5..100)"));
   v = with(AF_VERDICT_DOUBLE_HIT);
   v.bounce_impulse_excess = 0.2;
   AF_CHECK(says(&v, "double hit (a second impact inside the contact: the impulse is 20 % above "
@@ -290,10 +300,10 @@ static void test_flag_names(void)
       "clipped",        "lost_samples",  "truncated",      "spectrum_failed", "fit_failed",
       "poisson",        "no_audio",      "no_resonance",   "range_nyquist",   "audio_failed",
       "mode_ambiguous", "no_lobe",       "outside_band",   "damage",          "refused_samples",
-      "audio_clipped",  "clock_fault"};
+      "audio_clipped",  "clock_fault",   "not_fruit"};
   for (unsigned k = 0; k < sizeof names / sizeof names[0]; k++)
     AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << k)), names[k]) == 0);
-  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 22)), "unknown") == 0);
+  AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)(1u << 23)), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)0), "unknown") == 0);
   AF_CHECK(strcmp(af_verdict_flag_name((af_verdict_flag)3), "unknown") == 0); /* two bits */
 }

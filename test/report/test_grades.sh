@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # firmness_report's grade and verdict flags, per strike, in its text, CSV and
-# JSON, on a strike_bag bag (24 strikes, seed 11). The expected grade is
+# JSON, on a strike_bag bag (24 strikes, seed 11, a fifth clipped). The expected grade is
 # worked out here: the cultivar file's grade_classes (read with PyYAML)
 # applied to the strike's figure from the CSV (a value on a boundary belongs
 # to the class above), 0 "ungraded" with "not reliable: REASON" for a strike
 # that is not reliable. The flags are checked against the CSV's own figures
-# (outside_band <=> the 0S2 outside the measured band, damage <=> shear >=
+# (excites_mode <=> the 0S2 inside the measured band, damage <=> shear >=
 # yield, ...). Then the same with --set grade_quantity/grade_classes,
 # including a boundary placed exactly on one strike's value.
 #   test_grades.sh FIRMNESS_REPORT STRIKE_BAG   (devel space environment)
@@ -14,7 +14,9 @@ SB=${2:?path to strike_bag}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 N=24
 
-"$SB" --strikes $N --seed 11 --out "$tmp/s.bag" >/dev/null 2>"$tmp/err" || bad "strike_bag failed: $(cat "$tmp/err")"
+# a fifth of the strikes saturate the transducer (clipped: ungraded), so that
+# both graded and ungraded strikes are checked
+"$SB" --strikes $N --seed 11 --unreliable-fraction 0.2 --out "$tmp/s.bag" >/dev/null 2>"$tmp/err" || bad "strike_bag failed: $(cat "$tmp/err")"
 
 # check.py CSV JSON TEXT QUANTITY CLASSES: every strike's grade and flags, in the three outputs.
 cat >"$tmp/check.py" <<'EOF'
@@ -37,7 +39,7 @@ assert len(rows) == len(rep) == len(text) >= 20, (len(rows), len(rep), len(text)
 known = {'no_apple', 'no_prediction', 'apple_doubtful', 'measure_failed', 'double_hit', 'clipped',
          'lost_samples', 'truncated', 'spectrum_failed', 'fit_failed', 'poisson', 'no_audio',
          'no_resonance', 'range_nyquist', 'audio_failed', 'mode_ambiguous', 'no_lobe',
-         'outside_band', 'damage'}
+         'outside_band', 'damage', 'refused_samples', 'audio_clipped', 'clock_fault', 'not_fruit'}
 seen = {}
 for r, j in zip(rows, rep):
     aid = int(r['apple_id'])
@@ -46,8 +48,13 @@ for r, j in zip(rows, rep):
     reliable = r['reliable'] == '1'
     assert reliable == (flags == []), (aid, r['reliable'], flags)
     f0, lo, hi = float(r['resonance_hz']), float(r['band_low_hz']), float(r['band_high_hz'])
-    assert ('outside_band' in flags) == (not lo <= f0 <= hi), (aid, f0, lo, hi, flags)
-    assert ('damage' in flags) == (float(r['max_shear_stress_pa']) >= float(r['yield_shear_stress_pa'])), (aid, flags)
+    # The band is reported (excites_mode), the heard 0S2 the evidence: never a flag here.
+    assert (r['excites_mode'] == '1') == (lo <= f0 <= hi), (aid, f0, lo, hi, r['excites_mode'])
+    assert 'outside_band' not in flags, (aid, flags)
+    if r['max_shear_stress_pa'] and r['yield_shear_stress_pa']:  # empty: no fit (a clipped pulse)
+        assert ('damage' in flags) == (float(r['max_shear_stress_pa']) >= float(r['yield_shear_stress_pa'])), (aid, flags)
+    else:
+        assert 'damage' not in flags and not reliable, (aid, flags)
     for name in ('double_hit', 'clipped'):
         assert (name in flags) == (r[name] == '1'), (aid, name, flags)
     assert ('lost_samples' in flags) == (int(r['lost_samples']) > 0), (aid, flags)
@@ -96,10 +103,12 @@ if [ "$(wc -w <"$tmp/shipped.seen")" -ge 8 ] && grep -q ungraded "$tmp/shipped.s
 # Other classes on another quantity, through --set (the parameter table's rows).
 run fitted fitted_modulus "low | 6e6 | high" --set grade_quantity=fitted_modulus --set "grade_classes=low | 6e6 | high"
 
-# A yield law 40x weaker: every strike bruises (damage), some also outside the
-# band: two flags on a strike, each named, none graded.
+# A yield law 40x weaker: every strike bruises (damage), none graded.
 run weak "$quantity" "$classes" --set yield_ratio=0.001
-if [ "$(cat "$tmp/weak.seen")" = "ungraded $N" ] && grep -q 'outside_band|damage' "$tmp/weak.txt"; then ok; else bad "weak: $(cat "$tmp/weak.seen")"; fi
+# (the clipped strikes have no fit, so no shear: every other one bruises)
+clipped=$(grep -c 'NOT reliable \[[a-z_|]*clipped' "$tmp/weak.txt")
+if [ "$(cat "$tmp/weak.seen")" = "ungraded $N" ] &&
+  [ "$(grep -c 'NOT reliable \[[a-z_|]*damage' "$tmp/weak.txt")" = "$((N - clipped))" ]; then ok; else bad "weak: $(cat "$tmp/weak.seen"), $clipped clipped"; fi
 
 # A boundary exactly on the first reliable strike's stiffness factor: that strike
 # goes to the class above.
