@@ -131,35 +131,43 @@ PY
 # for the lines it skipped, a line with "..." inside keeps its wildcard), the
 # printed lines where they differ or were added.
 cat >"$tmp/merge.py" <<'PY'
-import re, sys
+import difflib, re, sys
 want = open(sys.argv[1], encoding='utf-8').read().rstrip('\n').split('\n')
 got = open(sys.argv[2], encoding='utf-8', errors='replace').read().rstrip('\n').split('\n')
 def same(g, w):
     if '...' not in w:
         return g == w
     return re.fullmatch('.*'.join(re.escape(part) for part in w.split('...')), g) is not None
+def near(g, w):  # the same line with other figures or words
+    return same(g, w) or difflib.SequenceMatcher(None, g, w.replace('...', '')).ratio() >= 0.6
+def find(w, j, limit, test):
+    return next((k for k in range(j, min(len(got), limit)) if test(got[k], w)), None)
 out, j = [], 0
 for i, w in enumerate(want):
     if w == '...':
         nxt = next((x for x in want[i + 1:] if x != '...'), None)
-        k = j
-        while k < len(got) and not (nxt is not None and same(got[k], nxt)):
-            k += 1
-        if nxt is None:
-            k = len(got)
+        k = len(got) if nxt is None else find(nxt, j, len(got), same)
+        if k is None:
+            k = find(nxt, j, len(got), near)
         out.append('...')
-        j = k
+        j = k if k is not None else j
         continue
-    ahead = next((k for k in range(j, min(len(got), j + 20)) if same(got[k], w)), None)
-    if ahead is None:
-        if j < len(got):
-            out.append(got[j])
-            j += 1
+    k = find(w, j, j + 20, same)
+    if k is None:
+        k = find(w, j, j + 20, near)
+        if k is None:  # gone: the next printed line takes its place
+            if j < len(got):
+                out.append(got[j])
+                j += 1
+            continue
+        out.extend(got[j:k + 1])  # added lines, then the changed one
+        j = k + 1
         continue
-    out.extend(got[j:ahead])
+    out.extend(got[j:k])
     out.append(w)
-    j = ahead + 1
-out.extend(got[j:])
+    j = k + 1
+if not (want and want[-1] == '...'):
+    out.extend(got[j:])
 print('\n'.join(out))
 PY
 
