@@ -12,6 +12,21 @@
  *             tail of the last one is a rise), and holdoff_s past the last
  *             onset (the hammer's bounce is no second tap): a line striking
  *             faster than 1 / holdoff_s loses strikes.
+ *         ──> floor and frame energies bounded below by
+ *             max(floor_rms, quantum)^2: exact zeros (a noise gate closed,
+ *             padding) give a floor of 0 that any flicker would exceed by
+ *             any SNR; below one step of the converter nothing is measured.
+ *             A frame whose own variance is below that bound (digital
+ *             silence) teaches the floor nothing, so a gate that reopens
+ *             onto the room's noise is no rise.
+ *         ──> energies about the resting level dc (the mean of the quiet
+ *             frames), and the onset held holdoff_s as a candidate: a rise
+ *             of snr_db over everything since replaces it (a gate opened
+ *             onto noise, the tap comes after), and it is reported only when
+ *             two frames after its own hold alternating energy above the
+ *             threshold (a ring); a step of the level is no tap, the resting
+ *             level moves to it. Each onset is reported holdoff_s after its
+ *             sample; one in the last holdoff_s of a stream is not.
  * The onset sample is the first sample of the firing frame whose square
  * reaches the threshold (the frame's first sample when none does): at most one
  * frame after the true start, and at most one frame before it.
@@ -51,9 +66,12 @@ typedef struct {
   double snr_db;                /* minimum frame energy over the floor [dB], > 0 */
   double holdoff_s;             /* no onset this long after one [s], >= frame_s */
   double floor_time_constant_s; /* the floor's averaging time [s], >= frame_s */
+  double floor_rms;             /* the noise floor's lower bound, RMS [unit] > 0 (onset_floor) */
+  double quantum;               /* the input's quantization step [unit]: the floor is at least
+                                   its square; 0 = unknown (float input) */
 } af_onset_config;
 
-/* The table's defaults (onset_* rows, audio_sample_rate_hz). */
+/* The table's defaults (onset_* rows, audio_sample_rate_hz), quantum 0. */
 af_onset_config af_onset_config_default(void);
 
 typedef struct {
