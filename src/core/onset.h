@@ -37,10 +37,13 @@
  *
  * Figures (test/core/test_onset.c, signals of the test's own generators, at
  * the table's defaults and 48 kHz): no false onset in 10 min of white or of
- * pink noise (pink: 16 at 9 dB, 2313 at 6 dB); every tap whose first
+ * pink noise (pink: 17 at 9 dB, 2272 at 6 dB); every tap whose first
  * millisecond is 18 dB above the noise (its mean square over the noise
  * variance) found, its onset within 1 ms of the true start; 3 dB weaker, 193
  * of 200 (a tap split over two frames may stay below the threshold in both).
+ * test/core/test_onset_silence.c: no onset in 10 s of exact zeros nor at a
+ * DC step; one, at the tap, after 10 s of zeros, after a gate opening 20 ms
+ * before it, and for 16-bit taps with and without dither.
  * Buffers: one frame's samples, made in af_onset_create; no allocation after
  * it (af_onset_prime, offline only, excepted). Not thread-safe. */
 #ifndef AF_ONSET_H
