@@ -684,6 +684,8 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
   o->snr_db = num(s, AF_SETTING_ONSET_SNR_DB);
   o->holdoff_s = num(s, AF_SETTING_ONSET_HOLDOFF_S);
   o->floor_time_constant_s = num(s, AF_SETTING_ONSET_FLOOR_TIME_CONSTANT_S);
+  o->floor_rms = num(s, AF_SETTING_ONSET_FLOOR);
+  o->quantum = 0.0; /* unknown here: a tool that reads integer PCM sets it */
   /* Checked only when used: a slow audio rate need not suit a detector that
    * does not run. */
   if (!mc->tap_only || af_onset_config_check(o, &field) == AF_OK)

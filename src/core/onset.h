@@ -12,6 +12,21 @@
  *             tail of the last one is a rise), and holdoff_s past the last
  *             onset (the hammer's bounce is no second tap): a line striking
  *             faster than 1 / holdoff_s loses strikes.
+ *         ──> floor and frame energies bounded below by
+ *             max(floor_rms, quantum)^2: exact zeros (a noise gate closed,
+ *             padding) give a floor of 0 that any flicker would exceed by
+ *             any SNR; below one step of the converter nothing is measured.
+ *             A frame whose own variance is below that bound (digital
+ *             silence) teaches the floor nothing, so a gate that reopens
+ *             onto the room's noise is no rise.
+ *         ──> energies about the resting level dc (the mean of the quiet
+ *             frames), and the onset held holdoff_s as a candidate: a rise
+ *             of snr_db over everything since replaces it (a gate opened
+ *             onto noise, the tap comes after), and it is reported only when
+ *             two frames after its own hold alternating energy above the
+ *             threshold (a ring); a step of the level is no tap, the resting
+ *             level moves to it. Each onset is reported holdoff_s after its
+ *             sample; one in the last holdoff_s of a stream is not.
  * The onset sample is the first sample of the firing frame whose square
  * reaches the threshold (the frame's first sample when none does): at most one
  * frame after the true start, and at most one frame before it.
@@ -22,10 +37,13 @@
  *
  * Figures (test/core/test_onset.c, signals of the test's own generators, at
  * the table's defaults and 48 kHz): no false onset in 10 min of white or of
- * pink noise (pink: 16 at 9 dB, 2313 at 6 dB); every tap whose first
+ * pink noise (pink: 17 at 9 dB, 2272 at 6 dB); every tap whose first
  * millisecond is 18 dB above the noise (its mean square over the noise
  * variance) found, its onset within 1 ms of the true start; 3 dB weaker, 193
  * of 200 (a tap split over two frames may stay below the threshold in both).
+ * test/core/test_onset_silence.c: no onset in 10 s of exact zeros nor at a
+ * DC step; one, at the tap, after 10 s of zeros, after a gate opening 20 ms
+ * before it, and for 16-bit taps with and without dither.
  * Buffers: one frame's samples, made in af_onset_create; no allocation after
  * it (af_onset_prime, offline only, excepted). Not thread-safe. */
 #ifndef AF_ONSET_H
@@ -51,9 +69,12 @@ typedef struct {
   double snr_db;                /* minimum frame energy over the floor [dB], > 0 */
   double holdoff_s;             /* no onset this long after one [s], >= frame_s */
   double floor_time_constant_s; /* the floor's averaging time [s], >= frame_s */
+  double floor_rms;             /* the noise floor's lower bound, RMS [unit] > 0 (onset_floor) */
+  double quantum;               /* the input's quantization step [unit]: the floor is at least
+                                   its square; 0 = unknown (float input) */
 } af_onset_config;
 
-/* The table's defaults (onset_* rows, audio_sample_rate_hz). */
+/* The table's defaults (onset_* rows, audio_sample_rate_hz), quantum 0. */
 af_onset_config af_onset_config_default(void);
 
 typedef struct {

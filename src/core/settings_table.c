@@ -257,6 +257,11 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         NUM("onset_floor_time_constant_s", "0.5", "[0.001, 3600] s", S,
             "tap-only: averaging time of the noise floor (frames below the threshold only), "
             "at least onset_frame_s"),
+    [AF_SETTING_ONSET_FLOOR] =
+        NUM("onset_floor", "2.0e-5", "[1.0e-9, 1]", S,
+            "tap-only: the least noise floor, RMS in audio_unit (2e-5 Pa: 0 dB SPL, below any "
+            "microphone's self-noise); exact zeros between sounds (a noise gate, padding) "
+            "would make it 0. An integer WAV's step raises it"),
     [AF_SETTING_HAMMER_HEALTH_WINDOW] = WHOLE(
         "hammer_health_window", "20", "[2, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
         "hammer health: the statistics and checks are taken over this many latest "

@@ -819,6 +819,8 @@ int af_analyze_main(int argc, char **argv, int first)
                        (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
+  /* An integer WAV's step bounds the onset detector's floor (onset.h). */
+  cfg.measured.onset.quantum = audio.quantum;
   code = analyze_run(&a, &cfg, &force, &audio);
   af_recording_destroy(&force);
   af_recording_destroy(&audio);

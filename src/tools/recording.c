@@ -4,6 +4,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -258,6 +259,8 @@ static af_status load_wav(FILE *f, const char *path, const uint8_t *head, size_t
     s = read_wav(f, path, &w, spec, out, err, len);
   if (s == AF_OK)
     *rate_hz = (double)w.sample_rate_hz;
+  if (s == AF_OK && w.format_tag == 1) /* integer PCM: full scale is 2^(valid bits - 1) steps */
+    out->quantum = spec->scale / ldexp(1.0, (int)w.valid_bits - 1);
   return s;
 }
 

@@ -38,6 +38,8 @@ extern "C" {
 typedef struct {
   float *x;
   size_t n;
+  double quantum; /* integer PCM: the step between sample values, in the scaled unit
+                     (scale / 2^(valid bits - 1)); 0 for float samples (none known) */
 } af_recording;
 
 /* How to read one input, with its flags' names for the messages. */
