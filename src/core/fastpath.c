@@ -496,6 +496,7 @@ static bool quick_check(const af_fp_table *f, const af_model_params *p)
       {p->yield_ratio, AF_SETTING_YIELD_RATIO},
       {p->yield_exponent, AF_SETTING_YIELD_EXPONENT},
       {p->yield_reference_modulus_pa, AF_SETTING_YIELD_REFERENCE_MODULUS_PA},
+      {p->bruise_energy_j, AF_SETTING_BRUISE_ENERGY_J},
   };
   for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)
     if (!af_setting_range_contains(&f->ranges[fields[k].row], fields[k].v))
@@ -612,6 +613,8 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
   r->excites_mode = af_criteria_excites_mode(r->band_found ? &r->band : NULL, r->resonance_hz);
   r->no_damage = af_criteria_no_damage(r->max_shear_stress_pa, r->yield_shear_stress_pa);
   r->reliable = r->excites_mode && r->no_damage;
+  if (full) /* the search reads reliable only */
+    af_model_energy_figures(p, r);
   f->from_table++;
   return AF_OK;
 }

@@ -188,6 +188,16 @@ double af_impact_hertz_contact_time_s(const af_impact_params *p)
          pow(m1 * m1 / (af_impact_effective_radius_m(p) * e_star * e_star * p->velocity_m_s), 0.2);
 }
 
+double af_impact_delivered_energy_j(double hammer_mass_kg, double velocity_m_s)
+{
+  return 0.5 * hammer_mass_kg * velocity_m_s * velocity_m_s; /* NaN propagates */
+}
+
+double af_impact_absorbed_energy_j(double delivered_energy_j, double restitution)
+{
+  return (1.0 - restitution * restitution) * delivered_energy_j;
+}
+
 /* ---- dimensionless dynamics ------------------------------------------- */
 
 /* F / F0. Contact cannot pull: the factor 1 + chi u is clamped at 0. In exact

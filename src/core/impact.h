@@ -60,6 +60,13 @@ af_impact_params af_impact_params_default(void);
 double af_impact_effective_modulus_pa(const af_impact_params *p); /* E* */
 double af_impact_effective_radius_m(const af_impact_params *p);   /* R */
 double af_impact_stiffness(const af_impact_params *p);            /* K [N/m^1.5] */
+/* The impact's energy (PHYSICS.md 1): the hammer's kinetic energy at contact,
+ * m1 v0^2 / 2 [J], is what the strike delivers; the fruit keeps the share
+ * 1 - e^2 of it, e the restitution the hammer leaves with (gravity does no
+ * net work over a contact that ends where it began). NaN when an input is
+ * not finite (a figure not known). */
+double af_impact_delivered_energy_j(double hammer_mass_kg, double velocity_m_s);
+double af_impact_absorbed_energy_j(double delivered_energy_j, double restitution);
 /* Closed-form elastic contact time without gravity, 2.86827 (m1^2/(R E*^2 v0))^(1/5) [s]:
  * the scale callers use to choose a sampling step before running. */
 double af_impact_hertz_contact_time_s(const af_impact_params *p);

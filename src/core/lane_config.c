@@ -146,6 +146,7 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
     return AF_EINVAL;
   }
   m->modulus_factor = num(s, AF_SETTING_MODULUS_FACTOR);
+  m->bruise_energy_j = num(s, AF_SETTING_BRUISE_ENERGY_J);
   if (!(c->modulus_min_pa <= i->fruit_modulus_pa && i->fruit_modulus_pa <= c->modulus_max_pa)) {
     af_settings_say(err, len, "%s = %g must lie in [%s, %s] = [%g, %g] Pa",
                     af_settings_name_of(s, AF_SETTING_MODULUS_NOMINAL_PA).text, i->fruit_modulus_pa,
@@ -573,6 +574,7 @@ static const af_field_source field_sources[] = {
     {"yield_exponent", {AF_SETTING_YIELD_EXPONENT}, 1, ""},
     {"yield_reference_modulus_pa", {AF_SETTING_YIELD_REFERENCE_MODULUS_PA}, 1, ""},
     {"yield_measured", {AF_SETTING_YIELD_MEASURED}, 1, ""},
+    {"bruise_energy_j", {AF_SETTING_BRUISE_ENERGY_J}, 1, ""},
 };
 
 /* "~a / ~b (note)" for field, or the field itself. */

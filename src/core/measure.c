@@ -255,6 +255,7 @@ static void report_start(const af_strike_event *ev, unsigned lobe, af_measure_re
   out->fitted_modulus_pa = out->fitted_restitution = out->fit_residual = NAN;
   out->fitted_modulus_se_pa = out->fitted_restitution_se = NAN;
   out->fitted_velocity_m_s = NAN;
+  out->delivered_energy_j = out->absorbed_energy_j = NAN;
   out->max_shear_stress_pa = out->yield_shear_stress_pa = NAN;
   out->double_hit = ev->double_hit;
   out->clipped = ev->clipped;
@@ -361,6 +362,18 @@ static void step_fit(af_measure *m, const af_strike_event *ev, const af_measure_
    * RMS at 40 dB against the detector's 1 % from its two edges alone
    * (strike.h), whose figure stays the fallback when the fit fails. */
   out->contact_time_s = r.contact_time_s;
+}
+
+/* The strike's energy (model.h): the rig's hammer at the v0 the fit freed or
+ * the rig's, the absorbed share from the fitted e; NaN where not known. */
+static void step_energy(const af_measure *m, const af_measure_apple *apple, af_measure_report *out)
+{
+  const af_impact_params *rig = &apple->model.impact;
+  double v0_m_s =
+      m->cfg.fit.fit_velocity && !out->tap_only ? out->fitted_velocity_m_s : rig->velocity_m_s;
+  out->delivered_energy_j = af_impact_delivered_energy_j(rig->hammer_mass_kg, v0_m_s);
+  out->absorbed_energy_j =
+      af_impact_absorbed_energy_j(out->delivered_energy_j, out->fitted_restitution);
 }
 
 /* The model's 0S2 over the cultivar's firmness range for this apple's mass,
@@ -686,6 +699,7 @@ af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
   af_stage_end(h, AF_STAGE_FFT, t0_ns);
   t0_ns = af_stage_begin(h);
   step_fit(m, ev, apple, out, &s);
+  step_energy(m, apple, out);
   af_stage_end(h, AF_STAGE_FIT, t0_ns);
   timed_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
   t0_ns = af_stage_begin(h);
@@ -744,6 +758,7 @@ af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
   none.contact_time_s = none.peak_force_n = none.impulse_n_s = NAN;
   report_start(&none, apple->model.lobe, out);
   out->tap_only = true;
+  step_energy(m, apple, out);
   timed_audio(m, apple, audio, n_audio, noise, n_noise, out, &s);
   const af_stage_hook *h = m->cfg.stages;
   const int64_t t0_ns = af_stage_begin(h);

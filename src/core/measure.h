@@ -100,6 +100,11 @@ typedef struct {
   double fitted_modulus_se_pa, fitted_restitution_se;
   double fitted_velocity_m_s; /* v0 of the fit when measure_fit_velocity frees it; NaN when
                                  the rig sets it or the fit failed [m/s] */
+  double delivered_energy_j;  /* m1 v0^2 / 2 of the rig's hammer, v0 the fitted one when
+                                 measure_fit_velocity frees it, else the rig's; NaN when the v0
+                                 is not known [J] */
+  double absorbed_energy_j;   /* its share 1 - e^2 kept by the fruit, e the fitted restitution;
+                                 NaN without a fit (tap-only too) [J] */
   bool double_hit; /* the detector's bounce after the contact, or one inside it: the fit's
                       residual structured (verdict.bounce_noise_ratio, measure.c) */
   bool clipped;

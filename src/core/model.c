@@ -51,6 +51,7 @@ af_model_params af_model_params_default(void)
   p.yield_exponent = AF_DEFAULT_YIELD_EXPONENT;
   p.yield_reference_modulus_pa = AF_DEFAULT_YIELD_REFERENCE_MODULUS_PA;
   p.yield_measured.n = 0;
+  p.bruise_energy_j = AF_DEFAULT_BRUISE_ENERGY_J;
   return p;
 }
 
@@ -119,6 +120,7 @@ af_status af_model_params_check(const af_model_params *p, af_param_error *err)
       {"yield_exponent", p->yield_exponent, AF_SETTING_YIELD_EXPONENT},
       {"yield_reference_modulus_pa", p->yield_reference_modulus_pa,
        AF_SETTING_YIELD_REFERENCE_MODULUS_PA},
+      {"bruise_energy_j", p->bruise_energy_j, AF_SETTING_BRUISE_ENERGY_J},
   };
   for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
     const af_field_check *f = &fields[k];
@@ -267,7 +269,17 @@ af_status af_model_execute(af_model *m, const af_model_params *p, af_model_resul
   r->excites_mode = af_criteria_excites_mode(r->band_found ? &r->band : NULL, r->resonance_hz);
   r->no_damage = af_criteria_no_damage(r->max_shear_stress_pa, r->yield_shear_stress_pa);
   r->reliable = r->excites_mode && r->no_damage;
+  af_model_energy_figures(p, r);
   return AF_OK;
+}
+
+void af_model_energy_figures(const af_model_params *p, af_model_result *r)
+{
+  r->delivered_energy_j =
+      af_impact_delivered_energy_j(p->impact.hammer_mass_kg, p->impact.velocity_m_s);
+  r->absorbed_energy_j =
+      af_impact_absorbed_energy_j(r->delivered_energy_j, r->impact.delivered_restitution);
+  r->below_bruise_energy = r->absorbed_energy_j < p->bruise_energy_j;
 }
 
 void af_model_reason(const af_model_result *r, unsigned lobe, char *buf, size_t len)

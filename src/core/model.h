@@ -34,6 +34,9 @@ typedef struct {
   double yield_exponent;      /* p of tau_y = yield_ratio E_ref (E2/E_ref)^p; 1 = ratio law */
   double yield_reference_modulus_pa; /* E_ref [Pa] */
   af_yield_points yield_measured;    /* measured tau_y(E2); overrides the law when n > 0 */
+  double bruise_energy_j;            /* absorbed energy [J] at which the second damage reading says
+                                        "bruised": a calibration (doc/model.md); the verdict stays the
+                                        shear criterion's */
 } af_model_params;
 
 /* The yield law of p (yield.h). */
@@ -74,6 +77,13 @@ typedef struct {
   bool excites_mode;
   bool no_damage;
   bool reliable;
+  /* The second damage reading, beside the shear criterion (no_damage), which
+   * alone sets reliable: the energy the strike delivers, m1 v0^2 / 2, the
+   * share 1 - e^2 the fruit absorbs (e the delivered restitution) and
+   * whether that stays below bruise_energy_j. */
+  double delivered_energy_j; /* [J] */
+  double absorbed_energy_j;  /* [J] */
+  bool below_bruise_energy;
 } af_model_result;
 
 typedef struct af_model af_model;
@@ -91,6 +101,11 @@ af_status af_model_execute(af_model *m, const af_model_params *p, af_model_resul
  * (a guard: about 36 suffice for any bracket); any status of af_model_execute. */
 af_status af_model_min_strike_radius(af_model *m, const af_model_params *p, double r_lo_m,
                                      double r_hi_m, double *r_min_m);
+
+/* Fills r's energy figures and bruise reading from p and
+ * r->impact.delivered_restitution (af_model_execute calls it; the fast path
+ * too, for the same figures). */
+void af_model_energy_figures(const af_model_params *p, af_model_result *r);
 
 /* One-line reason why r is not reliable ("" when reliable), into buf;
  * lobe is the configured lobe (p->lobe). */

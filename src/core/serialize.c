@@ -30,6 +30,8 @@ typedef enum {
   F_FITTED_MODULUS,
   F_FITTED_RESTITUTION,
   F_FIT_RESIDUAL,
+  F_DELIVERED_ENERGY,
+  F_ABSORBED_ENERGY,
   F_DOUBLE_HIT,
   F_CLIPPED,
   F_LOST_SAMPLES,
@@ -89,6 +91,12 @@ static const af_serial_field fields[F_COUNT] = {
                               "coefficient of restitution of that fit"},
     [F_FIT_RESIDUAL] = {"fit_residual", AF_SERIAL_REAL, "-", SR, "fit_residual",
                         "RMS residual of the fit / peak force"},
+    [F_DELIVERED_ENERGY] = {"delivered_energy_j", AF_SERIAL_REAL, "J", SR, "delivered_energy",
+                            "the hammer's kinetic energy at contact, m1 v0^2 / 2; NaN: v0 not "
+                            "known"},
+    [F_ABSORBED_ENERGY] = {"absorbed_energy_j", AF_SERIAL_REAL, "J", SR, "absorbed_energy",
+                           "the share the fruit absorbed, (1 - e^2) of it with the fitted e; "
+                           "NaN: no fit"},
     [F_DOUBLE_HIT] = {"double_hit", AF_SERIAL_BOOL, "-", SR, "double_hit", "the hammer bounced"},
     [F_CLIPPED] = {"clipped", AF_SERIAL_BOOL, "-", SR, "clipped",
                    "a force sample reached full scale"},
@@ -163,6 +171,8 @@ static value value_of(const af_serial_strike *s, field_id id)
   case F_FITTED_MODULUS: v.real = r->fitted_modulus_pa; break;
   case F_FITTED_RESTITUTION: v.real = r->fitted_restitution; break;
   case F_FIT_RESIDUAL: v.real = r->fit_residual; break;
+  case F_DELIVERED_ENERGY: v.real = r->delivered_energy_j; break;
+  case F_ABSORBED_ENERGY: v.real = r->absorbed_energy_j; break;
   case F_DOUBLE_HIT: v.boolean = r->double_hit; break;
   case F_CLIPPED: v.boolean = r->clipped; break;
   case F_LOST_SAMPLES: v.integer = r->lost_samples; break;

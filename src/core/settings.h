@@ -164,6 +164,8 @@ typedef enum {
   /* firmness grades of measured strikes (grade.h) */
   AF_SETTING_GRADE_QUANTITY,
   AF_SETTING_GRADE_CLASSES,
+  /* the second damage reading: the strike's absorbed energy (model.h) */
+  AF_SETTING_BRUISE_ENERGY_J,
   AF_SETTING_COUNT
 } af_setting_id;
 

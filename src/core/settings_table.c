@@ -362,6 +362,11 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         "grade_classes", "\"soft | 7.0e+4 | medium | 1.1e+5 | firm | 1.6e+5 | very firm\"", 400, C,
         "firmness classes, softest first, with the boundary between neighbours in "
         "grade_quantity's unit (grade.h); \"\" = no grading"),
+    [AF_SETTING_BRUISE_ENERGY_J] =
+        NUM("bruise_energy_j", "0.05", "[0.0001, 10] J", C,
+            "the second damage reading: a strike whose absorbed energy (1 - e^2) m1 v0^2 / 2 "
+            "reaches this bruises; a calibration (doc/model.md), shown beside the shear "
+            "criterion, which stays the verdict"),
 };
 
 #undef S

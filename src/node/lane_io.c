@@ -105,6 +105,8 @@ static void report_from_measure(const af_measure_report *q, af_strike_report *r)
   r->fitted_modulus_pa = q->fitted_modulus_pa;
   r->fitted_restitution = q->fitted_restitution;
   r->fit_residual = q->fit_residual;
+  r->delivered_energy_j = q->delivered_energy_j;
+  r->absorbed_energy_j = q->absorbed_energy_j;
   r->double_hit = q->double_hit;
   r->clipped = q->clipped;
   r->lost_samples = q->lost_samples;

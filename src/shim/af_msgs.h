@@ -116,6 +116,8 @@ typedef struct {
   double fitted_modulus_pa;         /* impact model fitted to the pulse [Pa] */
   double fitted_restitution;        /* [-] */
   double fit_residual;              /* RMS / peak [-] */
+  double delivered_energy_j;        /* m1 v0^2 / 2 [J]; NaN: v0 not known */
+  double absorbed_energy_j;         /* (1 - e^2) of it, e fitted [J]; NaN: no fit */
   bool double_hit;
   bool clipped;
   uint32_t lost_samples; /* force samples missing around the strike */

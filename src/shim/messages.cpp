@@ -190,6 +190,8 @@ void to_ros(const af_strike_report &c, acoustic_firmness::StrikeReport &m)
   m.fitted_modulus = c.fitted_modulus_pa;
   m.fitted_restitution = c.fitted_restitution;
   m.fit_residual = c.fit_residual;
+  m.delivered_energy = c.delivered_energy_j;
+  m.absorbed_energy = c.absorbed_energy_j;
   m.double_hit = c.double_hit;
   m.clipped = c.clipped;
   m.lost_samples = c.lost_samples;
@@ -220,6 +222,8 @@ void from_ros(const acoustic_firmness::StrikeReport &m, af_strike_report &c)
   c.fitted_modulus_pa = m.fitted_modulus;
   c.fitted_restitution = m.fitted_restitution;
   c.fit_residual = m.fit_residual;
+  c.delivered_energy_j = m.delivered_energy;
+  c.absorbed_energy_j = m.absorbed_energy;
   c.double_hit = m.double_hit != 0;
   c.clipped = m.clipped != 0;
   c.lost_samples = m.lost_samples;

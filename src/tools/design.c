@@ -236,6 +236,9 @@ static af_status evaluate_strike(af_fastpath *f, af_model *m, const af_design_ar
 {
   out->margin_db = INFINITY;
   out->failed = 0;
+  out->delivered_energy_j = out->absorbed_energy_j = out->absorbed_e = NAN;
+  out->min_yield_over_shear = INFINITY;
+  out->damaged = out->bruised = 0;
   for (int i = 0; i < N_E2; i++)
     for (int j = 0; j < N_MASS; j++) {
       af_model_params p = *base;
@@ -253,6 +256,14 @@ static af_status evaluate_strike(af_fastpath *f, af_model *m, const af_design_ar
         double band = band_margin_db(&p, &r);
         double dmg = 20.0 * log10(r.yield_shear_stress_pa / r.max_shear_stress_pa);
         double mg = fmin(band, dmg);
+        out->delivered_energy_j = r.delivered_energy_j;
+        if (!(r.absorbed_energy_j <= out->absorbed_energy_j)) /* the first, or more */
+          out->absorbed_energy_j = r.absorbed_energy_j,
+          out->absorbed_e = r.impact.delivered_restitution;
+        out->min_yield_over_shear =
+            fmin(out->min_yield_over_shear, r.yield_shear_stress_pa / r.max_shear_stress_pa);
+        out->damaged += !r.no_damage;
+        out->bruised += !r.below_bruise_energy;
         if (!r.reliable) {
           out->failed++;
           if (lost)
@@ -307,6 +318,7 @@ static bool load_cultivar(const af_design_args *a, af_model_params *base, af_des
   r->mass_min_kg = af_settings_number(&s, AF_SETTING_MASS_MIN_KG);
   r->mass_max_kg = af_settings_number(&s, AF_SETTING_MASS_MAX_KG);
   r->restitution = base->impact.restitution;
+  r->bruise_energy_j = base->bruise_energy_j;
   return true;
 }
 
@@ -419,7 +431,8 @@ af_status af_design_execute(const af_design_args *a, af_design_result *out, bool
   return st;
 }
 
-static void print_strike(FILE *out, const char *what, const af_design_strike *e)
+static void print_strike(FILE *out, const char *what, const af_design_strike *e,
+                         double bruise_energy_j)
 {
   double tip = e->tip_radius_m;
   fprintf(out, "%s: hammer %.1f g at %.2f m/s, tip %s", what, e->hammer_mass_kg * 1e3,
@@ -431,6 +444,17 @@ static void print_strike(FILE *out, const char *what, const af_design_strike *e)
           "%+.2f dB (yield / shear %.3f); %d of %d apples not reliable\n",
           e->e2_pa / 1e6, e->mass_kg * 1e3, e->r2_m * 1e3, e->band_db, e->damage_db,
           pow(10.0, e->damage_db / 20.0), e->failed, AF_DESIGN_APPLES);
+  fprintf(out,
+          "  energy: %.2f mJ delivered (m1 v0^2 / 2), up to %.2f mJ absorbed (1 - e^2, e "
+          "%.3f)\n",
+          e->delivered_energy_j * 1e3, e->absorbed_energy_j * 1e3, e->absorbed_e);
+  /* Both readings over the same apples; the shear's is the verdict. */
+  fprintf(out,
+          "  damage readings: shear (the criterion) %d of %d apples damaged, smallest yield / "
+          "shear %.3f; bruise energy %d of %d apples bruised, absorbed / threshold %.3f of "
+          "%.1f mJ\n",
+          e->damaged, AF_DESIGN_APPLES, e->min_yield_over_shear, e->bruised, AF_DESIGN_APPLES,
+          e->absorbed_energy_j / bruise_energy_j, bruise_energy_j * 1e3);
 }
 
 void af_design_print(FILE *out, const char *cultivar, const af_design_args *a,
@@ -450,7 +474,7 @@ void af_design_print(FILE *out, const char *cultivar, const af_design_args *a,
   print_strike(out,
                r->recommended.failed == 0 ? "recommended strike"
                                           : "no feasible strike; best compromise",
-               &r->recommended);
+               &r->recommended, r->bruise_energy_j);
   for (int k = 0; k < r->n_lost; k++) {
     const af_design_lost *l = &r->lost[k];
     fprintf(out, "    gives up E2 %5.2f MPa, %3.0f g, R2 %4.1f mm: %s\n", l->e2_pa / 1e6,
@@ -472,7 +496,7 @@ void af_design_print(FILE *out, const char *cultivar, const af_design_args *a,
             "infeasible: %s\n",
             r->failed_strikes, r->failed_cells, AF_DESIGN_CELLS, af_strerror(r->failed_status));
   if (r->paper_status == AF_OK)
-    print_strike(out, "the paper's optimum", &r->paper);
+    print_strike(out, "the paper's optimum", &r->paper, r->bruise_energy_j);
 }
 
 /* The feasibility map into a->plot; false when it cannot be drawn. */

@@ -42,6 +42,15 @@ typedef struct {
   double band_db, damage_db;                         /* that apple's two margins [dB] */
   double e2_pa, mass_kg, r2_m;                       /* that apple */
   int failed; /* apples not reliable (counted up to the worst apple: see design.c) */
+  /* The energy and the two damage readings over the whole domain: the shear
+   * criterion (the verdict) and the absorbed energy against the cultivar's
+   * bruise_energy_j (shown beside it, never judged by). */
+  double delivered_energy_j;   /* m1 v0^2 / 2 [J] */
+  double absorbed_energy_j;    /* the largest (1 - e^2) share over the domain's apples [J] */
+  double absorbed_e;           /* that apple's delivered restitution */
+  double min_yield_over_shear; /* the smallest yield / shear over the domain */
+  int damaged;                 /* apples whose shear reaches the yield */
+  int bruised;                 /* apples whose absorbed energy reaches bruise_energy_j */
 } af_design_strike;
 
 /* One apple a strike gives up and why. */
@@ -53,7 +62,8 @@ typedef struct {
 typedef struct {
   double modulus_min_pa, modulus_max_pa, mass_min_kg, mass_max_kg; /* the cultivar's domain */
   double restitution;                                              /* the cultivar's e */
-  int n_tips;                                                      /* tip radii tried per cell */
+  double bruise_energy_j;                /* the cultivar's bruise threshold (absorbed energy) [J] */
+  int n_tips;                            /* tip radii tried per cell */
   af_design_strike recommended;          /* failed 0: every apple kept; else the best compromise */
   af_design_lost lost[AF_DESIGN_APPLES]; /* the apples the best compromise gives up */
   int n_lost;                            /* 0 when recommended.failed is 0 */

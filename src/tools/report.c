@@ -75,7 +75,11 @@ void af_report_json(FILE *out, const af_report *rep)
   json_number(out, "min_strike_radius_m", rep->min_strike_radius_m, ",");
   fprintf(out, "  \"excites_mode\": %s,\n", r->excites_mode ? "true" : "false");
   fprintf(out, "  \"no_damage\": %s,\n", r->no_damage ? "true" : "false");
-  fprintf(out, "  \"reliable\": %s\n}\n", r->reliable ? "true" : "false");
+  fprintf(out, "  \"reliable\": %s,\n", r->reliable ? "true" : "false");
+  json_number(out, "delivered_energy_j", r->delivered_energy_j, ",");
+  json_number(out, "absorbed_energy_j", r->absorbed_energy_j, ",");
+  json_number(out, "bruise_energy_j", rep->params.bruise_energy_j, ",");
+  fprintf(out, "  \"below_bruise_energy\": %s\n}\n", r->below_bruise_energy ? "true" : "false");
 }
 
 void af_report_text(FILE *out, const af_report *rep)
@@ -101,6 +105,10 @@ void af_report_text(FILE *out, const af_report *rep)
   fprintf(out, "  contact pressure  %8.4f MPa\n", r->max_contact_pressure_pa * 1e-6);
   fprintf(out, "  max shear         %8.4f MPa (yield %.4f MPa)\n", r->max_shear_stress_pa * 1e-6,
           r->yield_shear_stress_pa * 1e-6);
+  fprintf(
+      out,
+      "  impact energy     %8.3f mJ delivered (m1 v0^2 / 2), %.3f mJ absorbed (1 - e^2, e %.4f)\n",
+      r->delivered_energy_j * 1e3, r->absorbed_energy_j * 1e3, r->impact.delivered_restitution);
   if (isfinite(rep->min_strike_radius_m))
     fprintf(out, "  min strike radius %8.2f mm\n", rep->min_strike_radius_m * 1e3);
   else
@@ -110,6 +118,13 @@ void af_report_text(FILE *out, const af_report *rep)
   fprintf(out, "  excites mode %s, no damage %s: %s%s%s\n", r->excites_mode ? "yes" : "no",
           r->no_damage ? "yes" : "no", r->reliable ? "RELIABLE" : "NOT RELIABLE",
           r->reliable ? "" : " - ", reason);
+  /* The energy reading is shown, never judged by: the shear criterion above is the verdict. */
+  fprintf(out,
+          "  damage readings: shear %s (shear / yield %.3f); bruise energy %s (absorbed / "
+          "threshold %.3f of %.1f mJ)\n",
+          r->no_damage ? "no damage" : "DAMAGE", r->max_shear_stress_pa / r->yield_shear_stress_pa,
+          r->below_bruise_energy ? "no bruise" : "BRUISE",
+          r->absorbed_energy_j / p->bruise_energy_j, p->bruise_energy_j * 1e3);
 }
 
 void af_report_csv_header(FILE *out, const char *param)
@@ -118,19 +133,21 @@ void af_report_csv_header(FILE *out, const char *param)
           "%s,contact_time_s,peak_force_n,max_deformation_m,delivered_restitution,"
           "band_low_hz,band_high_hz,resonance_hz,excitation_at_resonance_db,"
           "max_contact_pressure_pa,max_shear_stress_pa,yield_shear_stress_pa,"
-          "min_strike_radius_m,excites_mode,no_damage,reliable\n",
+          "min_strike_radius_m,excites_mode,no_damage,reliable,delivered_energy_j,"
+          "absorbed_energy_j,below_bruise_energy\n",
           param);
 }
 
 void af_report_csv_row(FILE *out, double value, const af_report *rep)
 {
   const af_model_result *r = &rep->result;
-  fprintf(
-      out,
-      "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,%d,%d\n",
-      value, r->impact.contact_time_s, r->impact.peak_force_n, r->impact.max_deformation_m,
-      r->impact.delivered_restitution, r->band_found ? r->band.band_low_hz : NAN,
-      r->band_found ? r->band.band_high_hz : NAN, r->resonance_hz, r->excitation_at_resonance_db,
-      r->max_contact_pressure_pa, r->max_shear_stress_pa, r->yield_shear_stress_pa,
-      rep->min_strike_radius_m, r->excites_mode, r->no_damage, r->reliable);
+  fprintf(out,
+          "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,%d,%d,"
+          "%.10g,%.10g,%d\n",
+          value, r->impact.contact_time_s, r->impact.peak_force_n, r->impact.max_deformation_m,
+          r->impact.delivered_restitution, r->band_found ? r->band.band_low_hz : NAN,
+          r->band_found ? r->band.band_high_hz : NAN, r->resonance_hz,
+          r->excitation_at_resonance_db, r->max_contact_pressure_pa, r->max_shear_stress_pa,
+          r->yield_shear_stress_pa, rep->min_strike_radius_m, r->excites_mode, r->no_damage,
+          r->reliable, r->delivered_energy_j, r->absorbed_energy_j, r->below_bruise_energy);
 }

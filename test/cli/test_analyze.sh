@@ -83,7 +83,7 @@ sys.exit(0 if ($expr) else 1)"; then
 }
 
 run=(--force "$tmp/force.f32" --audio "$tmp/audio.f32" "${base[@]}")
-keys="stamp_ns frame_id apple_id with_audio contact_time_s peak_force_n impulse_n_s band_low_hz band_high_hz resonance_hz resonance_q snr_db stiffness_factor_hz2_kg2_3 modulus_from_resonance_pa fitted_modulus_pa fitted_restitution fit_residual double_hit clipped lost_samples audio_clipped audio_lag_s audio_lag_applied_s grade_index grade grade_reason excites_mode no_damage reliable max_shear_stress_pa yield_shear_stress_pa reason flags mode_method mode_confidence mode_ambiguous mode_text tap_only judged_from_model"
+keys="stamp_ns frame_id apple_id with_audio contact_time_s peak_force_n impulse_n_s band_low_hz band_high_hz resonance_hz resonance_q snr_db stiffness_factor_hz2_kg2_3 modulus_from_resonance_pa fitted_modulus_pa fitted_restitution fit_residual delivered_energy_j absorbed_energy_j double_hit clipped lost_samples audio_clipped audio_lag_s audio_lag_applied_s grade_index grade grade_reason excites_mode no_damage reliable max_shear_stress_pa yield_shear_stress_pa reason flags mode_method mode_confidence mode_ambiguous mode_text tap_only judged_from_model"
 pykeys=$(printf "'%s'," $keys)
 # one report per strike, each with exactly the keys, at the strike's time
 json_check "len(d) == 3 and all(set(r) == {$pykeys} for r in d)" "${run[@]}"

@@ -15,7 +15,7 @@ json_check() {
   fi
 }
 
-keys="contact_time_s peak_force_n max_deformation_m delivered_restitution lobes band_low_hz band_high_hz resonance_hz excitation_at_resonance_db max_contact_pressure_pa max_shear_stress_pa yield_shear_stress_pa min_strike_radius_m excites_mode no_damage reliable"
+keys="contact_time_s peak_force_n max_deformation_m delivered_restitution lobes band_low_hz band_high_hz resonance_hz excitation_at_resonance_db max_contact_pressure_pa max_shear_stress_pa yield_shear_stress_pa min_strike_radius_m excites_mode no_damage reliable delivered_energy_j absorbed_energy_j bruise_energy_j below_bruise_energy"
 pykeys=$(printf "'%s'," $keys)
 json_check "all(k in d for k in [$pykeys])"
 json_check "all(set(l) == {'index','start_hz','end_hz','peak_hz','band_low_hz','band_high_hz'} for l in d['lobes']) and [l['index'] for l in d['lobes']] == list(range(1, len(d['lobes']) + 1))"
@@ -26,6 +26,9 @@ json_check "1.2e-3 < d['contact_time_s'] < 1.5e-3 and 30 < d['peak_force_n'] < 4
 json_check "d['contact_time_s'] < 1.25e-3 and d['peak_force_n'] > 40" --E2 12e6
 # Paper profile: lobe 2 at power-half never holds the 0S2 (PHYSICS.md 7).
 json_check "d['excites_mode'] is False and d['reliable'] is False" --profile paper
+# The paper's strike's energy (PHYSICS.md 1): 10 g at 1.4 m/s delivers 0.5 x 0.010 x 1.4^2
+# = 9.8 mJ; the fruit keeps (1 - e^2) of it at the delivered e.
+json_check "abs(d['delivered_energy_j'] - 0.0098) < 1e-12 and abs(d['absorbed_energy_j'] - (1 - d['delivered_restitution']**2) * 0.0098) < 1e-12 and d['below_bruise_energy'] is (d['absorbed_energy_j'] < d['bruise_energy_j'])"
 json_check "d['excites_mode'] is True" --profile paper --lobe 1 --band-level amplitude-half
 # A sharp bump: bruise risk.
 json_check "d['no_damage'] is False and d['reliable'] is False" --R2 0.005

@@ -81,4 +81,36 @@ read -r _ _ _ _ _ _ measured_failed _ <<<"$(strike "$tmp/measured" "the paper's 
   bad "yield_measured ignored: ${measured_failed:-?} given up against ${law_failed:-?} with the law"
 sed 's/^yield_measured: ""/yield_measured: "8e6:0.3e6, 2e6:0.1e6"/' "$yaml" >"$tmp/bad.yaml"
 "$FM" design --cultivar "$tmp/bad.yaml" 2>"$tmp/err" >/dev/null; [ $? -eq 2 ] && grep -q "yield_measured" "$tmp/err" && ok || bad "bad yield_measured: $(cat "$tmp/err")"
+# The energy and the two damage readings of the paper's optimum (PHYSICS.md 1):
+# 10 g at 1.4 m/s delivers 0.5 x 0.010 x 1.4^2 = 9.80 mJ; the fruit keeps
+# (1 - e^2) of it at the printed delivered e; the bruise reading is printed
+# beside the shear's, against the cultivar's bruise_energy_j.
+# readings FILE LABEL: "delivered_mJ absorbed_mJ e damaged bruised ratio threshold_mJ"
+readings() {
+  "$PY" - "$1" "$2" <<'PYEOF'
+import re, sys
+text = open(sys.argv[1]).read()
+m = re.search(re.escape(sys.argv[2]) + r': .*\n.*\n'
+              r'  energy: ([\d.]+) mJ delivered \(m1 v0\^2 / 2\), up to ([\d.]+) mJ absorbed '
+              r'\(1 - e\^2, e ([\d.]+)\)\n'
+              r'  damage readings: shear \(the criterion\) (\d+) of 72 apples damaged, .*; '
+              r'bruise energy (\d+) of 72 apples bruised, absorbed / threshold ([\d.]+) of '
+              r'([\d.]+) mJ', text)
+if m:
+    print(*m.groups())
+PYEOF
+}
+read -r del abs_ e dmgd brsd ratio thr <<<"$(readings "$tmp/full" "the paper's optimum")"
+[ "${del:-}" = 9.80 ] && ok || bad "paper's optimum delivers ${del:-?} mJ, not 9.80: $(cat "$tmp/full")"
+"$PY" -c "import sys; sys.exit(not (abs($abs_ - (1 - $e**2) * 9.8) < 0.01 and abs($ratio - $abs_ / $thr) < 0.001 and $thr == 50.0 and $dmgd > 0 and $brsd == 0))" 2>/dev/null &&
+  ok || bad "paper's optimum's energy readings: absorbed ${abs_:-?} mJ at e ${e:-?}, ${dmgd:-?} damaged, ${brsd:-?} bruised, ratio ${ratio:-?} of ${thr:-?} mJ"
+# A threshold below the absorbed energy bruises every apple and changes no
+# verdict: the shear criterion alone gives apples up.
+sed 's/^bruise_energy_j: .*/bruise_energy_j: 0.001/' "$yaml" >"$tmp/bruise.yaml"
+run bruise --cultivar "$tmp/bruise.yaml" "${small[@]}"
+read -r _ _ _ _ _ _ b_failed _ <<<"$(strike "$tmp/bruise" "the paper's optimum")"
+read -r _ _ _ _ b_bruised _ b_thr <<<"$(readings "$tmp/bruise" "the paper's optimum")"
+[ "${b_bruised:-}" = 72 ] && [ "${b_thr:-}" = 1.0 ] && [ -n "${law_failed:-}" ] && [ "${b_failed:-}" = "$law_failed" ] &&
+  grep -q '^recommended strike' "$tmp/bruise" && [ "$(grep '^recommended' "$tmp/bruise")" = "$rec_fast" ] && ok ||
+  bad "bruise_energy_j 0.001: ${b_bruised:-?} bruised of 72 (threshold ${b_thr:-?} mJ), ${b_failed:-?} given up against ${law_failed:-?}"
 summary test_design

@@ -384,6 +384,13 @@ static void check_strike(const apple_truth *t, const recording *rec, size_t i,
   AF_CHECK_REL(r->resonance_hz, f0, 0.005);
   AF_CHECK_REL(r->fitted_modulus_pa, t->modulus_pa, 0.03);
   AF_CHECK_ABS(r->fitted_restitution, 0.6, 0.05);
+  /* The energy (PHYSICS.md 1): the rig's 10 g hammer at its set 1.4 m/s
+   * delivers 0.5 x 0.010 x 1.4^2 = 9.8 mJ, the fruit keeps (1 - e^2) of it
+   * with the fitted e. */
+  AF_CHECK_REL(r->delivered_energy_j, 0.5 * 0.010 * 1.4 * 1.4, 1e-12);
+  AF_CHECK_REL(r->absorbed_energy_j,
+               (1.0 - r->fitted_restitution * r->fitted_restitution) * r->delivered_energy_j,
+               1e-12);
   AF_CHECK_REL(r->modulus_from_resonance_pa, t->modulus_pa, 0.01);
   AF_CHECK_REL(r->stiffness_factor, f0 * f0 * pow(t->mass_kg, 2.0 / 3.0), 0.01);
   AF_CHECK(!r->double_hit && !r->clipped && r->lost_samples == 0);
@@ -646,6 +653,9 @@ static void test_fit_failure(void)
   size_t first = (size_t)lround(rec.t0_s[0] * AUDIO_HZ);
   AF_CHECK_STATUS(af_measure_execute(m, &ev, &apple, rec.audio + first, 1920, NULL, 0, &r), AF_OK);
   AF_CHECK(isnan(r.fitted_modulus_pa) && isnan(r.max_shear_stress_pa) && !r.no_damage);
+  /* The set v0 still gives the delivered energy; without a fitted e no absorbed share. */
+  AF_CHECK_REL(r.delivered_energy_j, 0.5 * 0.010 * 1.4 * 1.4, 1e-12);
+  AF_CHECK(isnan(r.absorbed_energy_j));
   AF_CHECK(!r.reliable && has(&r, "fit failed: the model does not explain the pulse"));
   AF_CHECK(strstr(r.reason, "bruise") == NULL);
   AF_CHECK_REL(r.resonance_hz, truth_f0(&default_apple), 0.005); /* the audio side is unaffected */

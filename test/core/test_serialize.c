@@ -257,6 +257,8 @@ static af_serial_strike hand_filled(void)
   report.fitted_modulus_pa = 1.7976931348623157e308;
   report.fitted_restitution = 0.6;
   report.fit_residual = NAN;
+  report.delivered_energy_j = 0.0098;
+  report.absorbed_energy_j = 0.006272;
   report.double_hit = true;
   report.lost_samples = 4294967295u;
   report.excites_mode = true;
@@ -334,6 +336,8 @@ static void test_json(void)
   AF_CHECK((x = find(m, n, "mode_confidence")) && strcmp(x->raw, "0.2") == 0);
   AF_CHECK((x = find(m, n, "peak_force_n")) && strcmp(x->raw, "0.30000000000000004") == 0);
   AF_CHECK((x = find(m, n, "fitted_restitution")) && strcmp(x->raw, "0.6") == 0);
+  AF_CHECK((x = find(m, n, "delivered_energy_j")) && strcmp(x->raw, "0.0098") == 0);
+  AF_CHECK((x = find(m, n, "absorbed_energy_j")) && strcmp(x->raw, "0.006272") == 0);
 }
 
 static void test_csv(void)
@@ -393,7 +397,8 @@ static void test_all_nan(void)
                      &report.fitted_modulus_pa,     &report.fitted_restitution,
                      &report.fit_residual,          &report.max_shear_stress_pa,
                      &report.yield_shear_stress_pa, &report.modes.confidence,
-                     &report.audio_lag_s,           &report.audio_lag_applied_s};
+                     &report.audio_lag_s,           &report.audio_lag_applied_s,
+                     &report.delivered_energy_j,    &report.absorbed_energy_j};
   for (size_t k = 0; k < sizeof reals / sizeof reals[0]; k++)
     *reals[k] = NAN;
   size_t nf, n_real = 0;

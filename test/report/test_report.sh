@@ -59,7 +59,7 @@ assert list(strike) == names + apple, (list(strike), names)
 assert header[:len(names)] == names, header
 assert md[0] == '| field | type | unit | message field | meaning |' and len(md) == len(fields) + 2, md[:2]
 suffix = {'s': '_s', 'N': '_n', 'N s': '_n_s', 'Hz': '_hz', 'Pa': '_pa', 'dB': '_db', 'ns': '_ns',
-          'samples': '_samples', 'Hz^2 kg^(2/3)': '_hz2_kg2_3', '-': '', '': ''}
+          'samples': '_samples', 'J': '_j', 'Hz^2 kg^(2/3)': '_hz2_kg2_3', '-': '', '': ''}
 def msg_fields(name):
     out = []
     for line in open(os.path.join(sys.argv[5], name + '.msg')):
