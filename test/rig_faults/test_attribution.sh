@@ -2,7 +2,8 @@
 # Apples in flight and cameras that stamp late: no strike may be reliable
 # under another apple's id, and a systematic lag is named.
 #  - strike_bag --spacing 0.1: two apples between the camera (0.2 s
-#    upstream) and the hammer at every strike; every strike on its own apple.
+#    upstream) and the hammer at every strike; every strike on its own apple,
+#    at least 95 % of them reliable.
 #  - the same bag's estimates stamped 0.25 s late (50 ms after their own
 #    strikes, a camera stamping at publish time), at 0.5 s spacing: no
 #    strike on another apple, the 50 ms lag named.
@@ -14,13 +15,6 @@ set -uo pipefail
 here=$(dirname "$0")
 # shellcheck disable=SC1091
 source "$here/rig_faults.sh"
-fails=0
-check() { # NAME COUNTS REGEX: the counts line must match the extended regex
-  if grep -Eq -- "$3" <<<"$2"; then echo "$1: ok ($2)"; else
-    echo "$1: FAIL: '$2' does not match '$3'" >&2
-    fails=$((fails + 1))
-  fi
-}
 counts() { /usr/bin/python3 "$here/attribution.py" "$1" "$2"; }
 report() { "$rig_bin/firmness_report" "$1" --csv "$2" >"$3" 2>"$3.err"; }
 
@@ -28,13 +22,9 @@ report() { "$rig_bin/firmness_report" "$1" --csv "$2" >"$3" 2>"$3.err"; }
 report "$tmp/line.bag" "$tmp/line.csv" "$tmp/line.txt"
 c=$(counts "$tmp/line.truth.csv" "$tmp/line.csv")
 check in_flight_own_apple "$c" 'strikes 200 found 200 reliable [0-9]+ wrong_reliable 0 wrong_unflagged 0 no_apple 0 doubtful 0$'
-# Every strike that is not reliable is so for its excitation band alone (an
-# apple whose 0S2 lies beyond the pulse's band), never for its match.
-bad=$(/usr/bin/python3 -c "
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1])))
-print(sum(1 for r in rows if r['reliable'] != '1' and r['flags'] != 'outside_band'))" "$tmp/line.csv")
-check in_flight_only_band "unreliable for another reason: $bad" 'reason: 0$'
+# At least 95 % of them reliable (190 of 200).
+check in_flight_reliable "$c" 'reliable (19[0-9]|200) '
+
 check in_flight_transit "$(grep 'apple transit' "$tmp/line.txt")" 'apple transit: 200\.[0-9] ms from estimate to strike'
 
 "$rig_bin/strike_bag" --strikes 40 --seed 3 --out "$tmp/g40.bag" >/dev/null 2>&1
@@ -62,5 +52,4 @@ report "$tmp/bogus_ok.bag" "$tmp/bogus_ok.csv" "$tmp/bogus_ok.txt"
 c=$(counts "$tmp/g40.truth.csv" "$tmp/bogus_ok.csv")
 check far_stamp_others_matched "$c" 'found 40 reliable [0-9]+ wrong_reliable 0 wrong_unflagged 0 no_apple 0 doubtful 0'
 
-echo "attribution: $fails failed"
-[ "$fails" = 0 ]
+rig_done "attribution"

@@ -19,13 +19,6 @@ set -uo pipefail
 here=$(dirname "$0")
 # shellcheck disable=SC1091
 source "$here/rig_faults.sh"
-fails=0
-check() { # NAME TEXT REGEX
-  if grep -Eq -- "$3" <<<"$2"; then echo "$1: ok"; else
-    echo "$1: FAIL: '$2' does not match '$3'" >&2
-    fails=$((fails + 1))
-  fi
-}
 edit() { /usr/bin/python3 "$here/edit_bag.py" "$@"; }
 report() { "$rig_bin/firmness_report" "$1" --csv "$1.csv" >"$1.txt" 2>"$1.err"; }
 # Compares two reports strike by strike: reliable and grade equal, 0S2 within 1e-4.
@@ -122,5 +115,4 @@ a, b = (list(csv.DictReader(open(p))) for p in sys.argv[1:3])
 print('strikes %d, stamps off %d ns, 0S2 equal %d' % (len(b), max([abs(int(x['stamp_ns']) - int(y['stamp_ns'])) for x, y in zip(a, b)] or [-1]), sum(x['resonance_hz'] == y['resonance_hz'] for x, y in zip(a, b))))" "$g.csv" "$b.csv")" '^strikes 40, stamps off 0 ns, 0S2 equal 40$'
 done
 
-echo "clocks, clipping, bounces: $fails failed"
-[ "$fails" = 0 ]
+rig_done "clocks, clipping, bounces"

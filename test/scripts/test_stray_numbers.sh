@@ -38,6 +38,10 @@ doc/model.md | R2 40 mm, 10 g at 1.4 m/s) the shipped profile
 doc/model.md | law shipped now (0.0414 × 8 MPa × (E2/8 MPa)^0.70
 doc/model.md | the shipped exponent 0.70, below
 doc/cli.md | (calibration) (default 0.0414)
+# the paper's strike's energy worked by hand, and design's printed example
+doc/model.md | over a contact that ends where it began). The paper's strike, 10 g at 1.4 m/s
+doc/model.md | `hammer_mass_kg`'s rig value and `strike_velocity_m_s`), delivers 0.5 × 0.010 × 1.4² =
+doc/model.md | the paper's optimum: hammer 10.0 g at 1.40 m/s, tip flat
 # not a default: the tap SNR of test_onset's weaker taps, not the 0S2 threshold
 doc/tap_only.md | - At 15 dB, 193 of 200 are found
 doc/tap_only.md | 200 taps at 18 and 15 dB
