@@ -2,6 +2,8 @@
 #include "audio_clip.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 /* The extremes and the smallest non-zero step between neighbours: the
  * converter's quantum where there is one (float audio: some tiny step). */
@@ -19,6 +21,31 @@ static double extremes(const float *x, size_t n, double *hi, double *lo)
   return q;
 }
 
+/* Whether x[0..n) holds at least AF_AUDIO_CLIP_MIN_VALUES distinct values
+ * (a small open-addressed set of their bit patterns, on the stack): a
+ * signal pinned at full scale has its other samples anywhere, a quiet one
+ * of a few converter codes has only those. */
+static bool many_values(const float *x, size_t n)
+{
+  uint32_t seen[4 * AF_AUDIO_CLIP_MIN_VALUES];
+  bool used[4 * AF_AUDIO_CLIP_MIN_VALUES] = {false};
+  const size_t slots = sizeof seen / sizeof seen[0];
+  size_t distinct = 0;
+  for (size_t k = 0; k < n && distinct < AF_AUDIO_CLIP_MIN_VALUES; k++) {
+    uint32_t b;
+    memcpy(&b, &x[k], sizeof b);
+    size_t h = (size_t)(b * 2654435761u) % slots;
+    while (used[h] && seen[h] != b)
+      h = (h + 1) % slots;
+    if (!used[h]) {
+      used[h] = true;
+      seen[h] = b;
+      distinct++;
+    }
+  }
+  return distinct >= AF_AUDIO_CLIP_MIN_VALUES;
+}
+
 void af_audio_clip_check(const float *x, size_t n, af_audio_clip *out)
 {
   *out = (af_audio_clip){.clipped = false, .max = NAN, .min = NAN};
@@ -28,7 +55,7 @@ void af_audio_clip_check(const float *x, size_t n, af_audio_clip *out)
   const double q = extremes(x, n, &hi, &lo);
   out->max = hi;
   out->min = lo;
-  if (!(fmax(fabs(hi), fabs(lo)) >= AF_AUDIO_CLIP_MIN_LEVELS * q))
+  if (!(fmax(fabs(hi), fabs(lo)) >= AF_AUDIO_CLIP_MIN_LEVELS * q) && !many_values(x, n))
     return; /* a few codes (or a constant): the extremes repeat by themselves */
   size_t run = 0;
   for (size_t k = 0; k < n; k++) {

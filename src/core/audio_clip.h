@@ -8,10 +8,11 @@
  * held by flat tops in at least AF_AUDIO_CLIP_MIN_TOPS places, or by more
  * than AF_AUDIO_CLIP_MIN_SHARE of its samples (a sound card pinned at full
  * scale). A window whose extremes lie within AF_AUDIO_CLIP_MIN_LEVELS steps
- * of its quantum (a quiet signal of a few converter codes, whose slowly
- * decaying peaks may repeat a code) is not judged:
- * its extremes repeat without any saturation. The full scale need not be
- * known; SignalChunk audio in Pa does not carry it. */
+ * of its quantum and that holds fewer than AF_AUDIO_CLIP_MIN_VALUES distinct
+ * values (a quiet signal of a few converter codes, whose slowly decaying
+ * peaks may repeat a code) is not judged: its extremes repeat without any
+ * saturation. The full scale need not be known; SignalChunk audio in Pa does
+ * not carry it. */
 #ifndef AF_AUDIO_CLIP_H
 #define AF_AUDIO_CLIP_H
 
@@ -24,7 +25,8 @@ extern "C" {
 
 #define AF_AUDIO_CLIP_MIN_TOPS 3       /* flat tops (runs of >= 2 samples) at the extremes */
 #define AF_AUDIO_CLIP_MIN_SHARE 0.01   /* or this share of the window at its extremes */
-#define AF_AUDIO_CLIP_MIN_LEVELS 256.0 /* extremes below this many quanta: not judged */
+#define AF_AUDIO_CLIP_MIN_LEVELS 256.0 /* extremes below this many quanta ... */
+#define AF_AUDIO_CLIP_MIN_VALUES 16    /* ... and fewer distinct values than this: not judged */
 
 typedef struct {
   bool clipped;

@@ -12,14 +12,12 @@ static double mean_square(const float *x, size_t n)
   return e / (double)n;
 }
 
-/* The quietest of the AF_AUDIO_LAG_REF_BLOCKS blocks before block b. */
-static double reference(const float *x, size_t b, size_t block)
+/* The quietest of the AF_AUDIO_LAG_REF_BLOCKS block energies before e[b]. */
+static double reference(const double *e, size_t b)
 {
   double q = INFINITY;
-  for (size_t j = b - AF_AUDIO_LAG_REF_BLOCKS; j < b; j++) {
-    const double e = mean_square(x + j * block, block);
-    q = e < q ? e : q;
-  }
+  for (size_t j = b - AF_AUDIO_LAG_REF_BLOCKS; j < b; j++)
+    q = e[j] < q ? e[j] : q;
   return q;
 }
 
@@ -37,18 +35,20 @@ bool af_audio_onset_find(const float *x, size_t n, size_t block, size_t *at)
 {
   if (x == NULL || block == 0 || n / block <= AF_AUDIO_LAG_REF_BLOCKS)
     return false;
-  const size_t blocks = n / block;
+  /* Each block's energy once (at most AF_AUDIO_LAG_MAX_BLOCKS: the search's
+   * +-1 s at 1 ms blocks); the loudest sets the floor. */
+  double e[AF_AUDIO_LAG_MAX_BLOCKS];
+  const size_t blocks = n / block < AF_AUDIO_LAG_MAX_BLOCKS ? n / block : AF_AUDIO_LAG_MAX_BLOCKS;
   double loudest = 0.0;
   for (size_t b = 0; b < blocks; b++) {
-    const double e = mean_square(x + b * block, block);
-    loudest = e > loudest ? e : loudest;
+    e[b] = mean_square(x + b * block, block);
+    loudest = e[b] > loudest ? e[b] : loudest;
   }
   for (size_t b = AF_AUDIO_LAG_REF_BLOCKS; b < blocks; b++) {
-    const double e = mean_square(x + b * block, block);
-    if (e <= 0.0 || e < AF_AUDIO_LAG_FLOOR * loudest)
+    if (e[b] <= 0.0 || e[b] < AF_AUDIO_LAG_FLOOR * loudest)
       continue;
-    const double ref = reference(x, b, block);
-    if (e > AF_AUDIO_LAG_RISE * ref) {
+    const double ref = reference(e, b);
+    if (e[b] > AF_AUDIO_LAG_RISE * ref) {
       *at = refine(x, b, block, 0.5 * sqrt(AF_AUDIO_LAG_RISE * ref));
       return true;
     }

@@ -39,6 +39,9 @@ extern "C" {
   0.002                           /* a smaller median is not applied (the window's own             \
                                       tolerance: measure_audio_delay_s, the onset's) [s] */
 #define AF_AUDIO_LAG_MOVE_S 0.005 /* a strike this far from a stable median: the lag moved [s] */
+#define AF_AUDIO_LAG_MAX_BLOCKS                                                                    \
+  2048 /* blocks searched at most: +-audio_lag_max_s (1 s at the                                   \
+          most) and the reference, at 1 ms */
 
 /* The first onset in x[0..n) (finite samples), block samples a block: its
  * sample index in *at. False when there is none (no block rises so, or n
