@@ -128,8 +128,9 @@ for name in stages:
 for name in ('detect', 'fft', 'modes', 'fit', 'serialize'):
     assert float(rows[name][1]) > 0, (name, rows[name])   # a median of real work
 assert int(rows['setup'][0]) == 3 and int(rows['fit'][0]) == 9 and int(rows['serialize'][0]) == 9
-total = sum(float(rows[n][3]) for n in stages)
-assert total <= float(rows['all'][3]) * 1.0001, (total, rows['all'])
+# The stages are timed on the monotonic clock, "all" is the workers' CPU
+# time: on a loaded machine a stage holds time its thread waited, so their
+# sum may pass "all" ("other" then negative); only the shares must add up.
 assert abs(sum(float(rows[n][4]) for n in stages + ['other']) - 100.0) < 0.1
 m = re.search(r'real-time factor ([0-9.]+) x .* 2 workers\); CPU ([0-9.]+) x', text)
 assert m and float(m.group(1)) > 0 and float(m.group(2)) > 0, text

@@ -369,9 +369,14 @@ TEST(StrikeReport, BothWaysAndNaN)
   c.fitted_modulus_pa = 7.95e6;
   c.fitted_restitution = 0.598;
   c.fit_residual = 0.0123;
+  c.delivered_energy_j = 9.8e-3;
+  c.absorbed_energy_j = 6.3e-3;
   c.double_hit = true;
   c.clipped = false;
   c.lost_samples = 4000000002u;
+  c.audio_clipped = true;
+  c.audio_lag_s = 0.05013;
+  c.audio_lag_applied_s = 0.0501;
   c.grade_index = 3;
   std::strcpy(c.grade, "very firm");
   std::strcpy(c.grade_reason, "");
@@ -395,9 +400,14 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_EQ(m.fitted_modulus, 7.95e6);
   EXPECT_EQ(m.fitted_restitution, 0.598);
   EXPECT_EQ(m.fit_residual, 0.0123);
+  EXPECT_EQ(m.delivered_energy, 9.8e-3);
+  EXPECT_EQ(m.absorbed_energy, 6.3e-3);
   EXPECT_TRUE(m.double_hit);
   EXPECT_FALSE(m.clipped);
   EXPECT_EQ(m.lost_samples, 4000000002u);
+  EXPECT_TRUE(m.audio_clipped);
+  EXPECT_EQ(m.audio_lag, 0.05013);
+  EXPECT_EQ(m.audio_lag_applied, 0.0501);
   EXPECT_EQ(m.grade_index, 3u);
   EXPECT_EQ(m.grade, "very firm");
   EXPECT_EQ(m.grade_reason, "");
@@ -422,9 +432,14 @@ TEST(StrikeReport, BothWaysAndNaN)
   EXPECT_EQ(back.fitted_modulus_pa, 7.95e6);
   EXPECT_EQ(back.fitted_restitution, 0.598);
   EXPECT_EQ(back.fit_residual, 0.0123);
+  EXPECT_EQ(back.delivered_energy_j, 9.8e-3);
+  EXPECT_EQ(back.absorbed_energy_j, 6.3e-3);
   EXPECT_TRUE(back.double_hit);
   EXPECT_FALSE(back.clipped);
   EXPECT_EQ(back.lost_samples, 4000000002u);
+  EXPECT_TRUE(back.audio_clipped);
+  EXPECT_EQ(back.audio_lag_s, 0.05013);
+  EXPECT_EQ(back.audio_lag_applied_s, 0.0501);
   EXPECT_TRUE(back.tap_only);
   EXPECT_STREQ(back.judged_from_model, "excitation judged from the model only");
 
@@ -437,6 +452,8 @@ TEST(StrikeReport, BothWaysAndNaN)
   c.double_hit = false;
   c.clipped = true;
   c.lost_samples = 0;
+  c.audio_clipped = false;
+  c.audio_lag_s = NAN;
   af_shim::to_ros(c, m);
   EXPECT_EQ(m.apple_id, 0u);
   EXPECT_TRUE(std::isnan(m.resonance));
