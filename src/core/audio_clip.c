@@ -27,7 +27,7 @@ static double extremes(const float *x, size_t n, double *hi, double *lo)
  * of a few converter codes has only those. */
 static bool many_values(const float *x, size_t n)
 {
-  uint32_t seen[4 * AF_AUDIO_CLIP_MIN_VALUES];
+  uint32_t seen[4 * AF_AUDIO_CLIP_MIN_VALUES] = {0};
   bool used[4 * AF_AUDIO_CLIP_MIN_VALUES] = {false};
   const size_t slots = sizeof seen / sizeof seen[0];
   size_t distinct = 0;

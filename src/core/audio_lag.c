@@ -38,7 +38,9 @@ bool af_audio_onset_find(const float *x, size_t n, size_t block, size_t *at)
   /* Each block's energy once (at most AF_AUDIO_LAG_MAX_BLOCKS: the search's
    * +-1 s at 1 ms blocks); the loudest sets the floor. */
   double e[AF_AUDIO_LAG_MAX_BLOCKS];
-  const size_t blocks = n / block < AF_AUDIO_LAG_MAX_BLOCKS ? n / block : AF_AUDIO_LAG_MAX_BLOCKS;
+  size_t blocks = n / block;
+  if (blocks > AF_AUDIO_LAG_MAX_BLOCKS)
+    blocks = AF_AUDIO_LAG_MAX_BLOCKS;
   double loudest = 0.0;
   for (size_t b = 0; b < blocks; b++) {
     e[b] = mean_square(x + b * block, block);
