@@ -34,6 +34,10 @@
 /* A detector made anew by a reconfigure is primed from this much of the
  * latest force [s]: several of its baseline windows, a fraction of a ring. */
 #define AF_LANE_PRIME_S 0.5
+/* Apple ids judged as counting up after this many steps of one; a jump of
+ * more than AF_LANE_ID_GAP_MAX is a new numbering, not lost estimates. */
+#define AF_LANE_ID_STEPS_MIN 8
+#define AF_LANE_ID_GAP_MAX 1000u
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -107,6 +111,9 @@ struct af_lane {
   double v0_ref[AF_LANE_BOUNCE_STRIKES]; /* v0 from the impulse of the latest clean strikes */
   size_t v0_count;
   bool any_start;
+  uint32_t last_id; /* the latest estimate's apple_id */
+  bool last_id_set;
+  uint64_t id_steps, id_steps_one; /* steps up between ids, and those of one */
   uint64_t force_origin; /* the force stream's first index (after a restart: that chunk's) */
   bool force_origin_set;
   af_lane_reported reported[AF_LANE_REPORTED]; /* the latest strikes reported */
@@ -277,6 +284,33 @@ static uint32_t check_late(af_lane *l, const af_apple *a)
   return hit->apple_id;
 }
 
+/* Estimates that never came: on a line whose apple ids count up by one (8
+ * steps of one, at least 9 in 10 of all), an id further on than the next
+ * says how many were lost on the way (a subscriber queue that overflowed, a
+ * camera that dropped frames); counted and said. Ids that do not count up
+ * (a tracker's, a hash) are never judged. */
+static void check_skipped(af_lane *l, uint32_t id)
+{
+  af_lane_stats *s = &l->stats;
+  if (l->last_id_set && id > l->last_id) {
+    const uint32_t step = id - l->last_id;
+    /* Judged on the steps before this one. */
+    const bool counting =
+        l->id_steps_one >= AF_LANE_ID_STEPS_MIN && 10 * l->id_steps_one >= 9 * l->id_steps;
+    l->id_steps_one += step == 1;
+    l->id_steps += 1;
+    if (counting && step > 1 && step <= AF_LANE_ID_GAP_MAX) {
+      s->apples_skipped += step - 1;
+      af_text(s->last_apples_skipped, sizeof s->last_apples_skipped,
+              "apple estimates %u..%u never came (apple %u followed apple %u): a dropped message "
+              "or a camera that skipped them",
+              l->last_id + 1, id - 1, id, l->last_id);
+    }
+  }
+  l->last_id = id;
+  l->last_id_set = true;
+}
+
 /* Why estimate a cannot be used ("" when it can): apple_id 0 is the
  * StrikeReport's "no apple", and a stamp further than apple_stale_after_s
  * from the newest data (force; tap-only: audio) is a clock far off, which
@@ -323,6 +357,7 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
   char why[AF_LANE_TEXT_MAX];
   if (refuse_apple(l, a, why, sizeof why))
     return refuse(l, a, why, out);
+  check_skipped(l, a->apple_id);
   const uint32_t late_after = check_late(l, a);
   af_apple_slot *s = &l->apples[l->apple_next];
   l->apple_next = (l->apple_next + 1) % AF_LANE_APPLES;

@@ -111,6 +111,8 @@ typedef struct {
   char lag_warning[AF_LANE_TEXT_MAX]; /* the latest move, in words; "" when none */
   uint64_t apples, apples_refused;
   uint64_t apples_implausible; /* of apples_refused: apple_id 0, or stamped far off the data */
+  uint64_t apples_skipped;     /* ids that never came, on a line whose ids count up by one */
+  char last_apples_skipped[AF_LANE_TEXT_MAX];
   char last_implausible_apple[AF_LANE_TEXT_MAX];
   /* The transit observed: the median of strike minus estimate stamp over the
    * latest matched strikes (NaN: none yet), and, over the latest strikes

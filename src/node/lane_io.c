@@ -327,6 +327,8 @@ const char *af_lane_io_warning(af_lane_io *m)
     w = "strikes without an apple estimate since the last report";
   else if (s->audio_clipped != m->seen.audio_clipped)
     w = "the microphone clipped since the last report: lower the microphone gain";
+  else if (s->apples_skipped != m->seen.apples_skipped)
+    w = s->last_apples_skipped;
   else if (s->reconfigure_lost != m->seen.reconfigure_lost)
     w = s->last_reconfigure_lost;
   else if (s->lag_moves != m->seen.lag_moves)
@@ -443,6 +445,10 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
                 m->cfg->lane.measured.apple_transit_tolerance_s);
   af_diag_add(d, "apple transit check", "%s",
               s->transit_warning[0] != '\0' ? s->transit_warning : "OK");
+  af_diag_add(d, "apple estimates that never came",
+              "%llu (ids counting up by one skipped; "
+              "last: %s)",
+              (unsigned long long)s->apples_skipped, s->last_apples_skipped);
   af_diag_add(d, "apple estimates refused as implausible", "%llu (last: %s)",
               (unsigned long long)s->apples_implausible, s->last_implausible_apple);
   af_diag_add(d, "strikes without audio", "%llu", (unsigned long long)s->no_audio);

@@ -102,6 +102,10 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->stats.late_apples += s->stats.late_apples;
   t->stats.pulse_cut += s->stats.pulse_cut;
   t->stats.apples_implausible += s->stats.apples_implausible;
+  t->stats.apples_skipped += s->stats.apples_skipped;
+  if (s->stats.apples_skipped > 0)
+    memcpy(t->stats.last_apples_skipped, s->stats.last_apples_skipped,
+           sizeof t->stats.last_apples_skipped);
   t->stats.audio_clipped += s->stats.audio_clipped;
   t->stats.clock_faulted += s->stats.clock_faulted;
   t->stats.lag_no_onset += s->stats.lag_no_onset;

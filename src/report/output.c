@@ -201,6 +201,9 @@ static void text_transit(FILE *out, const af_lane_stats *st)
   if (st->audio_clipped > 0)
     fprintf(out, "  WARN microphone clipped on %" PRIu64 " strikes: lower the microphone gain\n",
             st->audio_clipped);
+  if (st->apples_skipped > 0)
+    fprintf(out, "  WARN apple estimates that never came: %" PRIu64 " (last: %s)\n",
+            st->apples_skipped, st->last_apples_skipped);
   if (st->apples_implausible > 0)
     fprintf(out, "  WARN apple estimates refused: %" PRIu64 " (last: %s)\n", st->apples_implausible,
             st->last_implausible_apple);

@@ -344,6 +344,38 @@ static void test_camera_stamps_late(void)
   free_session(&s);
 }
 
+/* Estimates lost on the way (a subscriber queue that overflowed): ids 1..12
+ * without 10 and 11 are counted once the ids count up; ids that do not
+ * count up by one (a tracker's) are never judged. */
+static void test_skipped_ids(void)
+{
+  const double strikes[] = {3.5};
+  session s = make_session(strikes, 1);
+  af_lane_config cfg = config(NULL, 0);
+  reports out;
+  af_lane *l = make_lane(&cfg, &out);
+  for (uint32_t id = 1; id <= 12; id++)
+    if (id != 10 && id != 11) {
+      af_apple a = apple(id, 0.1 * id);
+      (void)af_lane_apple(l, &a, (int64_t)llround(0.1 * id * 1e9), NULL);
+    }
+  const af_lane_stats *st = af_lane_get_stats(l);
+  AF_CHECK(st->apples_skipped == 2);
+  AF_CHECK(strstr(st->last_apples_skipped, "apple estimates 10..11 never came (apple 12 followed "
+                                           "apple 9)") != NULL);
+  printf("skipped: %s\n", st->last_apples_skipped);
+  af_lane_destroy(l);
+  l = make_lane(&cfg, &out);
+  const uint32_t tracker[] = {17, 45, 46, 90, 203, 204, 511, 600, 601, 950, 1200};
+  for (size_t k = 0; k < sizeof tracker / sizeof tracker[0]; k++) {
+    af_apple a = apple(tracker[k], 0.1 * (double)(k + 1));
+    (void)af_lane_apple(l, &a, (int64_t)llround(0.1 * (double)(k + 1) * 1e9), NULL);
+  }
+  AF_CHECK(af_lane_get_stats(l)->apples_skipped == 0);
+  af_lane_destroy(l);
+  free_session(&s);
+}
+
 /* Estimates no match may use: stamped 4294967295 s (a clock far off), and
  * apple_id 0 (the report's "no apple"). Both refused and counted; the
  * strikes after them still wait for, and take, their own estimates. */
@@ -548,6 +580,7 @@ int main(void)
   test_apples_in_flight();
   test_camera_stamps_late();
   test_implausible_estimates();
+  test_skipped_ids();
   test_no_apple();
   test_chunking_and_order();
   test_without_audio();
