@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "median.h"
+
 static double mean_square(const float *x, size_t n)
 {
   double e = 0.0;
@@ -64,20 +66,6 @@ void af_audio_lag_reset(af_audio_lag *g)
   g->median_s = g->mad_s = NAN;
 }
 
-/* The median of x[0..n), n <= AF_AUDIO_LAG_HISTORY. */
-static double median(const double *x, size_t n)
-{
-  double y[AF_AUDIO_LAG_HISTORY];
-  memcpy(y, x, n * sizeof *y);
-  for (size_t i = 1; i < n; i++)
-    for (size_t j = i; j > 0 && y[j - 1] > y[j]; j--) {
-      const double t = y[j];
-      y[j] = y[j - 1];
-      y[j - 1] = t;
-    }
-  return n % 2 ? y[n / 2] : 0.5 * (y[n / 2 - 1] + y[n / 2]);
-}
-
 bool af_audio_lag_push(af_audio_lag *g, double lag_s, bool apply)
 {
   const bool moved = g->stable && fabs(lag_s - g->median_s) >= AF_AUDIO_LAG_MOVE_S;
@@ -89,10 +77,10 @@ bool af_audio_lag_push(af_audio_lag *g, double lag_s, bool apply)
   if (g->n < AF_AUDIO_LAG_MIN)
     return moved;
   double dev[AF_AUDIO_LAG_HISTORY] = {0};
-  g->median_s = median(g->lag_s, g->n);
+  g->median_s = af_median_small(g->lag_s, g->n);
   for (size_t k = 0; k < g->n; k++)
     dev[k] = fabs(g->lag_s[k] - g->median_s);
-  g->mad_s = median(dev, g->n);
+  g->mad_s = af_median_small(dev, g->n);
   g->stable = g->mad_s <= AF_AUDIO_LAG_STABLE_S;
   if (g->stable)
     g->applied_s = apply && fabs(g->median_s) > AF_AUDIO_LAG_DEADBAND_S ? g->median_s : 0.0;

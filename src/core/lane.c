@@ -8,6 +8,7 @@
 
 #include "audio_clip.h"
 #include "audio_lag.h"
+#include "median.h"
 #include "onset.h"
 #include "text.h"
 
@@ -194,10 +195,22 @@ static af_apple_slot *match_apple(af_lane *l, int64_t t_ns, const af_apple_slot 
 /* The estimate stamped nearest t_ns in time, within apple_stale_after_s
  * beyond the transit window; NULL when none: what an unmatched strike names,
  * so that a camera stamping late or early shows its lag. */
+/* The time [ns] just after the newest sample of s (its own data's clock). */
+static int64_t data_end_ns(const af_stream *s)
+{
+  return af_stream_time_of_ns(s, af_ring_end(s->ring), 0.0);
+}
+
+/* How far from a strike an estimate can still bear on it [s]: its transit
+ * window and apple_stale_after_s beyond. */
+static double apple_reach_s(const af_measured_config *mc)
+{
+  return fabs(mc->apple_transit_s) + mc->apple_transit_tolerance_s + mc->apple_stale_after_s;
+}
+
 static const af_apple_slot *nearest_apple(const af_lane *l, int64_t t_ns)
 {
-  const double reach_s =
-      fabs(l->mc->apple_transit_s) + l->mc->apple_transit_tolerance_s + l->mc->apple_stale_after_s;
+  const double reach_s = apple_reach_s(l->mc);
   const af_apple_slot *best = NULL;
   for (size_t k = 0; k < AF_LANE_APPLES; k++) {
     const af_apple_slot *a = &l->apples[k];
@@ -208,12 +221,6 @@ static const af_apple_slot *nearest_apple(const af_lane *l, int64_t t_ns)
   return best;
 }
 
-/* Whether the apple of p can still change: not once an estimate stamped
- * after its window has come (estimates arrive in stamp order), nor once
- * apple_wait_s has passed after p, on the lane's clock since it was queued
- * or in the force stream's own data since its contact start, whichever
- * comes first: a clock that disagrees with the stamps, or stops (a replay's
- * simulated time after the bag), must not hold a strike forever. */
 /* Whether an estimate stamped after window_end_ns has come (estimates come
  * in stamp order, so none in the window can still come), within reach of
  * the strike at start_ns: an estimate stamped far off (a clock wrong by
@@ -221,10 +228,7 @@ static const af_apple_slot *nearest_apple(const af_lane *l, int64_t t_ns)
  * strikes after it. */
 static bool estimate_after(const af_lane *l, int64_t window_end_ns, int64_t start_ns)
 {
-  const af_measured_config *mc = l->mc;
-  const double reach_s =
-      fabs(mc->apple_transit_s) + mc->apple_transit_tolerance_s + mc->apple_stale_after_s;
-  const int64_t reach_ns = start_ns + (int64_t)llround(reach_s * 1e9);
+  const int64_t reach_ns = start_ns + (int64_t)llround(apple_reach_s(l->mc) * 1e9);
   for (size_t k = 0; k < AF_LANE_APPLES; k++) {
     const af_apple_slot *a = &l->apples[k];
     if (a->used && a->apple.stamp_ns > window_end_ns && a->apple.stamp_ns <= reach_ns)
@@ -233,6 +237,12 @@ static bool estimate_after(const af_lane *l, int64_t window_end_ns, int64_t star
   return false;
 }
 
+/* Whether the apple of p can still change: not once an estimate stamped
+ * after its window has come (estimates arrive in stamp order), nor once
+ * apple_wait_s has passed after p, on the lane's clock since it was queued
+ * or in the force stream's own data since its contact start, whichever
+ * comes first: a clock that disagrees with the stamps, or stops (a replay's
+ * simulated time after the bag), must not hold a strike forever. */
 static bool apple_decided(const af_lane *l, const af_pending *p)
 {
   const af_measured_config *mc = l->mc;
@@ -244,9 +254,7 @@ static bool apple_decided(const af_lane *l, const af_pending *p)
   if (l->finished || estimate_after(l, window_end_ns, p->start_ns))
     return true;
   const double wait_s = mc->apple_wait_s;
-  const double data_after_s =
-      (double)(af_stream_time_of_ns(&l->force, af_ring_end(l->force.ring), 0.0) - p->start_ns) *
-      1e-9;
+  const double data_after_s = (double)(data_end_ns(&l->force) - p->start_ns) * 1e-9;
   return (double)(l->now_ns - p->queued_ns) * 1e-9 >= wait_s || data_after_s >= wait_s;
 }
 
@@ -321,7 +329,7 @@ static bool refuse_apple(af_lane *l, const af_apple *a, char *why, size_t len)
 {
   const af_stream *data = l->mc->tap_only ? &l->audio : &l->force;
   why[0] = '\0';
-  const int64_t ref_ns = data->seen ? af_stream_time_of_ns(data, af_ring_end(data->ring), 0.0) : 0;
+  const int64_t ref_ns = data->seen ? data_end_ns(data) : 0;
   const char *ref = l->mc->tap_only ? "the newest audio sample" : "the newest force sample";
   const double off_s = (double)(a->stamp_ns - ref_ns) * 1e-9;
   if (a->apple_id == 0)
@@ -408,16 +416,29 @@ static size_t read_noise(af_lane *l, const af_pending *p)
   return nn;
 }
 
+/* How long a strike's audio is waited for [s]: the window is due delay +
+ * window after the strike; after that it gets the stale time-out (a stream
+ * far behind, or stamps that disagree). */
+static double audio_wait_s(const af_lane *l)
+{
+  const af_measure_config *mc = &l->mc->measure;
+  return l->cfg->stream_stale_after_s + mc->audio_delay_s + mc->audio_window_s;
+}
+
+/* Whether p's audio can no longer be waited for. */
+static bool audio_timed_out(const af_lane *l, const af_pending *p)
+{
+  return l->finished || (double)(l->now_ns - p->queued_ns) * 1e-9 > audio_wait_s(l);
+}
+
 /* Whether p's audio window can be read now (into audio_buf), must be waited
  * for, or will not come (v says why). */
 static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
 {
   const af_stream *s = &l->audio;
   const af_measure_config *mc = &l->mc->measure;
-  const double wait_s = l->cfg->stream_stale_after_s + mc->audio_delay_s + mc->audio_window_s;
-  /* The window is due delay + window after the strike; after that it gets
-   * the stale time-out (a stream far behind, or stamps that disagree). */
-  const bool timed_out = l->finished || (double)(l->now_ns - p->queued_ns) * 1e-9 > wait_s;
+  const double wait_s = audio_wait_s(l);
+  const bool timed_out = audio_timed_out(l, p);
   const size_t n = l->mc->audio_window_samples;
   v->audio_seconds = wait_s;
   if (!s->seen) {
@@ -471,14 +492,6 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
 
 /* --- the audio clock's lag ----------------------------------------------------- */
 
-/* Whether p's audio can no longer be waited for (as audio_for's time-out). */
-static bool audio_timed_out(const af_lane *l, const af_pending *p)
-{
-  const af_measure_config *mc = &l->mc->measure;
-  const double wait_s = l->cfg->stream_stale_after_s + mc->audio_delay_s + mc->audio_window_s;
-  return l->finished || (double)(l->now_ns - p->queued_ns) * 1e-9 > wait_s;
-}
-
 /* Searches p's sound onset within +-h of the contact start moved by the
  * applied lag, h = audio_lag_max_s, at most half the time since the previous
  * strike (whose own sound must not be taken); the lag then feeds the median.
@@ -508,10 +521,7 @@ static af_decision measure_lag(af_lane *l, af_pending *p)
   const uint64_t hi = i_hi + 1 + block;
   /* Waited for on the lane's clock, or until the force's own data is
    * apple_wait_s past the search (a replay's clock stops with the bag). */
-  const double force_past_s =
-      (double)(af_stream_time_of_ns(&l->force, af_ring_end(l->force.ring), 0.0) -
-               (centre_ns + h_ns)) *
-      1e-9;
+  const double force_past_s = (double)(data_end_ns(&l->force) - (centre_ns + h_ns)) * 1e-9;
   if (hi > af_ring_end(s->ring) && !audio_timed_out(l, p) && !(force_past_s >= l->mc->apple_wait_s))
     return AF_WAIT;
   p->lag_done = true;
@@ -768,22 +778,6 @@ static void count(af_lane *l, const af_pending *p, const af_lane_strike *o)
   }
 }
 
-/* The median of x[0..n) (n <= AF_LANE_TRANSITS), NaN when n is 0. */
-static double median_of(const double *x, size_t n)
-{
-  double y[AF_LANE_TRANSITS];
-  if (n == 0)
-    return NAN;
-  memcpy(y, x, n * sizeof *y);
-  for (size_t i = 1; i < n; i++) /* insertion sort: n is small */
-    for (size_t j = i; j > 0 && y[j - 1] > y[j]; j--) {
-      const double t = y[j];
-      y[j] = y[j - 1];
-      y[j - 1] = t;
-    }
-  return n % 2 ? y[n / 2] : 0.5 * (y[n / 2 - 1] + y[n / 2]);
-}
-
 /* The transit words: a systematic lag once most recent strikes found no
  * estimate in their window, or a matched transit drifting from the table's. */
 static void transit_words(af_lane *l)
@@ -830,9 +824,9 @@ static void observe_transit(af_lane *l, const af_pending *p, const af_apple_slot
     l->unmatched_s[l->unmatched++ % AF_LANE_TRANSITS] = lag_s(n, p->start_ns);
   l->recent_unmatched[l->recent++ % AF_LANE_TRANSITS] = a == NULL && n != NULL;
   s->transit_strikes = l->transits < AF_LANE_TRANSITS ? l->transits : AF_LANE_TRANSITS;
-  s->transit_observed_s = median_of(l->transit_s, s->transit_strikes);
+  s->transit_observed_s = af_median_small(l->transit_s, s->transit_strikes);
   const size_t nu = l->unmatched < AF_LANE_TRANSITS ? l->unmatched : AF_LANE_TRANSITS;
-  s->unmatched_lag_s = median_of(l->unmatched_s, nu);
+  s->unmatched_lag_s = af_median_small(l->unmatched_s, nu);
   s->unmatched_strikes = 0;
   for (size_t k = 0; k < AF_LANE_TRANSITS && k < l->recent; k++)
     s->unmatched_strikes += l->recent_unmatched[k];
