@@ -7,8 +7,7 @@ set -uo pipefail
 # shellcheck disable=SC1091
 source "$(dirname "$0")/rig_faults.sh"
 fm=$rig_bin/firmness_model
-data=$AF_ROOT/../shared/data
-[ -d "$data" ] || data=/work/shared/data
+data=$AF_ROOT/test/data # the package's own copies of the real captures (test/data/README.md)
 py=/usr/bin/python3
 
 # ---- the force: no finite sample, or the wrong sign ---------------------------

@@ -14,8 +14,7 @@ set -uo pipefail
 source "$(dirname "$0")/rig_faults.sh"
 fm=$rig_bin/firmness_model
 report=$rig_bin/firmness_report
-data=$AF_ROOT/../shared/data
-[ -d "$data" ] || data=/work/shared/data
+data=$AF_ROOT/test/data # the package's own copies of the real captures (test/data/README.md)
 
 # ---- the bad settings, each as the station's or the cultivar's YAML -----------
 # audio_buffer_s 0.2 s < 0.025 s of noise reference + apple_wait_s 0.5 s +
