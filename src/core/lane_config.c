@@ -275,7 +275,7 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
    * above its full scale no strike could ever cross it (a detector silent for
    * good, e.g. after a reconfigure to 1e6 N). */
   if (st == AF_OK && !(isfinite(d->threshold_min_n) && d->threshold_min_n < d->full_scale_n)) {
-    af_settings_say(err, len, "%s = %g N is outside the accepted range [0, %s = %g N)",
+    af_settings_say(err, len, "%s = %g N is outside the accepted range (0, %s = %g N)",
                     af_settings_name_of(s, AF_SETTING_STRIKE_THRESHOLD_MIN_N).text,
                     d->threshold_min_n, af_settings_name_of(s, AF_SETTING_STRIKE_FULL_SCALE_N).text,
                     d->full_scale_n);
@@ -411,6 +411,8 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   m->range_margin = num(s, AF_SETTING_MEASURE_RANGE_MARGIN);
   m->fruit_q_min = num(s, AF_SETTING_FRUIT_Q_MIN);
   m->fruit_q_max = num(s, AF_SETTING_FRUIT_Q_MAX);
+  m->fruit_confidence_min = num(s, AF_SETTING_FRUIT_CONFIDENCE_MIN);
+  m->fruit_neighbour_margin_db = num(s, AF_SETTING_FRUIT_NEIGHBOUR_MARGIN_DB);
   mc->pending_size = (size_t)num(s, AF_SETTING_STRIKE_PENDING_SIZE);
   mc->apple_stale_after_s = num(s, AF_SETTING_APPLE_STALE_AFTER_S);
   mc->apple_wait_s = num(s, AF_SETTING_APPLE_WAIT_S);

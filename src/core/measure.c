@@ -91,6 +91,9 @@ typedef struct {
    * its frequency [Hz], SNR [dB] and E2 by Lamb [Pa]. */
   bool outside;
   double outside_hz, outside_snr_db, outside_modulus_pa;
+  size_t n_peaks; /* the peaks listed around the range (m->peaks) */
+  /* A stray partial (stray_partial): its frequency [Hz] and SNR [dB]; NaN: none. */
+  double stray_hz, stray_snr_db;
 } af_measure_steps;
 
 /* ---- configuration and life cycle ------------------------------------------ */
@@ -108,6 +111,8 @@ af_measure_config af_measure_config_default(void)
   c.range_margin = AF_DEFAULT_MEASURE_RANGE_MARGIN;
   c.fruit_q_min = AF_DEFAULT_FRUIT_Q_MIN;
   c.fruit_q_max = AF_DEFAULT_FRUIT_Q_MAX;
+  c.fruit_confidence_min = AF_DEFAULT_FRUIT_CONFIDENCE_MIN;
+  c.fruit_neighbour_margin_db = AF_DEFAULT_FRUIT_NEIGHBOUR_MARGIN_DB;
   c.modes = af_modes_config_default();
   c.modulus_prior_rel_sd = 0.10;
   c.stages = NULL;
@@ -129,7 +134,9 @@ static af_status measure_check(const af_measure_config *c, size_t *window_n, siz
       !finite_nonneg(c->noise_window_s) || !finite_nonneg(c->noise_guard_s) ||
       !(c->range_margin >= 0.0 && c->range_margin < 1.0) ||
       !(isfinite(c->modulus_prior_rel_sd) && c->modulus_prior_rel_sd > 0.0) ||
-      !(c->fruit_q_min > 0.0 && c->fruit_q_min < c->fruit_q_max && isfinite(c->fruit_q_max)))
+      !(c->fruit_q_min > 0.0 && c->fruit_q_min < c->fruit_q_max && isfinite(c->fruit_q_max)) ||
+      !(c->fruit_confidence_min >= 0.0 && c->fruit_confidence_min <= 1.0) ||
+      !finite_nonneg(c->fruit_neighbour_margin_db))
     return AF_EINVAL;
   double w = round(c->audio_window_s * rate), z = round(c->noise_window_s * rate);
   double cap = (double)c->response.window_samples;
@@ -473,6 +480,7 @@ static af_status identify(af_measure *m, const af_measure_apple *apple, const fl
     out->snr_db = m->peaks[0].snr_db; /* the best rejected candidate's */
   if (st != AF_OK)
     return st;
+  s->n_peaks = n_peaks;
   /* The fit's own standard error and the calibration's, in quadrature;
    * f goes as sqrt(E): half the relative uncertainty in ln f. Tap-only: the
    * modulus range [min, max] taken as +-2 sigma of ln E, i.e. ln(max / min) / 4. */
@@ -501,6 +509,46 @@ static af_status identify(af_measure *m, const af_measure_apple *apple, const fl
   return st;
 }
 
+/* The span of the sphere's comb above the 0S2 (lamb.h: 0S3 1.49x, 0S4 1.92x,
+ * 1S2 1.94x at nu 0.35, a few per cent either way over nu 0.25..0.45): 1.2
+ * keeps the 0S2's own split and the 0T2 (0.94x) out, 2.1 the modes above. */
+#define AF_MEASURE_COMB_LOW 1.2
+#define AF_MEASURE_COMB_HIGH 2.1
+
+static bool comb_partner(const af_modes_id *id)
+{
+  for (size_t k = 0; k < id->n_matched; k++)
+    if (id->matched[k].mode == AF_MODE_0S3 || id->matched[k].mode == AF_MODE_0S4 ||
+        id->matched[k].mode == AF_MODE_1S2)
+      return true;
+  return false;
+}
+
+/* A fruit heard above its 0S2 rings in the sphere's comb. When none of the
+ * comb's modes is heard but another peak in its span is, within
+ * fruit_neighbour_margin_db of the 0S2 or louder, the sound is another
+ * object's: its partials stand at ratios the sphere does not have. The
+ * loudest such peak is kept for the reason. Tap-only: with a force
+ * transducer the pulse's fitted modulus already says the hammer met fruit
+ * flesh, and a mode of the rig (the support, the hammer) may stand there. */
+static void stray_partial(const af_measure *m, const af_measure_report *out, af_measure_steps *s)
+{
+  if (!s->tap_only || comb_partner(&out->modes))
+    return;
+  const af_response_result *r0 = &m->peaks[out->modes.peak];
+  for (size_t k = 0; k < s->n_peaks; k++) {
+    const af_response_result *r = &m->peaks[k];
+    const double ratio = r->frequency_hz / r0->frequency_hz;
+    if (!(ratio >= AF_MEASURE_COMB_LOW && ratio <= AF_MEASURE_COMB_HIGH) ||
+        !(r->snr_db >= m->cfg.response.snr_threshold_db) ||
+        !(r->snr_db >= r0->snr_db - m->cfg.fruit_neighbour_margin_db) ||
+        (isfinite(s->stray_snr_db) && !(r->snr_db > s->stray_snr_db)))
+      continue;
+    s->stray_hz = r->frequency_hz;
+    s->stray_snr_db = r->snr_db;
+  }
+}
+
 /* The 0S2 among the microphone's peaks; stiffness factor and the modulus,
  * divided by the modulus factor so that it compares with the quasi-static E2
  * of the contact and of the fit. */
@@ -521,6 +569,7 @@ static void step_audio(af_measure *m, const af_measure_apple *apple, const float
   s->audio_status = identify(m, apple, audio, n, xi, out, s);
   if (s->audio_status != AF_OK)
     return;
+  stray_partial(m, out, s);
   const af_response_result *r = &m->peaks[out->modes.peak];
   out->resonance_hz = r->frequency_hz;
   out->resonance_q = r->q;
@@ -619,6 +668,36 @@ static void verdict_modes(const af_measure_report *out, af_verdict *v)
   af_text(v->mode_text, sizeof v->mode_text, "%s", out->modes_text);
 }
 
+/* Fruit or not (the heard mode must sound like fruit flesh): its Q within
+ * fruit_q_min..fruit_q_max, no stray partial where the sphere's comb would
+ * be, and an identification at fruit_confidence_min or above. */
+static void verdict_fruit(const af_measure *m, const af_measure_report *out,
+                          const af_measure_steps *s, af_verdict *v)
+{
+  if (!isfinite(out->resonance_hz) || out->modes.ambiguous)
+    return;
+  const double q = out->resonance_q;
+  uint32_t cause = 0;
+  if (isfinite(q) && (q < m->cfg.fruit_q_min || q > m->cfg.fruit_q_max))
+    cause |= AF_NOT_FRUIT_Q;
+  if (isfinite(s->stray_hz))
+    cause |= AF_NOT_FRUIT_NEIGHBOURS;
+  if (out->modes.confidence < m->cfg.fruit_confidence_min)
+    cause |= AF_NOT_FRUIT_CONFIDENCE;
+  if (cause == 0)
+    return;
+  v->flags |= AF_VERDICT_NOT_FRUIT;
+  v->not_fruit = cause;
+  v->resonance_hz = out->resonance_hz;
+  v->resonance_q = q;
+  v->fruit_q_min = m->cfg.fruit_q_min;
+  v->fruit_q_max = m->cfg.fruit_q_max;
+  v->stray_hz = s->stray_hz;
+  v->stray_db = s->stray_snr_db - out->snr_db;
+  v->mode_confidence = out->modes.confidence;
+  v->fruit_confidence_min = m->cfg.fruit_confidence_min;
+}
+
 /* The criteria on what was measured. A criterion that could not be judged
  * (no resonance, no fitted E2) is already flagged above. */
 /* The heard mode is the evidence that the strike excited it: the paper's
@@ -627,18 +706,10 @@ static void verdict_modes(const af_measure_report *out, af_verdict *v)
  * SNR threshold and identified answers that. It must sound like fruit
  * flesh: a Q outside fruit_q_min..fruit_q_max is another object's ring. */
 static void verdict_criteria(const af_measure *m, const af_measure_apple *apple,
-                             const af_measure_report *out, af_verdict *v)
+                             const af_measure_report *out, const af_measure_steps *s, af_verdict *v)
 {
   v->lobe = apple->model.lobe;
-  const double q = out->resonance_q;
-  if (isfinite(out->resonance_hz) && isfinite(q) &&
-      (q < m->cfg.fruit_q_min || q > m->cfg.fruit_q_max)) {
-    v->flags |= AF_VERDICT_NOT_FRUIT;
-    v->resonance_hz = out->resonance_hz;
-    v->resonance_q = q;
-    v->fruit_q_min = m->cfg.fruit_q_min;
-    v->fruit_q_max = m->cfg.fruit_q_max;
-  }
+  verdict_fruit(m, out, s, v);
   if (isfinite(out->max_shear_stress_pa) && isfinite(out->yield_shear_stress_pa) &&
       !out->no_damage) {
     v->flags |= AF_VERDICT_DAMAGE;
@@ -661,7 +732,7 @@ static void verdict_judge(const af_measure *m, const af_strike_event *ev,
   v->modulus_max_pa = apple->modulus_max_pa;
   verdict_audio(m, s, out, v);
   verdict_modes(out, v);
-  verdict_criteria(m, apple, out, v);
+  verdict_criteria(m, apple, out, s, v);
   out->reliable = v->flags == 0 && out->no_damage;
   af_verdict_format(v, out->reason, sizeof out->reason);
 }
@@ -691,7 +762,9 @@ af_status af_measure_execute(af_measure *m, const af_strike_event *ev,
                         .bounce_noise_ratio = NAN,
                         .bounce_peak_ratio = NAN,
                         .f_lo_hz = NAN,
-                        .f_hi_hz = NAN};
+                        .f_hi_hz = NAN,
+                        .stray_hz = NAN,
+                        .stray_snr_db = NAN};
   const af_stage_hook *h = m->cfg.stages;
   report_start(ev, apple->model.lobe, out);
   int64_t t0_ns = af_stage_begin(h);
@@ -752,6 +825,8 @@ af_status af_measure_execute_tap(af_measure *m, const af_measure_apple *apple,
                         .fit_residual = NAN,
                         .f_lo_hz = NAN,
                         .f_hi_hz = NAN,
+                        .stray_hz = NAN,
+                        .stray_snr_db = NAN,
                         .tap_only = true};
   af_strike_event none;
   memset(&none, 0, sizeof none);

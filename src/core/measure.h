@@ -58,14 +58,17 @@ typedef struct {
   double noise_window_s; /* audio just before the strike used as the noise reference [s], >= 0 (0 =
                             none) */
   double range_margin;   /* relative widening of the model's 0S2 range, [0, 1) */
-  double fruit_q_min, fruit_q_max; /* the 0S2's Q fruit flesh rings with: outside, not fruit */
-  af_modes_config modes;           /* which listed peak is the 0S2 (modes.h) */
-  double modulus_prior_rel_sd;     /* how well the fitted E2 predicts the dynamic modulus (the
-                                      contact's model error and the modulus_factor calibration),
-                                      relative, 1 sigma, > 0; the 0S2 predicted from it carries
-                                      0.5 sqrt(se^2 + this^2) in ln f (f goes as sqrt(E)) */
-  const af_stage_hook *stages;     /* times the stages (stage.h), the response's transform too;
-                                      NULL (the default) = not timed; must outlive the measure */
+  double fruit_q_min, fruit_q_max;  /* the 0S2's Q fruit flesh rings with: outside, not fruit */
+  double fruit_confidence_min;      /* the identification's least confidence to grade, [0, 1] */
+  double fruit_neighbour_margin_db; /* a stray partial this close to the 0S2's SNR: not fruit,
+                                       >= 0 [dB] */
+  af_modes_config modes;            /* which listed peak is the 0S2 (modes.h) */
+  double modulus_prior_rel_sd;      /* how well the fitted E2 predicts the dynamic modulus (the
+                                       contact's model error and the modulus_factor calibration),
+                                       relative, 1 sigma, > 0; the 0S2 predicted from it carries
+                                       0.5 sqrt(se^2 + this^2) in ln f (f goes as sqrt(E)) */
+  const af_stage_hook *stages;      /* times the stages (stage.h), the response's transform too;
+                                       NULL (the default) = not timed; must outlive the measure */
 } af_measure_config;
 
 /* fit defaults with fit_velocity false; response defaults; delay 0.5 ms,

@@ -15,6 +15,14 @@
  * all of it. */
 #define AF_ONSET_AC_SHARE 0.5
 
+/* A rise is judged against the mean of the frames 2..4 before (the one
+ * before may hold the start of the tap): over a ring's tail a single frame
+ * shorter than its period may catch a zero crossing, and the next one its
+ * crest 12 dB above; three frames (3 ms at the default) span a period of
+ * any 0S2 above 330 Hz and most of one down to 250 Hz, and their mean over
+ * noise varies less than one frame's, so a weak tap is not lost to it. */
+#define AF_ONSET_RISE_FRAMES 4
+
 struct af_onset {
   af_onset_config cfg;
   size_t frame_n;     /* samples per frame */
@@ -27,10 +35,11 @@ struct af_onset {
   bool bad;           /* a non-finite sample in this frame */
   uint64_t frame_start, next_sample;
   bool started;
-  double floor;     /* mean square of the noise about dc; NaN: none yet */
-  double dc;        /* the signal's resting level [unit]: energies are taken about it */
-  uint64_t warm;    /* frames averaged so far in the warm-up */
-  double before[2]; /* the energies of the two frames before this one; NaN: none */
+  double floor;  /* mean square of the noise about dc; NaN: none yet */
+  double dc;     /* the signal's resting level [unit]: energies are taken about it */
+  uint64_t warm; /* frames averaged so far in the warm-up */
+  double before[AF_ONSET_RISE_FRAMES]; /* the energies of the frames before this one, the
+                                          last first; NaN: none */
   /* The candidate onset, held for holdoff_s before it is reported: a rise
    * of SNR over everything since replaces it (the candidate was a noise
    * gate opening onto noise, the tap comes now), and it is reported only
@@ -121,6 +130,26 @@ void af_onset_destroy(af_onset *o)
   free(o);
 }
 
+static void set_before(af_onset *o, double e)
+{
+  for (size_t k = 0; k < AF_ONSET_RISE_FRAMES; k++)
+    o->before[k] = e;
+}
+
+/* The mean energy of the frames 2..4 before this one (those known); NaN
+ * when none is known. */
+static double rise_reference(const af_onset *o)
+{
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t k = 1; k < AF_ONSET_RISE_FRAMES; k++)
+    if (!isnan(o->before[k])) {
+      sum += o->before[k];
+      n++;
+    }
+  return n > 0 ? sum / (double)n : NAN;
+}
+
 void af_onset_reset(af_onset *o)
 {
   if (o == NULL)
@@ -131,7 +160,7 @@ void af_onset_reset(af_onset *o)
   o->floor = NAN;
   o->dc = 0.0;
   o->warm = 0;
-  o->before[0] = o->before[1] = NAN;
+  set_before(o, NAN);
   o->pending = false;
   o->prev_valid = false;
   o->fired_once = false;
@@ -268,7 +297,7 @@ static void hold(af_onset *o, double s1, double s2, double e, double level, doub
      * nothing is reported. */
     const double mu = s1 / n;
     o->dc += mu;
-    o->before[0] = o->before[1] = s2 / n - mu * mu;
+    set_before(o, s2 / n - mu * mu);
     return;
   }
   o->fired_once = true;
@@ -292,8 +321,8 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
   /* Nothing varies in it by the floor's bound: digital silence (exact zeros
    * between sounds, a constant level) teaches the floor nothing. */
   const bool silent = e - mu * mu < o->floor_min;
-  const double two_before = o->before[1];
-  o->before[1] = o->before[0];
+  const double two_before = rise_reference(o);
+  memmove(o->before + 1, o->before, (AF_ONSET_RISE_FRAMES - 1) * sizeof o->before[0]);
   o->before[0] = e;
   if (o->warm < AF_ONSET_WARMUP_FRAMES) { /* the first floor: a plain mean */
     o->warm++;
@@ -344,7 +373,7 @@ af_status af_onset_write(af_onset *o, uint64_t first_sample, const float *x, siz
       if (!o->bad)
         frame_done(o, fn, user);
       else
-        o->before[0] = o->before[1] = NAN; /* no rise judged across lost samples */
+        set_before(o, NAN); /* no rise judged across lost samples */
       o->fill = 0;
       o->bad = false;
     }

@@ -6,10 +6,11 @@
  *             above the threshold, time constant floor_time_constant_s
  *             (the first AF_ONSET_WARMUP_FRAMES frames: their plain mean, no
  *             onset; af_onset_prime sets it from a whole recording instead)
- *         ──> onset when e >= floor x 10^(snr_db / 10) and e >= the frame two
- *             before x 10^(snr_db / 10) (a rise, not the swell of a ring
- *             already sounding: beats, a long ring-down; a new tap over the
- *             tail of the last one is a rise), and holdoff_s past the last
+ *         ──> onset when e >= floor x 10^(snr_db / 10) and e >= the mean of
+ *             the frames 2..4 before x 10^(snr_db / 10) (a rise, not the swell
+ *             of a ring already sounding: beats, a long ring-down, a crest of
+ *             a low tail after a zero crossing; a new tap over the tail of the
+ *             last one is a rise), and holdoff_s past the last
  *             onset (the hammer's bounce is no second tap): a line striking
  *             faster than 1 / holdoff_s loses strikes.
  *         ──> floor and frame energies bounded below by

@@ -144,8 +144,10 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         NUM("strike_threshold_noise_factor", "6.0", "(0, 1000]", S,
             "trigger when the force exceeds the baseline by this many noise RMS and by "
             "strike_threshold_min_n"),
-    [AF_SETTING_STRIKE_THRESHOLD_MIN_N] = NUM("strike_threshold_min_n", "0.5", "[0, 1e6] N", S,
-                                              "least excess over the baseline that triggers"),
+    [AF_SETTING_STRIKE_THRESHOLD_MIN_N] = NUM("strike_threshold_min_n", "0.5", "(0, 1e6] N", S,
+                                              "least excess over the baseline that triggers "
+                                              "(never 0: after exact-zero silence any flicker "
+                                              "would be a strike)"),
     [AF_SETTING_STRIKE_PRE_TRIGGER_S] = NUM("strike_pre_trigger_s", "0.002", "(0, 1] s", S,
                                             "history kept before the trigger, above "
                                             "strike_baseline_window_s"),
@@ -310,9 +312,19 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
             "the 0S2 of fruit flesh rings at least this Q (pi f / decay rate): a duller sound "
             "is not the fruit's free mode (a calibration: doc/tap_only.md)"),
     [AF_SETTING_FRUIT_Q_MAX] =
-        NUM("fruit_q_max", "100.0", "[0.5, 1e4]", C,
+        NUM("fruit_q_max", "80.0", "[0.5, 1e4]", C,
             "and at most this Q: a ring beyond it is an object (ceramic, glass, a fixture), not "
             "fruit flesh, and is never graded (a calibration: doc/tap_only.md)"),
+    [AF_SETTING_FRUIT_CONFIDENCE_MIN] = NUM(
+        "fruit_confidence_min", "0.05", "[0, 1]", C,
+        "the 0S2's identification must reach this confidence (modes.h: the posterior of the "
+        "chosen peak) to be graded; 0.05 refuses a choice split among peaks and passes a lone "
+        "peak anywhere in the range; 0.5 asks a tap-only strike for its comb (doc/tap_only.md)"),
+    [AF_SETTING_FRUIT_NEIGHBOUR_MARGIN_DB] =
+        NUM("fruit_neighbour_margin_db", "6.0", "[0, 60] dB", C,
+            "tap-only: a peak 1.2 to 2.1 times the 0S2, within this of its SNR or louder, that "
+            "no mode of the sphere explains while none of the sphere's is heard there, is "
+            "another object's partial: not fruit (doc/tap_only.md)"),
     [AF_SETTING_MODULUS_MAX_PA] =
         NUM("modulus_max_pa", "12.0e+6", "[1e5, 1e9] Pa", C, "firmest fruit expected"),
     [AF_SETTING_MASS_MIN_KG] =

@@ -65,7 +65,7 @@ static bool config_valid(const af_strike_config *c)
 {
   return positive(c->sample_rate_hz) && positive(c->full_scale_n) &&
          positive(c->threshold_noise_factor) && isfinite(c->threshold_min_n) &&
-         c->threshold_min_n >= 0.0 && positive(c->pre_trigger_s) &&
+         c->threshold_min_n > 0.0 && positive(c->pre_trigger_s) &&
          positive(c->baseline_time_constant_s) && positive(c->baseline_window_s) &&
          isfinite(c->double_hit_gap_s) && c->double_hit_gap_s >= 0.0 &&
          positive(c->max_contact_s) && positive(c->post_s) &&

@@ -163,7 +163,8 @@ typedef struct {
   double sample_rate_hz;           /* > 0 */
   double full_scale_n;             /* > 0: a raw sample with |F| >= this is clipped [N] */
   double threshold_noise_factor;   /* > 0: trigger above this many noise RMS ... */
-  double threshold_min_n;          /* >= 0: ... and above this [N] */
+  double threshold_min_n;          /* > 0: ... and above this [N] (a noise floor of exact
+                                      zeros is 0: this bounds the threshold below) */
   double pre_trigger_s;            /* > baseline_window_s: history kept before the trigger */
   double baseline_time_constant_s; /* > 0: idle baseline and noise trackers; also the warm-up */
   double baseline_window_s;        /* > 0: quiet signal averaged before and after the contact */

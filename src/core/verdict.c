@@ -15,6 +15,7 @@ void af_verdict_clear(af_verdict *v)
   v->bounce_noise_ratio = v->bounce_peak_ratio = v->bounce_impulse_excess = NAN;
   v->f_lo_hz = v->f_hi_hz = v->resonance_hz = v->band_low_hz = v->band_high_hz = NAN;
   v->resonance_q = v->fruit_q_min = v->fruit_q_max = NAN;
+  v->stray_hz = v->stray_db = v->mode_confidence = v->fruit_confidence_min = NAN;
   v->max_shear_pa = v->yield_shear_pa = v->apple_stale_s = v->audio_seconds = v->audio_clip_max =
       v->audio_clip_min = NAN;
   v->apple_transit_s = v->apple_tolerance_s = v->nearest_apple_lag_s = NAN;
@@ -191,6 +192,22 @@ static void no_apple(const af_verdict *v, char *buf, size_t len)
       lag_s >= 0.0 ? "before" : "after");
 }
 
+/* Each failed test of the fruit-or-not gate, with its figure and its row. */
+static void add_not_fruit(const af_verdict *v, char *buf, size_t len)
+{
+  if (v->not_fruit & AF_NOT_FRUIT_Q)
+    add(buf, len, "Q %.0f at %.0f Hz: %s, not fruit flesh (fruit_q_min..fruit_q_max %g..%g)",
+        v->resonance_q, v->resonance_hz,
+        v->resonance_q > v->fruit_q_max ? "a ringing object" : "a dull thud", v->fruit_q_min,
+        v->fruit_q_max);
+  if (v->not_fruit & AF_NOT_FRUIT_NEIGHBOURS)
+    add(buf, len, "a partial at %.2fx the %.0f Hz mode (%+.0f dB), none of the sphere's: not fruit",
+        v->stray_hz / v->resonance_hz, v->resonance_hz, v->stray_db);
+  if (v->not_fruit & AF_NOT_FRUIT_CONFIDENCE)
+    add(buf, len, "0S2 %.0f Hz at confidence %.2f, below fruit_confidence_min %g", v->resonance_hz,
+        v->mode_confidence, v->fruit_confidence_min);
+}
+
 void af_verdict_format(const af_verdict *v, char *buf, size_t len)
 {
   if (buf == NULL || len == 0)
@@ -240,10 +257,7 @@ void af_verdict_format(const af_verdict *v, char *buf, size_t len)
   if (f & AF_VERDICT_POISSON)
     add(buf, len, "Poisson ratio: %s", af_strerror(v->judge_status));
   if (f & AF_VERDICT_NOT_FRUIT)
-    add(buf, len, "Q %.0f at %.0f Hz: %s, not fruit flesh (fruit_q_min..fruit_q_max %g..%g)",
-        v->resonance_q, v->resonance_hz,
-        v->resonance_q > v->fruit_q_max ? "a ringing object" : "a dull thud", v->fruit_q_min,
-        v->fruit_q_max);
+    add_not_fruit(v, buf, len);
   if (f & AF_VERDICT_AUDIO_CLIPPED)
     add(buf, len,
         "microphone clipped (%zu samples at its extremes %.4g and %.4g, %zu flat tops): lower "

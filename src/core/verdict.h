@@ -71,6 +71,13 @@ typedef enum {
  * or the support than this fruit's 0S2). */
 #define AF_VERDICT_OUTSIDE_FACTOR 1.5
 
+/* What made a heard mode not fruit's (AF_VERDICT_NOT_FRUIT), in af_verdict.not_fruit. */
+typedef enum {
+  AF_NOT_FRUIT_Q = 1u << 0,          /* its Q outside fruit_q_min..fruit_q_max */
+  AF_NOT_FRUIT_NEIGHBOURS = 1u << 1, /* a stray partial where the sphere's comb would be */
+  AF_NOT_FRUIT_CONFIDENCE = 1u << 2  /* identified below fruit_confidence_min */
+} af_verdict_not_fruit;
+
 /* What a tap-only strike (no force input, onset.h) judged from the model's
  * prediction for the configured hammer instead of a measurement: notes, not
  * reasons (a strike may be reliable with them), in af_verdict.model_only. */
@@ -120,6 +127,11 @@ typedef struct {
   unsigned lobe;
   double resonance_hz, band_low_hz, band_high_hz; /* OUTSIDE_BAND */
   double resonance_q, fruit_q_min, fruit_q_max;   /* NOT_FRUIT */
+  uint32_t not_fruit;                             /* ... af_verdict_not_fruit bits: what failed */
+  double stray_hz, stray_db;                      /* ... NEIGHBOURS: the stray partial [Hz], its SNR
+                                                     over the 0S2's [dB] */
+  double mode_confidence, fruit_confidence_min;   /* ... CONFIDENCE: the identification's, the
+                                                     least to grade [-] */
   double max_shear_pa, yield_shear_pa;            /* DAMAGE */
   size_t audio_clip_samples, audio_clip_tops;     /* AUDIO_CLIPPED: at the extremes, flat tops */
   double audio_clip_max, audio_clip_min;          /* ... the extremes, in the audio's unit */

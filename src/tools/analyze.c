@@ -39,6 +39,9 @@
 #include "settings.h"
 
 #define AF_ANALYZE_CHUNK 1024 /* samples per chunk, as the node's SignalChunks */
+/* An integer force WAV's strike_threshold_min_n is at least this many steps
+ * of its format: a flicker of one step is the converter's, not a strike. */
+#define AF_ANALYZE_FORCE_STEPS 2.0
 /* --audio-offset: the audio's start within an hour of the force's (the
  * stamps are integer nanoseconds: beyond ~9e9 s they would overflow). */
 #define AF_ANALYZE_OFFSET_MAX_S 3600
@@ -819,8 +822,12 @@ int af_analyze_main(int argc, char **argv, int first)
                        (double)audio.n / a.rate_audio_hz);
   cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
   cfg.measured.single_apple = true;
-  /* An integer WAV's step bounds the onset detector's floor (onset.h). */
+  /* An integer WAV's step bounds the onset detector's floor (onset.h), and
+   * the strike detector's: one step after exact zeros is no strike. */
   cfg.measured.onset.quantum = audio.quantum;
+  if (force.quantum > 0.0 &&
+      cfg.measured.strike.threshold_min_n < AF_ANALYZE_FORCE_STEPS * force.quantum)
+    cfg.measured.strike.threshold_min_n = AF_ANALYZE_FORCE_STEPS * force.quantum;
   code = analyze_run(&a, &cfg, &force, &audio);
   af_recording_destroy(&force);
   af_recording_destroy(&audio);

@@ -33,7 +33,7 @@ static const expected_row expected[] = {
     {"yield_ratio", "criterion", AF_SETTING_NUMBER, 0.001, 1, false, false},
     {"modulus_factor", "criterion", AF_SETTING_NUMBER, 0.1, 10, false, false},
     {"strike_threshold_noise_factor", "thresholds", AF_SETTING_NUMBER, 0, 1000, true, false},
-    {"strike_threshold_min_n", "thresholds", AF_SETTING_NUMBER, 0, 1e6, false, false},
+    {"strike_threshold_min_n", "thresholds", AF_SETTING_NUMBER, 0, 1e6, true, false},
     {"measure_snr_threshold_db", "thresholds", AF_SETTING_NUMBER, -100, 100, false, false},
     {"measure_range_margin", "thresholds", AF_SETTING_NUMBER, 0, 1, false, true},
     {"grade_quantity", "grades", AF_SETTING_CHOICE, 0, 0, false, false},
@@ -144,8 +144,8 @@ static void test_not_allowed(void)
   AF_CHECK(!af_reconfigure_allowed((af_setting_id)-1));
 }
 
-/* strike_threshold_min_n through a reconfigure (issue 18): inf is refused
- * by the row, and a value inside the row's [0, 1e6] N but at or above
+/* strike_threshold_min_n through a reconfigure: inf is refused
+ * by the row, and a value inside the row's (0, 1e6] N but at or above
  * strike_full_scale_n (500 N shipped) by af_lane_config_derive, the check
  * the node runs on every request, naming both rows; 499 N is taken. */
 static void test_threshold_below_full_scale(void)
@@ -161,12 +161,12 @@ static void test_threshold_below_full_scale(void)
   af_status st =
       af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, INFINITY, err, sizeof err);
   AF_CHECK_STATUS(st, AF_EINVAL);
-  AF_CHECK(strcmp(err, "strike_threshold_min_n = inf is outside the accepted range [0, 1e6] N") ==
+  AF_CHECK(strcmp(err, "strike_threshold_min_n = inf is outside the accepted range (0, 1e6] N") ==
            0);
   AF_CHECK_STATUS(
       af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, 1e6, err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_EINVAL);
-  AF_CHECK(strcmp(err, "strike_threshold_min_n = 1e+06 N is outside the accepted range [0, "
+  AF_CHECK(strcmp(err, "strike_threshold_min_n = 1e+06 N is outside the accepted range (0, "
                        "strike_full_scale_n = 500 N)") == 0);
   AF_CHECK_STATUS(
       af_settings_set_number(&s, AF_SETTING_STRIKE_THRESHOLD_MIN_N, 500.0, err, sizeof err), AF_OK);

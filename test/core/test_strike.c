@@ -160,8 +160,8 @@ static void test_config(void)
   AF_CHECK_STATUS(af_strike_create(NULL, &d), AF_EINVAL);
   AF_CHECK(d == NULL);
 
-  af_strike_config bad[18];
-  for (size_t i = 0; i < 18; i++)
+  af_strike_config bad[19];
+  for (size_t i = 0; i < 19; i++)
     bad[i] = ok;
   bad[0].sample_rate_hz = 0.0;
   bad[1].sample_rate_hz = NAN;
@@ -182,7 +182,8 @@ static void test_config(void)
   bad[15].pre_trigger_s = 2e-6;     /* ... but a 1-sample pre-trigger is not */
   bad[16].threshold_min_n = INFINITY;
   bad[17].post_s = INFINITY;
-  for (size_t i = 0; i < 18; i++) {
+  bad[18].threshold_min_n = 0.0; /* a noise floor of exact zeros is 0: no bound below */
+  for (size_t i = 0; i < 19; i++) {
     d = NULL;
     af_status st = af_strike_create(&bad[i], &d);
     if (st != AF_EINVAL)

@@ -83,11 +83,19 @@ static void test_rig_flags(void)
   v.resonance_hz = 478.0;
   v.fruit_q_min = 5.0;
   v.fruit_q_max = 100.0;
+  v.not_fruit = AF_NOT_FRUIT_Q;
   AF_CHECK(says(&v, "Q 295 at 478 Hz: a ringing object, not fruit flesh (fruit_q_min..fruit_q_max "
                     "5..100)"));
   v.resonance_q = 2.0;
   AF_CHECK(
       says(&v, "Q 2 at 478 Hz: a dull thud, not fruit flesh (fruit_q_min..fruit_q_max 5..100)"));
+  v.not_fruit = AF_NOT_FRUIT_NEIGHBOURS | AF_NOT_FRUIT_CONFIDENCE;
+  v.stray_hz = 621.4;
+  v.stray_db = 3.2;
+  v.mode_confidence = 0.031;
+  v.fruit_confidence_min = 0.05;
+  AF_CHECK(says(&v, "a partial at 1.30x the 478 Hz mode (+3 dB), none of the sphere's: not fruit; "
+                    "0S2 478 Hz at confidence 0.03, below fruit_confidence_min 0.05"));
   v = with(AF_VERDICT_DOUBLE_HIT);
   v.bounce_impulse_excess = 0.2;
   AF_CHECK(says(&v, "double hit (a second impact inside the contact: the impulse is 20 % above "

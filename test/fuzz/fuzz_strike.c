@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   uint8_t head = af_fuzz_u8(&in);
   cfg.sample_rate_hz = rates[head & 3];
   if (head & 4)
-    cfg.threshold_min_n = af_fuzz_range(&in, 0.0, 50.0);
+    cfg.threshold_min_n = af_fuzz_range(&in, 1e-6, 50.0);
   af_strike *d = NULL;
   if (af_strike_create(&cfg, &d) != AF_OK)
     abort();

@@ -122,4 +122,29 @@ PYEOF
     hostile_failed=$((hostile_failed + 1))
   fi
 done
+
+# The force side: a 16-bit force WAV of exact zeros with single-step flickers
+# (+-1 LSB of 500 N full scale, 0.015 N), the threshold's own floor set far
+# below a step: the format's step bounds it, no strike.
+"$py" - "$tmp/flicker_f.wav" "$tmp/flicker_a.wav" <<'PYEOF'
+import struct, sys, wave
+def save(path, rate, x):
+    with wave.open(path, "wb") as w:
+        w.setnchannels(1); w.setsampwidth(2); w.setframerate(rate)
+        w.writeframes(b"".join(struct.pack("<h", v) for v in x))
+f = [0] * 50000
+for k in range(5000, 50000, 7919):
+    f[k] = 1 if (k // 7919) % 2 else -1
+save(sys.argv[1], 50000, f)
+save(sys.argv[2], 48000, [0] * 48000)
+PYEOF
+"$fm" analyze --force "$tmp/flicker_f.wav" --audio "$tmp/flicker_a.wav" --force-scale 500 \
+  --mass 0.18 --R2 0.035 --set strike_threshold_min_n=0.001 >"$tmp/flicker.json" 2>"$tmp/flicker.err"
+n=$("$py" -c "import json,sys; print(len(json.load(open(sys.argv[1]))['strikes']))" "$tmp/flicker.json" 2>&1)
+if [ "$n" = 0 ]; then
+  echo "force_step_flicker: ok (0 strikes)"
+else
+  echo "  FAIL force_step_flicker: $n strikes from one-step flickers after exact zeros" >&2
+  hostile_failed=$((hostile_failed + 1))
+fi
 hostile_done
