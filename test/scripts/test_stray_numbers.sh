@@ -43,7 +43,7 @@ doc/model.md | over a contact that ends where it began). The paper's strike, 10 
 doc/model.md | `hammer_mass_kg`'s rig value and `strike_velocity_m_s`), delivers 0.5 × 0.010 × 1.4² =
 doc/model.md | the paper's optimum: hammer 10.0 g at 1.40 m/s, tip flat
 # not a default: the tap SNR of test_onset's weaker taps, not the 0S2 threshold
-doc/tap_only.md | - At 15 dB, 193 of 200 are found
+doc/tap_only.md | - At 15 dB, 198 of 200 are found
 doc/tap_only.md | 200 taps at 18 and 15 dB
 # not defaults: the test signals of the fit's and the response's benchmarks
 doc/performance.md | elastic and without gravity, 10 g flat hammer
