@@ -31,6 +31,8 @@ TOOLS=(
   clang-14 libclang-rt-14-dev valgrind
   # the fresh-machine stage (scripts/fresh_check.sh)
   mmdebstrap
+  # rosdep itself, for the ctest rosdep_keys (Debian names it python3-rosdep2)
+  python3-rosdep2
 )
 
 # Every key of package.xml: <depend>, <build_depend>, <exec_depend>, ... but
