@@ -4,8 +4,9 @@
 # about a fresh one (a hand-installed package once hid 12 failing tests).
 #
 #   1. mmdebstrap --variant=minbase bookworm (the tool's default mirror);
-#   2. the committed tree (HEAD of this checkout) cloned into it, ../shared
-#      beside it, /etc/resolv.conf and /etc/hosts copied in;
+#   2. the committed tree (HEAD of this checkout) cloned into it, alone (the
+#      package reads nothing outside itself: no ../shared beside it),
+#      /etc/resolv.conf and /etc/hosts copied in;
 #   3. the two commands run there with chroot, from a private mount and PID
 #      namespace that mounts /proc and binds /sys and /dev: no mount reaches
 #      the host, none outlives the namespace, no process outlives its PID 1;
@@ -17,11 +18,6 @@
 # commands (default 3600 s). Exits non-zero when either command fails.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-# ../shared may be a symbolic link: its target is what is copied in (pwd -P).
-shared=$(cd "$root/../shared" 2>/dev/null && pwd -P) || {
-  echo "fresh_check: no ../shared beside $root" >&2
-  exit 2
-}
 timeout_s=${AF_FRESH_TIMEOUT_S:-3600}
 keep=0
 [ "${1:-}" = "--keep" ] && keep=1
@@ -73,7 +69,6 @@ echo "fresh_check: bootstrap $((t1 - t0)) s"
 mkdir -p "$sys/work"
 git clone -q "$root" "$sys/work/main"
 git -C "$sys/work/main" log -1 --format='fresh_check: tree %h %s'
-cp -a "$shared" "$sys/work/shared"
 cp /etc/resolv.conf /etc/hosts "$sys/etc/"
 
 # Inside: the namespace's PID 1 mounts what the chroot needs, then runs the

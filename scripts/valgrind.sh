@@ -3,7 +3,7 @@
 # scripts_valgrind runs it with --short) on the default build:
 #   1. firmness_model --json (one strike, the R2_min search included);
 #   2. firmness_model analyze on the real impact-hammer capture
-#      test/data/hammer_capture_4 (a copy of ../shared/data) (25.6 kHz force and microphone);
+#      test/data/hammer_capture_4 (25.6 kHz force and microphone);
 #   3. firmness_node under valgrind on a short replay (strike_bag, N strikes,
 #      rosbag play --clock on simulated time), stopped with SIGINT as
 #      roslaunch stops it.

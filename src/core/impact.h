@@ -8,7 +8,8 @@
  *     1/R  = 1/R2 + 1/R1                      (R1 = 0: flat face).
  * Integrated with GSL odeiv2 (adaptive step); the contact ends at the event
  * d = 0, located by root finding, not by a fixed step. The printed paper has
- * the exponent 2/3: see ../shared/PHYSICS.md section 1 and doc/deviations.md.
+ * the exponent 2/3: see the project's physics notes (PHYSICS.md) section 1 and
+ * doc/deviations.md.
  *
  * Damping laws for chi(e):
  *   AF_DAMPING_PAPER  Lankarani-Nikravesh 3(1-e^2)/4, as printed. It saturates:

@@ -56,7 +56,7 @@
  *    level L = max(3 noise RMS, 2 % of the peak) (a steel-tipped hammer's
  *    ~0.35 ms at 25.6-44.1 kHz) leave 1-3 samples on each edge for the three
  *    unknowns of the edge law, which then follow whatever lies beside the
- *    pulse (the real captures of shared/data: an anti-alias filter's
+ *    pulse (the real captures of test/data: an anti-alias filter's
  *    pre-ringing before, the struck structure's ringing after; the fitted
  *    contact came out 25-70 % longer than the pulse's own width). There t0
  *    and t1 are the crossings of L by the band-limited reconstruction of the

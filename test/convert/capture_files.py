@@ -1,6 +1,8 @@
-"""A lab session made of the real impact-hammer captures of test/data (a copy
-of ../shared/data), for the capture_to_bag tests, written with Debian's python3 alone
-(independently of the package's WAV reader and bag writer):
+#!/usr/bin/env python3
+"""A lab session made of the real impact-hammer captures of test/data, for the
+capture_to_bag tests and the docs' examples (installed: `rosrun
+acoustic_firmness capture_files.py OUT_DIR DATA_DIR`), written with Debian's
+python3 alone (independently of the package's WAV reader and bag writer):
 
   force: 0.5 s of capture 4's quiet tail (a lead-in: the station's baseline
          tracker needs quiet before a strike; each capture starts only 20
@@ -26,7 +28,9 @@ import os
 import struct
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'cli'))
+# wav_files: beside this file once installed, in test/cli in the source tree
+_here = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [_here, os.path.join(_here, '..', 'cli')]
 import wav_files as W  # noqa: E402
 
 RATE = 25600

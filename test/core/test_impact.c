@@ -1,5 +1,5 @@
 /* test_impact.c — the impact model against Hertz's closed forms and the
- * tables of ../shared/PHYSICS.md (sections 1-3 and 7), plus its error paths.
+ * tables of the project's physics notes, PHYSICS.md (sections 1-3 and 7), plus its error paths.
  * Every expected number is a closed form or a published table, never an
  * earlier output of this code. */
 #include "impact.h"

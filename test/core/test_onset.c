@@ -1,6 +1,6 @@
 /* test_onset.c — the tap-only onset detector (onset.h) on signals of the
  * test's own making (af_test.h's seeded generator, a pink-noise filter and
- * decaying modes written here) and on the real captures in ../shared/data.
+ * decaying modes written here) and on the real captures in test/data.
  *  - false onsets in 10 minutes of white and of pink noise at 48 kHz, at
  *    the default 12 dB (asserted: none) and, for the figure, lower thresholds;
  *  - 200 taps whose ring starts 15 dB above white noise: every one found,
@@ -168,7 +168,7 @@ static void test_real_captures(void)
 {
   for (int cap = 4; cap <= 5; cap++) {
     char path[256];
-    snprintf(path, sizeof path, "../shared/data/hammer_capture_%d.response.f32", cap);
+    snprintf(path, sizeof path, "test/data/hammer_capture_%d.response.f32", cap);
     FILE *f = fopen(path, "rb");
     AF_CHECK(f != NULL);
     if (f == NULL)

@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """The one dependency list, checked: every package that package.xml, a launch
-file or a .test file names is a key of scripts/debian_packages.yaml, and on
-this machine the map's first package for a ROS package is the one that ships
-its package.xml (dpkg -S). Launch and test files may only name packages that
-package.xml lists, since setup.sh installs from package.xml.
+file or a .test file names is a rosdep key with a rule for Debian 12
+(bookworm) in the rule files, read in rosdep's order (for each key, the first
+file with a Debian rule wins): rosdep/acoustic_firmness.yaml,
+rosdep/debian_ros.yaml, test/data/rosdep_upstream.yaml (the files
+scripts/setup.sh installs from). On this machine the rule's first package for
+a ROS package is the one that ships its package.xml (dpkg -S). Launch and test
+files may only name packages that package.xml lists, since setup.sh installs
+from package.xml.
 
 Usage: check_dependency_map.py ROOT   (exit 0 clean, 1 with one line a finding)
 """
@@ -14,23 +18,32 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
+import yaml
+
 SELF = "acoustic_firmness"
+RELEASE = "bookworm"
+RULE_FILES = ("rosdep/acoustic_firmness.yaml", "rosdep/debian_ros.yaml",
+              "test/data/rosdep_upstream.yaml")
 
 
-def read_map(path):
-    """`key: [a, b]` a line; comments and blank lines skipped."""
+def read_map(root):
+    """{key: [Debian packages for RELEASE]}: per key, the first file with a
+    `debian` rule wins (as in rosdep); in it, a list, or RELEASE's list, else
+    '*''s. A key whose winning rule has none for RELEASE maps to []."""
     out = {}
-    for n, line in enumerate(open(path, encoding="utf-8"), 1):
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
-        m = re.fullmatch(r"([A-Za-z0-9_.+-]+):\s*\[([^\]]*)\]", line)
-        if not m:
-            sys.exit(f"{path}:{n}: not `key: [packages]`: {line!r}")
-        pkgs = [p.strip() for p in m.group(2).split(",") if p.strip()]
-        if not pkgs or m.group(1) in out:
-            sys.exit(f"{path}:{n}: key {m.group(1)!r} empty or mapped twice")
-        out[m.group(1)] = pkgs
+    for rel in RULE_FILES:
+        path = os.path.join(root, rel)
+        data = yaml.safe_load(open(path, encoding="utf-8")) or {}
+        for key, rule in data.items():
+            if key in out or not isinstance(rule, dict) or "debian" not in rule:
+                continue
+            deb = rule["debian"]
+            if isinstance(deb, dict):
+                deb = deb.get(RELEASE, deb.get("*"))
+            if deb is not None and not (isinstance(deb, list) and
+                                        all(isinstance(p, str) for p in deb)):
+                sys.exit(f"{rel}: the Debian rule of {key!r} is not a list of apt packages")
+            out[key] = list(deb or [])
     return out
 
 
@@ -61,7 +74,7 @@ def installed(pkg):
 
 def check(root):
     findings = []
-    mapping = read_map(os.path.join(root, "scripts", "debian_packages.yaml"))
+    mapping = read_map(root)
     declared = package_xml_keys(os.path.join(root, "package.xml"))
     users = {k: "package.xml" for k in declared}
     files = sorted(glob.glob(os.path.join(root, "launch", "*.launch")) +
@@ -77,9 +90,9 @@ def check(root):
                                 "list (setup.sh installs from package.xml)")
     for key in sorted(users):
         where = users[key]
-        if key not in mapping:
-            findings.append(f"{where}: package '{key}' is not a key of "
-                            "scripts/debian_packages.yaml (no Debian package installs it)")
+        if not mapping.get(key):
+            findings.append(f"{where}: package '{key}' has no rosdep rule for Debian "
+                            f"{RELEASE} in {', '.join(RULE_FILES)} (no Debian package installs it)")
             continue
         first = mapping[key][0]
         xml = f"/usr/share/{key}/package.xml"

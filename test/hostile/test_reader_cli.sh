@@ -11,8 +11,7 @@ set -uo pipefail
 source "$(dirname "$0")/hostile.sh"
 fm=$hostile_bin/firmness_model
 report=$hostile_bin/firmness_report
-data=$AF_ROOT/../shared/data
-[ -d "$data" ] || data=/work/shared/data
+data=$AF_ROOT/test/data # the package's own copies of the real captures (test/data/README.md)
 jonagold=$AF_ROOT/config/jonagold.yaml
 
 # The output of a case must hold nothing on stdout (sweep: no row before a

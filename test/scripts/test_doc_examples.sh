@@ -8,10 +8,11 @@
 # that a line "..." stands for any number of lines and "..." within a line
 # for any text (a path of the checkout, say). A comment "# exit N" on the
 # command gives its exit status (default 0). The commands of one page run in
-# order in one scratch folder (a bag made by one is read by the next), where
-# ../shared is the project's shared folder ("bash scripts/..." runs in the
-# package's root); scripts/run.sh gets a free master port of its own. Blocks
-# without "$ " lines (synopses, measured timings) are not examples. Also
+# order in one scratch folder (a bag made by one is read by the next; "bash
+# scripts/..." runs in the package's root; the package's files, its example
+# captures in test/data included, are named through `rospack find`: an
+# example naming ../shared, outside the package, fails); scripts/run.sh gets
+# a free master port of its own. Blocks without "$ " lines (synopses, measured timings) are not examples. Also
 # checks that every code block is closed and that every relative link of the
 # pages (file and heading) resolves. Registered in ctest as
 # scripts_doc_examples. Usage: test_doc_examples.sh [PAGE.md...]
@@ -32,7 +33,6 @@ else
     [ "$page" = "$AF_ROOT/doc/paper.md" ] || pages+=("$page")
   done
 fi
-ln -s "$(cd "$AF_ROOT/.." && pwd)/shared" "$tmp/shared"
 
 # One file per example: $tmp/ex/<n>.{where,cmd,want,exit}.
 mkdir -p "$tmp/ex"
@@ -65,6 +65,9 @@ for page in pages:
             while cmd.endswith('\\') and i + 1 < len(lines):
                 i += 1
                 cmd = cmd[:-1] + ' ' + lines[i].strip()
+            if '../shared' in cmd:
+                sys.exit('FAIL: %s:%d: an example reads ../shared, outside the package '
+                         '(the captures are in test/data)' % (page, no))
             status = re.search(r'#\s*exit (\d+)\s*$', cmd)
             cur = {'where': '%s:%d' % (page, no), 'cmd': cmd,
                    'exit': status.group(1) if status else '0', 'want': [],
