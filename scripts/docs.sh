@@ -3,7 +3,7 @@
 # build (scripts/build.sh first): the generated part of doc/parameters.md
 # (between the "generated" markers), and config/station.yaml and the cultivar
 # template config/jonagold.yaml (whole files); and from the serializer's
-# table of a strike's fields (src/core/serialize.c), through
+# table of a strike's fields (src/core/io/serialize.c), through
 # firmness_report --fields, the generated table of doc/report.md ("The strike
 # fields"). test/scripts/test_doc_parameters.sh runs it on copies and fails
 # when they differ.

@@ -16,15 +16,18 @@ if ! clang-format --dry-run --Werror "${sources[@]}"; then
 fi
 
 # C with the C11 standard, C++ (the shim) on its own; ROS headers are not
-# analysed (system includes), only our code.
+# analysed (system includes), only our code. The core's layers: one include
+# folder each (src/core/CMakeLists.txt).
+core_inc=()
+for d in src/core/*/; do core_inc+=("-I${d%/}"); done
 if ! cppcheck --quiet --error-exitcode=1 --enable=warning,style,performance --std=c11 \
-  --inline-suppr -Isrc/core -Isrc/shim -Isrc/tools -Isrc/plot -Isrc/report src/core src/tools src/node \
+  --inline-suppr "${core_inc[@]}" -Isrc/shim -Isrc/tools -Isrc/plot -Isrc/report src/core src/tools src/node \
   src/plot src/report src/demo src/convert src/cfg src/doc test/core; then
   echo "lint: cppcheck (C) found the problems above" >&2
   status=1
 fi
 if ! cppcheck --quiet --error-exitcode=1 --enable=warning,performance --std=c++14 --language=c++ \
-  --inline-suppr -Isrc/core -Isrc/shim --suppress=missingIncludeSystem src/shim; then
+  --inline-suppr "${core_inc[@]}" -Isrc/shim --suppress=missingIncludeSystem src/shim; then
   echo "lint: cppcheck (C++) found the problems above" >&2
   status=1
 fi

@@ -6,7 +6,7 @@ fed must give the same strikes (matched by stamp: header.stamp = stamp_ns),
 and every field of those messages must have the same value in the report's
 field that the serializer's table maps to it (firmness_report --fields
 --json: `resonance_hz` is StrikeReport.resonance, `stamp_ns` is
-StrikeReport.header.stamp in ns, ...; src/core/serialize.c): the same apple,
+StrikeReport.header.stamp in ns, ...; src/core/io/serialize.c): the same apple,
 frame, verdicts, reasons, grades, and every figure the same double (the
 report writes the fewest digits that read back exactly; NaN is null). The
 mapping comes from that table only: every message field must be mapped (but

@@ -2,7 +2,7 @@
  * defaults as C macros, so that the core's *_default() functions take their
  * numbers from the one table instead of typing them again (issue 16). Run at
  * build time (CMakeLists.txt) before af_core is compiled; built from
- * src/core/settings_table.c alone.
+ * src/core/params/settings_table.c alone.
  *
  *   defaults_header OUT.h
  *
@@ -129,7 +129,7 @@ int main(int argc, char **argv)
     return 1;
   }
   fputs("/* af_defaults.h — generated at build time by src/cfg/defaults_header.c\n"
-        " * from the parameter table (src/core/settings_table.c): do not edit.\n"
+        " * from the parameter table (src/core/params/settings_table.c): do not edit.\n"
         " * Units: the range's, in the comment. */\n"
         "#ifndef AF_DEFAULTS_H\n#define AF_DEFAULTS_H\n\n",
         f);

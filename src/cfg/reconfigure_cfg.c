@@ -1,6 +1,6 @@
 /* reconfigure_cfg — writes the node's dynamic_reconfigure description
  * (Station.cfg, a Python script of dynamic_reconfigure's generator) from the
- * one parameter table: every row of src/core/reconfigure.h with its kind,
+ * one parameter table: every row of src/core/config/reconfigure.h with its kind,
  * default, range and help as the table has them, so that the .cfg cannot
  * drift from the table. Run at build time (CMakeLists.txt); not installed.
  *
@@ -120,7 +120,8 @@ int main(int argc, char **argv)
   const af_reconfigure_row *rows = af_reconfigure_rows(&n);
   fprintf(f, "#!/usr/bin/python3\n"
              "# Generated at build time by src/cfg/reconfigure_cfg.c from the parameter table\n"
-             "# (src/core/settings_table.c) and its reconfigurable rows (src/core/reconfigure.c).\n"
+             "# (src/core/params/settings_table.c) and its reconfigurable rows "
+             "(src/core/config/reconfigure.c).\n"
              "# Do not edit: change the table.\n"
              "PACKAGE = \"acoustic_firmness\"\n"
              "from dynamic_reconfigure.parameter_generator_catkin import *\n"

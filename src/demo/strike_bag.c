@@ -10,7 +10,7 @@
  * Per strike k (apple_id k + 1), spacing S apart (default 0.5 s) after a
  * 1 s lead-in, with a random sub-millisecond offset:
  * The station, the cultivar and the strike are the parameter table's
- * defaults (src/core/settings_table.c; what config/station.yaml,
+ * defaults (src/core/params/settings_table.c; what config/station.yaml,
  * config/jonagold.yaml and config/rig.urdf ship), derived through
  * af_lane_config_derive as the node derives them:
  *  - an apple: E2 uniform in the cultivar's [modulus_min_pa,

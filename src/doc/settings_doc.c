@@ -1,4 +1,4 @@
-/* settings_doc — prints, from the one parameter table (src/core/settings_table.c),
+/* settings_doc — prints, from the one parameter table (src/core/params/settings_table.c),
  * the parameter reference of doc/parameters.md and the two shipped YAML
  * files, so that no default, range or unit is typed a second time:
  *
@@ -50,14 +50,14 @@ static const section station_sections[] = {
     {"strike_full_scale_n", "measured strikes: the detector on the force stream", NULL},
     {"measure_fit_velocity", "measured strikes: the measurement", NULL},
     {"modulus_factor_learn_window",
-     "the modulus factor learned on the line (src/core/factor_learn.h)",
+     "the modulus factor learned on the line (src/core/lane/factor_learn.h)",
      "# The median of E(0S2) / fitted E2 x the factor in use over the newest\n"
      "# reliable strikes, with its 95 % interval, in /diagnostics and the report.\n"},
 };
 
 static const section cultivar_sections[] = {
     {"cultivar", "the cultivar", NULL},
-    {"grade_quantity", "firmness grades for the sorter (src/core/grade.h)",
+    {"grade_quantity", "firmness grades for the sorter (src/core/lane/grade.h)",
      "# Each measured strike's class, published with its StrikeReport. Class names\n"
      "# from the softest up, the boundary between neighbours between them, in\n"
      "# grade_quantity's unit; a value on a boundary belongs to the class above;\n"
@@ -79,7 +79,7 @@ static const char cultivar_preamble[] =
 
 /* Said in both files, after their own preamble. */
 static const char common_preamble[] =
-    "# GENERATED from the one parameter table (src/core/settings_table.c) by\n"
+    "# GENERATED from the one parameter table (src/core/params/settings_table.c) by\n"
     "# af_settings_doc. Do not edit: change the table and run `bash scripts/docs.sh`\n"
     "# (scripts_doc_parameters fails when this file differs). Each comment: the\n"
     "# accepted range and its unit (none: dimensionless) or the accepted words,\n"

@@ -5,7 +5,7 @@
  *
  *  - format: audio_info's coding_format must be "wave" (uncompressed PCM);
  *    mp3 and any other coding is refused with a diagnostic naming it, as is a
- *    sample_format that is not a raw PCM format (src/core/pcm.h), a channel
+ *    sample_format that is not a raw PCM format (src/core/io/pcm.h), a channel
  *    count of 0 or ~audio_channel beyond the channels. Before the first
  *    audio_info, chunks are dropped and counted;
  *  - decoding: channel ~audio_channel of each frame, at full scale 1 times

@@ -2,7 +2,7 @@
  * model on demand for an apple and a strike given by a rig script, with the
  * node's configured hammer, criteria and cultivar unless the request
  * overrides them. Every request value is checked against the range of its
- * row of the one parameter table (src/core/settings.h), then the model's own
+ * row of the one parameter table (src/core/params/settings.h), then the model's own
  * check runs; a refusal is an answer (ok false, one line naming the field,
  * its value and the accepted range), never a failed call.
  *

@@ -1,4 +1,4 @@
-/* lane_io.h — the node's side of one lane (src/core/lane.h): SignalChunk and
+/* lane_io.h — the node's side of one lane (src/core/lane/lane.h): SignalChunk and
  * AppleEstimate messages into the lane, and each strike the lane measures
  * out as a StrikeReport, a Reliability (source "measured") and, with
  * markers, a line of text above the matched apple.

@@ -1,6 +1,6 @@
 /* live_settings.h — dynamic_reconfigure of the running node: the criterion
  * settings, the measurement's thresholds and the firmness grades (the rows of
- * src/core/reconfigure.h; the description is generated from the parameter
+ * src/core/config/reconfigure.h; the description is generated from the parameter
  * table at build time, so its names, defaults and ranges are the table's).
  *
  * A request is checked as start-up checks the node's parameters: each value

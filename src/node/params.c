@@ -1,5 +1,5 @@
 /* params.c — firmness_node's parameters: every row of the one parameter
- * table (src/core/settings.h) from the private namespace, checked by the
+ * table (src/core/params/settings.h) from the private namespace, checked by the
  * table; then the URDF (the hammer); then af_lane_config_derive, which makes
  * the lane's configuration and runs every cross-check in the core, exactly
  * as `firmness_model analyze` does from the same YAML files. No range and no

@@ -2,7 +2,7 @@
  * namespace and validated at start-up.
  *
  * Each private parameter is a row of the one parameter table
- * (src/core/settings.h: name, kind, default, range, unit, file); its values
+ * (src/core/params/settings.h: name, kind, default, range, unit, file); its values
  * ship in config/station.yaml and the cultivar's YAML (config/jonagold.yaml),
  * which the launch files load into ~. The node requires every row present;
  * only the hammer overrides (~hammer_mass_kg, ~hammer_tip_radius_m) are
@@ -41,7 +41,7 @@ typedef struct {
   char urdf_source[AF_SOURCE_TEXT_MAX]; /* where the URDF came from, or why there is none */
   char hammer_mass_source[AF_SOURCE_TEXT_MAX];
   char hammer_tip_source[AF_SOURCE_TEXT_MAX];
-  af_lane_config lane; /* everything outside ROS (src/core/lane_config.h) */
+  af_lane_config lane; /* everything outside ROS (src/core/lane/lane_config.h) */
   /* Every row as loaded (the URDF's hammer too): the base of a reconfigure. */
   af_settings settings;
   /* --- audio input (~audio_input, src/node/audio_in.h) --- */

@@ -56,7 +56,7 @@ struct af_station {
   const af_node_config *cfg;
   af_ros_pub *band_pub, *advice_pub, *reliability_pub, *markers_pub;
   af_ros_diag *diag;
-  af_lane_io *measured;  /* the lane (src/core/lane.h) and its strike outputs */
+  af_lane_io *measured;  /* the lane (src/core/lane/lane.h) and its strike outputs */
   af_evaluate *evaluate; /* the ~evaluate service */
   /* dynamic_reconfigure of the criteria, thresholds and grades */
   af_live_settings *live;

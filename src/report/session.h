@@ -3,7 +3,7 @@
  *
  * Reads /NS/force, /NS/audio (acoustic_firmness/SignalChunk) and /NS/apple
  * (acoustic_firmness/AppleEstimate) in bag-time order through the shim's
- * reader (af_bag.h, no ROS master), and drives one af_lane (src/core/lane.h)
+ * reader (af_bag.h, no ROS master), and drives one af_lane (src/core/lane/lane.h)
  * exactly as the node does under `rosbag play --clock`: every message at the
  * lane clock of its bag time (what /clock says when it is published), force
  * and audio chunks converted field by field, each apple's strike direction

@@ -20,7 +20,7 @@ extern "C" {
 #define AF_TEXT_MAX 256
 #define AF_UNIT_MAX 16
 #define AF_SOURCE_MAX 16
-#define AF_GRADE_NAME_TEXT 32 /* = AF_GRADE_NAME_MAX of src/core/grade.h */
+#define AF_GRADE_NAME_TEXT 32 /* = AF_GRADE_NAME_MAX of src/core/lane/grade.h */
 
 typedef struct {
   uint32_t sec;
@@ -124,7 +124,7 @@ typedef struct {
   bool audio_clipped;    /* the microphone saturated in the strike's audio window */
   double audio_lag_s, audio_lag_applied_s; /* the sound's onset minus the contact start; the
                                               window's shift [s] */
-  /* The firmness grade (src/core/grade.h). */
+  /* The firmness grade (src/core/lane/grade.h). */
   uint8_t grade_index;            /* class 1..N of grade_classes, softest first; 0 = ungraded */
   char grade[AF_GRADE_NAME_TEXT]; /* the class name, or "ungraded" */
   char grade_reason[AF_TEXT_MAX]; /* why ungraded; "" when graded */

@@ -8,7 +8,7 @@
  * (--config, --cultivar, defaulting to the shipped config/station.yaml and
  * config/jonagold.yaml; --set name=value for any row of the parameter table),
  * gives it one apple (--mass, --R2) stamped at the recording's start, and
- * feeds both recordings to the core lane (src/core/lane.h) in 1024-sample
+ * feeds both recordings to the core lane (src/core/lane/lane.h) in 1024-sample
  * chunks in time order, as the node receives SignalChunks. Prints one JSON
  * object: the strikes, each the lane's whole result written by the core
  * serializer (serialize.h: the StrikeReport's names, stamp_ns from the

@@ -1,5 +1,5 @@
 /* recording.h — a recording on disk, read whole: a RIFF/WAVE file (its
- * rate, format and channels from its header, src/core/wav.h) or raw
+ * rate, format and channels from its header, src/core/io/wav.h) or raw
  * little-endian float32 samples, as a DAQ or `sox -t f32` writes them (one
  * channel, the rate given by a flag). Read with a stated maximum size, so
  * that a wrong file cannot make a tool allocate what the machine cannot

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CLI tests of WAV input to `firmness_model analyze` (src/core/wav.c through
+# CLI tests of WAV input to `firmness_model analyze` (src/core/io/wav.c through
 # src/tools/recording.c): the real impact-hammer capture 5 of test/data
 # (25.6 kHz float32) written as WAV by Debian's python3 (the wave module for
 # integer PCM; IEEE float and WAVE_FORMAT_EXTENSIBLE headers packed by hand

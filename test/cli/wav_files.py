@@ -1,5 +1,5 @@
 """WAV files for the tests, written with Debian's python3 alone, independently
-of the package's reader (src/core/wav.c): integer PCM through the standard
+of the package's reader (src/core/io/wav.c): integer PCM through the standard
 library's `wave` module; IEEE float and WAVE_FORMAT_EXTENSIBLE, which `wave`
 does not write, with a header packed here field by field after Microsoft's
 RIFF/WAVE layout. Signals are lists of floats; integer PCM stores

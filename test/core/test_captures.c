@@ -7,7 +7,7 @@
  *    are (no padding): one strike each, the peak against the largest sample
  *    minus the capture's median, the contact time against the pulse's width
  *    at 2 % of its peak, both computed here independently.
- *  - Synthetic captures from a synthesizer written here (not src/core/synth.c
+ *  - Synthetic captures from a synthesizer written here (not src/core/model/synth.c
  *    nor the impact model): a sin^p pulse (p = 1.5 Hertz-like, p = 1
  *    half-sine) of known start, width and peak, seeded Gaussian noise at a
  *    stated SNR = 20 log10(peak / noise RMS), a small offset and drift; the

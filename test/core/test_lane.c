@@ -1,4 +1,4 @@
-/* test_lane.c — the lane (src/core/lane.h) without ROS: the apple a strike is
+/* test_lane.c — the lane (src/core/lane/lane.h) without ROS: the apple a strike is
  * judged with (the bounded wait for its own estimate, the match by the
  * conveyor's transit with apples in flight, a camera stamping late, a late
  * or implausible estimate said), why a strike goes without audio, the full queue, and

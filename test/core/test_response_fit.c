@@ -1,7 +1,7 @@
 /* test_response_fit.c — the response's nonlinear fits: named statuses, the
  * iteration caps, the fit counts, and the readings they give on signals
  * synthesised here (damped cosines summed in this file, noise from af_test.h;
- * not src/core/synth.c):
+ * not src/core/model/synth.c):
  *  - the status names and the counts' NULL handling and reset;
  *  - hostile windows (white noise, a steady tone, a square wave, impulses,
  *    the Nyquist alternation, huge and tiny amplitudes): the peak list ends

@@ -1,5 +1,5 @@
 /* fuzz_response.c — libFuzzer harness: the microphone analysis
- * (src/core/response.h: the 0S2 search) on arbitrary audio: any window
+ * (src/core/measure/response.h: the 0S2 search) on arbitrary audio: any window
  * length up to the configured one (and beyond, refused), any finite samples,
  * any search band (valid or not), with or without a noise reference, at one
  * of three microphone rates. Results must be finite where the status says

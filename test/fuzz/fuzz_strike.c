@@ -1,4 +1,4 @@
-/* fuzz_strike.c — libFuzzer harness: the strike detector (src/core/strike.h)
+/* fuzz_strike.c — libFuzzer harness: the strike detector (src/core/detect/strike.h)
  * fed an arbitrary sequence of chunks (any length up to 4096 samples, any
  * finite values, contiguous or after a gap of any size or a restart), primes
  * and flushes, at one of four DAQ rates. Every event must lie inside what was

@@ -1,4 +1,4 @@
-/* fuzz_wav.c — libFuzzer harness: the WAV reader (src/core/wav.c through
+/* fuzz_wav.c — libFuzzer harness: the WAV reader (src/core/io/wav.c through
  * src/tools/recording.c, as `firmness_model analyze` and capture_to_bag read
  * a recording) on arbitrary file contents. The input's first byte chooses
  * the channel asked for (0..3) and whether a rate flag is given; the rest is

@@ -4,7 +4,7 @@
 The description (acoustic_firmness/cfg/StationConfig, generated at build time
 from the parameter table by src/cfg/reconfigure_cfg.c) is read back and every
 parameter's type, default, minimum, maximum and choices compared with the
-table's row as src/core/settings_table.c writes it (parsed here from the source),
+table's row as src/core/params/settings_table.c writes it (parsed here from the source),
 so the two cannot drift. Then, on the running node: a lobe change reaches the
 next apple's ExcitationBand (equal to firmness_model --lobe 2) and ~evaluate;
 a modulus outside [modulus_min_pa, modulus_max_pa] is refused by the same
@@ -32,7 +32,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 import station_common as sc
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SETTINGS_C = os.path.join(HERE, '..', '..', 'src', 'core', 'settings_table.c')
+SETTINGS_C = os.path.join(HERE, '..', '..', 'src', 'core', 'params', 'settings_table.c')
 
 
 def table():

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""rostest of the stream-absent warning (src/core/absent.h) on /diagnostics.
+"""rostest of the stream-absent warning (src/core/lane/absent.h) on /diagnostics.
 
 firmness_node runs with stream_absent_warn_s = 2 s (stream_absent.test) and,
 at first, nothing publishes its force or audio. Its diagnostic must go WARN

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The modulus factor learned on the line (src/core/factor_learn.h), end to
+# The modulus factor learned on the line (src/core/lane/factor_learn.h), end to
 # end: strike_bag synthesizes the 0S2 of each apple from a TRUE factor F
 # (--modulus-factor, per apple times exp(S g) with --modulus-factor-spread
 # S) by its own RK4 pulse and ringing; firmness_report runs the lane, which

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The hammer health (src/core/hammer_health.h) through firmness_report on
+# The hammer health (src/core/lane/hammer_health.h) through firmness_report on
 # replayed shifts made by strike_bag, whose force comes from its own RK4
 # (af_synth_pulse_rk4), not from the fit nor the detector; the expected
 # figures come from strike_bag's truth CSV (each strike's contact velocity)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # doc/parameters.md holds, between its "generated" markers, exactly what
-# af_settings_doc prints from the one parameter table (src/core/settings.c),
+# af_settings_doc prints from the one parameter table (src/core/params/settings.c),
 # as scripts/docs.sh writes it (run here on a copy of the page):
 # every parameter's kind, default, range, unit and help, so that the docs
 # cannot drift from the table. Also checks the table side: every row of
@@ -9,7 +9,7 @@
 # the table (every default, range, unit and help), so that a number typed in
 # a YAML file fails here. And doc/report.md's table of a strike's fields
 # ("The strike fields") is exactly what firmness_report --fields prints from
-# the serializer's table (src/core/serialize.c), so that the documented
+# the serializer's table (src/core/io/serialize.c), so that the documented
 # names, units and message fields cannot drift. Fix a failure with
 # `bash scripts/docs.sh`. Registered in ctest as scripts_doc_parameters.
 set -euo pipefail

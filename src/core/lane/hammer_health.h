@@ -41,13 +41,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "settings.h" /* AF_SETTINGS_HEALTH_WINDOW_MAX */
 #include "status.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define AF_HAMMER_HEALTH_WINDOW_MAX 1000 /* strikes: the upper end of hammer_health_window */
+#define AF_HAMMER_HEALTH_WINDOW_MAX                                                                \
+  AF_SETTINGS_HEALTH_WINDOW_MAX /* strikes: the upper end of hammer_health_window */
 #define AF_HAMMER_HEALTH_TEXT_MAX 512
 
 typedef struct {

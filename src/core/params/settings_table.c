@@ -7,8 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hammer_health.h" /* AF_HAMMER_HEALTH_WINDOW_MAX */
-#include "lane_config.h"   /* AF_LANE_NAME_MAX */
 #include "settings_private.h"
 
 /* ---- the table ------------------------------------------------------------ */
@@ -46,7 +44,7 @@
  * real rig and fruit (a value outside is a typo); af_model_params_check
  * applies the same rows to the model's fields. */
 const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
-    [AF_SETTING_HAMMER_LINK] = STRING("hammer_link", "hammer", AF_LANE_NAME_MAX - 1, S,
+    [AF_SETTING_HAMMER_LINK] = STRING("hammer_link", "hammer", AF_SETTINGS_NAME_MAX - 1, S,
                                       "URDF link of the hammer head (mass, tip geometry; its "
                                       "parent joint's axis = strike direction)"),
     [AF_SETTING_URDF_FILE] = STRING("urdf_file", "\"\"", AF_SETTINGS_TEXT_MAX - 1, S,
@@ -264,13 +262,14 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
             "tap-only: the least noise floor, RMS in audio_unit (2e-5 Pa: 0 dB SPL, below any "
             "microphone's self-noise); exact zeros between sounds (a noise gate, padding) "
             "would make it 0. An integer WAV's step raises it"),
-    [AF_SETTING_HAMMER_HEALTH_WINDOW] = WHOLE(
-        "hammer_health_window", "20", "[2, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
-        "hammer health: the statistics and checks are taken over this many latest "
-        "measured strikes"),
+    [AF_SETTING_HAMMER_HEALTH_WINDOW] =
+        WHOLE("hammer_health_window", "20",
+              "[2, " HEALTH_STR(AF_SETTINGS_HEALTH_WINDOW_MAX) "] strikes", S,
+              "hammer health: the statistics and checks are taken over this many latest "
+              "measured strikes"),
     [AF_SETTING_HAMMER_HEALTH_MIN_STRIKES] =
         WHOLE("hammer_health_min_strikes", "10",
-              "[1, " HEALTH_STR(AF_HAMMER_HEALTH_WINDOW_MAX) "] strikes", S,
+              "[1, " HEALTH_STR(AF_SETTINGS_HEALTH_WINDOW_MAX) "] strikes", S,
               "hammer health: no check before this many strikes (clean ones for the velocity), "
               "at most hammer_health_window; the first ones also set the baseline reference"),
     [AF_SETTING_HAMMER_HEALTH_VELOCITY_BAND] =
@@ -300,7 +299,7 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         NUM("modulus_factor_learn_min_change", "0.01", "[0, 0.5]", S,
             "relative change of the learned factor from the applied one before it is applied "
             "(hysteresis)"),
-    [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_LANE_NAME_MAX - 1, C,
+    [AF_SETTING_CULTIVAR] = STRING("cultivar", "Jonagold", AF_SETTINGS_NAME_MAX - 1, C,
                                    "cultivar name, for the diagnostics"),
     [AF_SETTING_MODULUS_NOMINAL_PA] = NUM("modulus_nominal_pa", "8.0e+6", "[1e5, 1e9] Pa", C,
                                           "E2 of the prediction, within [modulus_min_pa, "

@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define AF_LANE_NAME_MAX 64 /* cultivar name, with its NUL */
+#define AF_LANE_NAME_MAX AF_SETTINGS_NAME_MAX /* cultivar name, with its NUL */
 #define AF_LANE_UNIT_MAX 16 /* a stream unit, with its NUL (= SignalChunk.unit's cap) */
 
 /* One sampled input stream (force or audio). */

@@ -42,6 +42,10 @@
 
 #include "status.h"
 
+/* Sizes the table's rows state and the modules holding their values use. */
+#define AF_SETTINGS_NAME_MAX 64 /* a name row's text (cultivar, hammer_link), with its NUL */
+#define AF_SETTINGS_HEALTH_WINDOW_MAX 1000 /* strikes: the upper end of hammer_health_window */
+
 #ifdef __cplusplus
 extern "C" {
 #endif

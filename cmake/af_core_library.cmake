@@ -1,0 +1,18 @@
+# af_core_library(NAME SOURCES file.c... [LINKS target...]): one layer of the
+# core (src/core/<layer>/), a static library whose public headers are its own
+# folder's. LINKS names the layers right below it: their folders reach this
+# one through them, and nothing above does, so a header of a higher layer
+# included here does not compile (doc/layout.md, "the layers").
+function(af_core_library name)
+  cmake_parse_arguments(A "" "" "SOURCES;LINKS" ${ARGN})
+  add_library(${name} STATIC ${A_SOURCES})
+  target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+  # af_defaults.h, generated from the table (CMakeLists.txt): for the core's
+  # own sources.
+  #catkin_lint: ignore_once missing_directory (made at build time)
+  target_include_directories(${name} PRIVATE ${AF_DEFAULTS_DIR})
+  target_compile_options(${name} PRIVATE ${AF_WARNINGS} -pedantic)
+  target_link_libraries(${name} PUBLIC ${A_LINKS})
+  add_dependencies(${name} af_defaults)
+  set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()
