@@ -5,7 +5,7 @@
 # at real time through station.launch and prints
 #  - the node's CPU per second of streamed input: utime + stime from
 #    /proc/<pid>/stat over the replay, divided by the bag's duration
-#    (issue 17's targets: 1 % of one core at 2 strikes/s, 3 % at 10), and
+#    (the targets: 1 % of one core at 2 strikes/s, 3 % at 10), and
 #    its idle CPU before the replay;
 #  - the latency per strike from the last sample it needs (the audio chunk
 #    completing its window [start + delay, start + delay + window]) to its
@@ -92,7 +92,7 @@ from acoustic_firmness.msg import SignalChunk, StrikeReport
 from diagnostic_msgs.msg import DiagnosticArray
 
 bag, seconds, n_strikes, strike_rate = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-cpu_target = {'2': 1.0, '10': 3.0}[strike_rate]   # issue 17's targets [% of one core]
+cpu_target = {'2': 1.0, '10': 3.0}[strike_rate]   # the targets [% of one core]
 node = '/lane1/firmness_node'
 rospy.init_node('bench_node', disable_signals=True)
 lock = threading.Lock()

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Signals for af_bench_response made here, not by the package (issue 17:
+"""Signals for af_bench_response made here, not by the package:
 accuracy before and after), and the scoring of its readings.
 
   bench_response.py make DIR [--seed S] [--count N]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Load test of the station node (issue 11; not part of the default tests:
+# Load test of the station node (not part of the default tests:
 # the ctest test scripts_load runs it in a short mode). Makes a strike bag
 # (strike_bag, 1000 strikes by default: 501 s of recorded time) and replays
 # it through a fresh node at each rate (rosbag play --clock -r RATE on

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak test of the station node (issue 11; not part of the default tests:
+# Soak test of the station node (not part of the default tests:
 # the ctest test scripts_load runs scripts/load.sh in a short mode, the same
 # code). Replays HOURS of recorded time (one strike every 0.5 s: 7200 strikes
 # an hour, a 1.4 GB bag) through one node at RATE and prints the figures of

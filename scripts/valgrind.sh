@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# valgrind memcheck (issue 11; not part of the default tests: the ctest test
+# valgrind memcheck (not part of the default tests: the ctest test
 # scripts_valgrind runs it with --short) on the default build:
 #   1. firmness_model --json (one strike, the R2_min search included);
 #   2. firmness_model analyze on the real impact-hammer capture

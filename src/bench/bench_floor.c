@@ -1,6 +1,6 @@
 /* bench_floor.c — the floor under the node's CPU figure: a node that takes
  * the station's inputs as firmness_node does and does nothing with them
- * (issue 17's node targets, scripts/bench_node.sh --floor).
+ * (the node targets, scripts/bench_node.sh --floor).
  *
  *   af_bench_floor [ROS remappings, e.g. __ns:=lane1 __name:=bench_floor]
  *

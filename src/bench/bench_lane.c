@@ -1,4 +1,4 @@
-/* bench_lane.c — what making a lane costs, stage by stage (issue 17: a lane
+/* bench_lane.c — what making a lane costs, stage by stage (a lane
  * made in under 1 ms after the first one in a process).
  *
  *   af_bench_lane [--runs N]

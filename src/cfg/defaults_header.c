@@ -1,6 +1,6 @@
 /* defaults_header — writes af_defaults.h, the parameter table's numeric
  * defaults as C macros, so that the core's *_default() functions take their
- * numbers from the one table instead of typing them again (issue 16). Run at
+ * numbers from the one table instead of typing them again. Run at
  * build time (CMakeLists.txt) before af_core is compiled; built from
  * src/core/params/settings_table.c alone.
  *

@@ -55,7 +55,7 @@
  * the fit of E2 on it is wrong, its 0S2 is the apple's: a strike that must
  * not feed the learned modulus factor).
  *
- * --tap-only: a microphone-only rig (issue 19): no /NS/force topic at all;
+ * --tap-only: a microphone-only rig: no /NS/force topic at all;
  * the audio and the apples as above (the node and firmness_report then run
  * with tap_only true).
  *

@@ -41,7 +41,7 @@ struct af_audio_in {
 };
 
 /* Bytes of the largest usable message: a chunk of more frames than the
- * audio ring holds can never be used (issue 18). Before a usable audio_info
+ * audio ring holds can never be used. Before a usable audio_info
  * (chunks dropped anyway), one channel of the widest PCM sample. */
 #define AF_AUDIO_IN_WIDEST_SAMPLE_BYTES 8
 static size_t cap_bytes(const af_audio_in *a)

@@ -15,7 +15,7 @@
 
 /* Outgoing messages a slow subscriber may leave queued: a node catching up
  * on a backlog publishes a burst of reports, and roscpp drops what exceeds
- * the queue without a word (issue 11: 5 StrikeReports lost at 80x with 10). */
+ * the queue without a word (5 StrikeReports lost at 80x with 10). */
 #define AF_OUTPUT_QUEUE 1000
 #define AF_LABELS 16 /* label places remembered, as the lane's apple history */
 

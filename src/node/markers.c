@@ -52,7 +52,7 @@ static void quat_z_to(const double u[3], double q[4])
 
 static void apple(const af_markers_scene *s, af_marker *m)
 {
-  /* A direction whatever its finite length (issue 18): scaled by its largest
+  /* A direction whatever its finite length: scaled by its largest
    * component first, so that 1e200 or 1e-170 neither overflows nor vanishes. */
   const double *v = s->stem_axis;
   double big = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));

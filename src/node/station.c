@@ -38,7 +38,7 @@
 #define AF_CHUNK_QUEUE 1000
 /* Outgoing messages a slow subscriber may leave queued: a node catching up
  * on a backlog publishes a burst of reports, and roscpp drops what exceeds
- * the queue without a word (issue 11: 5 StrikeReports lost at 80x with 10). */
+ * the queue without a word (5 StrikeReports lost at 80x with 10). */
 #define AF_OUTPUT_QUEUE 1000
 /* The smallest cap on roscpp's message buffers (af_wire_guard.h) [bytes]:
  * every message of the node's topics but the chunks (apple estimates, TF,

@@ -1,5 +1,5 @@
 /* af_wire_guard.h — a cap on the node's array allocations, for the one
- * message buffer no hook of ours can see (wire_guard.cpp; issue 18).
+ * message buffer no hook of ours can see (wire_guard.cpp).
  *
  * roscpp's TCPROS subscriber reads a message's 4-byte length and then has
  * Connection::read allocate one buffer of that length (new uint8_t[len], up

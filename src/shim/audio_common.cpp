@@ -118,7 +118,7 @@ void refuse(const audio_sub &s, const topic_tools::ShapeShifter &m, const std::s
 
 // roscpp's helper with the message's size checked against the cap before
 // the ShapeShifter copies it (and on_message copies it again): a message of
-// hundreds of MB is dropped, told, and never held by us (issue 18).
+// hundreds of MB is dropped, told, and never held by us.
 class capped_helper : public ros::SubscriptionCallbackHelperT<const Event &>
 {
 public:

@@ -146,7 +146,7 @@ constexpr std::size_t AF_CHUNK_OVERHEAD_BYTES = 8192;
 // it checks the bytes (wire.hpp): the message's own bytes are checked first,
 // and its size against the cap before they are copied (a chunk longer than
 // the ring can never be used; copying and deserializing it took three times
-// its size, issue 18).
+// its size).
 void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
 {
   const std::size_t size = mi.size();

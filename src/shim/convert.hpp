@@ -37,7 +37,7 @@ namespace af_shim
 
 // Copies src into dst, cut at N - 1 bytes; dst is always NUL-terminated. A
 // NUL byte inside src would end the C string in silence (a unit "N\0x" read
-// as "N", issue 18): it is copied as '?', so that the field shows it and
+// as "N"): it is copied as '?', so that the field shows it and
 // matches no accepted value.
 template <std::size_t N> void copy_string(const std::string &src, char (&dst)[N])
 {

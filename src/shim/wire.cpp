@@ -120,7 +120,7 @@ uint32_t le32(const unsigned char *p)
 // the walk visits a record's header, then the next record a little further
 // on, so most reads are a copy from the window. (With stdio, every fseek
 // dropped its buffer and cost an lseek and a read: 7 % of firmness_report's
-// CPU on a 2000-strike bag, issue 17.)
+// CPU on a 2000-strike bag.)
 class bag_bytes
 {
 public:

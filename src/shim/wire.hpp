@@ -6,7 +6,7 @@
 // 10^9 float32 samples make it allocate and zero 4 GB. Strings are checked
 // before they are built. So the only field of our inputs that can do this is
 // SignalChunk.data; its layout is walked here, every length checked against
-// the bytes that remain. Found by test/fuzz/fuzz_msgs.cpp (issue 11).
+// the bytes that remain. Found by test/fuzz/fuzz_msgs.cpp.
 #ifndef AF_SHIM_WIRE_HPP
 #define AF_SHIM_WIRE_HPP
 
@@ -23,7 +23,7 @@ namespace af_shim
 bool signal_chunk_plausible(const uint8_t *p, std::size_t n);
 
 // What the n serialized bytes at p are as a SignalChunk, walked strictly
-// (issue 18): every field there (else cut, an empty message included), no
+//: every field there (else cut, an empty message included), no
 // length prefix past the end (else claims_too_much), data at most
 // max_samples float32 (0: no cap; else oversized). *samples: data's stated
 // length (0 when not reached); *why: one line naming the lengths.
@@ -50,7 +50,7 @@ chunk_wire signal_chunk_check(const uint8_t *p, std::size_t n, std::size_t max_s
 // which `rosbag reindex` may recover, as opposed to no bag at all.
 constexpr std::size_t AF_BAG_HEADER_MAX = std::size_t(1) << 20; // 1 MiB
 // rosbag holds a whole chunk in memory while its messages are read: 128 MiB
-// keeps a tool within its 256 MiB peak RSS (issue 18). rosbag's chunks are
+// keeps a tool within its 256 MiB peak RSS. rosbag's chunks are
 // 768 KiB unless one message is longer; a chunk longer than a ring is
 // refused message by message (af_bag_reader_limit).
 constexpr std::size_t AF_BAG_CHUNK_MAX = std::size_t(1) << 27; // 128 MiB

@@ -30,7 +30,7 @@ expect_usage() {
 
 # expect_bounded code pattern args...: firmness_model args exits with code
 # (2 bad input, 1 an exhausted budget or a model failure) within a second,
-# with exactly one line on stderr naming pattern (issue 11: never a hang,
+# with exactly one line on stderr naming pattern (never a hang,
 # never a wall of text).
 expect_bounded() {
   local code=$1 pattern=$2

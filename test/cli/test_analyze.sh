@@ -106,7 +106,7 @@ json_check "len(d) == 3 and all(abs(r['resonance_hz'] - t['f0']) < 0.005 * t['f0
 # the force alone (audio of nothing): measured, unreliable, resonance null, reason "no audio"
 json_check "len(d) == 3 and all(r['resonance_hz'] is None and r['reliable'] is False and r['reason'] == 'no audio' and r['flags'] == ['no_audio'] for r in d)" \
   --force "$tmp/force.f32" --audio "$tmp/empty.f32" "${base[@]}"
-# no force: nothing to analyze, bad input (issue 11: it exited 0 saying nothing)
+# no force: nothing to analyze, bad input (it exited 0 saying nothing)
 expect_usage "--force $tmp/empty.f32 is empty" analyze --force "$tmp/empty.f32" --audio "$tmp/audio.f32" "${base[@]}"
 # model flags land: the paper profile reads lobe 2 at power-half, which never holds the 0S2
 # (reported as excites_mode, not a reason: the heard 0S2 is the evidence)
@@ -147,7 +147,7 @@ expect_analyze_usage "$tmp/missing.yaml" "${F[@]}" "${A[@]}" "${base[@]}" --conf
 printf 'lobe: 9\n' >"$tmp/bad.yaml"
 expect_analyze_usage "$tmp/bad.yaml:1: " "${F[@]}" "${A[@]}" "${base[@]}" --cultivar "$tmp/bad.yaml"
 expect_analyze_usage "strike_radius" "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --mass 0.175 --R2 0.9
-# Issue 11: extreme but well-formed input, each exit 2 with one line naming
+# Extreme but well-formed input, each exit 2 with one line naming
 # the flag, within a second; no allocation sized from it beforehand.
 expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+20 is outside the accepted range \[1000, 1e6\] Hz" \
   analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 1e20 --mass 0.175 --R2 0.04

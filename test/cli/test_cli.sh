@@ -54,7 +54,7 @@ expect_usage "--steps" sweep --param E2 --from 2e6 --to 12e6 --steps 0
 expect_usage "--param" sweep --param colour --from 1 --to 2 --steps 2
 expect_usage "--E2" sweep --param E2 --from -1 --to 12e6 --steps 3
 
-# Issue 11: the four commands that hung, and extremes of every flag: exit 2
+# The four commands that once hung, and extremes of every flag: exit 2
 # with one line naming the flag within a second (the table's physical
 # ranges), or exit 1 with one line naming the exhausted budget.
 expect_bounded 2 "--E2 1e-30 is outside the accepted range \[1e5, 1e9\] Pa" --E2 1e-30 --json

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CLI tests of `firmness_model analyze --tap-only` (issue 19: a microphone-only
+# CLI tests of `firmness_model analyze --tap-only` (a microphone-only
 # rig): taps made by test/cli/tap_synth.py (Python's standard library, its own
 # mode set with a LOUDER 0S3, noise at 30 dB SNR, 5 ms pre-trigger), as 16-bit
 # WAV and as raw float32; every tap found, its 0S2 within 0.5 % and its

@@ -145,7 +145,7 @@ static void test_geometry(void)
   AF_CHECK_STATUS(af_advice_geometry_eval(&in, &g), AF_EINVAL);
 }
 
-/* A stem axis is a direction whatever its finite length (issue 18, finding
+/* A stem axis is a direction whatever its finite length (finding
  * 8): (1e200, 0, -1e200) and (1e-170, 0, -1e-170), whose squares overflow or
  * underflow, give what (1, 0, -1) gives: 45 degrees, and the closed-form
  * spheroid radius there, R = a^2 c / (a^2 cos^2 + c^2 sin^2). */

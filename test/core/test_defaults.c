@@ -1,5 +1,5 @@
 /* test_defaults.c — the generated C defaults (af_defaults.h) and the
- * measurement's analysis rows (issue 16):
+ * measurement's analysis rows:
  *  - every AF_DEFAULT_<ROW> macro equals strtod of its row's default text,
  *    is named after its row, and is there for every number and whole row
  *    (counted from the table); whole rows give integer constants, number

@@ -440,10 +440,10 @@ static void test_failures(af_impact *w)
   AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, force_n, deformation_m, 10, &r), AF_ESIZE);
   AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, 0, &r), AF_ESIZE);
   /* A weight far above the impact force: the hammer sinks and stays, the
-   * contact never ends; the step budget stops it and says so (issue 11). */
+   * contact never ends; the step budget stops it and says so. */
   p.gravity_m_s2 = 1e6;
   AF_CHECK_STATUS(af_impact_execute(w, &p, dt_s, NULL, NULL, SIZE_MAX, &r), AF_EBUDGET_ODE_STEPS);
-  /* The hanging inputs of issue 11 (outside the table's physical ranges,
+  /* The inputs that once hung the solver (outside the table's physical ranges,
    * which the model checks; the impact alone still stops): a modulus of
    * 1e-30 Pa, a radius of 1e-300 m or the smallest normal double, a contact
    * velocity of 1 nm/s. Each within the budget, in milliseconds. */

@@ -202,7 +202,7 @@ static void test_close_modes(void)
  * the ringing with it, which the transform lacks as steady tones at 0, 50,
  * 100 and 150 Hz. A mode taken off the list without that share left those
  * tones' skirts behind as false maxima at the band's lower edge, each tried
- * with a one-pole fit, three two-pole starts and a refinement (issue 17: 87 %
+ * with a one-pole fit, three two-pole starts and a refinement (87 %
  * of the line-rate bag's two-pole fits, none kept). With the share taken
  * off too, each window needs the mode's own fit alone: one fit per window,
  * a maximum the noise makes adding one now and then (at most 10 % more). */

@@ -218,7 +218,7 @@ static void test_table(void)
            af_setting_range_contains(&r, 10.0));
   AF_CHECK(af_setting_range_of(AF_SETTING_STREAM_STALE_AFTER_S, &r) == AF_OK && r.lo_open &&
            r.lo == 0.0 && !r.hi_open && r.hi == 3600.0);
-  /* Every number row is physical: bounded on both sides (issue 11). */
+  /* Every number row is physical: bounded on both sides. */
   for (int k = 0; k < AF_SETTING_COUNT; k++)
     if (af_setting_range_of((af_setting_id)k, &r) == AF_OK)
       AF_CHECK(isfinite(r.lo) && isfinite(r.hi));
@@ -645,7 +645,7 @@ static af_status load_bytes(af_settings *s, const char *bytes, size_t n, char *e
 }
 #define LOAD_BYTES(s, lit, err, path) load_bytes(s, lit, sizeof lit - 1, err, path)
 
-/* The reader works on bytes (issue 18): a NUL anywhere, a lone CR, a line
+/* The reader works on bytes: a NUL anywhere, a lone CR, a line
  * over 1023 bytes, a file that is not regular or is over 1 MiB are refused
  * with file:line:column; CR LF and a UTF-8 BOM at the start are accepted. */
 static void test_yaml_bytes(void)

@@ -69,7 +69,7 @@ static void test_gaps_and_restarts(void)
   AF_CHECK(af_stream_push(&s, &c, 9, &w) == AF_CHUNK_OK && w.restarted && w.gap_samples == 0);
   AF_CHECK(s.restarts == 1 && s.gaps == 2 && s.lost_samples == 100 && s.anchor_count == 1);
   AF_CHECK(strcmp(s.last_problem, "force: stream restarted at sample 449 (went backwards)") == 0);
-  /* The same chunk again, at its own stamp (issue 18: a bag with every
+  /* The same chunk again, at its own stamp (a bag with every
    * chunk twice): a duplicate, ignored, not a restart; one value changed,
    * or another stamp: a restart. */
   c = chunk(449, 10, 0);
@@ -123,7 +123,7 @@ static void test_refused(void)
   AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_BAD_UNIT);
   /* Refused chunks: counted by kind, nothing else changes. */
   AF_CHECK(s.bad_rate == 3 && s.bad_unit == 3 && s.chunks == 1 && s.anchor_count == 1);
-  /* Non-finite samples (issue 18): the chunk is kept, the samples refused
+  /* Non-finite samples: the chunk is kept, the samples refused
    * as counted spans (42; 98..99) and held as NaN; the rest as sent. */
   c.unit = "V"; /* the second accepted unit */
   samples[42] = NAN;
@@ -294,7 +294,7 @@ static void test_stale(void)
   af_stream_destroy(&s);
 }
 
-/* A chunk whose head repeats the ring's last samples (issue 18: a partial
+/* A chunk whose head repeats the ring's last samples (a partial
  * overlap was a restart): the new tail kept, the head counted as duplicate
  * samples. Stamps by hand: sample k at 1000 ns + k / 50 kHz = 1000 + 20000 k
  * ns. The ring's contents are checked against x[k] = k + 0.25. */

@@ -86,7 +86,7 @@ def yaml_seeds():
     for name in ('station.yaml', 'jonagold.yaml'):
         with open(os.path.join(ROOT, 'config', name), 'rb') as f:
             put('yaml', name.split('.')[0], f.read())
-    # The byte-level edge cases of the reader (issue 18), accepted and refused:
+    # The byte-level edge cases of the reader, accepted and refused:
     # each starts from the shipped cultivar so that fuzzing mutates around a
     # file that otherwise reads.
     with open(os.path.join(ROOT, 'config', 'jonagold.yaml'), 'rb') as f:

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The node's peak RSS around very long SignalChunks (issue 18: "the node
+"""The node's peak RSS around very long SignalChunks ("the node
 stays within 256 MiB whatever message arrives"), and its stream after them.
 
   big_message.py [SAMPLES [REPEAT]]     (default 100000000 samples: 400 MB; 2)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A copy of a bag whose file-header record holds one field more (issue 17:
+"""A copy of a bag whose file-header record holds one field more:
 the bag reader reuses rosbag::Bag objects; a bag naming an encryptor must be
 refused as before, and must not leave that encryptor to the next bag):
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A bag whose force chunks overlap (issue 18): from a good bag (strike_bag),
+"""A bag whose force chunks overlap: from a good bag (strike_bag),
 every force SignalChunk that follows the previous one without a gap is
 written with the previous chunk's last OVERLAP samples in front of its own
 (first_sample and stamp moved back by as many samples), through the rosbag

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The node and messages too long to read (issue 18, finding 3; af_wire_guard.h):
+# The node and messages too long to read (finding 3; af_wire_guard.h):
 # two force SignalChunks of 10^8 samples (400 MB each) are dropped unread,
 # counted in /diagnostics, the node's VmHWM stays within 256 MiB, and good
 # chunks flow again after each (big_message.py checks all of it; its own

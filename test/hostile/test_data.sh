@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hostile data (issue 18, findings 2, 3, 7, 9): non-finite samples, recordings
+# Hostile data (findings 2, 3, 7, 9): non-finite samples, recordings
 # and chunks beyond every ring, bags with duplicated chunks, two estimates at
 # one stamp, another message type on the force topic, an index overflow, an
 # empty chunk. Inputs are made here: the real capture test/data/hammer_capture_4

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 18, findings 1, 4, 5, 6 and the CLI part of 9: the flat-YAML reader
+# Hostile files: the flat-YAML reader
 # on bytes (NUL, CR, CR LF, a BOM, long lines, duplicate keys, a device, a
 # FIFO, a directory, a file over the cap), `sweep` checking every point before
 # any row, `design`'s flags and its failed cells, analyze's audio-rate limits

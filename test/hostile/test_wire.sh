@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Hostile bags for the wire and the bag reader (issue 18's open items, issue
-# 17's bag reader): force chunks that overlap (the head repeats what was sent:
+# Hostile bags for the wire and the bag reader (the bag reader's open
+# items): force chunks that overlap (the head repeats what was sent:
 # kept as a tail, not a restart; the head altered: a restart), bags whose
 # header names an encryptor (refused as before, and the next bag in the same
 # process read as sent: the reader reuses rosbag::Bag objects), and several

@@ -46,7 +46,7 @@ def firmness_model(**flags):
 
 def firmness_model_fast(**flags):
     """The strike of firmness_model(**flags) on the fast path (fastpath.h), as
-    the node predicts it (issue 17): `firmness_model sweep` over the one value
+    the node predicts it: `firmness_model sweep` over the one value
     of R2, its CSV row with firmness_model's JSON keys (no R2_min: None)."""
     exe = roslib.packages.find_node(PKG, 'firmness_model')
     if not exe:

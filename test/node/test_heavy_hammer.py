@@ -32,7 +32,7 @@ class HeavyHammerTest(unittest.TestCase):
         got = self.station.wait(('excitation_band', 'reliability'), 1)
         self.assertIn('excitation_band', got)
         band = got['excitation_band'][0]
-        # The node predicts on the fast path (issue 17): the CLI's fast path.
+        # The node predicts on the fast path: the CLI's fast path.
         heavy = sc.firmness_model_fast(**sc.model_flags(mass, r2, {'mass_kg': 0.020, 'tip_radius_m': 0.0}))
         light = sc.firmness_model(**sc.model_flags(mass, r2, {'mass_kg': 0.010, 'tip_radius_m': 0.0}))
         for field, key in (('contact_time', 'contact_time_s'), ('peak_force', 'peak_force_n'),

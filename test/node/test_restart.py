@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""rostest of a restart (issue 11): a 24-strike bag (strike_bag, one strike
+"""rostest of a restart: a 24-strike bag (strike_bag, one strike
 every 0.5 s, each apple's estimate 0.2 s before its strike) replayed at real
 time on simulated time; after the 8th StrikeReport the node is killed
 (SIGKILL, as a crash) and roslaunch respawns it (station.launch: respawn,

@@ -67,7 +67,7 @@ class StartupTest(unittest.TestCase):
 
     def test_bad_value(self):
         self.refused('strike_velocity_m_s', '-1', '[0.05, 10] m/s', changes={'strike_velocity_m_s': -1.0})
-        # Issue 11: 1 nm/s lay inside the old (0, 10] and blocked the node at
+        # 1 nm/s lay inside the old (0, 10] and blocked the node at
         # 100 % CPU on the first apple; the physical range refuses it at once.
         self.refused('strike_velocity_m_s', '1e-09', '[0.05, 10] m/s',
                      changes={'strike_velocity_m_s': 1.0e-9})

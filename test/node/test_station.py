@@ -84,7 +84,7 @@ class StationTest(unittest.TestCase):
         _, out = self.ask(mass=mass, strike_radius=r2)
         band, advice, rel = out['excitation_band'], out['strike_advice'], out['reliability']
         flags = sc.model_flags(mass, r2, self.rig.hammer())
-        # The node predicts on the fast path (issue 17): equal to the CLI's
+        # The node predicts on the fast path: equal to the CLI's
         # fast path, and to its ODE path within the fast path's documented
         # accuracy (fastpath.h, 0.1 %).
         ref = sc.firmness_model_fast(**flags)
@@ -231,7 +231,7 @@ class StationTest(unittest.TestCase):
         force.publish(chunk(150, rate, 'N', [1.0] * 100))    # 50 lost
         force.publish(chunk(250, rate / 2, 'N', [1.0] * 10))  # wrong rate
         force.publish(chunk(250, rate, 'V', [1.0] * 10))      # wrong unit
-        # Issue 18: non-finite samples are refused as a counted span, the
+        # Non-finite samples are refused as a counted span, the
         # chunk kept (3 chunks); an index overflow is its own reason.
         force.publish(chunk(250, rate, 'N', [1.0] * 3 + [float('nan')] * 5 + [float('inf')] * 2))
         force.publish(chunk(2 ** 64 - 5, rate, 'N', [1.0] * 10))  # first_sample + n overflows

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""rostest of tap-only mode (issue 19): a 30-strike bag of `strike_bag
+"""rostest of tap-only mode: a 30-strike bag of `strike_bag
 --tap-only` (audio and AppleEstimates, no force topic; its truth CSV beside
 it) replayed on simulated time through firmness_node with tap_only true.
 The node subscribes to no force topic; exactly one StrikeReport per strike,

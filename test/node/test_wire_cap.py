@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""rostest of the wire's cap on SignalChunks (issue 18, findings 3 and 9).
+"""rostest of the wire's cap on SignalChunks (findings 3 and 9).
 
 A firmness_node is started in a namespace of its own (the shipped YAML
 defaults, the rig URDF). Sent to it, as bytes built here (struct, never the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# firmness_report on a microphone-only rig's bag (issue 19, tap-only): strike_bag
+# firmness_report on a microphone-only rig's bag (tap-only): strike_bag
 # --tap-only writes no force topic; the report, with tap_only true, finds every
 # strike in the audio (its stamp within 1 ms of the truth's contact start), its
 # 0S2 within 0.5 % and its stiffness factor f^2 m^(2/3) within 1 % of the truth

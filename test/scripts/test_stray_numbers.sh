@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The parameter table (src/core/params/settings_table.c) is the only source of the
-# lane's numbers (issue 16): the shipped defaults below may appear only in
+# lane's numbers: the shipped defaults below may appear only in
 # the table and in what is generated from it (config/station.yaml,
 # config/jonagold.yaml and doc/parameters.md's generated part, which
 # scripts_doc_parameters checks; doc/paper.md, written by `firmness_model

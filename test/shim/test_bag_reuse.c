@@ -1,5 +1,5 @@
 /* test_bag_reuse.c — the bag reader reuses rosbag::Bag objects for the
- * process (bag_pool.hpp, issue 17: a new Bag loads the encryptor plugin).
+ * process (bag_pool.hpp: a new Bag loads the encryptor plugin).
  * A reused Bag must read like a new one:
  * - two bags whose first chunk sits at the same file offset, with other
  *   samples and another length: the second reads its own (rosbag's

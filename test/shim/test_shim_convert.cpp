@@ -149,7 +149,7 @@ TEST(SignalChunk, RosToCBorrowsData)
   EXPECT_EQ(std::string(c.unit), m.unit.substr(0, AF_UNIT_MAX - 1));
 
   // A NUL inside the unit is shown as '?', never an early end: "N\0x" is
-  // not the unit "N" (issue 18).
+  // not the unit "N".
   m.unit = std::string("N\0x", 3);
   af_shim::from_ros(m, c);
   EXPECT_STREQ(c.unit, "N?x");

@@ -2,7 +2,7 @@
  * (settings.h) sets them, for the desk tools (firmness_model and its
  * subcommands, strike_bag): the same figures the node and firmness_report
  * derive through af_lane_config_derive, so that no tool starts from numbers
- * of its own (issue 16). */
+ * of its own. */
 #ifndef AF_MODEL_TABLE_H
 #define AF_MODEL_TABLE_H
 

@@ -1,4 +1,4 @@
-/* onset.h — strikes found in the microphone alone (tap-only mode, issue 19):
+/* onset.h — strikes found in the microphone alone (tap-only mode):
  * a tap is a sudden rise of the audio's energy above the running noise floor.
  *
  *   audio ──> frames of frame_s: mean square e [unit^2]

@@ -24,7 +24,7 @@
  * [s]: one noisy sample under it in the damped tail is not the end. */
 #define AF_STRIKE_QUIET_S 1e-4
 
-#include "af_defaults.h" /* the parameter table's defaults (issue 16) */
+#include "af_defaults.h" /* the parameter table's defaults */
 af_strike_config af_strike_config_default(void)
 {
   return (af_strike_config){.sample_rate_hz = AF_DEFAULT_FORCE_SAMPLE_RATE_HZ,

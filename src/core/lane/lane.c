@@ -16,7 +16,7 @@
 #define AF_LANE_APPLES 16
 /* Force gaps remembered (the time after each): a strike among lost samples
  * leaves its apple without a strike, and the next strike must not take it
- * silently (issue 11: at 80x replay, a dropped chunk's strike). */
+ * silently (at 80x replay, a dropped chunk's strike). */
 #define AF_LANE_GAPS 16
 /* Strikes over which the observed transit (strike minus estimate stamp) is
  * summarised: enough for a stable median, recent enough to follow a camera

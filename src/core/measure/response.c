@@ -34,7 +34,7 @@ af_status af_response_window_parse(const char *name, af_response_window *window)
   return AF_EINVAL;
 }
 
-#include "af_defaults.h" /* the parameter table's defaults (issue 16) */
+#include "af_defaults.h" /* the parameter table's defaults */
 af_response_config af_response_config_default(void)
 {
   af_response_config c;

@@ -96,7 +96,7 @@ typedef struct {
  * lowers it (MINPACK's test on the trust region); 0 stalled:
  * AF_RESPONSE_LM_MAX_REJECT steps raised it. A trial point's normal
  * equations are formed with its cost, in the same pass over the bins: a
- * taken step (the most) then needs no second pass (issue 17: one model
+ * taken step (the most) then needs no second pass (one model
  * evaluation per iteration, not two). */
 AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const normal_eq *at,
                                      normal_eq *next, const double *d2, double *mu, double *nu,

@@ -157,7 +157,7 @@ void af_response_transform(af_response *r, const float *x, size_t n, size_t star
   }
   /* the padding: only what an earlier, longer transform left there (FFTW's
    * out-of-place r2c preserves its input); a whole 16384-point buffer per
-   * call was 1.8 % of firmness_report's instructions (issue 17) */
+   * call was 1.8 % of firmness_report's instructions */
   if (r->in_written > m)
     memset(r->in + m, 0, (r->in_written - m) * sizeof *r->in);
   r->in_written = m;

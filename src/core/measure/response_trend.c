@@ -71,7 +71,7 @@ static void trend_basis(rotor *rot, size_t harmonics, double *phi)
  * row's first 1 + 2 h terms are those trend_basis gives for h harmonics (each
  * harmonic's recurrence is independent of the count), so the table serves
  * every count up to the configured one, bit for bit. Made once at create:
- * the rotor was 4-5 % of firmness_report's CPU (issue 17). */
+ * the rotor was 4-5 % of firmness_report's CPU. */
 void af_response_fill_trend_table(af_response *r)
 {
   size_t terms = 1 + 2 * r->cfg.hum_harmonics;
@@ -238,7 +238,7 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
  * each mode less that share, a steady tone per term, windowed: a false peak
  * at every removed harmonic and skirts that rise towards the list band's
  * lower edge. A mode subtracted without its share leaves them behind as
- * maxima that no decaying pole fits (issue 17: on the line-rate bag they drew
+ * maxima that no decaying pole fits (on the line-rate bag they drew
  * 87 % of the peak list's two-pole attempts, 220 of 221 refused, and its
  * slowest analyses).
  *

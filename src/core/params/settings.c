@@ -256,7 +256,7 @@ static af_status set_default(af_settings *s, af_setting_id id)
 }
 
 /* The table's defaults, parsed once per process and copied by every reset:
- * parsing every row's text took most of a fuzz input's time (issue 17). */
+ * parsing every row's text took most of a fuzz input's time. */
 static af_settings defaults;
 static once_flag defaults_once = ONCE_FLAG_INIT;
 

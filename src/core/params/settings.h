@@ -18,7 +18,7 @@
  *    from that text, so the range shown is the range applied. Every range is
  *    physical, not only mathematical: what a fruit, a hammer or a transducer
  *    can be, so that no accepted value makes the model or the lane work
- *    without bound (issue 11);
+ *    without bound;
  *  - every error is ONE line, written into err[len] (cut, never overflowing),
  *    naming the parameter, the value and what is accepted:
  *      <name> = <value> is outside the accepted range <range>
