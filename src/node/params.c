@@ -119,6 +119,31 @@ static af_status read_urdf(af_ros *r, af_node_config *c, char *uerr, size_t ulen
   return st;
 }
 
+/* The rig's frame as robot_state_publisher publishes it under its
+ * tf_prefix (tf::resolve): "PREFIX/frame", the prefix's leading and trailing
+ * slashes dropped; an empty prefix leaves it. AF_EINVAL when the result
+ * does not fit a frame id. */
+static af_status prefix_frame(const char *prefix, char *frame, size_t size, char *err, size_t len)
+{
+  while (*prefix == '/')
+    prefix++;
+  size_t n = strlen(prefix);
+  while (n > 0 && prefix[n - 1] == '/')
+    n--;
+  if (n == 0)
+    return AF_OK;
+  const char *f = frame[0] == '/' ? frame + 1 : frame;
+  char out[AF_FRAME_ID_MAX];
+  int w = snprintf(out, sizeof out, "%.*s/%s", (int)n, prefix, f);
+  if (w < 0 || (size_t)w >= sizeof out || (size_t)w >= size) {
+    af_text(err, len, "frame_prefix '%s': the frame '%.*s/%s' is longer than %zu characters",
+            prefix, (int)n, prefix, f, (size_t)AF_FRAME_ID_MAX - 1);
+    return AF_EINVAL;
+  }
+  memcpy(frame, out, (size_t)w + 1);
+  return AF_OK;
+}
+
 /* The hammer: the URDF, or the overrides ~hammer_mass_kg and
  * ~hammer_tip_radius_m; what the URDF gives goes into s (checked by the
  * table like a parameter). */
@@ -127,6 +152,8 @@ static af_status load_hammer(af_ros *r, af_node_config *c, af_settings *s, char 
   snprintf(c->hammer_link, sizeof c->hammer_link, "%s",
            af_settings_string(s, AF_SETTING_HAMMER_LINK));
   snprintf(c->urdf_file, sizeof c->urdf_file, "%s", af_settings_string(s, AF_SETTING_URDF_FILE));
+  snprintf(c->hardware_id, sizeof c->hardware_id, "%s",
+           af_settings_string(s, AF_SETTING_HARDWARE_ID));
   bool mass_given = af_settings_present(s, AF_SETTING_HAMMER_MASS_KG);
   bool tip_given = af_settings_present(s, AF_SETTING_HAMMER_TIP_RADIUS_M);
 
@@ -137,6 +164,10 @@ static af_status load_hammer(af_ros *r, af_node_config *c, af_settings *s, char 
   if (st == AF_ENOMEM)
     return st;
   c->hammer_axis_known = st == AF_OK;
+  if (st == AF_OK &&
+      prefix_frame(af_settings_string(s, AF_SETTING_FRAME_PREFIX), c->hammer.mount_frame,
+                   sizeof c->hammer.mount_frame, err, len) != AF_OK)
+    return AF_EINVAL;
   if (st != AF_OK) {
     af_urdf_destroy(c->urdf);
     c->urdf = NULL;

@@ -33,11 +33,12 @@ extern "C" {
 typedef struct {
   /* --- rig (station.yaml, URDF) --- */
   char hammer_link[AF_NAME_MAX];
-  char urdf_file[AF_PATH_MAX]; /* "" = the robot_description parameter */
-  af_urdf *urdf;               /* NULL when running on parameters alone */
-  bool hammer_axis_known;      /* the URDF gave the strike axis */
-  af_hammer_geometry hammer;   /* mass and tip radius after overrides; the axis and origin in
-                                  hammer.mount_frame, turned into the apple's frame through TF */
+  char urdf_file[AF_PATH_MAX];   /* "" = the robot_description parameter */
+  char hardware_id[AF_NAME_MAX]; /* /diagnostics' hardware_id; "" = the node's name */
+  af_urdf *urdf;                 /* NULL when running on parameters alone */
+  bool hammer_axis_known;        /* the URDF gave the strike axis */
+  af_hammer_geometry hammer;     /* mass and tip radius after overrides; the axis and origin in
+                                    hammer.mount_frame, turned into the apple's frame through TF */
   char urdf_source[AF_SOURCE_TEXT_MAX]; /* where the URDF came from, or why there is none */
   char hammer_mass_source[AF_SOURCE_TEXT_MAX];
   char hammer_tip_source[AF_SOURCE_TEXT_MAX];

@@ -72,6 +72,7 @@ struct af_station {
   /* Counters and last values for the diagnostics. */
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
+  int64_t last_apple_ns; /* ROS time the latest AppleEstimate came [ns]; 0 = none yet */
   unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
   unsigned long long clock_faults_seen;    /* clock steps + frozen chunks at the last one */
   unsigned long long force_clock_seen, audio_clock_seen; /* each stream's, at its last chunk */
@@ -339,6 +340,7 @@ static void on_apple(const void *msg, void *user)
   const af_prediction *pr = NULL;
   memset(&w, 0, sizeof w);
   st->apples++;
+  st->last_apple_ns = af_time_to_ns(af_ros_now(st->ros));
   apple_of(st, m, &w, &a);
   af_status s = af_lane_io_apple(st->measured, &a, &pr);
   if (s != AF_OK) {
@@ -562,7 +564,18 @@ static void diag_task(af_diag_status *d, void *user)
              warning ? warning : "", warning ? "; " : "");
     warning = summary;
   }
-  af_diag_summary(d, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
+  /* Apples keep coming while an input is missing: every strike on them is
+   * lost, an ERROR (a stream merely silent between apples is a WARN). */
+  const bool input_missing = absent || audio_stale || (force_stale && !c->lane.measured.tap_only);
+  const bool apples_coming =
+      st->last_apple_ns > 0 &&
+      now_ns - st->last_apple_ns <= (int64_t)(c->lane.stream_absent_warn_s * 1e9);
+  char error[sizeof summary + 64];
+  if (input_missing && apples_coming && warning != NULL) {
+    snprintf(error, sizeof error, "apples arriving, no strike can be measured: %s", warning);
+    af_diag_summary(d, AF_DIAG_ERROR, error);
+  } else
+    af_diag_summary(d, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "input mode", "%s",
               c->lane.measured.tap_only
@@ -774,7 +787,9 @@ static af_status build(af_station *st, const char **what)
   af_status s;
   st->clock_start_ns = af_time_to_ns(af_ros_now(st->ros)); /* 0: a simulated clock not started */
   *what = "the diagnostics";
-  if ((s = af_ros_diag_create(st->ros, af_ros_node_name(st->ros), &st->diag)) != AF_OK ||
+  const char *hw =
+      st->cfg->hardware_id[0] != '\0' ? st->cfg->hardware_id : af_ros_node_name(st->ros);
+  if ((s = af_ros_diag_create(st->ros, hw, &st->diag)) != AF_OK ||
       (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
     return s;
   note_start(st);

@@ -183,13 +183,16 @@ class Station:
     TOPICS = (('excitation_band', ExcitationBand), ('strike_advice', StrikeAdvice),
               ('reliability', Reliability))
 
-    def __init__(self):
+    def __init__(self, ns=''):
+        """ns: the lane's namespace ('/lane2'); '' = the test's own."""
         self.lock = threading.Lock()
         self.answers = {}  # (topic, apple_id) -> (msg, receive wall time)
         self.markers = []
-        self.subs = [rospy.Subscriber(t, cls, self._store, callback_args=t) for t, cls in self.TOPICS]
-        self.subs.append(rospy.Subscriber('markers', MarkerArray, self._store_markers))
-        self.pub = rospy.Publisher('apple', AppleEstimate, queue_size=10)
+        at = (ns.rstrip('/') + '/') if ns else ''
+        self.subs = [rospy.Subscriber(at + t, cls, self._store, callback_args=t)
+                     for t, cls in self.TOPICS]
+        self.subs.append(rospy.Subscriber(at + 'markers', MarkerArray, self._store_markers))
+        self.pub = rospy.Publisher(at + 'apple', AppleEstimate, queue_size=10)
 
     def _store(self, msg, topic):
         with self.lock:

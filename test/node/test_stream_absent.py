@@ -4,7 +4,9 @@
 firmness_node runs with stream_absent_warn_s = 2 s (stream_absent.test) and,
 at first, nothing publishes its force or audio. Its diagnostic must go WARN
 with "no force and no audio chunk within 2.0 s of start" (the two streams'
-state "no chunk yet"). (The boundary itself, to the nanosecond, is
+state "no chunk yet"); while AppleEstimates arrive it is an ERROR, "apples
+arriving, no strike can be measured: ..." (every strike on them is lost), and
+WARN again once they stop for 2 s. (The boundary itself, to the nanosecond, is
 test/core/test_absent.c's: this test starts after the node.) Then a publisher here sends the force in real
 time (SignalChunk, 1000 samples every 20 ms, seeded noise of 0.02 N): the
 warning names the audio alone. Then the audio too (960 samples every 20 ms at
@@ -25,6 +27,7 @@ import station_common as sc
 
 BOTH = 'no force and no audio chunk within 2.0 s of start'
 AUDIO = 'no audio chunk within 2.0 s of start'
+ERROR = 'apples arriving, no strike can be measured: ' + BOTH
 
 
 class StreamAbsentTest(unittest.TestCase):
@@ -93,12 +96,35 @@ class StreamAbsentTest(unittest.TestCase):
         t.start()
         self.streams.append(t)
 
+    def apples(self, seconds):
+        """AppleEstimates every 0.3 s for seconds, in a thread of their own."""
+        station = sc.Station()
+
+        def run():
+            end, k = time.time() + seconds, 1
+            while time.time() < end and not rospy.is_shutdown():
+                station.send(k, stamp=rospy.Time.now())
+                k += 1
+                time.sleep(0.3)
+        t = threading.Thread(target=run, daemon=True)
+        t.start()
+        return t
+
     def test_1_both_absent_then_audio_then_ok(self):
         st = self.wait_status(DiagnosticStatus.WARN, BOTH)
         self.assertEqual(st[3]['stream absent check'], BOTH)
         self.assertEqual(st[3]['force state'], 'no chunk yet')
         self.assertEqual(st[3]['audio state'], 'no chunk yet')
         print('both absent: level %d, %r' % (st[1], st[2]))
+
+        # Apples arriving while both streams are absent: ERROR, every strike lost;
+        # back to WARN once they stop for stream_absent_warn_s.
+        feeder = self.apples(6.0)
+        st = self.wait_status(DiagnosticStatus.ERROR, ERROR)
+        print('apples arriving: level %d, %r' % (st[1], st[2]))
+        feeder.join(10.0)
+        st = self.wait_status(DiagnosticStatus.WARN, BOTH)
+        print('apples stopped: level %d, %r' % (st[1], st[2]))
 
         self.stream('force', float(sc.param('force_sample_rate_hz')), 'N', 1000)
         st = self.wait_status(DiagnosticStatus.WARN, AUDIO)

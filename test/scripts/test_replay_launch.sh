@@ -6,8 +6,9 @@
 # "REQUIRED process [...] has died" nor the false "'rig_base' is not in TF"
 # warning, the 3 strikes are reported (StrikeReport, recorded by rostopic
 # while the launch runs), every apple's StrikeAdvice knows its strike point
-# (the rig's frames were in TF: the warning was not just hidden), and no
-# process is left running. Registered in ctest as scripts_replay_launch.
+# (the rig's frames were in TF: the warning was not just hidden), the
+# replay deleted /use_sim_time at its end (a node started later on the same
+# master runs on wall time), and no process is left running. Registered in ctest as scripts_replay_launch.
 set -euo pipefail
 source "$(dirname "$0")/harness.sh"
 
@@ -34,6 +35,7 @@ wait "$reports" "$advice" 2>/dev/null || true
 cat "$tmp/launch.out"
 [ "$status" -eq 0 ] || bad "roslaunch exited $status"
 grep -q 'replay: end of the bag' "$tmp/launch.out" || bad "no 'replay: end of the bag' line"
+grep -q 'replay: /use_sim_time deleted' "$tmp/launch.out" || bad "/use_sim_time left set on the master"
 ! grep -q 'REQUIRED process' "$tmp/launch.out" || bad "'REQUIRED process ... has died' in the output"
 ! grep -q "is not in TF" "$tmp/launch.out" || bad "a 'not in TF' warning in the output"
 n_reports=$(grep -cE '^[0-9]+,' "$tmp/reports.csv" || true)

@@ -50,6 +50,13 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
     [AF_SETTING_URDF_FILE] = STRING("urdf_file", "\"\"", AF_SETTINGS_TEXT_MAX - 1, S,
                                     "path of the rig's URDF; empty = the robot_description "
                                     "parameter of the node's namespace"),
+    [AF_SETTING_FRAME_PREFIX] = STRING("frame_prefix", "\"\"", AF_SETTINGS_NAME_MAX - 1, S,
+                                       "prefix of the rig's TF frames for this lane, as "
+                                       "robot_state_publisher's tf_prefix (lane1: lane1/rig_base); "
+                                       "empty = none, one rig per TF tree"),
+    [AF_SETTING_HARDWARE_ID] = STRING("hardware_id", "\"\"", AF_SETTINGS_NAME_MAX - 1, S,
+                                      "the diagnostics' hardware_id: the DAQ's or the force "
+                                      "transducer's serial; empty = the node's name"),
     [AF_SETTING_HAMMER_MASS_KG] = OPTIONAL_NUM("hammer_mass_kg", "[0.0005, 1] kg", true,
                                                "from the URDF", "0.010", /* the rig's 10 g head */
                                                "overrides the URDF's hammer mass"),
