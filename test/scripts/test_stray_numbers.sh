@@ -45,9 +45,7 @@ doc/model.md | the paper's optimum: hammer 10.0 g at 1.40 m/s, tip flat
 # not a default: the tap SNR of test_onset's weaker taps, not the 0S2 threshold
 doc/tap_only.md | - At 15 dB, 198 of 200 are found
 doc/tap_only.md | 200 taps at 18 and 15 dB
-# not defaults: the test signals of the fit's and the response's benchmarks
-doc/performance.md | elastic and without gravity, 10 g flat hammer
-doc/performance.md | drift and 50 Hz hum. Each is primed
+# not defaults: the test signals of the response's benchmark
 doc/performance.md | | hum: comb plus 50 Hz hum, 5 harmonics
 doc/cli.md | 15 dB none of 2e4) [dB] (default 15
 doc/cli.md | (default 0.0414, range [0.001, 1]
