@@ -570,8 +570,8 @@ static void diag_task(af_diag_status *d, void *user)
   const bool apples_coming =
       st->last_apple_ns > 0 &&
       now_ns - st->last_apple_ns <= (int64_t)(c->lane.stream_absent_warn_s * 1e9);
-  char error[sizeof summary + 64];
   if (input_missing && apples_coming && warning != NULL) {
+    char error[sizeof summary + 64];
     snprintf(error, sizeof error, "apples arriving, no strike can be measured: %s", warning);
     af_diag_summary(d, AF_DIAG_ERROR, error);
   } else

@@ -192,8 +192,9 @@ typedef enum {
 #define AF_SETTINGS_ALL 3u
 
 #define AF_SETTINGS_TEXT_MAX 512 /* longest string value (a path), with its NUL */
-/* string rows: hammer_link, urdf_file, cultivar, yield_measured, grade_classes */
-#define AF_SETTINGS_STRINGS 5
+/* string rows: hammer_link, urdf_file, frame_prefix, hardware_id, cultivar, yield_measured,
+ * grade_classes (test_settings checks the count against the table) */
+#define AF_SETTINGS_STRINGS 7
 #define AF_SETTINGS_PREFIX_MAX 8 /* name prefix in messages, with its NUL */
 
 /* One row of the table. */
