@@ -92,6 +92,7 @@ from acoustic_firmness.msg import SignalChunk, StrikeReport
 from diagnostic_msgs.msg import DiagnosticArray
 
 bag, seconds, n_strikes, strike_rate = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+play_connected = sys.argv[5]   # scripts/play_connected.py
 cpu_target = {'2': 1.0, '10': 3.0}[strike_rate]   # the targets [% of one core]
 node = '/lane1/firmness_node'
 rospy.init_node('bench_node', disable_signals=True)
@@ -163,10 +164,21 @@ time.sleep(3.0)
 idle = (cpu_s() - c0) / (time.time() - w0)
 floor_idle = (floor_s() - f0) / (time.time() - w0)
 
+# The replay starts once the node, af_bench_floor (--floor) and this script
+# are connected to rosbag play on every topic they take (play_connected.py),
+# not after a fixed wait: a subscriber still connecting misses the first
+# chunks. The figures count from the first message played.
+wait = ['--wait', node] + (['--wait', '/lane1/bench_floor'] if floor_pid else [])
+play = subprocess.Popen(['/usr/bin/python3', play_connected] + wait + ['--', '--clock', '-q', bag],
+                        stdout=subprocess.PIPE, text=True)
+for line in play.stdout:
+    if line.startswith('play_connected: playing'):
+        break
 c0, w0, f0 = cpu_s(), time.time(), floor_s()
-env = dict(os.environ)
-env.pop('ROS_NAMESPACE', None)
-subprocess.run(['rosbag', 'play', '--clock', '-q', bag], check=True, stdout=subprocess.DEVNULL, env=env)
+for line in play.stdout:
+    pass
+if play.wait() != 0:
+    sys.exit('bench: the replay failed (play_connected.py exited %d)' % play.returncode)
 c1, w1, f1 = cpu_s(), time.time(), floor_s()
 end = time.time() + 5.0   # the last reports, then the diagnostics after them
 while time.time() < end:
@@ -223,7 +235,8 @@ print('bench at %s strikes/s: node CPU %.2f %% of one core (target %g %%), max l
 rospy.signal_shutdown('done')
 EOF
 /usr/bin/python3 "$work/bench.py" "$work/bench.bag" \
-  "$(/usr/bin/python3 -c "print(1.0 + $strikes * $spacing + 0.5)")" "$strikes" "$rate"
+  "$(/usr/bin/python3 -c "print(1.0 + $strikes * $spacing + 0.5)")" "$strikes" "$rate" \
+  "$AF_ROOT/scripts/play_connected.py"
 if [ -n "$floor_pid" ]; then
   # SIGINT: roscpp's shutdown, after which af_bench_floor prints what it took
   kill -INT "$floor_pid" 2>/dev/null || true

@@ -118,3 +118,25 @@ af_wait_node() {
   echo "node $1 did not come up in 20 s" >&2
   return 1
 }
+
+# Waits up to $3 s (default 60) until a node whose name starts with $2 is
+# registered with the master (ROS_MASTER_URI) as a subscriber of topic $1:
+# one Python process polling the master, no fixed sleep.
+af_wait_subscriber() {
+  /usr/bin/python3 - "$1" "$2" "${3:-60}" <<'PY'
+import sys, time
+import rosgraph
+topic, prefix, seconds = sys.argv[1], sys.argv[2], float(sys.argv[3])
+master = rosgraph.Master('/af_wait_subscriber')
+end = time.time() + seconds
+while time.time() < end:
+    try:
+        subs = dict(master.getSystemState()[1])
+        if any(n.startswith(prefix) for n in subs.get(topic, [])):
+            sys.exit(0)
+    except Exception:
+        pass
+    time.sleep(0.1)
+sys.exit('no subscriber %s* on %s within %g s' % (prefix, topic, seconds))
+PY
+}

@@ -21,8 +21,7 @@ tmp=$(mktemp -d /tmp/af_rviz_shot.XXXXXX)
 log=${AF_RVIZ_LOG:-$tmp}
 mkdir -p "$log"
 port=${AF_RVIZ_PORT:-$((20000 + RANDOM % 20000))}
-display=:$((50 + RANDOM % 40))
-export ROS_MASTER_URI=http://localhost:$port DISPLAY=$display LIBGL_ALWAYS_SOFTWARE=1
+export ROS_MASTER_URI=http://localhost:$port LIBGL_ALWAYS_SOFTWARE=1
 pids=()
 cleanup() {
   local p
@@ -41,17 +40,27 @@ trap cleanup EXIT
   --out "$tmp/shot.bag" >"$log/strike_bag.log"
 roscore -p "$port" >"$log/roscore.log" 2>&1 &
 pids+=($!)
-Xvfb "$display" -screen 0 1600x860x24 >"$log/xvfb.log" 2>&1 &
+# Xvfb takes the first free display and writes its number to fd 3 once it
+# accepts clients (no fixed number that another X server may hold).
+Xvfb -displayfd 3 -screen 0 1600x860x24 3>"$tmp/display" >"$log/xvfb.log" 2>&1 &
 pids+=($!)
-for _ in $(seq 50); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+for _ in $(seq 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+for _ in $(seq 100); do [ -s "$tmp/display" ] && break; sleep 0.2; done
+[ -s "$tmp/display" ] || { cat "$log/xvfb.log" >&2; echo "rviz_shot: Xvfb did not start" >&2; exit 1; }
+DISPLAY=:$(head -n 1 "$tmp/display")
+export DISPLAY
 # Simulated time, as replay.launch sets it, before any node starts.
 rosparam set /use_sim_time true
 roslaunch acoustic_firmness station.launch ns:=lane1 >"$log/station.log" 2>&1 &
 pids+=($!)
 rviz -d "$AF_ROOT/config/station.rviz" >"$log/rviz.log" 2>&1 &
 pids+=($!)
-sleep 10
-rosbag play --clock -q --delay=1 "$tmp/shot.bag" >"$log/play.log" 2>&1
+# The replay starts once rviz takes the node's markers and the node is
+# connected to the player on every topic of the bag, however long the start
+# takes on a loaded machine (no fixed wait).
+af_wait_subscriber /lane1/markers /rviz 120
+/usr/bin/python3 "$AF_ROOT/scripts/play_connected.py" --wait /lane1/firmness_node --timeout 120 -- \
+  --clock -q "$tmp/shot.bag" >"$log/play.log" 2>&1
 # rviz draws at its frame rate on the last clock; the node's status marker
 # came with the last diagnostics.
 sleep 4

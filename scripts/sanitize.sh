@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The sanitizer stage of CI (scripts/test.sh runs it after the default tests):
+# The sanitizer stage of CI (.ci/run runs it before the fresh-machine stage):
 # builds the package, its tests and the libFuzzer harnesses with clang-14,
 # AddressSanitizer (LeakSanitizer included) and UndefinedBehaviorSanitizer, in
 # ./build-san (devel space ./build-san_devel), and runs under them the ctest
@@ -55,7 +55,8 @@ status=0
 # if it takes over a second again on its own (scripts/fuzz.sh), so a loaded
 # machine's starved run is no failure.
 skip='^(lint|core_test_modes|_ctest_acoustic_firmness_rostest_test_node_strike_plot\.test|scripts_.*)$'
-ctest --output-on-failure -E "$skip" "$@" || status=1
+# In parallel as scripts/test.sh runs them (AF_TEST_JOBS=N, default nproc).
+ctest --output-on-failure -j "${AF_TEST_JOBS:-$(nproc)}" -E "$skip" "$@" || status=1
 t2=$(date +%s)
 reports=$(find "$logs" -type f | sort)
 if [ -n "$reports" ]; then

@@ -13,6 +13,7 @@ import threading
 import time
 import xml.etree.ElementTree as ET
 
+import rosgraph
 import rospy
 import roslib.packages
 from acoustic_firmness.msg import (AppleEstimate, ExcitationBand, Reliability,
@@ -261,6 +262,21 @@ def play(bag, rate=None):
     subprocess.run(cmd + [bag], check=True, stdout=subprocess.DEVNULL, env=env)
 
 
+def wait_connected(pub, timeout=20.0):
+    """Waits until every subscriber the master lists for pub's topic (this
+    node's own included) has connected to pub, up to timeout seconds: a new
+    publisher's subscribers connect to it asynchronously after it is
+    advertised. True when they all did."""
+    master = rosgraph.Master(rospy.get_name())
+    end = time.time() + timeout
+    while time.time() < end:
+        subs = dict(master.getSystemState()[1]).get(pub.resolved_name, [])
+        if subs and pub.get_num_connections() >= len(subs):
+            return True
+        time.sleep(0.02)
+    return False
+
+
 def clock_on(seconds, until=None):
     """Runs simulated time on after a replay: /clock from the test's last
     sim time, in steps of 0.1 s every 0.05 s of wall time, for `seconds` of
@@ -269,7 +285,7 @@ def clock_on(seconds, until=None):
     tick due after the last strike would never come (the node's status at
     1 Hz of ROS time may fall before the last strike's report)."""
     pub = rospy.Publisher('/clock', Clock, queue_size=10)
-    time.sleep(0.3)  # the node connects to the new publisher
+    wait_connected(pub)
     t = rospy.get_rostime()
     for k in range(1, int(round(seconds / 0.1)) + 1):
         if until is not None and until():

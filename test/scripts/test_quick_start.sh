@@ -80,7 +80,9 @@ for topic in /lane1/force /lane1/audio /lane1/apple; do
     sleep 0.2
   done
 done
-rosbag play -q "$tmp/rig.bag" >/dev/null
+# played once the recorder is connected on each topic (not only registered)
+/usr/bin/python3 "$AF_ROOT/scripts/play_connected.py" --wait /af_quick_record -- -q "$tmp/rig.bag" \
+  >/dev/null || bad "the rig's bag was not played to the recorder"
 sleep 1
 kill -INT "$rec" 2>/dev/null || true
 wait "$rec" 2>/dev/null || true
