@@ -29,9 +29,12 @@ expect_usage() {
 }
 
 # expect_bounded code pattern args...: firmness_model args exits with code
-# (2 bad input, 1 an exhausted budget or a model failure) within a second,
-# with exactly one line on stderr naming pattern (never a hang,
-# never a wall of text).
+# (2 bad input, 1 an exhausted budget or a model failure) with exactly one
+# line on stderr naming pattern (never a wall of text), and never hangs: the
+# run is cut at 10 s (exit 124, a failure). Its time is named in a failure,
+# not judged:
+# a wall-clock limit here failed under the sanitizers on a loaded machine
+# (1.9 s); speed is the benchmarks' (doc/performance.md).
 expect_bounded() {
   local code=$1 pattern=$2
   shift 2
@@ -43,8 +46,6 @@ expect_bounded() {
   local ms=$(((t1 - t0) / 1000000))
   if [ "$got" -ne "$code" ]; then
     bad "'$*' exited $got after $ms ms, expected $code: $(head -c 300 "$tmp/err")"
-  elif [ "$ms" -gt 1000 ]; then
-    bad "'$*' took $ms ms (more than a second)"
   elif [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -q -- "$pattern" "$tmp/err"; then
     bad "'$*' stderr does not name '$pattern' on one line: $(cat "$tmp/err")"
   else

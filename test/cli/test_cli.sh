@@ -55,7 +55,7 @@ expect_usage "--param" sweep --param colour --from 1 --to 2 --steps 2
 expect_usage "--E2" sweep --param E2 --from -1 --to 12e6 --steps 3
 
 # The four commands that once hung, and extremes of every flag: exit 2
-# with one line naming the flag within a second (the table's physical
+# with one line naming the flag, never a hang (the table's physical
 # ranges), or exit 1 with one line naming the exhausted budget.
 expect_bounded 2 "--E2 1e-30 is outside the accepted range \[1e5, 1e9\] Pa" --E2 1e-30 --json
 expect_bounded 2 "--R2 1e-300 is outside the accepted range \[0.0005, 1\] m" --R2 1e-300 --json
@@ -77,7 +77,7 @@ expect_bounded 2 "--E2" sweep --param E2 --from 1e-30 --to 2e6 --steps 2
 # Inside every range, the worst corner found (a 1 kg hammer at 5 cm/s on a
 # 0.1 MPa fruit under 20 m/s2: it rests on the fruit): the ODE budget.
 expect_bounded 1 "impact ODE budget exhausted" --E2 1e5 --R2 0.0005 --v0 0.05 --hammer-mass 1 --gravity 20
-# Each value alone at both ends of its range answers within a second.
+# Each value alone at both ends of its range answers, never a hang.
 for flag in "E2 1e5 1e9" "R2 0.0005 1" "v0 0.05 10" "hammer-mass 0.0005 1" "gravity 0 20" "e 0.05 1" \
   "hammer-E 1e5 1e12" "hammer-radius 0.0005 0.1" "mass 0.001 10" "density 100 3000" \
   "modulus-factor 0.1 10" "yield-ratio 0.001 1" "nu2 0 0.49" "hammer-nu 0 0.49"; do

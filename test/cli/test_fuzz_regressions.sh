@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every input the fuzzers found a failure with (test/fuzz/<name>/regress_*),
 # through the real tool as a user would give it: exit 2 (bad input) with one
-# line on stderr within a second. (The sanitizer stage also runs each through
+# line on stderr, never a hang. (The sanitizer stage also runs each through
 # its harness: ctest fuzz_<name>_corpus.) Usage: test_fuzz_regressions.sh
 # /path/to/firmness_model (firmness_report beside it).
 source "$(dirname "$0")/harness.sh" "$@"
