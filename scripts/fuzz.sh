@@ -108,17 +108,21 @@ run_one() {
 
 status=0
 pids=()
-declare -A pid_of
+declare -A pid_of code_of
 for n in "${names[@]}"; do
   run_one "$n" &
   pids+=($!)
   pid_of[$n]=$!
   if [ "${#pids[@]}" -ge "$jobs" ]; then
-    wait "${pids[0]}" || status=1
+    wait "${pids[0]}"
+    code_of[${pids[0]}]=$?
     pids=("${pids[@]:1}")
   fi
 done
-for p in "${pids[@]}"; do wait "$p" || status=1; done
+for p in "${pids[@]}"; do
+  wait "$p"
+  code_of[$p]=$?
+done
 
 printf '%-10s %8s %12s %10s %8s  %s\n' harness seconds executions "exec/s" corpus result
 for n in "${names[@]}"; do
@@ -127,19 +131,37 @@ for n in "${names[@]}"; do
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   corpus=$(find "$out/corpus/$n" -type f | wc -l)
   # a timeout must show again on its own, within a second, to count
+  moved=0
   for t in "$out/$n"-timeout-*; do
     [ -e "$t" ] || continue
     if "$(exe_of "$n")" -timeout=1 -rss_limit_mb=2048 "$t" >"$t.rerun" 2>&1; then
       mv -f "$t" "$t.rerun" "$out/previous/"
+      moved=1
       echo "$n: $(basename "$t") ran within a second on its own: the run was starved of CPU" >&2
     fi
   done
+  # LeakSanitizer's own tracer may fail at the fuzzer's exit ("LeakSanitizer has
+  # encountered a fatal error", seen once, the input written empty): the input
+  # must fail again on its own to count
+  if grep -q 'LeakSanitizer has encountered a fatal error' "$log"; then
+    for c in "$out/$n"-crash-*; do
+      [ -e "$c" ] || continue
+      if "$(exe_of "$n")" -rss_limit_mb=2048 "$c" >"$c.rerun" 2>&1; then
+        mv -f "$c" "$c.rerun" "$out/previous/"
+        moved=1
+        echo "$n: $(basename "$c") passes on its own: LeakSanitizer failed at the fuzzer's exit" >&2
+      fi
+    done
+  fi
   found=$(find "$out" -maxdepth 1 -name "$n-*" -type f | wc -l)
   result=ok
-  # (a timeout that did not show again is no failure; its input was moved)
+  # (a timeout or a crash that did not show again is no failure; its input was moved)
   if [ "$found" -gt 0 ] || grep -q -e 'ERROR: libFuzzer: deadly signal' -e 'out-of-memory' \
     -e 'ERROR: AddressSanitizer' -e 'runtime error:' -e 'ERROR: LeakSanitizer' "$log"; then
     result="FAILED ($found input(s) in $out; log $log)"
+    status=1
+  elif [ "${code_of[${pid_of[$n]}]}" != 0 ] && [ "$moved" = 0 ]; then
+    result="FAILED (the harness exited ${code_of[${pid_of[$n]}]}; log $log)"
     status=1
   fi
   # a harness removes its scratch files when it exits (test/fuzz/fuzz_scratch.h)
