@@ -87,7 +87,7 @@ class TwoLanesTest(unittest.TestCase):
             self.assertNotIn(other, advice.text)
 
     def test_04_unprefixed_frame_unknown(self):
-        got = self.stations['lane1'].send(300, frame='camera_optical_frame')
+        self.stations['lane1'].send(300, frame='camera_optical_frame')
         got = self.stations['lane1'].wait(ALL, 300)
         self.assertIn("'camera_optical_frame' does not exist in TF", got['reliability'][0].reason)
 

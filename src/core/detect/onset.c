@@ -265,13 +265,13 @@ static void candidate(af_onset *o, double e, double fl, double level)
 /* The held candidate, given the current frame (its sums s1, s2 about dc):
  * replaced, confirmed by alternating energy, and at the end of its hold-off
  * reported or dropped. */
-static void hold(af_onset *o, double s1, double s2, double e, double level, double two_before,
+static void hold(af_onset *o, double s1, double s2, double e, double level, double rise_ref,
                  af_onset_fn *fn, void *user)
 {
   const double n = (double)o->frame_n;
   const double fl = level / o->threshold;
   if (o->frame_start >= o->cand_frame + 2 * o->frame_n && e >= level &&
-      e >= o->threshold * o->cand_peak && !(e < o->threshold * two_before)) {
+      e >= o->threshold * o->cand_peak && !(e < o->threshold * rise_ref)) {
     candidate(o, e, fl, level); /* the held one was no tap: a gate opening, a hum's swell */
     return;
   }
@@ -321,7 +321,7 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
   /* Nothing varies in it by the floor's bound: digital silence (exact zeros
    * between sounds, a constant level) teaches the floor nothing. */
   const bool silent = e - mu * mu < o->floor_min;
-  const double two_before = rise_reference(o);
+  const double rise_ref = rise_reference(o);
   memmove(o->before + 1, o->before, (AF_ONSET_RISE_FRAMES - 1) * sizeof o->before[0]);
   o->before[0] = e;
   if (o->warm < AF_ONSET_WARMUP_FRAMES) { /* the first floor: a plain mean */
@@ -333,7 +333,7 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
   const double fl = fmax(o->floor, o->floor_min);
   const double level = fl * o->threshold;
   if (o->pending) {
-    hold(o, s1, s2, e, level, two_before, fn, user);
+    hold(o, s1, s2, e, level, rise_ref, fn, user);
     return;
   }
   if (e < level) {
@@ -343,11 +343,11 @@ static void frame_done(af_onset *o, af_onset_fn *fn, void *user)
     }
     return;
   }
-  /* A rise: e reaches the threshold over the frame two before too (the one
-   * before may hold the start of the tap); the swell of a ring already
-   * sounding (beats of two close modes) does not; a new tap over the tail
-   * of the last one does. */
-  if (e < o->threshold * two_before)
+  /* A rise: e reaches the threshold over the frames 2..4 before too
+   * (rise_reference; the one before may hold the start of the tap); the
+   * swell of a ring already sounding (beats of two close modes) does not;
+   * a new tap over the tail of the last one does. */
+  if (e < o->threshold * rise_ref)
     return;
   candidate(o, e, fl, level);
 }

@@ -698,13 +698,12 @@ static void verdict_fruit(const af_measure *m, const af_measure_report *out,
   v->fruit_confidence_min = m->cfg.fruit_confidence_min;
 }
 
-/* The criteria on what was measured. A criterion that could not be judged
- * (no resonance, no fitted E2) is already flagged above. */
-/* The heard mode is the evidence that the strike excited it: the paper's
- * band criterion predicts, before a strike, whether it will (the
- * prediction, excites_mode); on a measured strike the 0S2 heard above its
- * SNR threshold and identified answers that. It must sound like fruit
- * flesh: a Q outside fruit_q_min..fruit_q_max is another object's ring. */
+/* The criteria on what was measured. The heard mode is the evidence that
+ * the strike excited it: the paper's band criterion predicts, before a
+ * strike, whether it will (the prediction, excites_mode); on a measured
+ * strike the 0S2 heard above its SNR threshold and identified answers
+ * that, if it sounds like fruit flesh (verdict_fruit). A criterion that
+ * could not be judged (no resonance, no fitted E2) is already flagged above. */
 static void verdict_criteria(const af_measure *m, const af_measure_apple *apple,
                              const af_measure_report *out, const af_measure_steps *s, af_verdict *v)
 {
