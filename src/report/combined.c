@@ -82,17 +82,9 @@ static void add_counts(af_summary *into, const af_summary *m)
   }
 }
 
-af_status af_combined_add(af_combined *c, const af_session *s, const af_summary *m)
+/* The bag's counts, streams and lane counters into c (its columns are added by the caller). */
+static void add_bag(af_combined *c, const af_session *s, const af_summary *m)
 {
-  if (!reserve(c, s->n_strikes))
-    return AF_ENOMEM;
-  for (size_t k = 0; k < s->n_strikes; k++) {
-    double row[AF_SUMMARY_COLUMNS];
-    af_summary_columns_of(&s->strikes[k], row);
-    for (int j = 0; j < AF_SUMMARY_COLUMNS; j++)
-      c->col[j][c->n] = row[j];
-    c->n++;
-  }
   c->bags++;
   add_counts(&c->counts, m);
   af_session *t = &c->totals;
@@ -134,6 +126,32 @@ af_status af_combined_add(af_combined *c, const af_session *s, const af_summary 
   t->tap_only = s->tap_only; /* one configuration for every bag */
   t->wall_s += s->wall_s;
   t->cpu_s += s->cpu_s;
+}
+
+af_status af_combined_add(af_combined *c, const af_session *s, const af_summary *m)
+{
+  if (!reserve(c, s->n_strikes))
+    return AF_ENOMEM;
+  for (size_t k = 0; k < s->n_strikes; k++) {
+    double row[AF_SUMMARY_COLUMNS];
+    af_summary_columns_of(&s->strikes[k], row);
+    for (int j = 0; j < AF_SUMMARY_COLUMNS; j++)
+      c->col[j][c->n] = row[j];
+    c->n++;
+  }
+  add_bag(c, s, m);
+  return AF_OK;
+}
+
+af_status af_combined_add_rows(af_combined *c, const af_session *s, const af_summary *m,
+                               const double *rows, size_t n)
+{
+  if (!reserve(c, n))
+    return AF_ENOMEM;
+  for (size_t k = 0; k < n; k++, c->n++)
+    for (int j = 0; j < AF_SUMMARY_COLUMNS; j++)
+      c->col[j][c->n] = rows[k * AF_SUMMARY_COLUMNS + (size_t)j];
+  add_bag(c, s, m);
   return AF_OK;
 }
 

@@ -27,6 +27,12 @@ void af_combined_free(af_combined *c); /* safe twice */
 /* Adds one bag: its session and its summary m. AF_OK or AF_ENOMEM. */
 af_status af_combined_add(af_combined *c, const af_session *s, const af_summary *m);
 
+/* Adds one bag known by its merge state (merge_state.h): s without strikes,
+ * its summary m and its strikes' columns as n rows of AF_SUMMARY_COLUMNS
+ * (af_summary_columns_of's). AF_OK or AF_ENOMEM. */
+af_status af_combined_add_rows(af_combined *c, const af_session *s, const af_summary *m,
+                               const double *rows, size_t n);
+
 /* The summary over every bag added (the columns are reordered). */
 void af_combined_summary(af_combined *c, af_summary *out);
 

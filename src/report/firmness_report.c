@@ -49,6 +49,9 @@
 
 #include "closeout.h"
 #include "combined.h"
+#include "json.h"
+#include "json_read.h"
+#include "merge_state.h"
 #include "options.h"
 #include "output.h"
 #include "report_bench.h"
@@ -65,7 +68,8 @@
 #define AF_EXIT_USAGE 2
 #define AF_ERR_MAX 512
 #define AF_SETS_MAX 64
-#define AF_JOBS_MAX 256 /* worker threads at most */
+#define AF_JOBS_MAX 256                            /* worker threads at most */
+#define AF_MERGE_MAX_BYTES (1024L * 1024L * 1024L) /* a report --merge reads [bytes] */
 
 typedef struct {
   char **bags; /* as given, folders expanded to their *.bag files (owned) */
@@ -74,7 +78,7 @@ typedef struct {
   const char *sets[AF_SETS_MAX];
   int n_sets;
   long jobs; /* worker threads [workers], 1..AF_JOBS_MAX; 0: one per core online */
-  bool json, bench, fields;
+  bool json, bench, fields, merge;
 } af_report_args;
 
 /* The defaults the parser starts from (and --help shows). */
@@ -117,6 +121,11 @@ static const af_option af_report_options[] = {
      "bags read at once, each by a worker thread of its own [workers], 1 to " AF_OPTION_STR(
          AF_JOBS_MAX),
      "one per core online"},
+    {"--merge", NULL, AF_OPTION_SWITCH, AF_ARG(merge), -1,
+     "the arguments are JSON reports (--json, of one bag or several; a folder: its *.json) to "
+     "merge into the summary one run over all their bags prints; no bag is read; only --json "
+     "goes with it",
+     NULL},
     {"--fields", NULL, AF_OPTION_SWITCH, AF_ARG(fields), -1,
      "print the strike fields (name, type, unit, message field, meaning) as a markdown table, "
      "with --json as JSON, and exit; no BAG",
@@ -129,13 +138,16 @@ static void print_usage(FILE *out)
   af_report_args d = report_args_default();
   fprintf(out,
           "usage: firmness_report BAG... [flags]\n"
+          "       firmness_report --merge REPORT.json... [--json]\n"
           "       firmness_report --fields [--json]\n\n"
           "Runs a recorded session (the /NS/force, /NS/audio and /NS/apple topics of a rosbag)\n"
           "through the station's lane, as the node judges it live, and reports every strike\n"
           "(its measurement, verdict flags and firmness grade) and a summary. No ROS master\n"
           "needed. Every file written is told by a line \"wrote FILE\" on stderr.\n\n"
           "Several bags, or a folder (its *.bag files, sorted by name): one section per bag\n"
-          "in the order given, then the summary over all of them; --jobs bags at once.\n\n"
+          "in the order given, then the summary over all of them; --jobs bags at once.\n"
+          "Bags reported apart (each with --json, on several machines) merge with --merge into\n"
+          "the summary one run over all of them prints.\n\n"
           "flags:\n");
   af_options_help(out, af_report_options, AF_N_OPTIONS, &d, NULL);
   fprintf(out, "\nexit status: 0 done, 1 failure, 2 bad input (several bags: the worst)\n");
@@ -202,15 +214,18 @@ static int cmp_text(const void *x, const void *y)
   return strcmp(*(char *const *)x, *(char *const *)y);
 }
 
-static bool is_bag_name(const char *name)
+/* name ends in suffix (".bag", ".json") after at least one character. */
+static bool has_suffix(const char *name, const char *suffix)
 {
-  size_t n = strlen(name);
-  return n > 4 && strcmp(name + n - 4, ".bag") == 0;
+  size_t n = strlen(name), m = strlen(suffix);
+  return n > m && strcmp(name + n - m, suffix) == 0;
 }
 
-/* A folder's *.bag files (regular files), sorted by name. 0, or the exit code. */
+/* A folder's *.bag files (--merge: *.json; regular files), sorted by name.
+ * 0, or the exit code. */
 static int add_folder(af_report_args *a, const char *dir)
 {
+  const char *suffix = a->merge ? ".json" : ".bag";
   DIR *d = opendir(dir);
   if (!d)
     return bad_flag("%s: cannot read the folder: %s", dir, strerror(errno));
@@ -221,7 +236,7 @@ static int add_folder(af_report_args *a, const char *dir)
   while (code == 0 && (e = readdir(d)) != NULL) {
     char path[PATH_MAX];
     struct stat st;
-    if (!is_bag_name(e->d_name) ||
+    if (!has_suffix(e->d_name, suffix) ||
         snprintf(path, sizeof path, "%s%s%s", dir, sep, e->d_name) >= (int)sizeof path ||
         stat(path, &st) != 0 || !S_ISREG(st.st_mode))
       continue;
@@ -230,7 +245,7 @@ static int add_folder(af_report_args *a, const char *dir)
   }
   closedir(d);
   if (code == 0 && a->n_bags == first)
-    return bad_flag("%s: the folder holds no *.bag file%s", dir, "");
+    return bad_flag("%s: the folder holds no *%s file", dir, suffix);
   qsort(a->bags + first, a->n_bags - first, sizeof *a->bags, cmp_text);
   return code;
 }
@@ -272,6 +287,8 @@ static int parse(int argc, char **argv, af_report_args *a)
 {
   *a = report_args_default();
   int code = 0;
+  for (int k = 1; k < argc; k++) /* before the arguments: a folder's files are *.json */
+    a->merge |= strcmp(argv[k], "--merge") == 0;
   for (int k = 1; k < argc && code == 0; k++) {
     const char *f = argv[k];
     if (strncmp(f, "--", 2) != 0) {
@@ -307,11 +324,20 @@ static int parse(int argc, char **argv, af_report_args *a)
     return code;
   if (a->fields && a->n_bags > 0)
     return bad_flag("--fields takes no bag: '%s'%s", a->bags[0], "");
-  if (a->fields && (a->csv || a->plots || a->bench || a->n_sets || a->jobs))
-    return bad_flag("--fields takes only --json (not --csv, --plots, --bench, --jobs or --set)%s%s",
+  if (a->fields && (a->csv || a->plots || a->bench || a->n_sets || a->jobs || a->merge))
+    return bad_flag("--fields takes only --json (not --csv, --plots, --bench, --jobs, --merge or "
+                    "--set)%s%s",
                     "", "");
   if (a->fields)
     return 0;
+  if (a->merge && (a->csv || a->plots || a->bench || a->n_sets || a->jobs))
+    return bad_flag("--merge takes only --json (not --csv, --plots, --bench, --jobs or --set: "
+                    "the reports were made with theirs)%s%s",
+                    "", "");
+  if (a->merge && a->n_bags == 0)
+    return bad_flag("--merge needs the reports: firmness_report --merge REPORT.json... or a "
+                    "folder of them%s%s",
+                    "", "");
   if (a->n_bags == 0)
     return bad_flag("a bag is required: firmness_report BAG... or a folder of bags (see "
                     "--help)%s%s",
@@ -324,23 +350,22 @@ static int parse(int argc, char **argv, af_report_args *a)
 
 /* The node's settings: the table's defaults, the two files, the shipped
  * rig's hammer unless given, then --set. */
-static int configure(const af_report_args *a, af_lane_config *cfg)
+static int configure(const af_report_args *a, af_settings *s, af_lane_config *cfg)
 {
   char err[AF_ERR_MAX];
-  af_settings s;
-  af_settings_reset(&s);
-  if (af_settings_load_yaml(&s, a->config, err, sizeof err) != AF_OK)
+  af_settings_reset(s);
+  if (af_settings_load_yaml(s, a->config, err, sizeof err) != AF_OK)
     return bad_flag("--config %s%s", err, "");
-  if (af_settings_load_yaml(&s, a->cultivar, err, sizeof err) != AF_OK)
+  if (af_settings_load_yaml(s, a->cultivar, err, sizeof err) != AF_OK)
     return bad_flag("--cultivar %s%s", err, "");
   /* The node reads the hammer from the rig's URDF; a bag does not hold it:
    * the shipped rig's (the table's rig values). */
-  if (af_settings_use_rig_hammer(&s, err, sizeof err) != AF_OK)
+  if (af_settings_use_rig_hammer(s, err, sizeof err) != AF_OK)
     return bad_flag("%s%s", err, "");
   for (int k = 0; k < a->n_sets; k++)
-    if (af_settings_set_arg(&s, a->sets[k], err, sizeof err) != AF_OK)
+    if (af_settings_set_arg(s, a->sets[k], err, sizeof err) != AF_OK)
       return bad_flag("--set %s: %s", a->sets[k], err);
-  if (af_lane_config_derive(&s, cfg, err, sizeof err) != AF_OK)
+  if (af_lane_config_derive(s, cfg, err, sizeof err) != AF_OK)
     return bad_flag("%s%s", err, "");
   return 0;
 }
@@ -457,6 +482,7 @@ static void stop_workers(af_worker *w, int n)
 typedef struct {
   const af_report_args *a;
   const char *ns;
+  const af_settings *settings; /* as run: each bag's JSON carries them (merge_state.h) */
   FILE *csv;
   af_report_plots *plots;
   af_report_bench bench; /* the rows written (serialize), then the workers' */
@@ -522,7 +548,7 @@ static int write_bag(af_writer *w, size_t k, size_t n, af_bag_job *j)
   af_report_bench_pass(&w->bench);
   if (a->json) {
     fputs(w->many && k ? ",\n" : "", stdout);
-    af_output_json(stdout, j->path, w->ns, &j->s, &m, timer);
+    af_output_json(stdout, j->path, w->ns, &j->s, &m, w->settings, timer);
   } else {
     if (w->many)
       printf("%s== bag %zu of %zu: %s ==\n", k ? "\n" : "", k + 1, n, j->path);
@@ -545,21 +571,153 @@ static int write_bag(af_writer *w, size_t k, size_t n, af_bag_job *j)
   return code;
 }
 
-static void write_combined(af_writer *w)
+/* The combined section: its heading and the summary over all, as text, or
+ * the "combined" member's value as JSON. */
+static void print_combined(af_combined *all, bool json)
 {
   af_summary m;
-  af_combined_summary(&w->all, &m);
-  if (w->a->json) {
-    fputs("\n  ],\n  \"combined\": ", stdout);
-    af_output_json_combined(stdout, w->all.bags, w->all.failed, &w->all.totals, &m);
-    fputs("\n}\n", stdout);
+  af_combined_summary(all, &m);
+  if (json) {
+    af_output_json_combined(stdout, all->bags, all->failed, &all->totals, &m);
     return;
   }
-  printf("\n== combined: %zu bags", w->all.bags);
-  if (w->all.failed)
-    printf(" (%zu more not read)", w->all.failed);
+  printf("== combined: %zu bags", all->bags);
+  if (all->failed)
+    printf(" (%zu more not read)", all->failed);
   printf(", %zu strikes ==\n", m.strikes);
-  af_output_text_summary(stdout, &w->all.totals, &m);
+  af_output_text_summary(stdout, &all->totals, &m);
+}
+
+static void write_combined(af_writer *w)
+{
+  fputs(w->a->json ? "\n  ],\n  \"combined\": " : "\n", stdout);
+  print_combined(&w->all, w->a->json);
+  if (w->a->json)
+    fputs("\n}\n", stdout);
+}
+
+/* ---- --merge --------------------------------------------------------------------- */
+
+/* A report's bags: its own merge state (one bag), each element of "bags"
+ * (several), a bag not read ({"bag", "error"}) counted as failed. */
+static int merge_document(af_combined *all, const af_json_doc *d, af_merge_settings *set, char *err,
+                          size_t len)
+{
+  size_t bags = af_json_member(d, 0, "bags");
+  size_t first = bags && d->nodes[bags].type == AF_JSON_ARRAY ? d->nodes[bags].child : 0;
+  if (bags == 0)
+    first = 0; /* one bag: the document itself */
+  else if (d->nodes[bags].type != AF_JSON_ARRAY) {
+    snprintf(err, len, "\"bags\" is %s, not an array", af_json_type_name(d->nodes[bags].type));
+    return AF_EXIT_USAGE;
+  } else if (first == 0)
+    return 0; /* a report of no bag */
+  for (size_t k = first;; k = d->nodes[k].next) {
+    size_t state = af_json_member(d, k, "merge_state");
+    if (state == 0 && af_json_member(d, k, "error") != 0)
+      all->failed++;
+    else if (state == 0) {
+      snprintf(err, len, "no \"merge_state\": not a report of firmness_report --json");
+      return AF_EXIT_USAGE;
+    } else {
+      af_status st = af_merge_state_add(all, d, state, set, all->bags == 0, err, len);
+      if (st != AF_OK)
+        return st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
+    }
+    if (bags == 0 || d->nodes[k].next == 0)
+      return 0;
+  }
+}
+
+/* path's bytes, whole, into *text (allocated, NUL-terminated): a regular
+ * file of at most max_bytes, with no NUL byte (not a text report). */
+static af_status read_text(const char *path, long max_bytes, char **text, size_t *n, char *err,
+                           size_t len)
+{
+  struct stat st;
+  FILE *f = fopen(path, "rb");
+  *text = NULL;
+  if (!f || fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > max_bytes) {
+    snprintf(err, len, "%s: %s", path,
+             !f                     ? strerror(errno)
+             : !S_ISREG(st.st_mode) ? "not a regular file"
+                                    : "larger than a report may be (1 GiB)");
+    if (f)
+      fclose(f);
+    return AF_EINVAL;
+  }
+  *n = (size_t)st.st_size;
+  if (!(*text = malloc(*n + 1))) {
+    fclose(f);
+    snprintf(err, len, "%s: out of memory for %zu bytes", path, *n);
+    return AF_ENOMEM;
+  }
+  size_t got = fread(*text, 1, *n, f);
+  bool more = fgetc(f) != EOF, failed = ferror(f) != 0;
+  fclose(f);
+  (*text)[got] = '\0';
+  if (failed || got != *n || more || memchr(*text, '\0', got) != NULL) {
+    snprintf(err, len, "%s: %s", path,
+             failed              ? "cannot be read"
+             : got != *n || more ? "changed while read"
+                                 : "holds a NUL byte: not a JSON report");
+    free(*text);
+    *text = NULL;
+    return AF_EINVAL;
+  }
+  return AF_OK;
+}
+
+/* One report file, read whole (a regular file of at most AF_MERGE_MAX_BYTES). */
+static int merge_file(af_combined *all, const char *path, af_merge_settings *set)
+{
+  char err[AF_ERR_MAX];
+  size_t n = 0;
+  char *text = NULL;
+  af_status st = read_text(path, AF_MERGE_MAX_BYTES, &text, &n, err, sizeof err);
+  if (st != AF_OK) {
+    fprintf(stderr, "firmness_report: --merge %s\n", err);
+    return st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
+  }
+  af_json_doc d;
+  int code;
+  st = af_json_parse(text, n, &d, err, sizeof err);
+  if (st != AF_OK)
+    code = st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
+  else
+    code = merge_document(all, &d, set, err, sizeof err);
+  if (code)
+    fprintf(stderr, "firmness_report: --merge %s: %s\n", path, err);
+  af_json_free(&d);
+  free(text);
+  return code;
+}
+
+/* Every report in the order given, then the combined summary: what one run
+ * over all their bags prints as its combined section. */
+static int run_merge(const af_report_args *a)
+{
+  static af_merge_settings set; /* large: not on the stack */
+  af_combined all;
+  af_combined_init(&all);
+  int code = 0;
+  for (size_t k = 0; k < a->n_bags && code == 0; k++)
+    code = merge_file(&all, a->bags[k], &set);
+  if (code == 0) {
+    if (a->json) {
+      fputs("{\n  \"merged\": [", stdout);
+      for (size_t k = 0; k < a->n_bags; k++) {
+        fputs(k ? ", " : "", stdout);
+        af_json_string(stdout, a->bags[k]);
+      }
+      fputs("],\n  \"combined\": ", stdout);
+    }
+    print_combined(&all, a->json);
+    if (a->json)
+      fputs("\n}\n", stdout);
+  }
+  af_combined_free(&all);
+  return code;
 }
 
 /* ---- the run --------------------------------------------------------------------- */
@@ -611,13 +769,15 @@ static int run_bags(af_writer *w, af_run *r, int jobs)
   return code;
 }
 
-static int run_report(const af_report_args *a, const char *ns, const af_lane_config *cfg, FILE *csv)
+static int run_report(const af_report_args *a, const char *ns, const af_settings *settings,
+                      const af_lane_config *cfg, FILE *csv)
 {
   char err[AF_ERR_MAX];
   af_writer w;
   memset(&w, 0, sizeof w);
   w.a = a;
   w.ns = ns;
+  w.settings = settings;
   w.csv = csv;
   w.many = a->n_bags > 1;
   af_report_bench_init(&w.bench);
@@ -679,8 +839,14 @@ int main(int argc, char **argv)
     free_bags(&a);
     return 0;
   }
+  if (a.merge) {
+    code = run_merge(&a);
+    free_bags(&a);
+    return code;
+  }
   char ns[AF_SESSION_NS_MAX];
   static af_lane_config cfg; /* large: not on the stack */
+  static af_settings settings;
   FILE *csv = NULL;
   if (!ns_valid(a.ns, ns, sizeof ns))
     code = bad_flag("--ns '%s' is not a lane namespace (a ROS name: letters, digits, _ and /, "
@@ -694,12 +860,12 @@ int main(int argc, char **argv)
       fclose(probe);
   }
   if (code == 0)
-    code = configure(&a, &cfg);
+    code = configure(&a, &settings, &cfg);
   if (code == 0 && a.csv && !(csv = fopen(a.csv, "w")))
     code = bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
   if (code == 0) {
     af_status_init(); /* GSL's handler, once, before any worker runs */
-    code = run_report(&a, ns, &cfg, csv);
+    code = run_report(&a, ns, &settings, &cfg, csv);
   }
   if (csv && af_closeout_file(csv, a.csv) != 0 && code == 0)
     code = 1;

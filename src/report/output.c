@@ -1,5 +1,6 @@
 /* output.c — text, JSON and CSV of a session (see output.h). */
 #include "json.h"
+#include "merge_state.h"
 #include "output.h"
 #include "serialize.h"
 
@@ -453,7 +454,7 @@ static void json_summary(FILE *out, const af_session *s, const af_summary *m)
 }
 
 void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,
-                    const af_summary *m, const af_stage_hook *timer)
+                    const af_summary *m, const af_settings *settings, const af_stage_hook *timer)
 {
   fputs("{\n  \"bag\": ", out);
   af_json_string(out, bag);
@@ -474,6 +475,8 @@ void af_output_json(FILE *out, const char *bag, const char *ns, const af_session
     }
   fputs("],\n", out);
   json_summary(out, s, m);
+  fputs(",\n  ", out);
+  af_merge_state_write(out, s, m, settings);
   fputs("\n}\n", out);
 }
 

@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "session.h"
+#include "settings.h"
 #include "stage.h"
 #include "summary.h"
 
@@ -26,8 +27,10 @@ void af_output_text(FILE *out, const af_session *s, const af_summary *m,
 void af_output_text_strikes(FILE *out, const af_session *s, const af_stage_hook *timer);
 void af_output_text_summary(FILE *out, const af_session *s, const af_summary *m);
 
+/* One bag's document; its last member is the bag's merge state
+ * (merge_state.h), settings: what the bag was run with. */
 void af_output_json(FILE *out, const char *bag, const char *ns, const af_session *s,
-                    const af_summary *m, const af_stage_hook *timer);
+                    const af_summary *m, const af_settings *settings, const af_stage_hook *timer);
 /* A bag that could not be read: {"bag": BAG, "error": LINE}. */
 void af_output_json_failed(FILE *out, const char *bag, const char *error);
 /* {"bags": N, "failed": F, "summary": {...}} (no newline after it); totals:
