@@ -15,6 +15,7 @@ struct af_live_settings {
   af_ros *ros;
   af_node_config *cfg;
   af_lane_io *measured;
+  af_snapshot *snapshot;  /* published again after a change; may be NULL */
   af_settings next;       /* the request on the node's settings */
   af_lane_config derived; /* its lane configuration */
   af_lane_config before;  /* the one in force, to restore */
@@ -96,6 +97,7 @@ static af_status on_request(const af_rc_value *values, size_t n, bool initial, v
     return st;
   }
   l->cfg->settings = l->next;
+  af_snapshot_publish(l->snapshot, &l->cfg->settings);
   l->accepted += !initial;
   af_text(l->last_change, sizeof l->last_change, "%s", change);
   af_ros_log(l->ros, AF_LOG_INFO, "reconfigured: %s", change);
@@ -130,6 +132,12 @@ af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_lane_io *
   }
   *out = l;
   return AF_OK;
+}
+
+void af_live_settings_set_snapshot(af_live_settings *l, af_snapshot *snapshot)
+{
+  if (l != NULL)
+    l->snapshot = snapshot;
 }
 
 void af_live_settings_destroy(af_live_settings *l)

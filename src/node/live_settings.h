@@ -22,6 +22,7 @@
 #include "af_ros.h"
 #include "lane_io.h"
 #include "params.h"
+#include "snapshot.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -34,6 +35,9 @@ typedef struct af_live_settings af_live_settings;
 af_status af_live_settings_create(af_ros *ros, af_node_config *cfg, af_lane_io *measured,
                                   af_live_settings **out, const char **what);
 void af_live_settings_destroy(af_live_settings *l); /* NULL-safe */
+
+/* The snapshot published again after each accepted reconfigure (borrowed). */
+void af_live_settings_set_snapshot(af_live_settings *l, af_snapshot *snapshot);
 
 /* The `reconfigure` keys of /diagnostics (nothing for NULL). */
 void af_live_settings_diag(const af_live_settings *l, af_diag_status *d);

@@ -14,6 +14,7 @@
 #include "audio_in.h"
 #include "evaluate.h"
 #include "live_settings.h"
+#include "snapshot.h"
 #include "markers.h"
 #include "lane_io.h"
 #include "model.h"
@@ -60,6 +61,7 @@ struct af_station {
   af_evaluate *evaluate; /* the ~evaluate service */
   /* dynamic_reconfigure of the criteria, thresholds and grades */
   af_live_settings *live;
+  af_snapshot *snapshot; /* the settings and URDF, latched, for recordings */
   af_audio_in *audio_in; /* audio_common input (~audio_input); NULL with SignalChunk */
   af_strike_plot *plot;  /* the last strike's picture on strike_plot */
   af_tf *tf;             /* the rig's frames (robot_state_publisher, static transforms) */
@@ -808,6 +810,10 @@ static af_status build(af_station *st, const char **what)
   if ((s = af_live_settings_create(st->ros, (af_node_config *)st->cfg, st->measured, &st->live,
                                    what)) != AF_OK)
     return s;
+  *what = "the settings snapshot";
+  if ((s = af_snapshot_create(st->ros, st->cfg, &st->snapshot)) != AF_OK)
+    return s;
+  af_live_settings_set_snapshot(st->live, st->snapshot);
   *what = "the TF listener";
   if ((s = af_tf_create(st->ros, &st->tf)) != AF_OK)
     return s;
@@ -843,6 +849,7 @@ void af_station_destroy(af_station *st)
   af_lane_io_destroy(st->measured);
   af_evaluate_destroy(st->evaluate);
   af_live_settings_destroy(st->live);
+  af_snapshot_destroy(st->snapshot);
   af_audio_in_destroy(st->audio_in);
   af_strike_plot_destroy(st->plot);
   af_tf_destroy(st->tf);

@@ -47,6 +47,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bag_settings.h"
 #include "closeout.h"
 #include "combined.h"
 #include "json.h"
@@ -144,6 +145,8 @@ static void print_usage(FILE *out)
           "through the station's lane, as the node judges it live, and reports every strike\n"
           "(its measurement, verdict flags and firmness grade) and a summary. No ROS master\n"
           "needed. Every file written is told by a line \"wrote FILE\" on stderr.\n\n"
+          "A bag that holds the node's settings (/NS/settings, as record.launch records it) is\n"
+          "judged with them unless --config or --cultivar is given (said on stderr).\n\n"
           "Several bags, or a folder (its *.bag files, sorted by name): one section per bag\n"
           "in the order given, then the summary over all of them; --jobs bags at once.\n"
           "Bags reported apart (each with --json, on several machines) merge with --merge into\n"
@@ -348,9 +351,8 @@ static int parse(int argc, char **argv, af_report_args *a)
   return 0;
 }
 
-/* The node's settings: the table's defaults, the two files, the shipped
- * rig's hammer unless given, then --set. */
-static int configure(const af_report_args *a, af_settings *s, af_lane_config *cfg)
+/* The table's defaults and the two files. */
+static int load_files(const af_report_args *a, af_settings *s)
 {
   char err[AF_ERR_MAX];
   af_settings_reset(s);
@@ -358,6 +360,43 @@ static int configure(const af_report_args *a, af_settings *s, af_lane_config *cf
     return bad_flag("--config %s%s", err, "");
   if (af_settings_load_yaml(s, a->cultivar, err, sizeof err) != AF_OK)
     return bad_flag("--cultivar %s%s", err, "");
+  return 0;
+}
+
+/* The settings before the hammer and --set: the bags' snapshot of the
+ * node's (bag_settings.h) when they hold one and no file is given, else
+ * the files; said on stderr when a snapshot is used or set aside. */
+static int base_settings(const af_report_args *a, const char *ns, bool files_given, af_settings *s)
+{
+  char err[AF_ERR_MAX], topic[AF_SESSION_TOPIC_MAX];
+  snprintf(topic, sizeof topic, "/%s/settings", ns);
+  af_bag_settings_result r = af_bag_settings_read(a->bags, a->n_bags, topic, s, err, sizeof err);
+  if (r == AF_BAG_SETTINGS_REFUSED && !files_given)
+    return bad_flag("%s%s", err, "");
+  if (r == AF_BAG_SETTINGS_READ && !files_given) {
+    fprintf(stderr,
+            "firmness_report: settings from %s of the bag%s (the node's, as recorded); "
+            "--config and --cultivar judge with files instead\n",
+            topic, a->n_bags > 1 ? "s" : "");
+    return 0;
+  }
+  if (r == AF_BAG_SETTINGS_READ)
+    fprintf(stderr,
+            "firmness_report: the node's settings recorded on %s not used: --config or "
+            "--cultivar given\n",
+            topic);
+  return load_files(a, s);
+}
+
+/* The node's settings: the bags' snapshot or the two files, the shipped
+ * rig's hammer unless given, then --set. */
+static int configure(const af_report_args *a, const char *ns, bool files_given, af_settings *s,
+                     af_lane_config *cfg)
+{
+  char err[AF_ERR_MAX];
+  int code = base_settings(a, ns, files_given, s);
+  if (code)
+    return code;
   /* The node reads the hammer from the rig's URDF; a bag does not hold it:
    * the shipped rig's (the table's rig values). */
   if (af_settings_use_rig_hammer(s, err, sizeof err) != AF_OK)
@@ -368,6 +407,15 @@ static int configure(const af_report_args *a, af_settings *s, af_lane_config *cf
   if (af_lane_config_derive(s, cfg, err, sizeof err) != AF_OK)
     return bad_flag("%s%s", err, "");
   return 0;
+}
+
+/* --config or --cultivar given: the files, not a bag's snapshot. */
+static bool files_given(int argc, char **argv)
+{
+  for (int k = 1; k < argc; k++)
+    if (strcmp(argv[k], "--config") == 0 || strcmp(argv[k], "--cultivar") == 0)
+      return true;
+  return false;
 }
 
 /* ---- the workers ----------------------------------------------------------------- */
@@ -860,7 +908,7 @@ int main(int argc, char **argv)
       fclose(probe);
   }
   if (code == 0)
-    code = configure(&a, &settings, &cfg);
+    code = configure(&a, ns, files_given(argc, argv), &settings, &cfg);
   if (code == 0 && a.csv && !(csv = fopen(a.csv, "w")))
     code = bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
   if (code == 0) {

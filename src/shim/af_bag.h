@@ -104,6 +104,16 @@ void af_bag_reader_limit(af_bag_reader *r, size_t max_samples);
 /* Messages on topic in the bag (0 when absent or NULL). */
 size_t af_bag_topic_count(const af_bag_reader *r, const char *topic);
 
+/* The text of the first message on topic (a std_msgs/String: the node's
+ * settings snapshot, NS/settings) into buf: AF_OK with *found true; AF_OK
+ * with *found false when the bag has no message on topic; AF_ESIZE when the
+ * text does not fit len bytes with its NUL; AF_EINVAL when the topic has
+ * another type; AF_EIO when the file is not a readable bag. A failure's
+ * line, naming path, in af_bag_reader_error(NULL). Opens the bag on its
+ * own (a View of that topic only: the chunks of the other topics are not
+ * read). */
+af_status af_bag_read_text(const char *path, const char *topic, char *buf, size_t len, bool *found);
+
 /* Closes and frees r; NULL-safe. */
 void af_bag_close_read(af_bag_reader *r);
 

@@ -36,6 +36,12 @@ typedef struct {
   double x, y, z;
 } af_vec3;
 
+/* std_msgs/String (publish only): a text the node states once, latched (its
+ * settings snapshot, the URDF it read) */
+typedef struct {
+  const char *data; /* caller-owned, NUL-terminated */
+} af_text_msg;
+
 /* acoustic_firmness/SignalChunk */
 typedef struct {
   af_header header;      /* stamp = time of data[0] */

@@ -42,7 +42,8 @@ typedef enum {
   AF_MSG_RELIABILITY,      /* af_reliability       <-> acoustic_firmness/Reliability */
   AF_MSG_MARKER_ARRAY,  /* af_marker_array       -> visualization_msgs/MarkerArray (publish only) */
   AF_MSG_STRIKE_REPORT, /* af_strike_report     <-> acoustic_firmness/StrikeReport */
-  AF_MSG_IMAGE          /* af_image              -> sensor_msgs/Image (publish only; image.cpp) */
+  AF_MSG_IMAGE,         /* af_image              -> sensor_msgs/Image (publish only; image.cpp) */
+  AF_MSG_TEXT           /* af_text_msg           -> std_msgs/String (publish only) */
 } af_msg_type;
 
 typedef enum {

@@ -1,4 +1,5 @@
 // bag_read.cpp — rosbag reading behind the C API of af_bag.h.
+#include <cstring>
 #include <map>
 #include <memory>
 #include <new>
@@ -9,6 +10,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/view.h>
+#include <std_msgs/String.h>
 
 #include "af_bag.h"
 #include "bag_pool.hpp"
@@ -255,6 +257,56 @@ af_status af_bag_open_read(const char *path, const char *const *topics, size_t n
       af_shim::bag_give(r->bag);
     }
     delete r;
+    return s;
+  }
+}
+
+af_status af_bag_read_text(const char *path, const char *topic, char *buf, size_t len, bool *found)
+{
+  if (path == nullptr || topic == nullptr || buf == nullptr || len == 0 || found == nullptr) {
+    set_error(nullptr, "af_bag_read_text: NULL or empty argument");
+    return AF_EINVAL;
+  }
+  *found = false;
+  rosbag::Bag *bag = nullptr;
+  try {
+    std::string why;
+    bool reindexable = false;
+    if (!af_shim::bag_plausible(path, why, &reindexable)) {
+      set_error(nullptr, std::string(path) + ": not a readable bag: " + why);
+      return AF_EIO;
+    }
+    bag = af_shim::bag_take();
+    bag->open(path, rosbag::bagmode::Read);
+    af_status st = AF_OK;
+    {
+      rosbag::View view(*bag, rosbag::TopicQuery(std::string(topic)));
+      for (const rosbag::MessageInstance &mi : view) {
+        std_msgs::String::ConstPtr text = mi.instantiate<std_msgs::String>();
+        if (!text) {
+          set_error(nullptr, std::string(path) + ": " + topic + " has type " + mi.getDataType() +
+                                 ", not std_msgs/String");
+          st = AF_EINVAL;
+        } else if (text->data.size() >= len) {
+          set_error(nullptr, std::string(path) + ": " + topic + ": a text of " +
+                                 std::to_string(text->data.size()) + " bytes, more than " +
+                                 std::to_string(len - 1));
+          st = AF_ESIZE;
+        } else {
+          std::memcpy(buf, text->data.c_str(), text->data.size() + 1);
+          *found = true;
+        }
+        break;
+      }
+    }
+    af_shim::bag_give(bag);
+    return st;
+  } catch (...) {
+    af_status s = reader_status(nullptr);
+    set_error(nullptr,
+              std::string(path) + (s == AF_EIO ? ": not a readable bag: " : ": ") + g_reader_error);
+    if (bag != nullptr)
+      af_shim::bag_give(bag);
     return s;
   }
 }

@@ -28,6 +28,7 @@
 #include <geometry_msgs/Vector3.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/Header.h>
+#include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "af_msgs.h"
@@ -89,6 +90,8 @@ void to_ros(const af_marker_array &c, visualization_msgs::MarkerArray &m);
 // data NULL, a zero size, a step shorter than a row of the encoding, or an
 // encoding the shim does not know.
 void to_ros(const af_image &c, sensor_msgs::Image &m);
+
+void to_ros(const af_text_msg &c, std_msgs::String &m);
 
 } // namespace af_shim
 

@@ -147,6 +147,11 @@ void from_ros(const acoustic_firmness::StrikeAdvice &m, af_strike_advice &c)
   copy_string(m.text, c.text);
 }
 
+void to_ros(const af_text_msg &c, std_msgs::String &m)
+{
+  m.data = c.data != nullptr ? c.data : "";
+}
+
 void to_ros(const af_reliability &c, acoustic_firmness::Reliability &m)
 {
   to_ros(c.header, m.header);

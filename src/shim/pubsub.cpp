@@ -136,6 +136,9 @@ af_status af_ros_advertise(af_ros *r, const char *topic, af_msg_type type, unsig
     case AF_MSG_STRIKE_REPORT:
       advertise_as<af_strike_report, StrikeReport>(nh, topic, queue, latch, *p);
       break;
+    case AF_MSG_TEXT:
+      advertise_as<af_text_msg, std_msgs::String>(nh, topic, queue, latch, *p);
+      break;
     default:
       return af_shim::invalid(r, "af_ros_advertise: unknown message type " +
                                      std::to_string(static_cast<int>(type)) + " for " + topic);

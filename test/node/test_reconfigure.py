@@ -28,6 +28,7 @@ import rostest
 from acoustic_firmness.cfg import StationConfig
 from acoustic_firmness.srv import Evaluate, EvaluateRequest
 from diagnostic_msgs.msg import DiagnosticArray
+from std_msgs.msg import String
 
 import station_common as sc
 
@@ -173,6 +174,33 @@ class ReconfigureTest(unittest.TestCase):
         cfg = self.client.update_configuration({'grade_quantity': 'fitted_modulus',
                                                 'grade_classes': 'soft | 5.0e+6 | firm'})
         self.diag_value('grade classes', 'soft < 5e+06 <= firm (fitted_modulus, Pa)')
+
+    def test_05_settings_snapshot_follows(self):
+        """NS/settings (latched): one `name: value` line per row, each the
+        node's parameter; after an accepted change, the new value; and
+        NS/robot_description the URDF the node read (the parameter)."""
+        def snapshot(want=None, timeout_s=10.0):
+            end = time.time() + timeout_s
+            while time.time() < end:
+                msg = rospy.wait_for_message('settings', String, timeout=timeout_s)
+                rows = dict(line.split(': ', 1) for line in msg.data.splitlines())
+                if want is None or all(rows.get(k) == v for k, v in want.items()):
+                    return rows
+                time.sleep(0.1)
+            self.fail('settings never showed %s: %s' % (want, rows))
+        rows = snapshot()
+        names = set(re.findall(r'\b(?:NUM|WHOLE|CHOICE|STRING|BOOLEAN|OPTIONAL_NUM)\(\s*"(\w+)"',
+                               open(SETTINGS_C).read()))
+        self.assertTrue(set(rows) <= names, set(rows) - names)
+        self.assertGreater(len(rows), len(names) // 2)
+        for name in ('modulus_factor', 'strike_velocity_m_s', 'measure_snr_threshold_db', 'lobe'):
+            self.assertEqual(float(rows[name]), float(rospy.get_param(self.node + '/' + name)), name)
+        self.client.update_configuration({'measure_snr_threshold_db': 13.5})
+        snapshot({'measure_snr_threshold_db': '13.5'})
+        self.client.update_configuration({'measure_snr_threshold_db': 15.0})
+        snapshot({'measure_snr_threshold_db': '15'})
+        urdf = rospy.wait_for_message('robot_description', String, timeout=10.0).data
+        self.assertEqual(urdf, rospy.get_param(rospy.resolve_name('robot_description')))
 
 
 if __name__ == '__main__':
