@@ -54,6 +54,57 @@ function(af_test_properties name)
   endif()
 endfunction()
 
+# af_catkin_run_test(name labels command working_dir): the test as catkin's
+# `catkin_make run_tests` runs it too, its JUnit result (test/harness/junit.sh)
+# in build/test_results/<package>/af-<name>.xml, where `catkin_test_results`
+# reads it; one target per tier too: `catkin_make run_tests_<package>_af_unit`.
+# (catkin_run_tests_target would register a second ctest test of it.)
+function(af_catkin_run_test name labels command working_dir)
+  if(NOT DEFINED CATKIN_ENV OR NOT CATKIN_ENABLE_TESTING)
+    return()
+  endif()
+  set(result ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/af-${name}.xml)
+  # add_test finds an executable target named first; a custom command's
+  # argument is only text: its path, then.
+  list(GET command 0 first)
+  if(TARGET ${first})
+    list(REMOVE_AT command 0)
+    list(INSERT command 0 $<TARGET_FILE:${first}>)
+  endif()
+  set(run ${CATKIN_ENV} bash ${PROJECT_SOURCE_DIR}/test/harness/junit.sh --zero ${result} ${name}
+          ${command})
+  if(NOT working_dir)
+    set(working_dir ${CMAKE_CURRENT_BINARY_DIR})
+  endif()
+  set(target run_tests_${PROJECT_NAME}_af_${name})
+  add_custom_target(${target} COMMAND ${run} WORKING_DIRECTORY ${working_dir} VERBATIM)
+  add_custom_target(_${target} COMMAND ${run} WORKING_DIRECTORY ${working_dir} VERBATIM)
+  foreach(meta run_tests_${PROJECT_NAME} _run_tests_${PROJECT_NAME})
+    if(NOT TARGET ${meta})
+      add_custom_target(${meta})
+    endif()
+  endforeach()
+  if(NOT TARGET clean_test_results_${PROJECT_NAME})
+    add_custom_target(clean_test_results_${PROJECT_NAME}
+      COMMAND ${PYTHON_EXECUTABLE} "${catkin_EXTRAS_DIR}/test/remove_test_results.py"
+              "${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}" VERBATIM)
+  endif()
+  get_property(hooked GLOBAL PROPERTY AF_RUN_TESTS_HOOKED)
+  if(NOT hooked)
+    add_dependencies(run_tests _run_tests_${PROJECT_NAME})
+    set_property(GLOBAL PROPERTY AF_RUN_TESTS_HOOKED ON)
+  endif()
+  add_dependencies(_${target} clean_test_results_${PROJECT_NAME} tests)
+  add_dependencies(run_tests_${PROJECT_NAME} ${target})
+  add_dependencies(_run_tests_${PROJECT_NAME} _${target})
+  foreach(label ${labels})
+    if(NOT TARGET run_tests_${PROJECT_NAME}_af_${label})
+      add_custom_target(run_tests_${PROJECT_NAME}_af_${label})
+    endif()
+    add_dependencies(run_tests_${PROJECT_NAME}_af_${label} ${target})
+  endforeach()
+endfunction()
+
 # af_add_test(NAME name COMMAND cmd... LABELS label... [TIMEOUT s]
 #             [WORKING_DIRECTORY dir] [RESOURCE_LOCK r...])
 # add_test with the labels (at least one tier label) and the options above.
@@ -76,6 +127,7 @@ function(af_add_test)
     list(APPEND extra RESOURCE_LOCK ${AT_RESOURCE_LOCK})
   endif()
   af_test_properties(${AT_NAME} LABELS ${AT_LABELS} ${extra})
+  af_catkin_run_test(${AT_NAME} "${AT_LABELS}" "${AT_COMMAND}" "${AT_WORKING_DIRECTORY}")
 endfunction()
 
 # af_check_test_labels(): fails the configure when a test of this directory

@@ -171,10 +171,11 @@ if(CATKIN_ENABLE_TESTING)
     # docs for the tests of the README's and doc/*.md's commands and figures;
     # slow for those over ~60 s on a 2-core machine.
     if(TARGET strike_bag)
-      set(AF_SCRIPT_TESTS_NO_MASTER scripts_doc_parameters scripts_stray_numbers)
+      set(AF_SCRIPT_TESTS_NO_MASTER scripts_doc_parameters scripts_stray_numbers scripts_workspace)
       set(AF_SCRIPT_TESTS_DOCS scripts_doc_examples scripts_doc_parameters scripts_readme_ros_lines
                                scripts_readme_scripts scripts_quick_start scripts_stray_numbers)
-      set(AF_SCRIPT_TESTS_SLOW scripts_doc_examples scripts_readme_scripts scripts_valgrind)
+      set(AF_SCRIPT_TESTS_SLOW scripts_doc_examples scripts_readme_scripts scripts_valgrind
+                               scripts_workspace)
       file(GLOB AF_SCRIPT_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/scripts/test_*.sh)
       foreach(src ${AF_SCRIPT_TESTS})
         get_filename_component(name ${src} NAME_WE)
@@ -193,6 +194,9 @@ if(CATKIN_ENABLE_TESTING)
         if(name STREQUAL "scripts_valgrind")
           # memcheck slows the node ~30x (scripts/valgrind.sh --short)
           set(timeout 300)
+        elseif(name STREQUAL "scripts_workspace")
+          # a whole catkin_make of the package, then its unit tier twice
+          set(timeout 900)
         elseif(name STREQUAL "scripts_doc_examples")
           # the demo of the README (20 strikes at real time) and every other example
           set(timeout 300)
