@@ -70,10 +70,10 @@ typedef struct {
 
 #define AF_ARG(field) offsetof(af_paper, field)
 static const af_option paper_options[] = {
-    {"--out", "DIR", AF_OPTION_TEXT, AF_ARG(out_dir), -1,
-     "folder of paper.md; the figures go to DIR/paper/ (both made if missing)", NULL},
-    {"--quick", NULL, AF_OPTION_SWITCH, AF_ARG(quick), -1,
-     "coarser sweeps, for tests (every figure and claim still made)", NULL},
+    {"--out", "DIR", AF_OPTION_TEXT, AF_ARG(out_dir), -1, NULL,
+     "folder of paper.md; the figures go to DIR/paper/ (both made if missing)", NULL, false},
+    {"--quick", NULL, AF_OPTION_SWITCH, AF_ARG(quick), -1, NULL,
+     "coarser sweeps, for tests (every figure and claim still made)", NULL, false},
 };
 #define N_OPTIONS (sizeof paper_options / sizeof paper_options[0])
 
@@ -931,21 +931,10 @@ int af_paper_main(int argc, char **argv, int first)
     return 0;
   }
   paper_defaults(&w);
-  for (int k = first; k < argc; k++) {
-    const af_option *o = af_option_find(paper_options, N_OPTIONS, argv[k]);
-    if (o == NULL) {
-      af_options_unknown("firmness_model paper", paper_options, N_OPTIONS, argv[k], NULL);
-      return AF_CLI_EXIT_USAGE;
-    }
-    if (o->value == NULL)
-      (void)af_option_store(o, NULL, &w);
-    else if (k + 1 < argc && argv[k + 1][0] != '\0')
-      (void)af_option_store(o, argv[++k], &w);
-    else {
-      af_options_missing("firmness_model paper", o);
-      return AF_CLI_EXIT_USAGE;
-    }
-  }
+  const af_options_parser p = {
+      "firmness_model paper", {{paper_options, N_OPTIONS, &w, NULL, NULL}}, 1, NULL, false};
+  if (!af_options_parse(&p, argc, argv, first))
+    return AF_CLI_EXIT_USAGE;
   af_text(w.fig_dir, sizeof w.fig_dir, "%s/paper", w.out_dir);
   if (make_dir(w.out_dir) || make_dir(w.fig_dir))
     return AF_CLI_EXIT_USAGE;
