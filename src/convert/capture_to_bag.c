@@ -38,11 +38,11 @@
 #define AF_C2B_EXIT_USAGE 2
 #define AF_C2B_ERR_MAX 1024
 #define AF_C2B_START_S 1700000000 /* strike_bag's bag start [s since 1970] */
-#define AF_C2B_START_MAX_S 4000000000.0
+#define AF_C2B_START_MAX_S 4e9
 #define AF_C2B_CHUNK 1024 /* samples per SignalChunk, as strike_bag */
-#define AF_C2B_CHUNK_MIN 16.0
-#define AF_C2B_CHUNK_MAX 65536.0
-#define AF_C2B_OFFSET_MAX_S 3600.0
+#define AF_C2B_CHUNK_MIN 16
+#define AF_C2B_CHUNK_MAX 65536
+#define AF_C2B_OFFSET_MAX_S 3600
 
 typedef struct {
   const char *force, *audio, *apples, *out, *ns, *audio_unit;
@@ -67,39 +67,46 @@ static af_c2b_args c2b_args_default(void)
 }
 
 #define AF_ARG(field) offsetof(af_c2b_args, field)
+#define AF_C2B_RATE_RANGE "[1000, 1e6] Hz" /* the rates the station's rows accept */
 static const af_option af_c2b_options[] = {
-    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force), -1,
-     "force recording [N]: WAV, or raw float32 with --rate-force", NULL},
-    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio), -1,
-     "audio recording [--audio-unit]: WAV, or raw float32 with --rate-audio", NULL},
-    {"--apples", "FILE", AF_OPTION_TEXT, AF_ARG(apples), -1,
-     "apple list CSV (doc/recordings.md: one row per apple)", NULL},
-    {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag written", NULL},
-    {"--rate-force", "HZ", AF_OPTION_NONE, AF_ARG(rate_force_hz), -1,
-     "force sample rate [Hz], in [1000, 1e6]; for a WAV it must equal the header's",
-     "the WAV header's; required for raw float32"},
-    {"--rate-audio", "HZ", AF_OPTION_NONE, AF_ARG(rate_audio_hz), -1,
-     "audio sample rate [Hz], in [1000, 1e6]; for a WAV it must equal the header's",
-     "the WAV header's; required for raw float32"},
+    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force), -1, NULL,
+     "force recording [N]: WAV, or raw float32 with --rate-force", NULL, false},
+    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio), -1, NULL,
+     "audio recording [--audio-unit]: WAV, or raw float32 with --rate-audio", NULL, false},
+    {"--apples", "FILE", AF_OPTION_TEXT, AF_ARG(apples), -1, NULL,
+     "apple list CSV (doc/recordings.md: one row per apple)", NULL, false},
+    {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, NULL, "the bag written", NULL, false},
+    {"--rate-force", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_force_hz), -1, AF_C2B_RATE_RANGE,
+     "force sample rate; for a WAV it must equal the header's",
+     "the WAV header's; required for raw float32", false},
+    {"--rate-audio", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_audio_hz), -1, AF_C2B_RATE_RANGE,
+     "audio sample rate; for a WAV it must equal the header's",
+     "the WAV header's; required for raw float32", false},
     {"--force-channel", "N", AF_OPTION_LONG, AF_ARG(force_channel), -1,
-     "channel of the force WAV, 0-based, in [0, 65535]", "0, the first"},
+     "[0, " AF_OPTION_STR(AF_RECORDING_CHANNEL_MAX) "]", "channel of the force WAV, 0-based",
+     "0, the first", false},
     {"--audio-channel", "N", AF_OPTION_LONG, AF_ARG(audio_channel), -1,
-     "channel of the audio WAV, 0-based, in [0, 65535]", "0, the first"},
+     "[0, " AF_OPTION_STR(AF_RECORDING_CHANNEL_MAX) "]", "channel of the audio WAV, 0-based",
+     "0, the first", false},
     {"--force-scale", "N", AF_OPTION_NUMBER, AF_ARG(force_scale), -1,
-     "force [N] at integer full scale, or of a float sample 1.0, in (0, 1e6]", NULL},
+     "(0, " AF_OPTION_STR(AF_RECORDING_SCALE_MAX) "] N",
+     "force at integer full scale, or of a float sample 1.0", NULL, false},
     {"--audio-scale", "X", AF_OPTION_NUMBER, AF_ARG(audio_scale), -1,
-     "audio [--audio-unit] at integer full scale, or of a float sample 1.0, in (0, 1e6]", NULL},
-    {"--audio-unit", "UNIT", AF_OPTION_SETTING, 0, AF_SETTING_AUDIO_UNIT,
-     "unit of the audio chunks (the station's audio_unit must match)", NULL},
+     "(0, " AF_OPTION_STR(AF_RECORDING_SCALE_MAX) "] audio_unit",
+     "audio at integer full scale, or of a float sample 1.0", NULL, false},
+    {"--audio-unit", "UNIT", AF_OPTION_SETTING, 0, AF_SETTING_AUDIO_UNIT, NULL,
+     "unit of the audio chunks (the station's audio_unit must match)", NULL, false},
     {"--audio-offset", "S", AF_OPTION_NUMBER, AF_ARG(audio_offset_s), -1,
-     "audio's first sample after the force's first [s], in [-3600, 3600]",
-     "0, the two start together"},
+     "[-" AF_OPTION_STR(AF_C2B_OFFSET_MAX_S) ", " AF_OPTION_STR(AF_C2B_OFFSET_MAX_S) "] s",
+     "audio's first sample after the force's first", "0, the two start together", false},
     {"--start", "S", AF_OPTION_U64, AF_ARG(start_s), -1,
-     "time of the force's first sample [s since 1970], whole, in [1, 4e9)", NULL},
-    {"--chunk", "N", AF_OPTION_LONG, AF_ARG(chunk), -1, "samples per SignalChunk, in [16, 65536]",
-     NULL},
-    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
-     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
+     "[1, " AF_OPTION_STR(AF_C2B_START_MAX_S) ") s", "time of the force's first sample, since 1970",
+     NULL, false},
+    {"--chunk", "N", AF_OPTION_LONG, AF_ARG(chunk), -1,
+     "[" AF_OPTION_STR(AF_C2B_CHUNK_MIN) ", " AF_OPTION_STR(AF_C2B_CHUNK_MAX) "] samples",
+     "samples per SignalChunk", NULL, false},
+    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1, NULL,
+     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL, false},
 };
 #define AF_C2B_N_OPTIONS (sizeof af_c2b_options / sizeof af_c2b_options[0])
 
@@ -129,82 +136,21 @@ static int c2b_bad(const char *msg)
   return AF_C2B_EXIT_USAGE;
 }
 
-/* text as a number in [lo, hi] (lo excluded when lo_open) into *out; false
- * after one line naming flag, text and the range. */
-static bool c2b_number(const char *flag, const char *text, double lo, double hi, bool lo_open,
-                       const char *unit, double *out)
+/* --audio-unit: a value the audio_unit row accepts (checked now, kept as
+ * given); false after one line. */
+static bool c2b_hand(void *user, const af_option *o, const char *v)
 {
-  char *end, msg[AF_C2B_ERR_MAX];
-  errno = 0;
-  *out = strtod(text, &end);
-  if (end != text && *end == '\0' && errno != ERANGE && isfinite(*out) &&
-      (lo_open ? *out > lo : *out >= lo) && *out <= hi)
-    return true;
-  snprintf(msg, sizeof msg, "%s '%s' must be a number in %c%g, %g] %s", flag, text,
-           lo_open ? '(' : '[', lo, hi, unit);
-  (void)c2b_bad(msg);
-  return false;
-}
-
-/* A whole number in [lo, hi], written in digits. */
-static bool c2b_whole(const char *flag, const char *text, double lo, double hi, double *out)
-{
-  char msg[AF_C2B_ERR_MAX];
-  errno = 0;
-  *out = strtod(text, NULL);
-  if (text[0] != '\0' && strspn(text, "0123456789") == strlen(text) && errno != ERANGE &&
-      *out >= lo && *out <= hi)
-    return true;
-  snprintf(msg, sizeof msg, "%s '%s' must be a whole number in [%.0f, %.0f]", flag, text, lo, hi);
-  (void)c2b_bad(msg);
-  return false;
-}
-
-/* One flag's value into a. */
-static bool c2b_value(af_c2b_args *a, const af_option *o, const char *v)
-{
-  char err[AF_C2B_ERR_MAX / 2];
-  const char *f = o->name;
-  double x;
-  if (o->kind == AF_OPTION_TEXT)
-    return af_option_store(o, v, a);
-  if (strcmp(f, "--rate-force") == 0 || strcmp(f, "--rate-audio") == 0)
-    return c2b_number(f, v, 1000.0, 1e6, false, "Hz",
-                      f[7] == 'f' ? &a->rate_force_hz : &a->rate_audio_hz);
-  if (strcmp(f, "--force-channel") == 0 || strcmp(f, "--audio-channel") == 0) {
-    bool ok = af_recording_parse_channel(f, v, f[2] == 'f' ? &a->force_channel : &a->audio_channel,
-                                         err, sizeof err);
-    return ok || c2b_bad(err) == 0;
+  af_c2b_args *a = user;
+  af_settings s;
+  char arg[AF_C2B_ERR_MAX], err[AF_C2B_ERR_MAX / 2];
+  (void)o; /* the one entry handed back */
+  af_settings_reset(&s);
+  snprintf(arg, sizeof arg, "audio_unit=%s", v);
+  if (af_settings_set_arg(&s, arg, err, sizeof err) != AF_OK) {
+    snprintf(arg, sizeof arg, "--audio-unit: %s", err);
+    return c2b_bad(arg) == 0;
   }
-  if (strcmp(f, "--force-scale") == 0 || strcmp(f, "--audio-scale") == 0) {
-    bool ok = af_recording_parse_scale(f, v, f[2] == 'f' ? &a->force_scale : &a->audio_scale, err,
-                                       sizeof err);
-    return ok || c2b_bad(err) == 0;
-  }
-  if (strcmp(f, "--audio-unit") == 0) {
-    af_settings s;
-    char arg[AF_C2B_ERR_MAX];
-    af_settings_reset(&s);
-    snprintf(arg, sizeof arg, "audio_unit=%s", v);
-    if (af_settings_set_arg(&s, arg, err, sizeof err) != AF_OK) {
-      snprintf(arg, sizeof arg, "--audio-unit: %s", err);
-      return c2b_bad(arg) == 0;
-    }
-    a->audio_unit = v;
-    return true;
-  }
-  if (strcmp(f, "--audio-offset") == 0)
-    return c2b_number(f, v, -AF_C2B_OFFSET_MAX_S, AF_C2B_OFFSET_MAX_S, false, "s",
-                      &a->audio_offset_s);
-  if (strcmp(f, "--start") == 0) {
-    if (!c2b_whole(f, v, 1.0, AF_C2B_START_MAX_S - 1.0, &x))
-      return false;
-    a->start_s = (uint64_t)x;
-    return true;
-  }
-  if (!c2b_whole(f, v, AF_C2B_CHUNK_MIN, AF_C2B_CHUNK_MAX, &x)) /* --chunk */
-    return false;
-  a->chunk = (long)x;
+  a->audio_unit = v;
   return true;
 }
 
@@ -236,19 +182,10 @@ static int c2b_required(const af_c2b_args *a)
 static int c2b_parse(int argc, char **argv, af_c2b_args *a)
 {
   *a = c2b_args_default();
-  for (int k = 1; k < argc; k++) {
-    const af_option *o = af_option_find(af_c2b_options, AF_C2B_N_OPTIONS, argv[k]);
-    if (o == NULL) {
-      af_options_unknown("capture_to_bag", af_c2b_options, AF_C2B_N_OPTIONS, argv[k], NULL);
-      return AF_C2B_EXIT_USAGE;
-    }
-    if (k + 1 >= argc) {
-      af_options_missing("capture_to_bag", o);
-      return AF_C2B_EXIT_USAGE;
-    }
-    if (!c2b_value(a, o, argv[++k]))
-      return AF_C2B_EXIT_USAGE;
-  }
+  const af_options_parser p = {
+      "capture_to_bag", {{af_c2b_options, AF_C2B_N_OPTIONS, a, c2b_hand, a}}, 1, NULL, false};
+  if (!af_options_parse(&p, argc, argv, 1))
+    return AF_C2B_EXIT_USAGE;
   return c2b_required(a);
 }
 

@@ -183,40 +183,37 @@ static const args args_defaults = {0,   NULL, NULL, "lane1", 1,     0.5,
 
 #define AF_ARG(field) offsetof(args, field)
 static const af_option options[] = {
-    {"--strikes", "N", AF_OPTION_LONG, AF_ARG(strikes), -1,
-     "strikes (apples), a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "] [-]", NULL},
-    {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, "the bag", NULL},
-    {"--seed", "S", AF_OPTION_U64, AF_ARG(seed), -1,
-     "seed of the noise and the apples, a whole number >= 0 [-]", NULL},
-    {"--truth", "FILE", AF_OPTION_TEXT, AF_ARG(truth), -1, "the truth CSV",
-     "FILE of --out without .bag, + .truth.csv"},
-    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
-     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
+    {"--strikes", "N", AF_OPTION_LONG, AF_ARG(strikes), -1, "[1, " AF_OPTION_STR(STRIKES_MAX) "]",
+     "strikes (apples)", NULL, false},
+    {"--out", "FILE", AF_OPTION_TEXT, AF_ARG(out), -1, NULL, "the bag", NULL, false},
+    {"--seed", "S", AF_OPTION_U64, AF_ARG(seed), -1, "[0, 18446744073709551615]",
+     "seed of the noise and the apples", NULL, false},
+    {"--truth", "FILE", AF_OPTION_TEXT, AF_ARG(truth), -1, NULL, "the truth CSV",
+     "FILE of --out without .bag, + .truth.csv", false},
+    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1, NULL,
+     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL, false},
     {"--spacing", "S", AF_OPTION_NUMBER, AF_ARG(spacing_s), -1,
-     "time between strikes, in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
-         SPACING_MAX_S) "] [s]",
-     NULL},
+     "[" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(SPACING_MAX_S) "] s",
+     "time between strikes", NULL, false},
     {"--velocity-drift", "X", AF_OPTION_NUMBER, AF_ARG(velocity_drift), -1,
-     "contact velocity of strike k of N: strike_velocity_m_s (1 + X k / (N - 1)), X in "
-     "[-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(DRIFT_MAX) "] (0.05: +5 % over the bag) [-]",
-     "0: a constant contact velocity"},
-    {"--modulus-factor", "F", AF_OPTION_NUMBER, AF_ARG(modulus_factor), -1,
-     "true dynamic / quasi-static modulus of the 0S2 (within the modulus_factor row's range) [-]",
-     NULL},
+     "[-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(DRIFT_MAX) "]",
+     "contact velocity of strike k of N: strike_velocity_m_s (1 + X k / (N - 1)) (0.05: +5 % "
+     "over the bag)",
+     "0: a constant contact velocity", false},
+    {"--modulus-factor", "F", AF_OPTION_NUMBER, AF_ARG(modulus_factor), AF_SETTING_MODULUS_FACTOR,
+     NULL, "true dynamic / quasi-static modulus of the 0S2 (the modulus_factor row's range)", NULL,
+     false},
     {"--modulus-factor-spread", "S", AF_OPTION_NUMBER, AF_ARG(factor_spread), -1,
-     "relative SD of the true factor between apples (lognormal), in [0, " AF_OPTION_STR(
-         FACTOR_SPREAD_MAX) "] [-]",
-     "0: every apple has F"},
+     "[0, " AF_OPTION_STR(FACTOR_SPREAD_MAX) "]",
+     "relative SD of the true factor between apples (lognormal)", "0: every apple has F", false},
     {"--unreliable-fraction", "P", AF_OPTION_NUMBER, AF_ARG(unreliable_fraction), -1,
-     "share of strikes clipped (too hard for the transducer), in [0, " AF_OPTION_STR(
-         UNRELIABLE_MAX) "] [-]",
-     "0: none clipped"},
-    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1,
-     "a microphone-only rig: no force topic (audio and apples only)", NULL},
+     "[0, " AF_OPTION_STR(UNRELIABLE_MAX) "]",
+     "share of strikes clipped (too hard for the transducer)", "0: none clipped", false},
+    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1, NULL,
+     "a microphone-only rig: no force topic (audio and apples only)", NULL, false},
     {"--max-size", "GB", AF_OPTION_NUMBER, AF_ARG(max_size_gb), -1,
-     "refuse, before writing, a bag estimated above this size or the free disk space, in (0, "
-     "1e6] [GB]",
-     NULL},
+     "(0, " AF_OPTION_STR(MAX_SIZE_CAP_GB) "] GB",
+     "refuse, before writing, a bag estimated above this size or the free disk space", NULL, false},
 };
 #define N_OPTIONS (sizeof options / sizeof options[0])
 
@@ -239,75 +236,9 @@ static int usage(const char *msg, const char *value)
 static int parse(int argc, char **argv, args *a)
 {
   *a = args_defaults;
-  for (int i = 1; i < argc; i++) {
-    const char *flag = argv[i];
-    const af_option *o = af_option_find(options, N_OPTIONS, flag);
-    if (o == NULL) {
-      af_options_unknown("strike_bag", options, N_OPTIONS, flag, NULL);
-      return 2;
-    }
-    if (o->value == NULL) { /* a switch: --tap-only */
-      a->tap_only = true;
-      continue;
-    }
-    if (i + 1 >= argc) {
-      af_options_missing("strike_bag", o);
-      return 2;
-    }
-    const char *v = argv[++i];
-    char *end = NULL;
-    errno = 0;
-    if (strcmp(flag, "--strikes") == 0) {
-      a->strikes = strtol(v, &end, 10);
-      if (errno || *end || a->strikes < 1 || a->strikes > STRIKES_MAX)
-        return usage("--strikes must be a whole number in [1, " AF_OPTION_STR(STRIKES_MAX) "], got",
-                     v);
-    } else if (strcmp(flag, "--seed") == 0) {
-      unsigned long long s = strtoull(v, &end, 10);
-      if (errno || *end || v[0] == '-')
-        return usage("--seed must be a non-negative whole number, got", v);
-      a->seed = (uint64_t)s;
-    } else if (strcmp(flag, "--spacing") == 0) {
-      a->spacing_s = strtod(v, &end);
-      if (errno || *end || !(a->spacing_s >= SPACING_MIN_S && a->spacing_s <= SPACING_MAX_S))
-        return usage("--spacing must be in [" AF_OPTION_STR(SPACING_MIN_S) ", " AF_OPTION_STR(
-                         SPACING_MAX_S) "] s, got",
-                     v);
-    } else if (strcmp(flag, "--velocity-drift") == 0) {
-      a->velocity_drift = strtod(v, &end);
-      if (errno || *end || end == v || !(fabs(a->velocity_drift) <= DRIFT_MAX))
-        return usage("--velocity-drift must be in [-" AF_OPTION_STR(DRIFT_MAX) ", " AF_OPTION_STR(
-                         DRIFT_MAX) "], got",
-                     v);
-    } else if (strcmp(flag, "--modulus-factor") == 0) {
-      af_setting_range r;
-      a->modulus_factor = strtod(v, &end);
-      if (af_setting_range_of(AF_SETTING_MODULUS_FACTOR, &r) != AF_OK || errno || *end ||
-          !af_setting_range_contains(&r, a->modulus_factor)) {
-        char msg[96];
-        snprintf(msg, sizeof msg,
-                 "--modulus-factor must be in [%g, %g] (the modulus_factor row), got", r.lo, r.hi);
-        return usage(msg, v);
-      }
-    } else if (strcmp(flag, "--modulus-factor-spread") == 0) {
-      a->factor_spread = strtod(v, &end);
-      if (errno || *end || !(a->factor_spread >= 0.0 && a->factor_spread <= FACTOR_SPREAD_MAX))
-        return usage(
-            "--modulus-factor-spread must be in [0, " AF_OPTION_STR(FACTOR_SPREAD_MAX) "], got", v);
-    } else if (strcmp(flag, "--max-size") == 0) {
-      a->max_size_gb = strtod(v, &end);
-      if (errno || *end || end == v || !(a->max_size_gb > 0.0 && a->max_size_gb <= MAX_SIZE_CAP_GB))
-        return usage("--max-size must be in (0, 1e6] GB, got", v);
-    } else if (strcmp(flag, "--unreliable-fraction") == 0) {
-      a->unreliable_fraction = strtod(v, &end);
-      if (errno || *end ||
-          !(a->unreliable_fraction >= 0.0 && a->unreliable_fraction <= UNRELIABLE_MAX))
-        return usage("--unreliable-fraction must be in [0, " AF_OPTION_STR(UNRELIABLE_MAX) "], got",
-                     v);
-    } else {
-      (void)af_option_store(o, v, a);
-    }
-  }
+  const af_options_parser p = {"strike_bag", {{options, N_OPTIONS, a, NULL, NULL}}, 1, NULL, false};
+  if (!af_options_parse(&p, argc, argv, 1))
+    return 2;
   if (a->strikes == 0)
     return usage("--strikes is required", NULL);
   if (a->out == NULL || a->out[0] == '\0')

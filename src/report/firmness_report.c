@@ -97,40 +97,39 @@ static af_report_args report_args_default(void)
 #define AF_ARG(field) offsetof(af_report_args, field)
 /* Every flag: the parser knows no other, --help prints each. */
 static const af_option af_report_options[] = {
-    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config), -1, "station parameters (YAML)", NULL},
-    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1, "cultivar parameters (YAML)",
-     NULL},
-    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1,
-     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL},
-    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
+    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config), -1, NULL, "station parameters (YAML)",
+     NULL, false},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1, NULL, "cultivar parameters (YAML)",
+     NULL, false},
+    {"--ns", "NAME", AF_OPTION_TEXT, AF_ARG(ns), -1, NULL,
+     "lane namespace of the topics /NS/force, /NS/audio, /NS/apple", NULL, false},
+    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1, NULL,
      "any parameter of the two files, after them (repeatable, at most " AF_OPTION_STR(
          AF_SETS_MAX) ")",
-     "the files' values"},
-    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1,
-     "one row per strike (several bags: a first column \"bag\")", "no CSV"},
-    {"--plots", "DIR", AF_OPTION_TEXT, AF_ARG(plots), -1,
-     "per-strike and session figures (PNG), the folder made if missing; one bag only",
-     "no figures"},
-    {"--json", NULL, AF_OPTION_SWITCH, AF_ARG(json), -1,
-     "the report as JSON on stdout instead of text", NULL},
-    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
+     "the files' values", true},
+    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv), -1, NULL,
+     "one row per strike (several bags: a first column \"bag\")", "no CSV", false},
+    {"--plots", "DIR", AF_OPTION_TEXT, AF_ARG(plots), -1, NULL,
+     "per-strike and session figures (PNG), the folder made if missing; one bag only", "no figures",
+     false},
+    {"--json", NULL, AF_OPTION_SWITCH, AF_ARG(json), -1, NULL,
+     "the report as JSON on stdout instead of text", NULL, false},
+    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1, NULL,
      "recorded time processed per wall-clock second and the cost of each stage of a strike "
      "(setup, detect, window, predict, fft, modes, fit, verdict, serialize: median, mean, p99 "
      "and max per strike), on stderr",
-     NULL},
-    {"--jobs", "N", AF_OPTION_LONG, AF_ARG(jobs), -1,
-     "bags read at once, each by a worker thread of its own [workers], 1 to " AF_OPTION_STR(
-         AF_JOBS_MAX),
-     "one per core online"},
-    {"--merge", NULL, AF_OPTION_SWITCH, AF_ARG(merge), -1,
+     NULL, false},
+    {"--jobs", "N", AF_OPTION_LONG, AF_ARG(jobs), -1, "[1, " AF_OPTION_STR(AF_JOBS_MAX) "] workers",
+     "bags read at once, each by a worker thread of its own", "one per core online", false},
+    {"--merge", NULL, AF_OPTION_SWITCH, AF_ARG(merge), -1, NULL,
      "the arguments are JSON reports (--json, of one bag or several; a folder: its *.json) to "
      "merge into the summary one run over all their bags prints; no bag is read; only --json "
      "goes with it",
-     NULL},
-    {"--fields", NULL, AF_OPTION_SWITCH, AF_ARG(fields), -1,
+     NULL, false},
+    {"--fields", NULL, AF_OPTION_SWITCH, AF_ARG(fields), -1, NULL,
      "print the strike fields (name, type, unit, message field, meaning) as a markdown table, "
      "with --json as JSON, and exit; no BAG",
-     NULL},
+     NULL, false},
 };
 #define AF_N_OPTIONS (sizeof af_report_options / sizeof af_report_options[0])
 
@@ -273,58 +272,29 @@ static long jobs_or_cores(long jobs)
   return cores < 1 ? 1 : cores > AF_JOBS_MAX ? AF_JOBS_MAX : cores;
 }
 
-/* --jobs: a whole number in [1, AF_JOBS_MAX]. */
-static int parse_jobs(const char *v, long *out)
+/* A bag or folder (o NULL) or a --set, in the order given. */
+static bool report_hand(void *user, const af_option *o, const char *value)
 {
-  char *end = NULL;
-  errno = 0;
-  long n = strtol(v, &end, 10);
-  if (errno != 0 || end == v || *end != '\0' || n < 1 || n > AF_JOBS_MAX)
-    return bad_flag("--jobs '%s': not a whole number of workers in [1, %s]", v,
-                    AF_OPTION_STR(AF_JOBS_MAX));
-  *out = n;
-  return 0;
+  af_report_args *a = user;
+  if (o == NULL)
+    return add_argument(a, value) == 0;
+  if (a->n_sets == AF_SETS_MAX) {
+    (void)bad_flag("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", value, "");
+    return false;
+  }
+  a->sets[a->n_sets++] = value;
+  return true;
 }
 
 static int parse(int argc, char **argv, af_report_args *a)
 {
   *a = report_args_default();
-  int code = 0;
   for (int k = 1; k < argc; k++) /* before the arguments: a folder's files are *.json */
     a->merge |= strcmp(argv[k], "--merge") == 0;
-  for (int k = 1; k < argc && code == 0; k++) {
-    const char *f = argv[k];
-    if (strncmp(f, "--", 2) != 0) {
-      code = add_argument(a, f);
-      continue;
-    }
-    const af_option *o = af_option_find(af_report_options, AF_N_OPTIONS, f);
-    if (!o) {
-      af_options_unknown("firmness_report", af_report_options, AF_N_OPTIONS, f, "BAG...");
-      return AF_EXIT_USAGE;
-    }
-    if (strcmp(f, "--set") != 0 && !af_options_once("firmness_report", o, argv, 1, k))
-      return AF_EXIT_USAGE; /* a single-valued flag given twice: refused, not last-wins */
-    if (o->value == NULL) {
-      (void)af_option_store(o, NULL, a);
-      continue;
-    }
-    if (k + 1 >= argc || argv[k + 1][0] == '\0') {
-      af_options_missing("firmness_report", o);
-      return AF_EXIT_USAGE;
-    }
-    const char *v = argv[++k];
-    if (strcmp(f, "--set") == 0) {
-      if (a->n_sets == AF_SETS_MAX)
-        return bad_flag("--set %s: more than " AF_OPTION_STR(AF_SETS_MAX) " --set flags%s", v, "");
-      a->sets[a->n_sets++] = v;
-    } else if (strcmp(f, "--jobs") == 0)
-      code = parse_jobs(v, &a->jobs);
-    else
-      (void)af_option_store(o, v, a);
-  }
-  if (code)
-    return code;
+  const af_options_parser p = {
+      "firmness_report", {{af_report_options, AF_N_OPTIONS, a, report_hand, a}}, 1, "BAG...", true};
+  if (!af_options_parse(&p, argc, argv, 1))
+    return AF_EXIT_USAGE;
   if (a->fields && a->n_bags > 0)
     return bad_flag("--fields takes no bag: '%s'%s", a->bags[0], "");
   if (a->fields && (a->csv || a->plots || a->bench || a->n_sets || a->jobs || a->merge))

@@ -90,44 +90,6 @@ static int print_usage(const char *fmt, const char *a, const char *b)
 
 /* ---- arguments ------------------------------------------------------------- */
 
-/* A number of flag: > 0 when positive, else within +-AF_ANALYZE_OFFSET_MAX_S
- * (the only signed flag is --audio-offset). The physical ranges of the rates
- * and of the apple are the parameter table's (checked later). */
-static bool parse_value(const char *flag, const char *text, bool positive, double *out)
-{
-  char *end;
-  errno = 0;
-  *out = strtod(text, &end);
-  if (end == text || *end != '\0' || errno == ERANGE || !isfinite(*out) ||
-      (positive && !(*out > 0.0)) || (!positive && !(fabs(*out) <= AF_ANALYZE_OFFSET_MAX_S))) {
-    if (positive)
-      fprintf(stderr, "firmness_model analyze: %s '%s' must be a finite number > 0\n", flag, text);
-    else
-      fprintf(stderr, "firmness_model analyze: %s '%s' must be a number in [-%d, %d] s\n", flag,
-              text, AF_ANALYZE_OFFSET_MAX_S, AF_ANALYZE_OFFSET_MAX_S);
-    return false;
-  }
-  return true;
-}
-
-/* --max-samples: a whole number in [1, AF_RECORDING_MAX_SAMPLES]. */
-static bool parse_max_samples(const char *text, long *out)
-{
-  char *end;
-  errno = 0;
-  long v = strtol(text, &end, 10);
-  if (end == text || *end != '\0' || errno == ERANGE || v < 1 ||
-      (unsigned long)v > AF_RECORDING_MAX_SAMPLES) {
-    fprintf(stderr,
-            "firmness_model analyze: --max-samples '%.40s' must be a whole number in [1, %zu] "
-            "[samples]\n",
-            text, AF_RECORDING_MAX_SAMPLES);
-    return false;
-  }
-  *out = v;
-  return true;
-}
-
 /* The defaults the parser starts from: the shipped YAML files, the
  * recordings' channels and scales as recording.h leaves them; the
  * recordings and the apple are required (0 / NULL), the rates when a
@@ -138,6 +100,7 @@ static af_analyze_args analyze_args_default(void)
   memset(&a, 0, sizeof a);
   a.force_spec = af_recording_spec_default("--rate-force", "--force-channel");
   a.audio_spec = af_recording_spec_default("--rate-audio", "--audio-channel");
+  a.force_spec.channel = a.audio_spec.channel = 0; /* as -1 (not given): the first */
   a.max_samples = (long)AF_RECORDING_DEFAULT_MAX_SAMPLES;
   a.config_path = AF_CONFIG_DIR "/station.yaml";
   a.cultivar_path = AF_CONFIG_DIR "/jonagold.yaml";
@@ -147,59 +110,67 @@ static af_analyze_args analyze_args_default(void)
 #define AF_ARG(field) offsetof(af_analyze_args, field)
 #define AF_ROW(flag, value, id)                                                                    \
   {                                                                                                \
-    flag, value, AF_OPTION_SETTING, 0, id, NULL, NULL                                              \
+    flag, value, AF_OPTION_SETTING, 0, id, NULL, NULL, NULL, false                                 \
   }
+/* The rates and the apple need only be positive here: their physical ranges
+ * are the parameter table's, checked with the files' values (later). */
+#define AF_POSITIVE(unit) "(0, inf) " unit
 /* Every flag of analyze: its own (files, rates, the apple), then those that
  * set a row of the parameter table (applied after the files: later =
  * stronger). The parser knows no other; --help prints each. */
 static const af_option analyze_options[] = {
-    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force_path), -1,
-     "force recording, WAV or raw little-endian float32 [N]", NULL},
-    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio_path), -1,
-     "audio recording, WAV or raw little-endian float32 [the station's audio_unit]", NULL},
-    {"--rate-force", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_force_hz), -1,
-     "force sample rate, > 0, must agree with a WAV header [Hz]",
-     "the WAV header's; required for raw float32"},
-    {"--rate-audio", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_audio_hz), -1,
-     "audio sample rate, > 0, must agree with a WAV header [Hz]",
-     "the WAV header's; required for raw float32"},
-    {"--force-channel", "N", AF_OPTION_NONE, 0, -1,
-     "channel of a multichannel force WAV, 0-based, below the file's channels [-]", "0, the first"},
-    {"--audio-channel", "N", AF_OPTION_NONE, 0, -1,
-     "channel of a multichannel audio WAV, 0-based, below the file's channels [-]", "0, the first"},
+    {"--force", "FILE", AF_OPTION_TEXT, AF_ARG(force_path), -1, NULL,
+     "force recording, WAV or raw little-endian float32 [N]", NULL, false},
+    {"--audio", "FILE", AF_OPTION_TEXT, AF_ARG(audio_path), -1, NULL,
+     "audio recording, WAV or raw little-endian float32 [the station's audio_unit]", NULL, false},
+    {"--rate-force", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_force_hz), -1, AF_POSITIVE("Hz"),
+     "force sample rate, must agree with a WAV header",
+     "the WAV header's; required for raw float32", false},
+    {"--rate-audio", "HZ", AF_OPTION_NUMBER, AF_ARG(rate_audio_hz), -1, AF_POSITIVE("Hz"),
+     "audio sample rate, must agree with a WAV header",
+     "the WAV header's; required for raw float32", false},
+    {"--force-channel", "N", AF_OPTION_LONG, AF_ARG(force_spec.channel), -1,
+     "[0, " AF_OPTION_STR(AF_RECORDING_CHANNEL_MAX) "]",
+     "channel of a multichannel force WAV, 0-based, below the file's channels", "0, the first",
+     false},
+    {"--audio-channel", "N", AF_OPTION_LONG, AF_ARG(audio_spec.channel), -1,
+     "[0, " AF_OPTION_STR(AF_RECORDING_CHANNEL_MAX) "]",
+     "channel of a multichannel audio WAV, 0-based, below the file's channels", "0, the first",
+     false},
     {"--force-scale", "X", AF_OPTION_NUMBER, AF_ARG(force_spec.scale), -1,
-     "force of a full-scale PCM sample or a float sample 1.0, in (0, " AF_OPTION_STR(
-         AF_RECORDING_SCALE_MAX) "] [N]",
-     NULL},
+     "(0, " AF_OPTION_STR(AF_RECORDING_SCALE_MAX) "] N",
+     "force of a full-scale PCM sample or a float sample 1.0", NULL, false},
     {"--audio-scale", "X", AF_OPTION_NUMBER, AF_ARG(audio_spec.scale), -1,
-     "audio of a full-scale PCM sample or a float sample 1.0, in (0, " AF_OPTION_STR(
-         AF_RECORDING_SCALE_MAX) "] [audio_unit]",
-     NULL},
+     "(0, " AF_OPTION_STR(AF_RECORDING_SCALE_MAX) "] audio_unit",
+     "audio of a full-scale PCM sample or a float sample 1.0", NULL, false},
     {"--audio-offset", "S", AF_OPTION_NUMBER, AF_ARG(audio_offset_s), -1,
-     "audio start minus force start, within +-" AF_OPTION_STR(AF_ANALYZE_OFFSET_MAX_S) " [s]",
-     "none, the two start together"},
-    {"--mass", "KG", AF_OPTION_NUMBER, AF_ARG(mass_kg), -1, "the apple's mass [kg]", NULL},
-    {"--R2", "M", AF_OPTION_NUMBER, AF_ARG(r2_m), -1,
-     "the apple's radius of curvature under the hammer [m]", NULL},
+     "[-" AF_OPTION_STR(AF_ANALYZE_OFFSET_MAX_S) ", " AF_OPTION_STR(AF_ANALYZE_OFFSET_MAX_S) "] s",
+     "audio start minus force start", "none, the two start together", false},
+    {"--mass", "KG", AF_OPTION_NUMBER, AF_ARG(mass_kg), -1, AF_POSITIVE("kg"), "the apple's mass",
+     NULL, false},
+    {"--R2", "M", AF_OPTION_NUMBER, AF_ARG(r2_m), -1, AF_POSITIVE("m"),
+     "the apple's radius of curvature under the hammer", NULL, false},
     {"--equatorial-radius", "M", AF_OPTION_NUMBER, AF_ARG(equatorial_radius_m), -1,
-     "the apple's equatorial radius [m]", "the sphere of --mass at the cultivar's density"},
-    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config_path), -1,
-     "station parameters (YAML), as the node loads them", NULL},
-    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1,
-     "cultivar parameters (YAML), as the node loads them", NULL},
+     AF_POSITIVE("m"), "the apple's equatorial radius",
+     "the sphere of --mass at the cultivar's density", false},
+    {"--config", "FILE", AF_OPTION_TEXT, AF_ARG(config_path), -1, NULL,
+     "station parameters (YAML), as the node loads them", NULL, false},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar_path), -1, NULL,
+     "cultivar parameters (YAML), as the node loads them", NULL, false},
     {"--max-samples", "N", AF_OPTION_LONG, AF_ARG(max_samples), -1,
-     "longest recording read, each, a whole number in [1, 2^27]; a longer one is refused "
-     "before it is read (2^24 samples are 64 MiB of float32) [samples]",
-     NULL},
-    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1,
-     "CPU time and speed against real time, on stderr", NULL},
-    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1,
-     "a microphone-only rig: sets tap_only; strikes from the audio onset, no --force", NULL},
-    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1,
-     "any row of the parameter table, after the files (repeatable)", "the files' values"},
-    {"--profile", "default|paper", AF_OPTION_NONE, 0, -1,
+     "[1, " AF_OPTION_STR(AF_RECORDING_MAX_SAMPLES_N) "] samples",
+     "longest recording read, each; a longer one is refused before it is read (2^24 samples "
+     "are 64 MiB of float32)",
+     NULL, false},
+    {"--bench", NULL, AF_OPTION_SWITCH, AF_ARG(bench), -1, NULL,
+     "CPU time and speed against real time, on stderr", NULL, false},
+    {"--tap-only", NULL, AF_OPTION_SWITCH, AF_ARG(tap_only), -1, NULL,
+     "a microphone-only rig: sets tap_only; strikes from the audio onset, no --force", NULL, false},
+    {"--set", "NAME=VALUE", AF_OPTION_NONE, 0, -1, NULL,
+     "any row of the parameter table, after the files (repeatable)", "the files' values", true},
+    {"--profile", "default|paper", AF_OPTION_NONE, 0, -1, NULL,
      "paper: the paper-literal criterion (damping paper, lobe 2, power-half, shear paper)",
-     "the files' values"},
+     "the files' values", false},
     AF_ROW("--hammer-mass", "KG", AF_SETTING_HAMMER_MASS_KG),
     AF_ROW("--hammer-radius", "M", AF_SETTING_HAMMER_TIP_RADIUS_M),
     AF_ROW("--modulus-min", "PA", AF_SETTING_MODULUS_MIN_PA),
@@ -219,11 +190,6 @@ const af_option *af_analyze_options(size_t *n)
 {
   *n = AF_N_OPTIONS;
   return analyze_options;
-}
-
-static const af_option *option_of(const char *flag)
-{
-  return af_option_find(analyze_options, AF_N_OPTIONS, flag);
 }
 
 /* "--flag value" as "row=value" into s; false after a message naming both. */
@@ -260,76 +226,34 @@ static bool set_profile(af_settings *s, const char *name)
   return true;
 }
 
-/* --set, --profile and the rows of the parameter table: applied to the
- * settings after the files. */
-static bool is_settings_flag(const char *flag)
+/* A flag the parser hands back (--set, --profile, a parameter row), applied
+ * to the settings after the files; false after a message. */
+static bool apply_settings_flag(void *user, const af_option *o, const char *value)
 {
-  const af_option *o = option_of(flag);
-  return o != NULL && (o->kind == AF_OPTION_SETTING || strcmp(flag, "--set") == 0 ||
-                       strcmp(flag, "--profile") == 0);
-}
-
-/* A channel or scale flag of the force or the audio; false after a message. */
-static bool input_flag(const char *flag, const char *value, af_analyze_args *a)
-{
-  char err[AF_ERR_MAX];
-  af_recording_spec *in = strncmp(flag, "--force", 7) == 0 ? &a->force_spec : &a->audio_spec;
-  bool ok = strstr(flag, "-channel")
-                ? af_recording_parse_channel(flag, value, &in->channel, err, sizeof err)
-                : af_recording_parse_scale(flag, value, &in->scale, err, sizeof err);
-  if (!ok)
-    fprintf(stderr, "firmness_model analyze: %s\n", err);
-  return ok;
-}
-
-/* One of analyze's own flags with its value; false after a message. (The
- * settings flags are applied later, after the files: later = stronger.) */
-static bool analyze_flag(const char *flag, const char *value, af_analyze_args *a)
-{
-  if (strstr(flag, "-channel") || strstr(flag, "-scale"))
-    return input_flag(flag, value, a);
-  if (strcmp(flag, "--force") == 0)
-    a->force_path = value;
-  else if (strcmp(flag, "--audio") == 0)
-    a->audio_path = value;
-  else if (strcmp(flag, "--config") == 0)
-    a->config_path = value;
-  else if (strcmp(flag, "--cultivar") == 0)
-    a->cultivar_path = value;
-  else if (strcmp(flag, "--rate-force") == 0)
-    return parse_value(flag, value, true, &a->rate_force_hz);
-  else if (strcmp(flag, "--rate-audio") == 0)
-    return parse_value(flag, value, true, &a->rate_audio_hz);
-  else if (strcmp(flag, "--audio-offset") == 0)
-    return parse_value(flag, value, false, &a->audio_offset_s);
-  else if (strcmp(flag, "--mass") == 0)
-    return parse_value(flag, value, true, &a->mass_kg);
-  else if (strcmp(flag, "--R2") == 0)
-    return parse_value(flag, value, true, &a->r2_m);
-  else if (strcmp(flag, "--equatorial-radius") == 0)
-    return parse_value(flag, value, true, &a->equatorial_radius_m);
-  else if (strcmp(flag, "--max-samples") == 0)
-    return parse_max_samples(value, &a->max_samples);
-  else
-    return false;
-  return true;
-}
-
-static bool apply_settings_flag(af_settings *s, const char *flag, const char *value)
-{
-  if (strcmp(flag, "--set") == 0) {
+  af_settings *s = user;
+  if (strcmp(o->name, "--set") == 0) {
     char err[AF_ERR_MAX];
     if (af_settings_set_arg(s, value, err, sizeof err) == AF_OK)
       return true;
     fprintf(stderr, "firmness_model analyze: --set %s: %s\n", value, err);
     return false;
   }
-  if (strcmp(flag, "--profile") == 0)
+  if (strcmp(o->name, "--profile") == 0)
     return set_profile(s, value);
-  const af_option *o = option_of(flag);
-  if (o != NULL && o->kind == AF_OPTION_SETTING)
-    return set_row(s, flag, af_setting_def_of((af_setting_id)o->setting)->name, value);
-  return false;
+  return set_row(s, o->name, af_setting_def_of((af_setting_id)o->setting)->name, value);
+}
+
+/* The flags into a (s NULL: the settings flags are only checked to have a
+ * value), or, a second pass after the files (a NULL), the settings flags into s. */
+static bool analyze_parse(int argc, char **argv, int first, af_analyze_args *a, af_settings *s)
+{
+  const af_options_parser p = {
+      "firmness_model analyze",
+      {{analyze_options, AF_N_OPTIONS, a, s ? apply_settings_flag : NULL, s}},
+      1,
+      NULL,
+      false};
+  return af_options_parse(&p, argc, argv, first);
 }
 
 /* First pass: files, rates, the apple; every flag must be known and have a
@@ -337,29 +261,8 @@ static bool apply_settings_flag(af_settings *s, const char *flag, const char *va
 static bool parse_args(int argc, char **argv, int first, af_analyze_args *a)
 {
   *a = analyze_args_default();
-  for (int k = first; k < argc; k++) {
-    const char *flag = argv[k];
-    const af_option *o = option_of(flag);
-    if (o == NULL) {
-      af_options_unknown("firmness_model analyze", analyze_options, AF_N_OPTIONS, flag, NULL);
-      return false;
-    }
-    if (strcmp(flag, "--set") != 0 && !af_options_once("firmness_model analyze", o, argv, first, k))
-      return false;
-    if (o->value == NULL) { /* a switch */
-      (void)af_option_store(o, NULL, a);
-      continue;
-    }
-    if (k + 1 >= argc) {
-      af_options_missing("firmness_model analyze", o);
-      return false;
-    }
-    const char *value = argv[++k];
-    if (is_settings_flag(flag))
-      continue;
-    if (!analyze_flag(flag, value, a))
-      return false;
-  }
+  if (!analyze_parse(argc, argv, first, a, NULL))
+    return false;
   /* The rates: a WAV's header gives them (analyze_load). */
   /* --force may be missing when tap_only comes from a file: checked after
    * the settings (analyze_inputs). */
@@ -413,16 +316,8 @@ static bool analyze_settings(int argc, char **argv, int first, const af_analyze_
   snprintf(rate, sizeof rate, "%.17g", a->rate_audio_hz);
   if (!set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
     return false;
-  /* Every flag but the switches has a value (parse_args checked it). */
-  for (int k = first; k + 1 < argc; k++) {
-    const af_option *o = option_of(argv[k]);
-    if (o != NULL && o->value == NULL)
-      continue;
-    const char *flag = argv[k], *value = argv[++k];
-    if (is_settings_flag(flag) && !apply_settings_flag(s, flag, value))
-      return false;
-  }
-  return true;
+  /* The settings flags, in order (parse_args checked the rest). */
+  return analyze_parse(argc, argv, first, NULL, s);
 }
 
 /* ---- the lane's strikes --------------------------------------------------------- */

@@ -44,7 +44,8 @@ static const af_bench_args bench_defaults = {2.0};
 /* The bench's own flag; the model flags are cli_flags.c's. */
 static const af_option bench_options[] = {
     {"--seconds", "S", AF_OPTION_NUMBER, offsetof(af_bench_args, seconds), -1,
-     "time of the four runs together, in (0, " AF_OPTION_STR(AF_BENCH_SECONDS_MAX) "] [s]", NULL},
+     "(0, " AF_OPTION_STR(AF_BENCH_SECONDS_MAX) "] s", "time of the four runs together", NULL,
+     false},
 };
 #define N_OPTIONS (sizeof bench_options / sizeof bench_options[0])
 
@@ -63,31 +64,6 @@ static void bench_help(void)
   printf("\nmodel flags (SI units):\n");
   af_cli_print_flags();
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
-}
-
-static bool parse_seconds(char **argv, const int *rest, int n_rest, double *seconds)
-{
-  for (int k = 0; k < n_rest; k++) {
-    char *end;
-    const af_option *o = af_option_find(bench_options, N_OPTIONS, argv[rest[k]]);
-    if (o == NULL) {
-      char names[1024];
-      af_cli_flag_names(names, sizeof names);
-      af_options_unknown("firmness_model bench", bench_options, N_OPTIONS, argv[rest[k]], names);
-      return false;
-    }
-    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
-      af_options_missing("firmness_model bench", o);
-      return false;
-    }
-    *seconds = strtod(argv[rest[++k]], &end);
-    if (*end != '\0' || !(*seconds > 0.0 && *seconds <= AF_BENCH_SECONDS_MAX)) {
-      fprintf(stderr, "firmness_model bench: --seconds '%s' must be in (0, %d] s\n", argv[rest[k]],
-              AF_BENCH_SECONDS_MAX);
-      return false;
-    }
-  }
-  return true;
 }
 
 typedef af_status (*af_eval_fn)(void *ctx, const af_model_params *p, af_model_result *r);
@@ -175,14 +151,11 @@ int af_bench_main(int argc, char **argv, int first)
     bench_help();
     return 0;
   }
-  double seconds = bench_defaults.seconds;
-  int *rest = malloc((size_t)argc * sizeof *rest);
-  int n_rest = 0;
-  bool ok = rest && af_cli_parse_model(argc, argv, first, &p, rest, &n_rest) &&
-            parse_seconds(argv, rest, n_rest, &seconds);
-  free(rest);
-  if (!ok)
+  af_bench_args a = bench_defaults;
+  const af_option_set own = {bench_options, N_OPTIONS, &a, NULL, NULL};
+  if (!af_cli_parse_model("firmness_model bench", &own, NULL, argc, argv, first, &p))
     return AF_CLI_EXIT_USAGE;
+  const double seconds = a.seconds;
   if (af_model_create(&m) != AF_OK || af_model_execute(m, &p, &r) != AF_OK) {
     fprintf(stderr, "firmness_model bench: the model refuses this strike\n");
     af_model_destroy(m);

@@ -59,27 +59,24 @@ static const af_design_args design_defaults = {
     0.002, 0.05, 0.3, 3.0, 0.0, 0.02, 0.0, 0.025, AF_CONFIG_DIR "/jonagold.yaml", NULL, false};
 
 #define AF_ARG(field) offsetof(af_design_args, field)
+/* The ranges are the parameter table rows' that the strike's fields take. */
 static const af_option design_options[] = {
-    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1,
-     "the cultivar's YAML: E2, mass, e, nu2, density, yield law", NULL},
-    {"--hammer-mass-range", "A:B", AF_OPTION_RANGE, AF_ARG(m_lo), -1,
-     "hammer masses searched, A <= B, each in hammer_mass_kg's range [kg]", NULL},
-    {"--v0-range", "A:B", AF_OPTION_RANGE, AF_ARG(v_lo), -1,
-     "contact velocities searched, A <= B, each in strike_velocity_m_s's range [m/s]", NULL},
-    {"--tip-radius-range", "A:B", AF_OPTION_RANGE, AF_ARG(tip_lo), -1,
-     "tip radii searched, A <= B, each in hammer_tip_radius_m's range, A = 0 adds the flat face "
-     "[m]",
-     NULL},
-    {"--hammer-modulus", "PA", AF_OPTION_NUMBER, AF_ARG(hammer_modulus), -1,
-     "hammer tip modulus, 0 = rigid, in hammer_modulus_pa's range [Pa]", "rigid"},
-    {"--r2-min", "M", AF_OPTION_NUMBER, AF_ARG(r2_min), -1,
-     "smallest radius of curvature under the hammer of the domain, in strike_radius_min_m's range "
-     "[m]",
-     NULL},
-    {"--plot", "FILE", AF_OPTION_TEXT, AF_ARG(plot), -1,
-     "the feasibility map, FILE.png or FILE.svg", "no map"},
-    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
-     "the reference ODE path instead of the fast path (fastpath.h)", NULL},
+    {"--cultivar", "FILE", AF_OPTION_TEXT, AF_ARG(cultivar), -1, NULL,
+     "the cultivar's YAML: E2, mass, e, nu2, density, yield law", NULL, false},
+    {"--hammer-mass-range", "A:B", AF_OPTION_RANGE, AF_ARG(m_lo), AF_SETTING_HAMMER_MASS_KG, NULL,
+     "hammer masses searched, A <= B, each in the range", NULL, false},
+    {"--v0-range", "A:B", AF_OPTION_RANGE, AF_ARG(v_lo), AF_SETTING_STRIKE_VELOCITY_M_S, NULL,
+     "contact velocities searched, A <= B, each in the range", NULL, false},
+    {"--tip-radius-range", "A:B", AF_OPTION_RANGE, AF_ARG(tip_lo), AF_SETTING_HAMMER_TIP_RADIUS_M,
+     NULL, "tip radii searched, A <= B, each in the range, A = 0 adds the flat face", NULL, false},
+    {"--hammer-modulus", "PA", AF_OPTION_NUMBER, AF_ARG(hammer_modulus),
+     AF_SETTING_HAMMER_MODULUS_PA, NULL, "hammer tip modulus, 0 = rigid", "rigid", false},
+    {"--r2-min", "M", AF_OPTION_NUMBER, AF_ARG(r2_min), AF_SETTING_STRIKE_RADIUS_MIN_M, NULL,
+     "smallest radius of curvature under the hammer of the domain", NULL, false},
+    {"--plot", "FILE", AF_OPTION_TEXT, AF_ARG(plot), -1, NULL,
+     "the feasibility map, FILE.png or FILE.svg", "no map", false},
+    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1, NULL,
+     "the reference ODE path instead of the fast path (fastpath.h)", NULL, false},
 };
 #define N_OPTIONS (sizeof design_options / sizeof design_options[0])
 
@@ -104,110 +101,12 @@ static void design_help(void)
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
-/* text as a number (the whole text), or false. */
-static bool number_of(const char *text, double *out)
-{
-  char *end;
-  *out = strtod(text, &end);
-  return end != text && *end == '\0' && isfinite(*out);
-}
-
-/* v within the parameter table row's range; else one line naming the flag,
- * the value as given and the range. */
-static bool in_row(const char *flag, const char *given, double v, af_setting_id row)
-{
-  af_setting_range r;
-  if (af_setting_range_of(row, &r) == AF_OK && af_setting_range_contains(&r, v))
-    return true;
-  fprintf(stderr,
-          "firmness_model design: %s %.40s is outside the accepted range %s (parameter %s)\n", flag,
-          given, af_setting_def_of(row)->range, af_setting_def_of(row)->name);
-  return false;
-}
-
-/* "A:B", each end in the row's range, A <= B; one line when not. */
-static bool parse_range(const char *flag, const char *text, af_setting_id row, double *lo,
-                        double *hi)
-{
-  const char *colon = strchr(text, ':');
-  char a[64];
-  if (colon == NULL || (size_t)(colon - text) >= sizeof a) {
-    fprintf(stderr, "firmness_model design: %s '%.40s' is not A:B (each in %s)\n", flag, text,
-            af_setting_def_of(row)->range);
-    return false;
-  }
-  memcpy(a, text, (size_t)(colon - text));
-  a[colon - text] = '\0';
-  if (!number_of(a, lo) || !number_of(colon + 1, hi)) {
-    fprintf(stderr, "firmness_model design: %s '%.40s' is not A:B with two numbers (each in %s)\n",
-            flag, text, af_setting_def_of(row)->range);
-    return false;
-  }
-  if (!in_row(flag, a, *lo, row) || !in_row(flag, colon + 1, *hi, row))
-    return false;
-  if (*hi < *lo) {
-    fprintf(stderr, "firmness_model design: %s %.40s is reversed: A:B needs A <= B (each in %s)\n",
-            flag, text, af_setting_def_of(row)->range);
-    return false;
-  }
-  return true;
-}
-
-/* One number flag in the row's range. */
-static bool parse_number(const char *flag, const char *text, af_setting_id row, double *out)
-{
-  if (!number_of(text, out)) {
-    fprintf(stderr, "firmness_model design: %s '%.40s' is not a number (accepted range %s)\n", flag,
-            text, af_setting_def_of(row)->range);
-    return false;
-  }
-  return in_row(flag, text, *out, row);
-}
-
-/* The flag's value into a; false after one line on stderr. */
-static bool parse_value(const char *f, const char *v, af_design_args *a)
-{
-  if (strcmp(f, "--cultivar") == 0)
-    a->cultivar = v;
-  else if (strcmp(f, "--plot") == 0)
-    a->plot = v;
-  else if (strcmp(f, "--hammer-mass-range") == 0)
-    return parse_range(f, v, AF_SETTING_HAMMER_MASS_KG, &a->m_lo, &a->m_hi);
-  else if (strcmp(f, "--v0-range") == 0)
-    return parse_range(f, v, AF_SETTING_STRIKE_VELOCITY_M_S, &a->v_lo, &a->v_hi);
-  else if (strcmp(f, "--tip-radius-range") == 0)
-    return parse_range(f, v, AF_SETTING_HAMMER_TIP_RADIUS_M, &a->tip_lo, &a->tip_hi);
-  else if (strcmp(f, "--hammer-modulus") == 0)
-    return parse_number(f, v, AF_SETTING_HAMMER_MODULUS_PA, &a->hammer_modulus);
-  else if (strcmp(f, "--r2-min") == 0)
-    return parse_number(f, v, AF_SETTING_STRIKE_RADIUS_MIN_M, &a->r2_min);
-  return true;
-}
-
 static bool parse_args(int argc, char **argv, int first, af_design_args *a)
 {
   *a = design_defaults;
-  for (int k = first; k < argc; k++) {
-    const char *f = argv[k];
-    const af_option *o = af_option_find(design_options, N_OPTIONS, f);
-    if (o != NULL && !af_options_once("firmness_model design", o, argv, first, k))
-      return false;
-    if (o != NULL && o->value == NULL) {
-      (void)af_option_store(o, NULL, a);
-      continue;
-    }
-    if (o == NULL) {
-      af_options_unknown("firmness_model design", design_options, N_OPTIONS, f, NULL);
-      return false;
-    }
-    if (k + 1 >= argc) {
-      af_options_missing("firmness_model design", o);
-      return false;
-    }
-    if (!parse_value(f, argv[++k], a))
-      return false;
-  }
-  return true;
+  const af_options_parser p = {
+      "firmness_model design", {{design_options, N_OPTIONS, a, NULL, NULL}}, 1, NULL, false};
+  return af_options_parse(&p, argc, argv, first);
 }
 
 static af_status eval(af_fastpath *f, af_model *m, bool ode, const af_model_params *p,

@@ -67,6 +67,12 @@ static void print_flag_words(const af_option *table, size_t n, bool model_flags)
   printf("\n");
 }
 
+/* The one flag of the single strike besides the model flags. */
+static const af_option single_options[] = {
+    {"--json", NULL, AF_OPTION_SWITCH, 0, -1, NULL, "the report as JSON instead of text", NULL,
+     false},
+};
+
 static void usage(void)
 {
   printf("usage: firmness_model [flags]              one strike (below)\n"
@@ -90,8 +96,7 @@ static void usage(void)
          "strike_bag (a bag of synthetic strikes); each answers --help.\n\n"
          "flags (SI units):\n");
   af_cli_print_flags();
-  printf("  %-28s %s\n  %-28s %s\n", "--json", "the report as JSON instead of text (default off)",
-         "-h, --help", "this help");
+  af_options_help(stdout, single_options, 1, &(bool){false}, NULL);
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
@@ -101,16 +106,8 @@ static int single(int argc, char **argv)
   af_report rep;
   af_model *m;
   bool json = false;
-  /* --json is the one argument that is not a model flag: taken out wherever
-   * it stands before the model flags are parsed. */
-  int n = 0;
-  for (int k = 0; k < argc; k++) {
-    if (strcmp(argv[k], "--json") == 0)
-      json = true;
-    else
-      argv[n++] = argv[k];
-  }
-  if (!af_cli_parse_model(n, argv, 1, &p, NULL, NULL))
+  const af_option_set own = {single_options, 1, &json, NULL, NULL};
+  if (!af_cli_parse_model("firmness_model", &own, "a subcommand first", argc, argv, 1, &p))
     return AF_CLI_EXIT_USAGE;
   if (af_model_create(&m) != AF_OK) {
     fprintf(stderr, "firmness_model: cannot create the model workspace\n");

@@ -53,12 +53,12 @@ static af_plot_args plot_defaults(af_settings *s)
 
 /* plot's own flags; the model flags are cli_flags.c's. */
 static const af_option plot_options[] = {
-    {"--out", "FILE", AF_OPTION_TEXT, offsetof(af_plot_args, out), -1,
-     "the figure, FILE.png or FILE.svg", NULL},
-    {"--modulus-min", "PA", AF_OPTION_SETTING, 0, AF_SETTING_MODULUS_MIN_PA,
-     "softest fruit of the 0S2 range drawn", NULL},
-    {"--modulus-max", "PA", AF_OPTION_SETTING, 0, AF_SETTING_MODULUS_MAX_PA,
-     "firmest fruit of the 0S2 range drawn", NULL},
+    {"--out", "FILE", AF_OPTION_TEXT, offsetof(af_plot_args, out), -1, NULL,
+     "the figure, FILE.png or FILE.svg", NULL, false},
+    {"--modulus-min", "PA", AF_OPTION_NUMBER, offsetof(af_plot_args, modulus_min_pa),
+     AF_SETTING_MODULUS_MIN_PA, NULL, "softest fruit of the 0S2 range drawn", NULL, false},
+    {"--modulus-max", "PA", AF_OPTION_NUMBER, offsetof(af_plot_args, modulus_max_pa),
+     AF_SETTING_MODULUS_MAX_PA, NULL, "firmest fruit of the 0S2 range drawn", NULL, false},
 };
 #define N_OPTIONS (sizeof plot_options / sizeof plot_options[0])
 
@@ -91,47 +91,9 @@ static int print_usage(const char *fmt, const char *a, const char *b)
   return AF_CLI_EXIT_USAGE;
 }
 
-/* A modulus flag's value, within its parameter table row's range. */
-static bool number(const af_option *o, const char *text, double *out)
+/* What the table cannot say: --out is required, the range not reversed. */
+static int plot_check(const af_plot_args *a)
 {
-  char *end;
-  af_setting_range r;
-  errno = 0;
-  *out = strtod(text, &end);
-  if (end == text || *end != '\0' || errno == ERANGE ||
-      af_setting_range_of((af_setting_id)o->setting, &r) != AF_OK ||
-      !af_setting_range_contains(&r, *out)) {
-    fprintf(stderr, "firmness_model plot: %s %s is outside the accepted range %s\n", o->name, text,
-            af_setting_def_of((af_setting_id)o->setting)->range);
-    return false;
-  }
-  return true;
-}
-
-static int plot_parse(char **argv, const int *rest, int n_rest, af_plot_args *a)
-{
-  af_settings s;
-  *a = plot_defaults(&s);
-  for (int k = 0; k < n_rest; k++) {
-    const char *flag = argv[rest[k]];
-    const af_option *o = af_option_find(plot_options, N_OPTIONS, flag);
-    if (o == NULL) {
-      char names[1024];
-      af_cli_flag_names(names, sizeof names);
-      af_options_unknown("firmness_model plot", plot_options, N_OPTIONS, flag, names);
-      return AF_CLI_EXIT_USAGE;
-    }
-    if (k + 1 >= n_rest || rest[k + 1] != rest[k] + 1) {
-      af_options_missing("firmness_model plot", o);
-      return AF_CLI_EXIT_USAGE;
-    }
-    const char *v = argv[rest[++k]];
-    if (strcmp(flag, "--out") == 0)
-      a->out = v;
-    else if (!number(o, v,
-                     strcmp(flag, "--modulus-min") == 0 ? &a->modulus_min_pa : &a->modulus_max_pa))
-      return AF_CLI_EXIT_USAGE;
-  }
   if (!a->out)
     return print_usage("--out FILE.png|FILE.svg is required%s%s", "", "");
   if (!(a->modulus_max_pa > a->modulus_min_pa))
@@ -318,16 +280,12 @@ int af_plot_main(int argc, char **argv, int first)
     return 0;
   }
   af_model_params p;
-  int *rest = calloc((size_t)argc + 1, sizeof *rest), n_rest = 0;
-  if (!rest)
-    return 1;
-  af_plot_args a;
-  if (!af_cli_parse_model(argc, argv, first, &p, rest, &n_rest)) {
-    free(rest);
+  af_settings s;
+  af_plot_args a = plot_defaults(&s);
+  const af_option_set own = {plot_options, N_OPTIONS, &a, NULL, NULL};
+  if (!af_cli_parse_model("firmness_model plot", &own, NULL, argc, argv, first, &p))
     return AF_CLI_EXIT_USAGE;
-  }
-  int code = plot_parse(argv, rest, n_rest, &a);
-  free(rest);
+  int code = plot_check(&a);
   if (code)
     return code;
   static af_curves c; /* large: not on the stack */

@@ -49,35 +49,7 @@ af_recording_spec af_recording_spec_default(const char *rate_flag, const char *c
   return s;
 }
 
-bool af_recording_parse_channel(const char *flag, const char *text, long *out, char *err,
-                                size_t len)
-{
-  char *end;
-  errno = 0;
-  long v = strtol(text, &end, 10);
-  if (end == text || *end != '\0' || errno == ERANGE || v < 0 || v > AF_RECORDING_CHANNEL_MAX) {
-    snprintf(err, len, "%s '%s' must be a whole number in [0, %ld] (0 = the first channel)", flag,
-             text, AF_RECORDING_CHANNEL_MAX);
-    return false;
-  }
-  *out = v;
-  return true;
-}
-
-bool af_recording_parse_scale(const char *flag, const char *text, double *out, char *err,
-                              size_t len)
-{
-  char *end;
-  errno = 0;
-  double v = strtod(text, &end);
-  if (end == text || *end != '\0' || errno == ERANGE || !(v > 0.0 && v <= AF_RECORDING_SCALE_MAX)) {
-    snprintf(err, len, "%s '%s' must be a number in (0, %g] (the value at full scale)", flag, text,
-             AF_RECORDING_SCALE_MAX);
-    return false;
-  }
-  *out = v;
-  return true;
-}
+_Static_assert(AF_RECORDING_MAX_SAMPLES_N == (1L << 27), "2^27 samples, as documented");
 
 static bool ends_with(const char *path, const char *ext)
 {

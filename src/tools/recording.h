@@ -20,14 +20,15 @@ extern "C" {
 
 /* 2^27 samples (512 MiB; 45 min at 50 kHz): a longer recording is split;
  * the largest --max-samples. */
-#define AF_RECORDING_MAX_SAMPLES ((size_t)1 << 27)
+#define AF_RECORDING_MAX_SAMPLES_N 134217728 /* a plain literal, for the flag's range text */
+#define AF_RECORDING_MAX_SAMPLES ((size_t)AF_RECORDING_MAX_SAMPLES_N)
 /* The default --max-samples, per recording: 2^24 samples (64 MiB of float32;
  * 5.6 min at 50 kHz, 6.3 min at 44.1 kHz), so that two recordings and the
  * lane stay under the tools' 256 MiB peak RSS. Checked before allocating. */
 #define AF_RECORDING_DEFAULT_MAX_SAMPLES ((size_t)1 << 24)
 /* --force-channel / --audio-channel: 0-based, as the node's audio_channel;
  * a WAV header holds at most 65535 channels. */
-#define AF_RECORDING_CHANNEL_MAX 65535L
+#define AF_RECORDING_CHANNEL_MAX 65535
 /* --force-scale / --audio-scale: the value [N, or the audio unit] of a
  * sample at digital full scale (integer PCM) or of a sample 1.0 (float WAV,
  * raw float32). The default leaves the samples as decoded: integer PCM at
@@ -55,14 +56,6 @@ typedef struct {
 /* The spec of an input whose flags were not given (max_samples
  * AF_RECORDING_DEFAULT_MAX_SAMPLES). */
 af_recording_spec af_recording_spec_default(const char *rate_flag, const char *channel_flag);
-
-/* A channel flag's value: a whole number in [0, AF_RECORDING_CHANNEL_MAX];
- * a scale flag's: a number in (0, AF_RECORDING_SCALE_MAX]. false with one
- * line in err naming flag, text and the range. */
-bool af_recording_parse_channel(const char *flag, const char *text, long *out, char *err,
-                                size_t len);
-bool af_recording_parse_scale(const char *flag, const char *text, double *out, char *err,
-                              size_t len);
 
 /* Reads path, a WAV or raw float32 (by its first bytes), into *out and its
  * rate into *rate_hz (the header's, or the flag's for raw). One line in err

@@ -22,8 +22,8 @@
 #define AF_SWEEP_PROGRESS_S 1.0      /* a progress line on stderr every [s] of a long run */
 
 typedef struct {
-  const af_cli_flag *param;
-  double from, to;
+  const af_option *param; /* the model flag stepped: a number entry of cli_flags.h */
+  double from, to;        /* NaN: not given */
   long steps;
   const char *csv_path; /* NULL = stdout */
   bool ode;             /* --ode: the reference ODE path instead of the fast path */
@@ -31,22 +31,25 @@ typedef struct {
 
 /* The defaults the parser starts from (none: every value but --csv and
  * --ode is required). */
-static const af_sweep_args sweep_defaults = {NULL, 0.0, 0.0, 0, NULL, false};
+static const af_sweep_args sweep_defaults = {NULL, NAN, NAN, 0, NULL, false};
 
 #define AF_ARG(field) offsetof(af_sweep_args, field)
 /* The sweep's own flags; the model flags are cli_flags.c's. */
 static const af_option sweep_options[] = {
-    {"--param", "NAME", AF_OPTION_NONE, 0, -1,
-     "the model flag stepped, without its -- (a number flag below, or lobe)", NULL},
-    {"--from", "X", AF_OPTION_NUMBER, AF_ARG(from), -1, "first value [the flag's unit]", NULL},
-    {"--to", "X", AF_OPTION_NUMBER, AF_ARG(to), -1, "last value [the flag's unit]", NULL},
+    {"--param", "NAME", AF_OPTION_NONE, 0, -1, NULL,
+     "the model flag stepped, without its -- (a number flag below, or lobe)", NULL, false},
+    {"--from", "X", AF_OPTION_NUMBER, AF_ARG(from), -1, NULL, "first value [the flag's unit]", NULL,
+     false},
+    {"--to", "X", AF_OPTION_NUMBER, AF_ARG(to), -1, NULL, "last value [the flag's unit]", NULL,
+     false},
     {"--steps", "N", AF_OPTION_LONG, AF_ARG(steps), -1,
-     "rows, linearly spaced, 1 .. " AF_OPTION_STR(
-         AF_SWEEP_STEPS_MAX) " (with --ode 1 .. " AF_OPTION_STR(AF_SWEEP_ODE_STEPS_MAX) ") [-]",
-     NULL},
-    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv_path), -1, "the rows into FILE", "stdout"},
-    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1,
-     "the reference ODE path instead of the fast path (fastpath.h)", NULL},
+     "[1, " AF_OPTION_STR(AF_SWEEP_STEPS_MAX) "]",
+     "rows, linearly spaced (with --ode at most " AF_OPTION_STR(AF_SWEEP_ODE_STEPS_MAX) ")", NULL,
+     false},
+    {"--csv", "FILE", AF_OPTION_TEXT, AF_ARG(csv_path), -1, NULL, "the rows into FILE", "stdout",
+     false},
+    {"--ode", NULL, AF_OPTION_SWITCH, AF_ARG(ode), -1, NULL,
+     "the reference ODE path instead of the fast path (fastpath.h)", NULL, false},
 };
 #define N_OPTIONS (sizeof sweep_options / sizeof sweep_options[0])
 
@@ -68,88 +71,33 @@ static void sweep_help(void)
   printf("\nexit status: 0 done, 1 model failure, 2 bad input\n");
 }
 
-static bool parse_double_arg(const char *flag, const char *text, double *out)
+/* --param NAME: a number flag of the model. */
+static bool sweep_hand(void *user, const af_option *o, const char *value)
 {
-  char *end;
-  errno = 0;
-  *out = strtod(text, &end);
-  if (end == text || *end != '\0' || !isfinite(*out)) {
-    fprintf(stderr, "firmness_model sweep: %s '%s' is not a finite number\n", flag, text);
-    return false;
-  }
-  return true;
+  af_sweep_args *a = user;
+  (void)o; /* the one entry handed back */
+  a->param = af_cli_model_number(value);
+  if (a->param == NULL)
+    fprintf(stderr,
+            "firmness_model sweep: --param '%.40s' is not a number flag of the model (see "
+            "--help)\n",
+            value);
+  return a->param != NULL;
 }
 
-/* Reads the sweep's own flags from the arguments the model parser left. */
-static bool parse_sweep_args(char **argv, int first, const int *rest, int n_rest, af_sweep_args *a)
+/* What the table cannot say: the required flags, and --ode's cap. */
+static bool sweep_check(const af_sweep_args *a)
 {
-  double steps = NAN;
-  bool have_from = false, have_to = false;
-  *a = sweep_defaults;
-  for (int k = 0; k < n_rest; k++) {
-    const char *flag = argv[rest[k]];
-    const af_option *o = af_option_find(sweep_options, N_OPTIONS, flag);
-    if (o != NULL && !af_options_once("firmness_model sweep", o, argv, first, rest[k]))
-      return false;
-    if (o == NULL) {
-      char names[1024];
-      af_cli_flag_names(names, sizeof names);
-      af_options_unknown("firmness_model sweep", sweep_options, N_OPTIONS, flag, names);
-      return false;
-    }
-    if (o->value == NULL) {
-      (void)af_option_store(o, NULL, a);
-      continue;
-    }
-    const char *value = k + 1 < n_rest && rest[k + 1] == rest[k] + 1 ? argv[rest[k + 1]] : NULL;
-    if (value == NULL) {
-      af_options_missing("firmness_model sweep", o);
-      return false;
-    }
-    k++;
-    if (strcmp(flag, "--param") == 0) {
-      a->param = af_cli_flag_find(value);
-      if (a->param == NULL) {
-        fprintf(stderr, "firmness_model sweep: --param '%s' is not a model flag (see --help)\n",
-                value);
-        return false;
-      }
-    } else if (strcmp(flag, "--from") == 0) {
-      have_from = parse_double_arg(flag, value, &a->from);
-      if (!have_from)
-        return false;
-    } else if (strcmp(flag, "--to") == 0) {
-      have_to = parse_double_arg(flag, value, &a->to);
-      if (!have_to)
-        return false;
-    } else if (strcmp(flag, "--steps") == 0) {
-      if (!parse_double_arg(flag, value, &steps))
-        return false;
-    } else if (strcmp(flag, "--csv") == 0) {
-      a->csv_path = value;
-    } else {
-      fprintf(stderr, "firmness_model sweep: unknown argument '%s' (see --help)\n", flag);
-      return false;
-    }
-  }
-  if (a->param == NULL || !have_from || !have_to || isnan(steps)) {
+  if (a->param == NULL || isnan(a->from) || isnan(a->to) || a->steps == 0) {
     fprintf(stderr, "firmness_model sweep: needs --param NAME --from X --to Y --steps N\n");
     return false;
   }
-  long max = a->ode ? AF_SWEEP_ODE_STEPS_MAX : AF_SWEEP_STEPS_MAX;
-  if (steps != floor(steps) || steps < 1 || steps > (double)max) {
-    char text[32];
-    af_cli_number_text(steps, text, sizeof text);
-    fprintf(stderr, "firmness_model sweep: --steps %s is outside the accepted range 1 .. %ld%s\n",
-            text, max, a->ode ? " with --ode (about 1 ms a row)" : "");
+  if (a->ode && a->steps > AF_SWEEP_ODE_STEPS_MAX) {
+    af_options_outside("firmness_model sweep", "--steps", (double)a->steps,
+                       "[1, " AF_OPTION_STR(AF_SWEEP_ODE_STEPS_MAX) "]",
+                       " with --ode (about 1 ms a row)");
     return false;
   }
-  if (a->param->kind != AF_FLAG_DOUBLE && a->param->kind != AF_FLAG_LOBE) {
-    fprintf(stderr, "firmness_model sweep: --param %s is a choice, not a number: run each value\n",
-            a->param->name);
-    return false;
-  }
-  a->steps = (long)steps;
   return true;
 }
 
@@ -182,15 +130,19 @@ static void progress(long done, long total, bool bar, double start_s, double *la
   *last_s = t;
 }
 
-/* The point k of the sweep: base with the swept flag at its value *v. */
-static bool point(const af_sweep_args *a, const af_model_params *base, long k, af_model_params *p,
-                  double *v)
+/* The point k of the sweep: base with the swept flag at its value *v,
+ * refused (one line naming tool) outside the flag's range or kind. */
+static bool point(const char *tool, const af_sweep_args *a, const af_model_params *base, long k,
+                  af_model_params *p, double *v)
 {
   char text[64];
   *v = a->steps == 1 ? a->from : a->from + (a->to - a->from) * (double)k / (double)(a->steps - 1);
   *p = *base;
   snprintf(text, sizeof text, "%.17g", *v);
-  return af_cli_flag_set(a->param, text, p);
+  if (!af_option_number(tool, a->param, text, v))
+    return false;
+  af_cli_model_set(a->param, *v, p);
+  return true;
 }
 
 /* Every point checked before any row is written: a sweep that would stop
@@ -202,7 +154,7 @@ static bool check_points(const af_sweep_args *a, const af_model_params *base)
     af_model_params p;
     double v;
     snprintf(tool, sizeof tool, "firmness_model sweep: row %ld of %ld", k + 1, a->steps);
-    if (!point(a, base, k, &p, &v) || !af_cli_validate(&p, tool))
+    if (!point(tool, a, base, k, &p, &v) || !af_cli_validate(&p, tool))
       return false;
   }
   return true;
@@ -221,18 +173,18 @@ static int run_sweep(const af_sweep_args *a, const af_model_params *base, FILE *
     fprintf(stderr, "firmness_model sweep: cannot create the model workspace\n");
     return 1;
   }
-  af_report_csv_header(out, a->param->name);
+  af_report_csv_header(out, a->param->name + 2); /* without its "--" */
   for (long k = 0; k < a->steps; k++) {
     af_model_params p;
     double v;
-    af_status st = point(a, base, k, &p, &v) ? AF_OK : AF_EINVAL;
+    af_status st = point("firmness_model sweep", a, base, k, &p, &v) ? AF_OK : AF_EINVAL;
     if (st == AF_OK)
       st = fast ? af_report_compute_fast(fast, &p, &rep) : af_report_compute(m, &p, &rep);
     if (st != AF_OK) {
       char text[32];
-      af_cli_number_text(v, text, sizeof text);
+      af_options_number_text(v, text, sizeof text);
       fprintf(stderr, "firmness_model sweep: --%s %s (row %ld of %ld): the model failed: %s\n",
-              a->param->name, text, k + 1, a->steps, af_strerror(st));
+              a->param->name + 2, text, k + 1, a->steps, af_strerror(st));
       af_model_destroy(m);
       af_fastpath_destroy(fast);
       return 1;
@@ -249,20 +201,16 @@ int af_sweep_main(int argc, char **argv, int first)
 {
   af_model_params base;
   af_sweep_args a;
+  int code;
   if (af_options_want_help(argc, argv, first)) {
     sweep_help();
     return 0;
   }
-  int *rest = malloc((size_t)argc * sizeof *rest);
-  int n_rest = 0, code;
-  if (rest == NULL)
-    return 1;
-  if (!af_cli_parse_model(argc, argv, first, &base, rest, &n_rest) ||
-      !parse_sweep_args(argv, first, rest, n_rest, &a)) {
-    free(rest);
+  a = sweep_defaults;
+  const af_option_set own = {sweep_options, N_OPTIONS, &a, sweep_hand, &a};
+  if (!af_cli_parse_model("firmness_model sweep", &own, NULL, argc, argv, first, &base) ||
+      !sweep_check(&a))
     return AF_CLI_EXIT_USAGE;
-  }
-  free(rest);
   if (!check_points(&a, &base))
     return AF_CLI_EXIT_USAGE;
   FILE *out = a.csv_path ? fopen(a.csv_path, "w") : stdout;

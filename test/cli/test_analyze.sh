@@ -155,9 +155,9 @@ expect_bounded 2 "--rate-force: force_sample_rate_hz = 1e+12 is outside" \
   analyze "${F[@]}" "${A[@]}" --rate-force 1e12 --rate-audio 48000 --mass 0.175 --R2 0.04
 expect_bounded 2 "--rate-audio: audio_sample_rate_hz = 1e+12 is outside" \
   analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 1e12 --mass 0.175 --R2 0.04
-expect_bounded 2 "--audio-offset '1e15' must be a number in \[-3600, 3600\] s" \
+expect_bounded 2 "--audio-offset 1e+15 is outside the accepted range \[-3600, 3600\] s" \
   analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset 1e15
-expect_bounded 2 "--audio-offset '-1e15'" analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset -1e15
+expect_bounded 2 "--audio-offset -1e+15 is outside the accepted range \[-3600, 3600\] s" analyze "${F[@]}" "${A[@]}" "${base[@]}" --audio-offset -1e15
 expect_bounded 2 "--mass is given twice (as argument 9 and 13); it is accepted once" \
   analyze "${F[@]}" "${A[@]}" "${base[@]}" --mass 0.2
 expect_bounded 2 "--mass" analyze "${F[@]}" "${A[@]}" --rate-force 50000 --rate-audio 48000 --R2 0.04 --mass 1e300

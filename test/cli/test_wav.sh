@@ -199,7 +199,7 @@ expect_usage "f16s.wav: --force-channel 2 is beyond the WAV's 2 channels (0 to 1
 expect_usage "a32.wav: --audio-channel 1 is beyond the WAV's 1 channel (0 to 0)" analyze --force "$force" --rate-force 25600 --audio "$tmp/a32.wav" --audio-channel 1 "${R[@]}"
 expect_usage "hammer_capture_5.force.f32: --force-channel 1 is beyond raw float32's one channel" analyze --force "$force" --rate-force 25600 --force-channel 1 "${A[@]}" "${R[@]}"
 expect_usage "hammer_capture_5.force.f32: raw float32 needs --rate-force HZ" analyze --force "$force" "${A[@]}" "${R[@]}"
-expect_usage "--force-scale '0' must be a number in (0, 1e+06]" analyze --force "$tmp/f16.wav" --force-scale 0 "${A[@]}" "${R[@]}"
-expect_usage "--audio-channel '-1' must be a whole number in \[0, 65535\]" analyze --force "$tmp/f16.wav" --audio-channel -1 "${A[@]}" "${R[@]}"
+expect_usage "--force-scale 0 is outside the accepted range (0, 1e6\] N" analyze --force "$tmp/f16.wav" --force-scale 0 "${A[@]}" "${R[@]}"
+expect_usage "--audio-channel -1 is outside the accepted range \[0, 65535\]" analyze --force "$tmp/f16.wav" --audio-channel -1 "${A[@]}" "${R[@]}"
 
 summary test_wav

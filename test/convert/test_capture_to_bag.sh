@@ -201,12 +201,12 @@ expect_usage "force.f32: raw float32 needs --rate-force HZ" --force "$tmp/force.
 expect_usage "force16.wav: --rate-force 25000 disagrees with the WAV header's 25600 Hz" --force "$tmp/force16.wav" --rate-force 25000 --audio "$tmp/audio32.wav" "${A[@]}"
 printf 'ID3\004\000\000\000\000\000\000' >"$tmp/song.mp3"
 expect_usage "song.mp3: is MP3 (ID3 tag)" --force "$tmp/force16.wav" --audio "$tmp/song.mp3" "${A[@]}"
-expect_usage "--rate-audio '500' must be a number in \[1000, 1e+06\] Hz" "${G[@]}" --apples "$tmp/apples.csv" --rate-audio 500
-expect_usage "--force-scale '0' must be a number in (0, 1e+06\]" "${G[@]}" --apples "$tmp/apples.csv" --force-scale 0
+expect_usage "--rate-audio 500 is outside the accepted range \[1000, 1e6\] Hz" "${G[@]}" --apples "$tmp/apples.csv" --rate-audio 500
+expect_usage "--force-scale 0 is outside the accepted range (0, 1e6\] N" "${G[@]}" --apples "$tmp/apples.csv" --force-scale 0
 expect_usage "--audio-unit: audio_unit = 'dB' is not one of: Pa, V" "${G[@]}" --apples "$tmp/apples.csv" --audio-unit dB
-expect_usage "--chunk '8' must be a whole number in \[16, 65536\]" "${G[@]}" --apples "$tmp/apples.csv" --chunk 8
-expect_usage "--start '0' must be a whole number" "${G[@]}" --apples "$tmp/apples.csv" --start 0
-expect_usage "--audio-offset '4000' must be a number in \[-3600, 3600\] s" "${G[@]}" --apples "$tmp/apples.csv" --audio-offset 4000
+expect_usage "--chunk 8 is outside the accepted range \[16, 65536\] samples" "${G[@]}" --apples "$tmp/apples.csv" --chunk 8
+expect_usage "--start 0 is outside the accepted range \[1, 4e9) s" "${G[@]}" --apples "$tmp/apples.csv" --start 0
+expect_usage "--audio-offset 4000 is outside the accepted range \[-3600, 3600\] s" "${G[@]}" --apples "$tmp/apples.csv" --audio-offset 4000
 expect_usage "--ns 'lane 1' must be a namespace" "${G[@]}" --apples "$tmp/apples.csv" --ns "lane 1"
 expect_usage "--apples is required" --force "$tmp/force16.wav" --audio "$tmp/audio32.wav" --out "$tmp/x.bag"
 expect_usage "unknown flag '--bogus'" "${G[@]}" --apples "$tmp/apples.csv" --bogus 1

@@ -47,7 +47,7 @@ hostile_case nan_elsewhere_line 0 'a_inf20000.f32: 1 non-finite samples refused 
 truncate -s $((4 << 27)) "$tmp/huge_f.f32" "$tmp/huge_a.f32"
 hostile_case two_huge_recordings 2 'huge_f.f32: 134217728 samples, above --max-samples 16777216' 2 256 -- \
   "$fm" analyze --force "$tmp/huge_f.f32" --audio "$tmp/huge_a.f32" "${cap[@]}"
-hostile_case max_samples_flag 2 "--max-samples '0' must be a whole number in \[1, 134217728\]" 2 256 -- \
+hostile_case max_samples_flag 2 "--max-samples 0 is outside the accepted range \[1, 134217728\] samples" 2 256 -- \
   "$fm" analyze --force "$f4" --audio "$a4" "${cap[@]}" --max-samples 0
 hostile_case max_samples_small 2 'above --max-samples 1000 ' 2 256 -- \
   "$fm" analyze --force "$f4" --audio "$a4" "${cap[@]}" --max-samples 1000

@@ -3,8 +3,9 @@
 # every flag of its table, each with a unit and a default (or "required"),
 # and a bad flag or a missing value with one line naming it, exit 2.
 #   test_help.sh FIRMNESS_MODEL FIRMNESS_REPORT STRIKE_BAG CAPTURE_TO_BAG
-# The flags expected are read from the C sources' tables (the af_option rows
-# and cli_flags.c's model flags) by this script, not from the tools' output.
+# The flags expected are read from the C sources' tables (the af_option rows,
+# cli_flags.c's model_options among them) by this script, not from the tools'
+# output.
 source "$(dirname "$0")/../cli/harness.sh" "$1"
 REPORT=${2:?path to firmness_report}
 SB=${3:?path to strike_bag}
@@ -59,11 +60,11 @@ if table != '-':
         flags.append((m.group(1), None if m.group(2) == 'NULL' else m.group(2).strip('"')))
     assert flags, 'no flag in ' + table
 if model != '-':
-    body = re.search(r'af_cli_flag flags\[\] = \{(.*?)\n\};', open(cli).read(), re.S).group(1)
-    names = re.findall(r'AF_(DOUBLE)_FLAG\("([\w-]+)"|AF_CHOICE_FLAG\("([\w-]+)",\s*"[\w.]+",\s*AF_FLAG_(\w+)', body)
-    names = [(d or c, n or m) for d, n, m, c in names]
+    body = re.search(r'af_option model_options\[\] = \{(.*?)\n\};', open(cli).read(), re.S).group(1)
+    names = re.findall(r'(?:\{|CHOICE\()\s*"(--[\w-]+)",\s*("[^"]*")?', body)
+    names = [(n, v.strip('"') if v else 'WORD') for n, v in names]
     assert len(names) >= 15, names
-    flags += [('--' + n, 'X' if k == 'DOUBLE' else 'N' if k == 'LOBE' else 'WORD') for k, n in names]
+    flags += names
 lines = open(help_path).read().splitlines()
 text_values = ('FILE', 'DIR', 'NAME', 'WORD', 'NAME=VALUE', 'default|paper')
 missing = []
@@ -73,7 +74,7 @@ for name, value in flags:
     if line is None:
         missing.append(name + ': no line starting ' + repr(head))
         continue
-    if not re.search(r'\((default[ :]|required\))', line):
+    if not re.search(r'\((default[ :]|required[,)])', line):
         missing.append(name + ': no default: ' + line)
     if value and value not in text_values and not re.search(r'\[[^\]]+\]', line):
         missing.append(name + ': no unit: ' + line)

@@ -84,9 +84,11 @@ else
 fi
 
 # --- refusals ------------------------------------------------------------------------
-for j in 0 -3 two 1.5 257; do
-  expect_usage "--jobs '$j': not a whole number of workers in \[1, 256\]" "$tmp/d" --jobs "$j"
+for j in 0 -3 257; do
+  expect_usage "--jobs $j is outside the accepted range \[1, 256\] workers" "$tmp/d" --jobs "$j"
 done
+expect_usage "--jobs 'two' is not a finite number (accepted range \[1, 256\] workers)" "$tmp/d" --jobs two
+expect_usage "--jobs '1.5' is not a whole number (accepted range \[1, 256\] workers)" "$tmp/d" --jobs 1.5
 mkdir -p "$tmp/empty"
 expect_usage "$tmp/empty: the folder holds no \*.bag file" "$tmp/empty"
 expect_usage "--plots $tmp/p draws one bag's figures" "$tmp/d" --plots "$tmp/p"

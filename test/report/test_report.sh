@@ -120,7 +120,7 @@ expect_usage "/lane1/audio carries acoustic_firmness/AppleEstimate, not acoustic
 
 # --- bad flags -------------------------------------------------------------------------
 expect_usage "a bag is required"
-expect_usage "--jobs '0': not a whole number of workers" "$tmp/s.bag" --jobs 0
+expect_usage "--jobs 0 is outside the accepted range \[1, 256\] workers" "$tmp/s.bag" --jobs 0
 expect_usage "unknown flag '--frobnicate'" "$tmp/s.bag" --frobnicate
 expect_usage "--ns needs a value" "$tmp/s.bag" --ns
 expect_usage "--ns 'lane 1' is not a lane namespace" "$tmp/s.bag" --ns "lane 1"

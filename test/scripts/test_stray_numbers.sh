@@ -25,7 +25,7 @@ src/core/params/settings.h | e.g. 0.010 for hammer_mass_kg [kg]
 # the rig itself: its URDF (test_urdf checks it equals the table's rig value)
 config/rig.urdf | <mass value="0.010"/>
 # quotes of the paper: its claim and its deviations (doc/deviations.md)
-src/tools/paper.c | "below the yield at 10 g, 1.4 m/s",
+src/tools/paper_claims.c | "below the yield at 10 g, 1.4 m/s",
 doc/deviations.md | 0.536 = 0.75/1.4 is the Lankarani
 doc/deviations.md | shipped 0.0414 × 8 MPa × (E2/8 MPa)^0.70
 doc/deviations.md | 0.0414 with exponent 0.70 in the c
@@ -37,7 +37,7 @@ doc/model.md | p = 0.70 below the computed shear's
 doc/model.md | R2 40 mm, 10 g at 1.4 m/s) the shipped profile
 doc/model.md | law shipped now (0.0414 × 8 MPa × (E2/8 MPa)^0.70
 doc/model.md | the shipped exponent 0.70, below
-doc/cli.md | (calibration) (default 0.0414)
+doc/cli.md | (calibration) [-] (default 0.0414, range
 # the paper's strike's energy worked by hand, and design's printed example
 doc/model.md | over a contact that ends where it began). The paper's strike, 10 g at 1.4 m/s
 doc/model.md | `hammer_mass_kg`'s rig value and `strike_velocity_m_s`), delivers 0.5 × 0.010 × 1.4² =
@@ -56,9 +56,9 @@ doc/report.md | the shipped rig's hammer (10 g, flat face)
 doc/tests.md | (the value stays 15 dB;
 # example output: printed by the tools from the table (scripts_doc_examples
 # re-runs each and compares)
-doc/cli.md | contact velocity [m/s] (default 1.4)
-doc/cli.md | hammer mass [kg] (default 0.01)
-doc/cli.md | yield law exponent p, tau_y ~ E2^p [-] (1 = ratio law) (default 0.7)
+doc/cli.md | contact velocity [m/s] (default 1.4, range
+doc/cli.md | hammer mass [kg] (default 0.01, range
+doc/cli.md | yield law exponent p, tau_y ~ E2^p (1 = ratio law) [-] (default 0.7, range
 doc/cli.md | strike: hammer 10.0 g at 1.40 m/s on E2 8.00 MPa
 doc/cli.md | overrides the URDF's hammer mass [kg] (default 0.01, range
 doc/cli.md | the paper's optimum: hammer 10.0 g at 1.40 m/s, tip flat

@@ -3,6 +3,7 @@
 #include "options.h"
 
 #include <inttypes.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -24,16 +25,6 @@ const af_option *af_option_find(const af_option *table, size_t n, const char *na
 static void field(const void *defaults, size_t offset, void *out, size_t size)
 {
   memcpy(out, (const char *)defaults + offset, size);
-}
-
-bool af_option_store(const af_option *o, const char *value, void *args)
-{
-  const bool on = true;
-  switch (o->kind) {
-  case AF_OPTION_SWITCH: memcpy((char *)args + o->offset, &on, sizeof on); return true;
-  case AF_OPTION_TEXT: memcpy((char *)args + o->offset, &value, sizeof value); return true;
-  default: return false;
-  }
 }
 
 /* The first characters of arg into shown[len], control characters as '?',
@@ -85,6 +76,7 @@ static void field_default(const af_option *o, const void *defaults, char *buf, s
   double d[2];
   long l;
   uint64_t u;
+  unsigned w;
   bool b;
   buf[0] = '\0';
   if (defaults == NULL && o->kind != AF_OPTION_NONE)
@@ -99,9 +91,9 @@ static void field_default(const af_option *o, const void *defaults, char *buf, s
     if (text != NULL)
       snprintf(buf, len, "%s", text);
     break;
-  case AF_OPTION_NUMBER: /* 0 = not given: `absent` or required */
+  case AF_OPTION_NUMBER: /* 0 or NaN = not given: `absent` or required */
     field(defaults, o->offset, d, sizeof d[0]);
-    if (d[0] != 0.0)
+    if (d[0] != 0.0 && !isnan(d[0]))
       snprintf(buf, len, "%g", d[0]);
     break;
   case AF_OPTION_RANGE:
@@ -117,22 +109,41 @@ static void field_default(const af_option *o, const void *defaults, char *buf, s
     field(defaults, o->offset, &u, sizeof u);
     snprintf(buf, len, "%" PRIu64, u);
     break;
+  case AF_OPTION_UINT:
+    field(defaults, o->offset, &w, sizeof w);
+    if (w != 0)
+      snprintf(buf, len, "%u", w);
+    break;
   case AF_OPTION_SETTING:
   case AF_OPTION_NONE: break;
   }
 }
 
-/* "(default X)", "(default: what absence means)" or "(required)". */
+/* " [unit] (default X, range R)", "(default: what absence means, range R)"
+ * or "(required, range R)": R and the unit from the range the parser
+ * applies; no range, no unit added (the help carries it). */
 static void field_note(const af_option *o, const void *defaults, char *buf, size_t len)
 {
-  char def[AF_SETTINGS_TEXT_MAX];
+  char def[AF_SETTINGS_TEXT_MAX], range[96] = "";
+  af_setting_range r;
+  const char *text, *unit;
   field_default(o, defaults, def, sizeof def);
+  if (o->kind != AF_OPTION_TEXT && af_option_range(o, &r, &text) &&
+      af_setting_parse_range(text, &r, &unit)) {
+    int n = (int)(unit - text); /* the interval, without its unit */
+    while (n > 0 && text[n - 1] == ' ')
+      n--;
+    snprintf(range, sizeof range, ", range %.*s", n, text);
+    snprintf(buf, len, " [%s]", unit[0] != '\0' ? unit : "-"); /* "-": dimensionless */
+  } else
+    buf[0] = '\0';
+  const size_t used = strlen(buf);
   if (def[0] != '\0')
-    snprintf(buf, len, "(default %s)", def);
+    snprintf(buf + used, len - used, " (default %s%s)", def, range);
   else if (o->absent != NULL)
-    snprintf(buf, len, "(default: %s)", o->absent);
+    snprintf(buf + used, len - used, " (default: %s%s)", o->absent, range);
   else
-    snprintf(buf, len, "(required)");
+    snprintf(buf + used, len - used, " (required%s)", range);
 }
 
 /* A parameter table row: its help, unit, value in s and range. */
@@ -161,52 +172,30 @@ static void setting_line(FILE *out, const char *flag, const af_option *o, const 
   fprintf(out, "; parameter %s)\n", row->name);
 }
 
-void af_options_help(FILE *out, const af_option *table, size_t n, const void *defaults,
-                     const af_settings *s)
+void af_options_help_rows(FILE *out, const af_option *table, size_t n, const void *defaults,
+                          const af_settings *s)
 {
   for (size_t k = 0; k < n; k++) {
     const af_option *o = &table[k];
-    char flag[64], note[AF_SETTINGS_TEXT_MAX + 32];
+    char flag[64], note[AF_SETTINGS_TEXT_MAX + 160];
     snprintf(flag, sizeof flag, "%s%s%s", o->name, o->value ? " " : "", o->value ? o->value : "");
     if (o->kind == AF_OPTION_SETTING) {
       setting_line(out, flag, o, s);
       continue;
     }
     field_note(o, defaults, note, sizeof note);
-    fprintf(out, "  %-28s %s %s\n", flag, o->help ? o->help : "", note);
+    fprintf(out, "  %-28s %s%s\n", flag, o->help ? o->help : "", note);
   }
+}
+
+void af_options_help(FILE *out, const af_option *table, size_t n, const void *defaults,
+                     const af_settings *s)
+{
+  af_options_help_rows(out, table, n, defaults, s);
   fprintf(out, "  %-28s %s\n", "-h, --help", "this help");
-}
-
-void af_options_unknown(const char *tool, const af_option *table, size_t n, const char *flag,
-                        const char *more)
-{
-  fprintf(stderr, "%s: unknown flag '%s'; accepted:", tool, flag);
-  for (size_t k = 0; k < n; k++)
-    fprintf(stderr, "%s %s", k ? "," : "", table[k].name);
-  if (more != NULL)
-    fprintf(stderr, " and %s", more);
-  fprintf(stderr, " (%s --help: units and defaults)\n", tool);
-}
-
-void af_options_missing(const char *tool, const af_option *o)
-{
-  fprintf(stderr, "%s: %s needs a value: %s, %s\n", tool, o->name, o->value ? o->value : "",
-          o->help ? o->help : "");
 }
 
 void af_options_wrote(const char *path)
 {
   fprintf(stderr, "wrote %s\n", path);
-}
-
-bool af_options_once(const char *tool, const af_option *o, char **argv, int first, int k)
-{
-  for (int j = first; j < k; j++)
-    if (strcmp(argv[j], o->name) == 0) {
-      fprintf(stderr, "%s: %s is given twice (as argument %d and %d); it is accepted once\n", tool,
-              o->name, j - first + 1, k - first + 1);
-      return false;
-    }
-  return true;
 }

@@ -223,6 +223,12 @@ typedef struct {
   bool zero; /* 0 is accepted too ("0 or [lo, hi]") */
 } af_setting_range;
 
+/* "(lo, hi] unit" or "0 or [lo, hi] unit" (the grammar above): the interval
+ * and where the unit starts (unit may be NULL); false on a malformed text.
+ * Also read by the tools' flag tables (options.h), whose ranges are written
+ * the same way. */
+bool af_setting_parse_range(const char *text, af_setting_range *r, const char **unit);
+
 /* The row of id; NULL when id is not a row. */
 const af_setting_def *af_setting_def_of(af_setting_id id);
 /* AF_OK and *id for a row name; AF_EINVAL when name is no row. */

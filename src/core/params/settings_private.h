@@ -25,10 +25,6 @@ static inline bool setting_valid_id(af_setting_id id)
   return (int)id >= 0 && id < AF_SETTING_COUNT;
 }
 
-/* "(lo, hi] unit" or "0 or [lo, hi] unit": the interval and where the unit
- * starts (unit may be NULL); false on a malformed text (settings_table.c). */
-bool af_setting_parse_range(const char *text, af_setting_range *r, const char **unit);
-
 /* vsnprintf into err[len], cut at len - 1 (err may be NULL), control
  * characters shown as '?' so that the message stays one line (settings.c). */
 #if defined(__GNUC__)
