@@ -66,7 +66,7 @@ typedef enum {
 } af_component_id;
 
 static const char *const component_names[AF_COMPONENTS] = {
-    "firmness station", "force stream", "audio stream",  "apple input",
+    "firmness station", "force stream",           "audio stream",  "apple input",
     "detector",         "attribution and clocks", "hammer health", "modulus factor"};
 
 /* The inputs with a rate and a stamp check. */
@@ -101,7 +101,7 @@ struct af_station {
   int64_t last_apple_ns; /* ROS time the latest AppleEstimate came [ns]; 0 = none yet */
   unsigned long long force_problems_seen, audio_problems_seen; /* gaps + bad chunks + restarts
                                                                  at the last diagnostic */
-  unsigned long long clock_faults_seen;    /* clock steps + frozen chunks at the last one */
+  unsigned long long clock_faults_seen; /* clock steps + frozen chunks at the last one */
   unsigned long long force_clock_seen, audio_clock_seen; /* each stream's, at its last chunk */
   unsigned long long too_long_seen; /* messages too long to read, at the last one */
   int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
@@ -121,7 +121,7 @@ struct af_station {
   af_component comp[AF_COMPONENTS];
   af_rate_report rate_rep[AF_INPUTS];
   af_stamp_report stamp_rep[AF_INPUTS];
-  af_wire_guard_stats guard; /* the messages too long to read, at this report */
+  af_wire_guard_stats guard;                 /* the messages too long to read, at this report */
   bool force_stale, audio_stale, absent_now; /* at this report; absent_now: absent_check's */
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
@@ -584,8 +584,8 @@ static void diag_input(af_diag_status *d, const char *name, const af_rate_report
     af_diag_add(d, key, "%.2f .. %.2f", r->min_ok_hz, r->max_ok_hz);
   af_text(key, sizeof key, "%s stamp delay [s]", name);
   if (t->valid)
-    af_diag_add(d, key, "%.4f .. %.4f since the last report (%s)", t->min_delay_s,
-                t->max_delay_s, t->message);
+    af_diag_add(d, key, "%.4f .. %.4f since the last report (%s)", t->min_delay_s, t->max_delay_s,
+                t->message);
   else
     af_diag_add(d, key, "%s", t->message);
   af_text(key, sizeof key, "%s stamp reports out of range", name);
@@ -656,8 +656,8 @@ static void judge_stream(af_station *st, af_component_id k, const af_stream *s, 
     return;
   }
   if (new_problems) {
-    af_text(text, sizeof text, "%s gaps, bad chunks or restarts since the last report: %s",
-            s->name, s->last_problem);
+    af_text(text, sizeof text, "%s gaps, bad chunks or restarts since the last report: %s", s->name,
+            s->last_problem);
     set_comp(st, k, AF_DIAG_WARN, text);
     return;
   }
@@ -673,8 +673,8 @@ static void judge_stream(af_station *st, af_component_id k, const af_stream *s, 
             c->lane.stream_stamps.max_delay_s);
     set_comp(st, k, level_of(t->level), text);
   } else if (r->level != AF_HEALTH_OK) {
-    af_text(text, sizeof text, "%s: %s (%.2f chunks/s, accepted %.2f .. %.2f)", s->name,
-            r->message, r->rate_hz, r->min_ok_hz, r->max_ok_hz);
+    af_text(text, sizeof text, "%s: %s (%.2f chunks/s, accepted %.2f .. %.2f)", s->name, r->message,
+            r->rate_hz, r->min_ok_hz, r->max_ok_hz);
     set_comp(st, k, level_of(r->level), text);
   } else
     set_comp(st, k, AF_DIAG_OK, "ok");
@@ -722,22 +722,22 @@ static void diag_collect(af_station *st)
              "not used (tap_only: strikes from the audio onset, no force subscription)");
   else
     judge_stream(st, AF_COMP_FORCE, force,
-                 st->absent_now && af_absent(force, st->clock_start_ns, now_ns,
-                                         c->lane.stream_absent_warn_s),
+                 st->absent_now &&
+                     af_absent(force, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s),
                  st->force_stale, &st->force_problems_seen, NULL, apples_coming, AF_INPUT_FORCE);
   const char *audio_extra = w.audio ? w.audio : af_audio_in_warning(st->audio_in);
-  judge_stream(st, AF_COMP_AUDIO, audio,
-               st->absent_now &&
-                   af_absent(audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s),
-               st->audio_stale, &st->audio_problems_seen, audio_extra, apples_coming,
-               AF_INPUT_AUDIO);
+  judge_stream(
+      st, AF_COMP_AUDIO, audio,
+      st->absent_now && af_absent(audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s),
+      st->audio_stale, &st->audio_problems_seen, audio_extra, apples_coming, AF_INPUT_AUDIO);
 
   /* the apple estimates */
   const af_rate_report *ar = &st->rate_rep[AF_INPUT_APPLE];
   const af_stamp_report *at = &st->stamp_rep[AF_INPUT_APPLE];
   if (at->level != AF_HEALTH_OK) {
-    af_text(text, sizeof text, "apple estimates: %s (delay %.3f .. %.3f s, accepted %.3f .. %.3f s)",
-            at->message, at->min_delay_s, at->max_delay_s, c->lane.apple_stamps.min_delay_s,
+    af_text(text, sizeof text,
+            "apple estimates: %s (delay %.3f .. %.3f s, accepted %.3f .. %.3f s)", at->message,
+            at->min_delay_s, at->max_delay_s, c->lane.apple_stamps.min_delay_s,
             c->lane.apple_stamps.max_delay_s);
     set_comp(st, AF_COMP_APPLE, level_of(at->level), text);
   } else if (ar->level != AF_HEALTH_OK) {
@@ -777,7 +777,8 @@ static void diag_collect(af_station *st)
     set_comp(st, AF_COMP_HEALTH, AF_DIAG_WARN, w.health);
   else
     set_comp(st, AF_COMP_HEALTH, AF_DIAG_OK, "ok");
-  set_comp(st, AF_COMP_FACTOR, AF_DIAG_OK, af_lane_io_factor_summary(st->measured, text, sizeof text));
+  set_comp(st, AF_COMP_FACTOR, AF_DIAG_OK,
+           af_lane_io_factor_summary(st->measured, text, sizeof text));
 
   /* the node itself */
   af_wire_guard_get(&st->guard);

@@ -231,8 +231,7 @@ static void chunk_rate(const af_settings *s, af_setting_id rate, af_setting_id s
 }
 
 /* The rate and stamp checks of the inputs (rate_status.h); the min < max pairs. */
-static af_status derive_input_health(const af_settings *s, af_lane_config *c, char *err,
-                                     size_t len)
+static af_status derive_input_health(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
   static const af_setting_id pairs[][2] = {
       {AF_SETTING_STREAM_STAMP_DELAY_MIN_S, AF_SETTING_STREAM_STAMP_DELAY_MAX_S},

@@ -59,16 +59,16 @@ typedef struct {
 
 typedef struct {
   af_rate_config cfg;
-  unsigned long long count;                        /* events since the start */
-  int64_t times_ns[AF_RATE_WINDOW_MAX];            /* update times, a ring of cfg.window */
-  unsigned long long counts[AF_RATE_WINDOW_MAX];   /* count at each of them */
-  size_t next;                                     /* the oldest slot */
+  unsigned long long count;                      /* events since the start */
+  int64_t times_ns[AF_RATE_WINDOW_MAX];          /* update times, a ring of cfg.window */
+  unsigned long long counts[AF_RATE_WINDOW_MAX]; /* count at each of them */
+  size_t next;                                   /* the oldest slot */
 } af_rate_status;
 
 typedef struct {
   af_health_level level;
-  const char *message; /* "rate ok", "rate too low", "rate too high", "no events",
-                          "no window yet" */
+  const char *message;             /* "rate ok", "rate too low", "rate too high", "no events",
+                                      "no window yet" */
   unsigned long long events;       /* in the window */
   unsigned long long events_total; /* since the start */
   double window_s;                 /* the window's duration [s] */
@@ -92,17 +92,17 @@ typedef struct {
 
 typedef struct {
   af_stamp_config cfg;
-  bool valid;             /* a delay ticked since the last update */
-  bool zero_seen;         /* a zero stamp since the last update */
-  double min_s, max_s;    /* earliest and latest delay since the last update [s] */
+  bool valid;          /* a delay ticked since the last update */
+  bool zero_seen;      /* a zero stamp since the last update */
+  double min_s, max_s; /* earliest and latest delay since the last update [s] */
   unsigned long long early_updates, late_updates, zero_updates; /* updates that saw them */
 } af_stamp_status;
 
 typedef struct {
   af_health_level level;
-  const char *message;   /* "stamps ok", "stamps too late", "stamps too early", "zero stamp",
-                            "no data" */
-  bool valid;            /* min_delay_s and max_delay_s hold this update's delays */
+  const char *message; /* "stamps ok", "stamps too late", "stamps too early", "zero stamp",
+                          "no data" */
+  bool valid;          /* min_delay_s and max_delay_s hold this update's delays */
   double min_delay_s, max_delay_s; /* [s] */
   unsigned long long early_updates, late_updates, zero_updates;
 } af_stamp_report;
