@@ -311,40 +311,41 @@ void af_lane_io_refuse(af_lane_io *m, bool force, bool oversized, const char *wh
 
 /* --- diagnostics ---------------------------------------------------------------- */
 
-const char *af_lane_io_warning(af_lane_io *m)
+/* The first new problem of each component since the last report, in the
+ * order of importance; the held ones (transit, hammer health) while they last. */
+void af_lane_io_warnings_get(af_lane_io *m, af_lane_io_warnings *w)
 {
   const af_lane_stats *s = af_lane_get_stats(m->lane);
-  const char *w = NULL;
+  memset(w, 0, sizeof *w);
   if (s->overflows != m->seen.overflows)
-    w = "strike queue overflowed since the last report";
-  else if (s->doubtful != m->seen.doubtful)
-    w = "doubtful apple matches since the last report";
-  else if (s->late_apples != m->seen.late_apples)
-    w = "apple estimates arrived after their strikes since the last report";
-  else if (s->no_audio != m->seen.no_audio)
-    w = "strikes measured without audio since the last report";
-  else if (s->no_apple != m->seen.no_apple)
-    w = "strikes without an apple estimate since the last report";
-  else if (s->audio_clipped != m->seen.audio_clipped)
-    w = "the microphone clipped since the last report: lower the microphone gain";
-  else if (s->apples_skipped != m->seen.apples_skipped)
-    w = s->last_apples_skipped;
+    w->detector = "strike queue overflowed since the last report";
   else if (s->reconfigure_lost != m->seen.reconfigure_lost)
-    w = s->last_reconfigure_lost;
+    w->detector = s->last_reconfigure_lost;
+  if (s->audio_clipped != m->seen.audio_clipped)
+    w->audio = "the microphone clipped since the last report: lower the microphone gain";
+  if (s->doubtful != m->seen.doubtful)
+    w->attribution = "doubtful apple matches since the last report";
+  else if (s->late_apples != m->seen.late_apples)
+    w->attribution = "apple estimates arrived after their strikes since the last report";
+  else if (s->no_audio != m->seen.no_audio)
+    w->attribution = "strikes measured without audio since the last report";
+  else if (s->no_apple != m->seen.no_apple)
+    w->attribution = "strikes without an apple estimate since the last report";
+  else if (s->apples_skipped != m->seen.apples_skipped)
+    w->attribution = s->last_apples_skipped;
   else if (s->lag_moves != m->seen.lag_moves)
-    w = s->lag_warning;
+    w->attribution = s->lag_warning;
   else if (s->clock_faulted != m->seen.clock_faulted)
-    w = "strikes judged across a clock fault since the last report (their audio or apple found "
-        "by stamps that cannot be trusted)";
+    w->attribution = "strikes judged across a clock fault since the last report (their audio or "
+                     "apple found by stamps that cannot be trusted)";
   else if (s->transit_warning[0] != '\0')
-    w = s->transit_warning; /* held while it lasts, as the hammer's */
+    w->attribution = s->transit_warning; /* held while it lasts, as the hammer's */
   else if (s->apples_implausible != m->seen.apples_implausible)
-    w = "apple estimates refused (apple_id 0, or stamped far from the data) since the last "
-        "report";
-  else if (s->health.warnings != 0)
-    w = s->health.text; /* held while it lasts: the lane's stats outlive the report */
+    w->attribution = "apple estimates refused (apple_id 0, or stamped far from the data) since "
+                     "the last report";
+  if (s->health.warnings != 0)
+    w->health = s->health.text; /* held while it lasts: the lane's stats outlive the report */
   m->seen = *s;
-  return w;
 }
 
 /* The hammer health's figures (hammer_health.h): each with its limit. */
@@ -400,15 +401,61 @@ static void factor_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "modulus factor changes", "%llu", (unsigned long long)f->changes);
 }
 
-void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
+/* The detector and the strikes it makes (the "detector" task). */
+void af_lane_io_diag_detector(const af_lane_io *m, af_diag_status *d)
 {
   const af_lane_stats *s = af_lane_get_stats(m->lane);
   af_strike_tracker tr;
   af_strike_get_tracker(af_lane_detector(m->lane), &tr);
   af_diag_add(d, "strikes", "%llu", (unsigned long long)s->strikes);
+  af_diag_add(d, "strike detector", "%s, baseline %.4f N, noise %.4f N RMS, threshold %.4f N",
+              tr.armed ? "armed" : "learning or waiting for quiet", tr.baseline_n, tr.noise_rms_n,
+              tr.threshold_n);
   af_diag_add(d, "strike double hits", "%llu", (unsigned long long)s->double_hits);
   af_diag_add(d, "strikes clipped", "%llu (truncated %llu)", (unsigned long long)s->clipped,
               (unsigned long long)s->truncated);
+  af_diag_add(d, "strikes cut by a stalled force stream", "%llu",
+              (unsigned long long)s->force_stalls);
+  af_diag_add(d, "strikes lost to a reconfigure",
+              "%llu (the detector made anew is primed from "
+              "the latest force, no warm-up)",
+              (unsigned long long)s->reconfigure_lost);
+  af_diag_add(d, "strike force samples lost", "%llu", (unsigned long long)s->lost_force_samples);
+  af_diag_add(d, "strikes without resonance", "%llu", (unsigned long long)s->no_resonance);
+  af_diag_add(d, "strikes unreliable", "%llu (measurement errors %llu)",
+              (unsigned long long)s->unreliable, (unsigned long long)s->measure_errors);
+  af_diag_add(d, "strike queue", "%zu pending of %zu", af_lane_pending(m->lane),
+              m->cfg->lane.measured.pending_size);
+  af_diag_add(d, "strike queue overflows", "%llu", (unsigned long long)s->overflows);
+  if (s->pulse_cut > 0)
+    af_diag_add(d, "strike pulses cut", "%llu (longer than the pending slot)",
+                (unsigned long long)s->pulse_cut);
+  if (m->have_last) {
+    const af_strike_report *r = &m->last;
+    af_diag_add(d, "last measured apple", "%u", r->apple_id);
+    af_diag_add(d, "last measured resonance [Hz]", "%.2f (Q %.1f, SNR %.1f dB)", r->resonance_hz,
+                r->resonance_q, r->snr_db);
+    af_diag_add(d, "last measured modulus [Pa]", "%.4g from the resonance, %.4g fitted (e %.3f)",
+                r->modulus_from_resonance_pa, r->fitted_modulus_pa, r->fitted_restitution);
+  }
+  af_diag_add(d, "last measured unreliable reason", "%s", s->last_unreliable);
+  if (m->latency.n == 0)
+    af_diag_add(d, "strike report latency [ms]", "none yet");
+  else
+    af_diag_add(d, "strike report latency [ms]",
+                "last %.3f, mean %.3f, max %.3f over %llu (from the callback that made the "
+                "strike decidable: its last audio chunk, the next apple's estimate or the "
+                "apple wait's end, to the published report)",
+                m->latency.last, m->latency.sum / (double)m->latency.n, m->latency.max,
+                (unsigned long long)m->latency.n);
+  grade_diag(m, d);
+}
+
+/* Which apple and which audio each strike was given, by stamps (the
+ * "attribution and clocks" task; the streams' clocks are the station's). */
+void af_lane_io_diag_attribution(const af_lane_io *m, af_diag_status *d)
+{
+  const af_lane_stats *s = af_lane_get_stats(m->lane);
   af_diag_add(d, "audio lag [s]",
               "median %.4f (MAD %.4f over %zu strikes), applied %.4f (audio_lag_learn %s); sound "
               "onset not found in %llu strikes; %llu moves%s%s",
@@ -418,17 +465,6 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
               s->lag_warning[0] ? ": " : "", s->lag_warning);
   af_diag_add(d, "strikes judged across a clock fault", "%llu",
               (unsigned long long)s->clock_faulted);
-  af_diag_add(d, "strikes with the microphone clipped", "%llu%s",
-              (unsigned long long)s->audio_clipped,
-              s->audio_clipped ? " (lower the microphone gain)" : "");
-  af_diag_add(d, "strikes cut by a stalled force stream", "%llu",
-              (unsigned long long)s->force_stalls);
-  af_diag_add(d, "strikes lost to a reconfigure",
-              "%llu (the detector made anew is primed from "
-              "the latest force, no warm-up)",
-              (unsigned long long)s->reconfigure_lost);
-  af_diag_add(d, "strike force samples lost", "%llu", (unsigned long long)s->lost_force_samples);
-  af_diag_add(d, "strikes without resonance", "%llu", (unsigned long long)s->no_resonance);
   af_diag_add(d, "strikes without apple", "%llu", (unsigned long long)s->no_apple);
   af_diag_add(d, "strikes with a doubtful apple match", "%llu", (unsigned long long)s->doubtful);
   af_diag_add(d, "apple estimates after their strike", "%llu (last: %s)",
@@ -452,39 +488,39 @@ void af_lane_io_diag(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "apple estimates refused as implausible", "%llu (last: %s)",
               (unsigned long long)s->apples_implausible, s->last_implausible_apple);
   af_diag_add(d, "strikes without audio", "%llu", (unsigned long long)s->no_audio);
-  af_diag_add(d, "strikes unreliable", "%llu (measurement errors %llu)",
-              (unsigned long long)s->unreliable, (unsigned long long)s->measure_errors);
-  af_diag_add(d, "strike queue", "%zu pending of %zu", af_lane_pending(m->lane),
-              m->cfg->lane.measured.pending_size);
-  af_diag_add(d, "strike queue overflows", "%llu", (unsigned long long)s->overflows);
-  af_diag_add(d, "strike detector", "%s, baseline %.4f N, noise %.4f N RMS, threshold %.4f N",
-              tr.armed ? "armed" : "learning or waiting for quiet", tr.baseline_n, tr.noise_rms_n,
-              tr.threshold_n);
-  if (m->have_last) {
-    const af_strike_report *r = &m->last;
-    af_diag_add(d, "last measured apple", "%u", r->apple_id);
-    af_diag_add(d, "last measured resonance [Hz]", "%.2f (Q %.1f, SNR %.1f dB)", r->resonance_hz,
-                r->resonance_q, r->snr_db);
-    af_diag_add(d, "last measured modulus [Pa]", "%.4g from the resonance, %.4g fitted (e %.3f)",
-                r->modulus_from_resonance_pa, r->fitted_modulus_pa, r->fitted_restitution);
-  }
-  af_diag_add(d, "last measured unreliable reason", "%s", s->last_unreliable);
   af_diag_add(d, "last strike without audio", "%s", s->last_no_audio);
-  if (m->latency.n == 0)
-    af_diag_add(d, "strike report latency [ms]", "none yet");
-  else
-    af_diag_add(d, "strike report latency [ms]",
-                "last %.3f, mean %.3f, max %.3f over %llu (from the callback that made the "
-                "strike decidable: its last audio chunk, the next apple's estimate or the "
-                "apple wait's end, to the published report)",
-                m->latency.last, m->latency.sum / (double)m->latency.n, m->latency.max,
-                (unsigned long long)m->latency.n);
-  if (s->pulse_cut > 0)
-    af_diag_add(d, "strike pulses cut", "%llu (longer than the pending slot)",
-                (unsigned long long)s->pulse_cut);
-  grade_diag(m, d);
+}
+
+/* The microphone's clipping, for the "audio stream" task. */
+void af_lane_io_diag_audio(const af_lane_io *m, af_diag_status *d)
+{
+  const af_lane_stats *s = af_lane_get_stats(m->lane);
+  af_diag_add(d, "strikes with the microphone clipped", "%llu%s",
+              (unsigned long long)s->audio_clipped,
+              s->audio_clipped ? " (lower the microphone gain)" : "");
+}
+
+void af_lane_io_diag_health(const af_lane_io *m, af_diag_status *d)
+{
   health_diag(m, d);
+}
+
+void af_lane_io_diag_factor(const af_lane_io *m, af_diag_status *d)
+{
   factor_diag(m, d);
+}
+
+const char *af_lane_io_factor_summary(const af_lane_io *m, char *buf, size_t len)
+{
+  const af_factor_learn_state *f = af_lane_factor(m->lane);
+  const af_factor_learn_config *c = &m->cfg->lane.factor_learn;
+  if (isnan(f->estimate))
+    af_text(buf, len, "learning: %zu of %zu reliable strikes; %.4f applied", f->n, c->min_strikes,
+            f->applied);
+  else
+    af_text(buf, len, "learned %.4f, %.4f applied (%s)", f->estimate, f->applied,
+            c->apply ? "learned values applied" : "the cultivar's");
+  return buf;
 }
 
 /* --- life cycle ------------------------------------------------------------------ */

@@ -65,17 +65,37 @@ af_status af_lane_io_reconfigured(af_lane_io *m, bool grades_changed, const char
 /* Each spin: measures what is due (time-outs, stale audio). */
 void af_lane_io_poll(af_lane_io *m);
 
-/* A short reason to WARN when something new went wrong since the last call
- * (queue overflow, doubtful matches, late estimates, strikes without audio
- * or apple), else while the hammer health warns (its text, with each figure
- * and its limit: hammer_health.h); NULL when none. Call once per diagnostic
- * report. */
-const char *af_lane_io_warning(af_lane_io *m);
-/* Adds the measured-strike keys to d, the hammer health's too ("hammer
- * health", "hammer contact velocity [m/s]", "hammer contact velocity fitted
- * [m/s]", "hammer delivered restitution [-]", "force baseline [N]", "force
- * noise RMS [N]", "hammer peak force [N]", "hammer clipping"). */
-void af_lane_io_diag(const af_lane_io *m, af_diag_status *d);
+/* Each component's short reason to WARN: something new went wrong since
+ * the last call, or a held condition lasts; NULL = none.
+ *   detector     the strike queue overflowed, strikes lost to a reconfigure
+ *   audio        the microphone clipped
+ *   attribution  doubtful matches, late, skipped or refused apple estimates,
+ *                strikes without audio or apple, audio lag moves, strikes
+ *                across a clock fault, the apple transit (held)
+ *   health       the hammer health (held while it warns: its text, with each
+ *                figure and its limit: hammer_health.h)
+ * Call once per diagnostic report. */
+typedef struct {
+  const char *detector, *audio, *attribution, *health;
+} af_lane_io_warnings;
+void af_lane_io_warnings_get(af_lane_io *m, af_lane_io_warnings *w);
+
+/* The measured-strike keys into each component's status (/diagnostics):
+ * the detector's ("strikes", "strike detector", queue, last strike, latency,
+ * grades), the attribution's ("audio lag [s]", apple matches, transit,
+ * strikes without audio or apple), the audio's ("strikes with the microphone
+ * clipped"), the hammer health's ("hammer health", "hammer contact velocity
+ * [m/s]", "hammer contact velocity fitted [m/s]", "hammer delivered
+ * restitution [-]", "force baseline [N]", "force noise RMS [N]", "hammer
+ * peak force [N]", "hammer clipping"), the modulus factor's. */
+void af_lane_io_diag_detector(const af_lane_io *m, af_diag_status *d);
+void af_lane_io_diag_attribution(const af_lane_io *m, af_diag_status *d);
+void af_lane_io_diag_audio(const af_lane_io *m, af_diag_status *d);
+void af_lane_io_diag_health(const af_lane_io *m, af_diag_status *d);
+void af_lane_io_diag_factor(const af_lane_io *m, af_diag_status *d);
+/* The modulus factor's one line ("learning: 3 of 20 reliable strikes; 1.0000
+ * applied", "learned 1.0312, 1.0000 applied (the cultivar's)") into buf. */
+const char *af_lane_io_factor_summary(const af_lane_io *m, char *buf, size_t len);
 
 /* ROS time in integer nanoseconds. */
 int64_t af_time_to_ns(af_time t);

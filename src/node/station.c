@@ -52,6 +52,32 @@
 #define AF_TF_WAIT_S 3.0
 /* Diagnostics period [s] follows the updater (~diagnostic_period). */
 
+/* The diagnostic tasks, each its own status on /diagnostics, named
+ * "<node>: <name>" (config/analyzers.yaml groups them per lane). */
+typedef enum {
+  AF_COMP_STATION = 0, /* the node: configuration, predictions, restarts, services */
+  AF_COMP_FORCE,       /* the force stream: chunks, gaps, rate, stamps */
+  AF_COMP_AUDIO,       /* the audio stream, and the microphone */
+  AF_COMP_APPLE,       /* the vision's AppleEstimates: rate, stamps */
+  AF_COMP_DETECTOR,    /* the strike detector and the strikes it makes */
+  AF_COMP_ATTRIBUTION, /* each strike's apple and audio, by stamps; the streams' clocks */
+  AF_COMP_HEALTH,      /* the hammer health */
+  AF_COMP_FACTOR,      /* the modulus factor learned on the line */
+  AF_COMPONENTS
+} af_component_id;
+
+static const char *const component_names[AF_COMPONENTS] = {
+    "firmness station", "force stream",           "audio stream",  "apple input",
+    "detector",         "attribution and clocks", "hammer health", "modulus factor"};
+
+/* The inputs with a rate and a stamp check. */
+enum { AF_INPUT_FORCE = 0, AF_INPUT_AUDIO, AF_INPUT_APPLE, AF_INPUTS };
+
+typedef struct {
+  af_diag_level level;
+  char message[2 * AF_TEXT_MAX];
+} af_component;
+
 struct af_station {
   af_ros *ros;
   const af_node_config *cfg;
@@ -75,8 +101,9 @@ struct af_station {
   unsigned long long apples, apples_invalid, apples_unreliable, apples_rotate, model_failures;
   bool last_apple_invalid;
   int64_t last_apple_ns; /* ROS time the latest AppleEstimate came [ns]; 0 = none yet */
-  unsigned long long stream_problems_seen; /* gaps + bad chunks at the last diagnostic */
-  unsigned long long clock_faults_seen;    /* clock steps + frozen chunks at the last one */
+  unsigned long long force_problems_seen, audio_problems_seen; /* gaps + bad chunks + restarts
+                                                                 at the last diagnostic */
+  unsigned long long clock_faults_seen; /* clock steps + frozen chunks at the last one */
   unsigned long long force_clock_seen, audio_clock_seen; /* each stream's, at its last chunk */
   unsigned long long too_long_seen; /* messages too long to read, at the last one */
   int64_t clock_start_ns;   /* the first non-zero ROS time seen (sim time: the first /clock) [ns] */
@@ -86,6 +113,18 @@ struct af_station {
    * (replay: robot_state_publisher's fixed frames wait for the first /clock). */
   bool tf_check_deferred;
   int64_t tf_clock_start_ns; /* the first /clock seen by that check [ns]; 0 = none yet */
+  /* The inputs' rate and stamp checks (rate_status.h): ticked by each
+   * message, run once per diagnostic report. */
+  af_rate_status force_rate, audio_rate, apple_rate;
+  af_stamp_status force_stamps, audio_stamps, apple_stamps;
+  bool rates_started; /* started on a running clock (sim time: after the first /clock) */
+  /* One report's components, judged together by the first task (diag_collect)
+   * and written by each component's task. */
+  af_component comp[AF_COMPONENTS];
+  af_rate_report rate_rep[AF_INPUTS];
+  af_stamp_report stamp_rep[AF_INPUTS];
+  af_wire_guard_stats guard;                 /* the messages too long to read, at this report */
+  bool force_stale, audio_stale, absent_now; /* at this report; absent_now: absent_check's */
   char last_reason[AF_TEXT_MAX];
   char last_geometry_note[AF_TEXT_MAX];
   bool have_band;
@@ -343,6 +382,8 @@ static void on_apple(const void *msg, void *user)
   memset(&w, 0, sizeof w);
   st->apples++;
   st->last_apple_ns = af_time_to_ns(af_ros_now(st->ros));
+  af_rate_tick(&st->apple_rate);
+  af_stamp_tick(&st->apple_stamps, af_time_to_ns(m->header.stamp), st->last_apple_ns);
   apple_of(st, m, &w, &a);
   af_status s = af_lane_io_apple(st->measured, &a, &pr);
   if (s != AF_OK) {
@@ -412,10 +453,19 @@ static void on_chunk(af_station *st, const af_stream *s, af_chunk_verdict v,
   *seen = faults;
 }
 
+/* A chunk received: its rate and stamp checks (rate_status.h). */
+static void tick_input(af_station *st, const af_signal_chunk *c, af_rate_status *rate,
+                       af_stamp_status *stamps)
+{
+  af_rate_tick(rate);
+  af_stamp_tick(stamps, af_time_to_ns(c->header.stamp), af_time_to_ns(af_ros_now(st->ros)));
+}
+
 static void on_force(const void *msg, void *user)
 {
   af_station *st = user;
   af_ring_write_info info;
+  tick_input(st, msg, &st->force_rate, &st->force_stamps);
   af_chunk_verdict v = af_lane_io_force(st->measured, msg, &info);
   on_chunk(st, af_lane_force_stream(af_lane_io_lane(st->measured)), v, &info);
 }
@@ -424,52 +474,9 @@ static void on_audio(const void *msg, void *user)
 {
   af_station *st = user;
   af_ring_write_info info;
+  tick_input(st, msg, &st->audio_rate, &st->audio_stamps);
   af_chunk_verdict v = af_lane_io_audio(st->measured, msg, &info);
   on_chunk(st, af_lane_audio_stream(af_lane_io_lane(st->measured)), v, &info);
-}
-
-/* --- diagnostics ------------------------------------------------------------ */
-
-static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
-{
-  char key[64];
-  af_text(key, sizeof key, "%s chunks", s->name);
-  af_diag_add(d, key, "%llu", (unsigned long long)s->chunks);
-  af_text(key, sizeof key, "%s gaps", s->name);
-  af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
-              (unsigned long long)s->lost_samples);
-  af_text(key, sizeof key, "%s restarts", s->name);
-  af_diag_add(d, key,
-              "%llu (duplicate chunks ignored %llu; overlapping chunks %llu, their new tails kept; "
-              "samples sent twice %llu)",
-              (unsigned long long)s->restarts, (unsigned long long)s->duplicates,
-              (unsigned long long)s->overlaps, (unsigned long long)s->duplicate_samples);
-  af_text(key, sizeof key, "%s bad chunks", s->name);
-  af_diag_add(d, key,
-              "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
-              (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
-              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_index,
-              (unsigned long long)s->malformed, (unsigned long long)s->oversized);
-  af_text(key, sizeof key, "%s refused samples", s->name);
-  af_diag_add(d, key, "%llu non-finite in %llu spans of %llu chunks",
-              (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans,
-              (unsigned long long)s->refused_chunks);
-  af_text(key, sizeof key, "%s clock", s->name);
-  if (isnan(s->clock_rate_hz))
-    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; rate not yet judged",
-                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
-                (unsigned long long)s->clock_frozen);
-  else
-    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; stamps advance at %.1f Hz of samples",
-                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
-                (unsigned long long)s->clock_frozen, s->clock_rate_hz);
-  af_text(key, sizeof key, "%s last problem", s->name);
-  af_diag_add(d, key, "%s", s->last_problem);
-  af_text(key, sizeof key, "%s ring [samples]", s->name);
-  af_diag_add(d, key, "%zu at %g Hz, expected unit %s", s->cfg->capacity_samples,
-              s->cfg->sample_rate_hz, s->cfg->units[0]);
-  af_text(key, sizeof key, "%s state", s->name);
-  af_diag_add(d, key, "%s", !s->seen ? "no chunk yet" : stale ? "stale" : "live");
 }
 
 /* The diagnostic summary in rviz (status_marker.h): warning NULL = OK. Over
@@ -512,72 +519,313 @@ static bool absent_check(af_station *st, const af_stream *force, const af_stream
   return true;
 }
 
-static void diag_task(af_diag_status *d, void *user)
+/* --- diagnostics ------------------------------------------------------------ */
+
+/* A stream's bookkeeping (its clock is the attribution task's). */
+static void diag_stream(af_diag_status *d, const af_stream *s, bool stale)
 {
-  af_station *st = user;
+  char key[64];
+  af_text(key, sizeof key, "%s state", s->name);
+  af_diag_add(d, key, "%s", !s->seen ? "no chunk yet" : stale ? "stale" : "live");
+  af_text(key, sizeof key, "%s chunks", s->name);
+  af_diag_add(d, key, "%llu", (unsigned long long)s->chunks);
+  af_text(key, sizeof key, "%s gaps", s->name);
+  af_diag_add(d, key, "%llu (%llu samples lost)", (unsigned long long)s->gaps,
+              (unsigned long long)s->lost_samples);
+  af_text(key, sizeof key, "%s restarts", s->name);
+  af_diag_add(d, key,
+              "%llu (duplicate chunks ignored %llu; overlapping chunks %llu, their new tails kept; "
+              "samples sent twice %llu)",
+              (unsigned long long)s->restarts, (unsigned long long)s->duplicates,
+              (unsigned long long)s->overlaps, (unsigned long long)s->duplicate_samples);
+  af_text(key, sizeof key, "%s bad chunks", s->name);
+  af_diag_add(d, key,
+              "%llu (rate %llu, unit %llu, index overflow %llu, malformed %llu, oversized %llu)",
+              (unsigned long long)af_stream_bad_chunks(s), (unsigned long long)s->bad_rate,
+              (unsigned long long)s->bad_unit, (unsigned long long)s->bad_index,
+              (unsigned long long)s->malformed, (unsigned long long)s->oversized);
+  af_text(key, sizeof key, "%s refused samples", s->name);
+  af_diag_add(d, key, "%llu non-finite in %llu spans of %llu chunks",
+              (unsigned long long)s->refused_samples, (unsigned long long)s->refused_spans,
+              (unsigned long long)s->refused_chunks);
+  af_text(key, sizeof key, "%s last problem", s->name);
+  af_diag_add(d, key, "%s", s->last_problem);
+  af_text(key, sizeof key, "%s ring [samples]", s->name);
+  af_diag_add(d, key, "%zu at %g Hz, expected unit %s", s->cfg->capacity_samples,
+              s->cfg->sample_rate_hz, s->cfg->units[0]);
+}
+
+/* A stream's clock (stream.h): steps, frozen chunks, the rate its stamps advance at. */
+static void diag_clock(af_diag_status *d, const af_stream *s)
+{
+  char key[64];
+  af_text(key, sizeof key, "%s clock", s->name);
+  if (isnan(s->clock_rate_hz))
+    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; rate not yet judged",
+                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
+                (unsigned long long)s->clock_frozen);
+  else
+    af_diag_add(d, key, "%s; %llu steps, %llu frozen chunks; stamps advance at %.1f Hz of samples",
+                s->clock_problem[0] ? s->clock_problem : "OK", (unsigned long long)s->clock_steps,
+                (unsigned long long)s->clock_frozen, s->clock_rate_hz);
+}
+
+/* An input's rate and stamp figures, diagnostic_updater's FrequencyStatus
+ * and TimeStampStatus values under the input's name ("force rate [1/s]"). */
+static void diag_input(af_diag_status *d, const char *name, const af_rate_report *r,
+                       const af_stamp_report *t)
+{
+  char key[64];
+  af_text(key, sizeof key, "%s rate [1/s]", name);
+  af_diag_add(d, key, "%.2f (%s: %llu in the last %.1f s; %llu since the start)", r->rate_hz,
+              r->message, r->events, r->window_s, r->events_total);
+  af_text(key, sizeof key, "%s rate accepted [1/s]", name);
+  if (isinf(r->max_ok_hz))
+    af_diag_add(d, key, "%.2f .. unbounded", r->min_ok_hz);
+  else
+    af_diag_add(d, key, "%.2f .. %.2f", r->min_ok_hz, r->max_ok_hz);
+  af_text(key, sizeof key, "%s stamp delay [s]", name);
+  if (t->valid)
+    af_diag_add(d, key, "%.4f .. %.4f since the last report (%s)", t->min_delay_s, t->max_delay_s,
+                t->message);
+  else
+    af_diag_add(d, key, "%s", t->message);
+  af_text(key, sizeof key, "%s stamp reports out of range", name);
+  af_diag_add(d, key, "%llu late, %llu early, %llu with a zero stamp", t->late_updates,
+              t->early_updates, t->zero_updates);
+}
+
+static void set_comp(af_station *st, af_component_id k, af_diag_level level, const char *message)
+{
+  st->comp[k].level = level;
+  af_text(st->comp[k].message, sizeof st->comp[k].message, "%s", message);
+}
+
+static af_diag_level level_of(af_health_level h)
+{
+  return h == AF_HEALTH_ERROR ? AF_DIAG_ERROR : h == AF_HEALTH_WARN ? AF_DIAG_WARN : AF_DIAG_OK;
+}
+
+/* The rate and stamp checks are started on a running clock: under
+ * simulated time that has not started (0) their window would reach back
+ * to 1970. */
+static void start_rates(af_station *st, int64_t now_ns)
+{
+  const af_lane_config *c = &st->cfg->lane;
+  af_rate_init(&st->force_rate, &c->force_rate, now_ns);
+  af_rate_init(&st->audio_rate, &c->audio_rate, now_ns);
+  af_rate_init(&st->apple_rate, &c->apple_rate, now_ns);
+  af_stamp_init(&st->force_stamps, &c->stream_stamps);
+  af_stamp_init(&st->audio_stamps, &c->stream_stamps);
+  af_stamp_init(&st->apple_stamps, &c->apple_stamps);
+  st->rates_started = now_ns > 0;
+}
+
+/* One stream's level and message, the first that applies:
+ *   ERROR  missing (never started or silent) while apples arrive: every
+ *          strike on them is lost ("apples arriving, no strike can be
+ *          measured: ...")
+ *   WARN   never started (the absent warning), silent, new gaps, bad chunks
+ *          or restarts since the last report, an input-specific warning
+ *          (audio: the microphone clipped, audio_common refusals)
+ *   WARN/ERROR  its stamps (too late or early / a zero stamp), its rate
+ *   OK     "ok" */
+static void judge_stream(af_station *st, af_component_id k, const af_stream *s, bool absent,
+                         bool stale, unsigned long long *problems_seen, const char *extra,
+                         bool apples_coming, int input)
+{
+  const af_node_config *c = st->cfg;
+  char text[AF_TEXT_MAX];
+  const unsigned long long problems = s->gaps + af_stream_bad_chunks(s) + s->restarts;
+  const bool new_problems = problems != *problems_seen;
+  *problems_seen = problems;
+  const char *why = NULL;
+  if (absent)
+    why = st->absent;
+  else if (stale) {
+    af_text(text, sizeof text, "%s stream silent for more than %.1f s (stream_stale_after_s)",
+            s->name, c->lane.stream_stale_after_s);
+    why = text;
+  }
+  if (why && apples_coming) {
+    char error[sizeof st->comp[0].message];
+    af_text(error, sizeof error, "apples arriving, no strike can be measured: %s", why);
+    set_comp(st, k, AF_DIAG_ERROR, error);
+    return;
+  }
+  if (why) {
+    set_comp(st, k, AF_DIAG_WARN, why);
+    return;
+  }
+  if (new_problems) {
+    af_text(text, sizeof text, "%s gaps, bad chunks or restarts since the last report: %s", s->name,
+            s->last_problem);
+    set_comp(st, k, AF_DIAG_WARN, text);
+    return;
+  }
+  if (extra) {
+    set_comp(st, k, AF_DIAG_WARN, extra);
+    return;
+  }
+  const af_stamp_report *t = &st->stamp_rep[input];
+  const af_rate_report *r = &st->rate_rep[input];
+  if (t->level != AF_HEALTH_OK) {
+    af_text(text, sizeof text, "%s: %s (delay %.3f .. %.3f s, accepted %.3f .. %.3f s)", s->name,
+            t->message, t->min_delay_s, t->max_delay_s, c->lane.stream_stamps.min_delay_s,
+            c->lane.stream_stamps.max_delay_s);
+    set_comp(st, k, level_of(t->level), text);
+  } else if (r->level != AF_HEALTH_OK) {
+    af_text(text, sizeof text, "%s: %s (%.2f chunks/s, accepted %.2f .. %.2f)", s->name, r->message,
+            r->rate_hz, r->min_ok_hz, r->max_ok_hz);
+    set_comp(st, k, level_of(r->level), text);
+  } else
+    set_comp(st, k, AF_DIAG_OK, "ok");
+}
+
+/* Every component's level and message of this report, judged together
+ * (the counters "since the last report" move on once), and the summary in
+ * rviz. Run by the first task of each report (diagnostic_updater runs its
+ * tasks in the order they were added). */
+static void diag_collect(af_station *st)
+{
   const af_node_config *c = st->cfg;
   const af_lane *lane = af_lane_io_lane(st->measured);
   const af_stream *force = af_lane_force_stream(lane), *audio = af_lane_audio_stream(lane);
-  int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
-  bool force_stale = af_stream_stale(force, now_ns, c->lane.stream_stale_after_s);
-  bool audio_stale = af_stream_stale(audio, now_ns, c->lane.stream_stale_after_s);
-  unsigned long long problems = force->gaps + audio->gaps + af_stream_bad_chunks(force) +
-                                af_stream_bad_chunks(audio) + force->restarts + audio->restarts;
+  const int64_t now_ns = af_time_to_ns(af_ros_now(st->ros));
+  char text[AF_TEXT_MAX];
+  if (!st->rates_started)
+    start_rates(st, now_ns);
+  af_rate_run(&st->force_rate, now_ns, &st->rate_rep[AF_INPUT_FORCE]);
+  af_rate_run(&st->audio_rate, now_ns, &st->rate_rep[AF_INPUT_AUDIO]);
+  af_rate_run(&st->apple_rate, now_ns, &st->rate_rep[AF_INPUT_APPLE]);
+  af_stamp_run(&st->force_stamps, &st->stamp_rep[AF_INPUT_FORCE]);
+  af_stamp_run(&st->audio_stamps, &st->stamp_rep[AF_INPUT_AUDIO]);
+  af_stamp_run(&st->apple_stamps, &st->stamp_rep[AF_INPUT_APPLE]);
+  st->force_stale = af_stream_stale(force, now_ns, c->lane.stream_stale_after_s);
+  st->audio_stale = af_stream_stale(audio, now_ns, c->lane.stream_stale_after_s);
+  if (st->clock_start_ns == 0)
+    st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
+  st->absent_now = absent_check(st, force, audio, now_ns);
+  if (st->absent_now && !st->absent_logged)
+    af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
+  st->absent_logged |= st->absent_now;
+  /* Apples keep coming while an input is missing: every strike on them is
+   * lost, an ERROR on that input's task (a stream merely silent between
+   * apples is a WARN). */
+  const bool apples_coming =
+      st->last_apple_ns > 0 &&
+      now_ns - st->last_apple_ns <= (int64_t)(c->lane.stream_absent_warn_s * 1e9);
+  af_lane_io_warnings w;
+  af_lane_io_warnings_get(st->measured, &w);
+
+  /* the streams */
+  if (c->lane.measured.tap_only)
+    set_comp(st, AF_COMP_FORCE, AF_DIAG_OK,
+             "not used (tap_only: strikes from the audio onset, no force subscription)");
+  else
+    judge_stream(st, AF_COMP_FORCE, force,
+                 st->absent_now &&
+                     af_absent(force, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s),
+                 st->force_stale, &st->force_problems_seen, NULL, apples_coming, AF_INPUT_FORCE);
+  const char *audio_extra = w.audio ? w.audio : af_audio_in_warning(st->audio_in);
+  judge_stream(
+      st, AF_COMP_AUDIO, audio,
+      st->absent_now && af_absent(audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s),
+      st->audio_stale, &st->audio_problems_seen, audio_extra, apples_coming, AF_INPUT_AUDIO);
+
+  /* the apple estimates */
+  const af_rate_report *ar = &st->rate_rep[AF_INPUT_APPLE];
+  const af_stamp_report *at = &st->stamp_rep[AF_INPUT_APPLE];
+  if (at->level != AF_HEALTH_OK) {
+    af_text(text, sizeof text,
+            "apple estimates: %s (delay %.3f .. %.3f s, accepted %.3f .. %.3f s)", at->message,
+            at->min_delay_s, at->max_delay_s, c->lane.apple_stamps.min_delay_s,
+            c->lane.apple_stamps.max_delay_s);
+    set_comp(st, AF_COMP_APPLE, level_of(at->level), text);
+  } else if (ar->level != AF_HEALTH_OK) {
+    af_text(text, sizeof text, "apple estimates: %s (%.2f /s, accepted %.2f .. %.2f)", ar->message,
+            ar->rate_hz, ar->min_ok_hz, ar->max_ok_hz);
+    set_comp(st, AF_COMP_APPLE, level_of(ar->level), text);
+  } else
+    set_comp(st, AF_COMP_APPLE, AF_DIAG_OK, st->apples == 0 ? "no apple estimate yet" : "ok");
+
+  /* the detector */
+  af_strike_tracker tr;
+  af_strike_get_tracker(af_lane_detector(lane), &tr);
+  if (w.detector)
+    set_comp(st, AF_COMP_DETECTOR, AF_DIAG_WARN, w.detector);
+  else
+    set_comp(st, AF_COMP_DETECTOR, AF_DIAG_OK,
+             c->lane.measured.tap_only ? "ok (tap_only: the audio onset)"
+             : tr.armed                ? "ok (armed)"
+                                       : "ok (learning the baseline or waiting for quiet)");
+
+  /* attribution and clocks: a clock fault first (the stamps everything is matched by) */
   const unsigned long long clock_faults =
       force->clock_steps + force->clock_frozen + audio->clock_steps + audio->clock_frozen;
   const bool clock_fault =
       clock_faults != st->clock_faults_seen || force->clock_rate_wrong || audio->clock_rate_wrong;
   st->clock_faults_seen = clock_faults;
   const char *clock_words = force->clock_problem[0] ? force->clock_problem : audio->clock_problem;
-  bool new_problems = problems != st->stream_problems_seen;
-  st->stream_problems_seen = problems;
-  af_wire_guard_stats guard;
-  af_wire_guard_get(&guard);
-  bool too_long = guard.refused != st->too_long_seen;
-  if (too_long && power_of_two(guard.refused))
+  if (clock_fault)
+    set_comp(st, AF_COMP_ATTRIBUTION, AF_DIAG_WARN, clock_words);
+  else if (w.attribution)
+    set_comp(st, AF_COMP_ATTRIBUTION, AF_DIAG_WARN, w.attribution);
+  else
+    set_comp(st, AF_COMP_ATTRIBUTION, AF_DIAG_OK, "ok");
+
+  /* the hammer, the modulus factor */
+  if (w.health)
+    set_comp(st, AF_COMP_HEALTH, AF_DIAG_WARN, w.health);
+  else
+    set_comp(st, AF_COMP_HEALTH, AF_DIAG_OK, "ok");
+  set_comp(st, AF_COMP_FACTOR, AF_DIAG_OK,
+           af_lane_io_factor_summary(st->measured, text, sizeof text));
+
+  /* the node itself */
+  af_wire_guard_get(&st->guard);
+  const bool too_long = st->guard.refused != st->too_long_seen;
+  if (too_long && power_of_two(st->guard.refused))
     af_ros_log(st->ros, AF_LOG_WARN,
                "a message of %zu bytes dropped unread: above the %zu bytes this node reads "
                "(%llu so far; the publisher's connection made again)",
-               guard.largest_refused_bytes, guard.cap_bytes, guard.refused);
-  st->too_long_seen = guard.refused;
-  if (st->clock_start_ns == 0)
-    st->clock_start_ns = now_ns; /* stays 0 while a simulated clock has not started */
-  bool absent = absent_check(st, force, audio, now_ns);
-  if (absent && !st->absent_logged)
-    af_ros_log(st->ros, AF_LOG_WARN, "%s", st->absent);
-  st->absent_logged |= absent;
-  const char *strike_warning = af_lane_io_warning(st->measured);
-  if (!strike_warning)
-    strike_warning = af_audio_in_warning(st->audio_in);
-  /* The first problem, in this order of importance; NULL = none. */
+               st->guard.largest_refused_bytes, st->guard.cap_bytes, st->guard.refused);
+  st->too_long_seen = st->guard.refused;
   const char *warning = st->last_apple_invalid ? "last apple got no prediction"
-                        : too_long     ? "a message too long to read dropped since the last report"
-                        : clock_fault  ? clock_words
-                        : new_problems ? "stream gaps or bad chunks since the last report"
-                        : force_stale || audio_stale ? "a stream went silent"
-                        : absent                     ? st->absent
-                                                     : strike_warning;
-  publish_status(st, warning); /* the same summary in rviz */
+                        : too_long ? "a message too long to read dropped since the last report"
+                                   : NULL;
   /* A restart is said until the first strike, also beside another warning
    * (a restarted node often starts on a silent stream). */
-  char summary[sizeof st->absent + 64];
   if (st->starts > 1 && af_lane_get_stats(lane)->strikes == 0) {
-    snprintf(summary, sizeof summary, "%s%srestarted: resuming with the next apple",
-             warning ? warning : "", warning ? "; " : "");
-    warning = summary;
+    af_text(text, sizeof text, "%s%srestarted: resuming with the next apple",
+            warning ? warning : "", warning ? "; " : "");
+    warning = text;
   }
-  /* Apples keep coming while an input is missing: every strike on them is
-   * lost, an ERROR (a stream merely silent between apples is a WARN). */
-  const bool input_missing = absent || audio_stale || (force_stale && !c->lane.measured.tap_only);
-  const bool apples_coming =
-      st->last_apple_ns > 0 &&
-      now_ns - st->last_apple_ns <= (int64_t)(c->lane.stream_absent_warn_s * 1e9);
-  if (input_missing && apples_coming && warning != NULL) {
-    char error[sizeof summary + 64];
-    snprintf(error, sizeof error, "apples arriving, no strike can be measured: %s", warning);
-    af_diag_summary(d, AF_DIAG_ERROR, error);
-  } else
-    af_diag_summary(d, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
+  set_comp(st, AF_COMP_STATION, warning ? AF_DIAG_WARN : AF_DIAG_OK, warning ? warning : "ok");
+
+  /* rviz: the worst component's message (the first of the worst level) */
+  const af_component *worst = &st->comp[0];
+  for (size_t k = 1; k < AF_COMPONENTS; k++)
+    if (st->comp[k].level > worst->level)
+      worst = &st->comp[k];
+  publish_status(st, worst->level == AF_DIAG_OK ? NULL : worst->message);
+}
+
+static af_station *task_station(void *user, af_diag_status *d, af_component_id k)
+{
+  af_station *st = user;
+  af_diag_summary(d, st->comp[k].level, st->comp[k].message);
+  return st;
+}
+
+/* "firmness station": the node, its configuration, the predictions, its
+ * services. The first task: it judges every component of the report. */
+static void task_node(af_diag_status *d, void *user)
+{
+  af_station *st = user;
+  const af_node_config *c = st->cfg;
+  diag_collect(st);
+  task_station(user, d, AF_COMP_STATION);
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "input mode", "%s",
               c->lane.measured.tap_only
@@ -598,7 +846,7 @@ static void diag_task(af_diag_status *d, void *user)
   af_diag_add(d, "messages too long to read",
               "%llu (longest %zu bytes; cap %zu bytes: never read, the publisher's connection "
               "made again)",
-              guard.refused, guard.largest_refused_bytes, guard.cap_bytes);
+              st->guard.refused, st->guard.largest_refused_bytes, st->guard.cap_bytes);
   af_diag_add(d, "apples processed", "%llu", st->apples);
   af_diag_add(d, "apples without prediction", "%llu (model failures %llu)", st->apples_invalid,
               st->model_failures);
@@ -612,18 +860,82 @@ static void diag_task(af_diag_status *d, void *user)
     af_diag_add(d, "last resonance [Hz]", "%.1f (firmness range %.1f .. %.1f)",
                 st->band.resonance_hz, st->band.resonance_low_hz, st->band.resonance_high_hz);
   }
-  diag_stream(d, force, force_stale);
-  diag_stream(d, audio, audio_stale);
-  if (c->lane.stream_absent_warn_s > 0.0)
-    af_diag_add(d, "stream absent check", "%s", absent ? st->absent : "ok");
-  else
-    af_diag_add(d, "stream absent check", "off (stream_absent_warn_s 0)");
-  af_lane_io_diag(st->measured, d);
   af_evaluate_diag(st->evaluate, d);
   af_live_settings_diag(st->live, d);
-  af_audio_in_diag(st->audio_in, d);
   af_strike_plot_diag(st->plot, d);
 }
+
+/* "force stream", "audio stream": each stream's bookkeeping, rate and stamps. */
+static void task_stream(af_station *st, af_diag_status *d, af_component_id k)
+{
+  const af_node_config *c = st->cfg;
+  const af_lane *lane = af_lane_io_lane(st->measured);
+  const bool is_force = k == AF_COMP_FORCE;
+  task_station(st, d, k);
+  const af_stream *s = is_force ? af_lane_force_stream(lane) : af_lane_audio_stream(lane);
+  const int input = is_force ? AF_INPUT_FORCE : AF_INPUT_AUDIO;
+  diag_stream(d, s, is_force ? st->force_stale : st->audio_stale);
+  diag_input(d, s->name, &st->rate_rep[input], &st->stamp_rep[input]);
+  if (c->lane.stream_absent_warn_s > 0.0)
+    af_diag_add(d, "stream absent check", "%s", st->absent_now ? st->absent : "ok");
+  else
+    af_diag_add(d, "stream absent check", "off (stream_absent_warn_s 0)");
+  if (!is_force) {
+    af_lane_io_diag_audio(st->measured, d);
+    af_audio_in_diag(st->audio_in, d);
+  }
+}
+
+static void task_force(af_diag_status *d, void *user)
+{
+  task_stream(user, d, AF_COMP_FORCE);
+}
+
+static void task_audio(af_diag_status *d, void *user)
+{
+  task_stream(user, d, AF_COMP_AUDIO);
+}
+
+/* "apple input": the vision's AppleEstimates, their rate and stamps. */
+static void task_apple(af_diag_status *d, void *user)
+{
+  af_station *st = task_station(user, d, AF_COMP_APPLE);
+  af_diag_add(d, "apple estimates", "%llu", st->apples);
+  diag_input(d, "apple", &st->rate_rep[AF_INPUT_APPLE], &st->stamp_rep[AF_INPUT_APPLE]);
+}
+
+static void task_detector(af_diag_status *d, void *user)
+{
+  af_station *st = task_station(user, d, AF_COMP_DETECTOR);
+  af_lane_io_diag_detector(st->measured, d);
+}
+
+static void task_attribution(af_diag_status *d, void *user)
+{
+  af_station *st = task_station(user, d, AF_COMP_ATTRIBUTION);
+  const af_lane *lane = af_lane_io_lane(st->measured);
+  if (!st->cfg->lane.measured.tap_only)
+    diag_clock(d, af_lane_force_stream(lane));
+  diag_clock(d, af_lane_audio_stream(lane));
+  af_lane_io_diag_attribution(st->measured, d);
+}
+
+static void task_health(af_diag_status *d, void *user)
+{
+  af_station *st = task_station(user, d, AF_COMP_HEALTH);
+  af_lane_io_diag_health(st->measured, d);
+}
+
+static void task_factor(af_diag_status *d, void *user)
+{
+  af_station *st = task_station(user, d, AF_COMP_FACTOR);
+  af_lane_io_diag_factor(st->measured, d);
+}
+
+/* The tasks in their order on /diagnostics; the first judges them all. */
+static const af_diag_fn component_tasks[AF_COMPONENTS] = {
+    task_node,     task_force,       task_audio,  task_apple,
+    task_detector, task_attribution, task_health, task_factor};
 
 /* --- life cycle -------------------------------------------------------------- */
 
@@ -791,9 +1103,12 @@ static af_status build(af_station *st, const char **what)
   *what = "the diagnostics";
   const char *hw =
       st->cfg->hardware_id[0] != '\0' ? st->cfg->hardware_id : af_ros_node_name(st->ros);
-  if ((s = af_ros_diag_create(st->ros, hw, &st->diag)) != AF_OK ||
-      (s = af_ros_diag_add_task(st->diag, "firmness station", diag_task, st)) != AF_OK)
+  if ((s = af_ros_diag_create(st->ros, hw, &st->diag)) != AF_OK)
     return s;
+  for (size_t k = 0; k < AF_COMPONENTS; k++)
+    if ((s = af_ros_diag_add_task(st->diag, component_names[k], component_tasks[k], st)) != AF_OK)
+      return s;
+  start_rates(st, st->clock_start_ns);
   note_start(st);
   *what = "the publishers";
   if ((s = advertise(st)) != AF_OK)

@@ -27,6 +27,27 @@ NODE = 'firmness_node'
 ANSWER_TIMEOUT_S = 1.0
 
 
+# The node's diagnostic tasks (src/node/station.c), each its own status named
+# "<node>: <task>" with the node's hardware_id, all in one /diagnostics array.
+TASKS = ('firmness station', 'force stream', 'audio stream', 'apple input', 'detector',
+         'attribution and clocks', 'hammer health', 'modulus factor')
+
+
+def diag_tasks(msg, node):
+    """{task: DiagnosticStatus} of node (its resolved name = its hardware_id)
+    in one /diagnostics array."""
+    return {s.name.split(': ', 1)[-1]: s for s in msg.status if s.hardware_id == node}
+
+
+def diag_values(msg, node):
+    """Every {key: value} of node's tasks in one /diagnostics array, merged
+    (a key names one figure, whichever task carries it); {} when none."""
+    values = {}
+    for s in diag_tasks(msg, node).values():
+        values.update({kv.key: kv.value for kv in s.values})
+    return values
+
+
 def param(name):
     """A private parameter of the node under test (lane namespace = ours)."""
     return rospy.get_param(rospy.resolve_name(NODE) + '/' + name)

@@ -1,9 +1,13 @@
 #!/usr/bin/python3
 """rostest (rates.test): diagnostic_aggregator, started by station.launch with
-config/analyzers.yaml, groups the lane's diagnostics: /diagnostics_agg holds
-"/Firmness station lane1", "/Firmness station lane1/Station node" and, under
-it, the node's own status with its keys (strikes, grades, reconfigure,
-evaluate), not STALE while it runs."""
+config/analyzers.yaml, groups the lane's diagnostics on a healthy replay:
+/diagnostics_agg holds "/Firmness station lane1" and its groups "Station
+node", "Inputs", "Strikes" and "Hammer", each with the node's component tasks
+(src/node/station.c) under it, every one with the node's hardware_id and not
+STALE while it runs; the detector's and the node's keys (strikes, grades,
+reconfigure, evaluate) in their own tasks. While the bag plays, the inputs
+(force stream, audio stream, apple input: state, rate, stamps), the detector
+and the node are OK."""
 
 import sys
 import threading
@@ -28,31 +32,60 @@ class AggregatorTest(unittest.TestCase):
                     got[s.name] = s
 
         sub = rospy.Subscriber('/diagnostics_agg', DiagnosticArray, on_agg, queue_size=10)
-        end = time.time() + 40.0
-        want = ('/Firmness station lane1', '/Firmness station lane1/Station node')
+        lane = '/Firmness station lane1'
+        groups = {'Station node': ['firmness station'],
+                  'Inputs': ['force stream', 'audio stream', 'apple input'],
+                  'Strikes': ['detector', 'attribution and clocks'],
+                  'Hammer': ['hammer health', 'modulus factor']}
+        healthy = ['firmness station', 'force stream', 'audio stream', 'apple input', 'detector']
 
-        def node_status():
-            for name, s in got.items():
-                if name.startswith(want[1] + '/') and 'firmness station' in name:
-                    return s
+        def task(name):
+            """The aggregated status of the node's task name, or None."""
+            for group, tasks in groups.items():
+                if name in tasks:
+                    for full, s in got.items():
+                        if full.startswith('%s/%s/' % (lane, group)) and full.endswith(name):
+                            return s
             return None
-        while time.time() < end:
+
+        def ready():
+            if lane not in got or any(lane + '/' + g not in got for g in groups):
+                return False
+            if any(task(n) is None for ts in groups.values() for n in ts):
+                return False
+            strikes = {kv.key: kv.value for kv in task('detector').values}.get('strikes', '0')
+            return int(strikes) > 0 and all(task(n).level == DiagnosticStatus.OK for n in healthy)
+
+        end = time.time() + 60.0
+        while time.time() < end and not rospy.is_shutdown():
             with lock:
-                if all(w in got for w in want) and node_status() is not None:
+                if ready():
                     break
             time.sleep(0.2)
         sub.unregister()
         with lock:
-            self.assertIn(want[0], got, sorted(got))
-            self.assertIn(want[1], got, sorted(got))
-            node = node_status()
-            self.assertIsNotNone(node, sorted(got))
-            keys = {kv.key for kv in node.values}
-            for key in ('strikes', 'strikes per grade', 'reconfigure', 'evaluate calls'):
+            self.assertIn(lane, got, sorted(got))
+            for group, tasks in groups.items():
+                self.assertIn(lane + '/' + group, got, sorted(got))
+                for name in tasks:
+                    s = task(name)
+                    self.assertIsNotNone(s, '%s: %s' % (name, sorted(got)))
+                    self.assertNotEqual(s.level, DiagnosticStatus.STALE, name)
+                    self.assertEqual(s.hardware_id, '/lane1/firmness_node', name)
+                    print('%s: level %d, %s' % (s.name, s.level, s.message))
+            keys = {kv.key for kv in task('detector').values}
+            for key in ('strikes', 'strikes per grade', 'strike detector'):
                 self.assertIn(key, keys)
-            self.assertNotEqual(node.level, DiagnosticStatus.STALE)
-            self.assertNotEqual(got[want[0]].level, DiagnosticStatus.STALE)
-            print('%s: level %d, %s' % (node.name, node.level, node.message))
+            keys = {kv.key for kv in task('firmness station').values}
+            for key in ('reconfigure', 'evaluate calls', 'node starts'):
+                self.assertIn(key, keys)
+            keys = {kv.key for kv in task('force stream').values}
+            for key in ('force rate [1/s]', 'force stamp delay [s]', 'force state'):
+                self.assertIn(key, keys)
+            for name in healthy:
+                self.assertEqual(task(name).level, DiagnosticStatus.OK,
+                                 '%s: %s' % (name, task(name).message))
+            self.assertNotEqual(got[lane].level, DiagnosticStatus.STALE)
 
 
 if __name__ == '__main__':

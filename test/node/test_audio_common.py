@@ -151,10 +151,10 @@ class Run:
             self.reports.append(msg)
 
     def _diag(self, msg):
-        for status in msg.status:
-            if status.hardware_id == self.ns + '/' + sc.NODE:
-                with self.lock:
-                    self.diag = {kv.key: kv.value for kv in status.values}
+        values = sc.diag_values(msg, self.ns + '/' + sc.NODE)
+        if values:
+            with self.lock:
+                self.diag = values
 
     def pub(self, name, klass, latch=False):
         p = rospy.Publisher(self.ns + '/' + name, klass, queue_size=10000, latch=latch)

@@ -92,12 +92,12 @@ class HammerHealthTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, msg):
-        for status in msg.status:
-            if status.hardware_id == rospy.resolve_name(sc.NODE):
-                values = {kv.key: kv.value for kv in status.values}
-                if 'strikes' in values:
-                    with cls.lock:
-                        cls.statuses.append((int(values['strikes']), status.level, values))
+        # the strike count is the detector's, the level the hammer health task's
+        tasks = sc.diag_tasks(msg, rospy.resolve_name(sc.NODE))
+        values = sc.diag_values(msg, rospy.resolve_name(sc.NODE))
+        if 'strikes' in values and 'hammer health' in tasks:
+            with cls.lock:
+                cls.statuses.append((int(values['strikes']), tasks['hammer health'].level, values))
 
     def crossing(self):
         """The first strike (1-based) whose true v0 is outside the band."""

@@ -71,10 +71,10 @@ class ReconfigureTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, msg):
-        for status in msg.status:
-            if status.hardware_id == cls.node:
-                with cls.lock:
-                    cls.diag = {kv.key: kv.value for kv in status.values}
+        values = sc.diag_values(msg, cls.node)
+        if values:
+            with cls.lock:
+                cls.diag = values
 
     def diag_value(self, key, contains, timeout_s=5.0):
         end = time.time() + timeout_s

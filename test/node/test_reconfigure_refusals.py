@@ -52,10 +52,10 @@ class RefusalTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, msg):
-        for status in msg.status:
-            if status.hardware_id == cls.node:
-                with cls.lock:
-                    cls.diag = {kv.key: kv.value for kv in status.values}
+        values = sc.diag_values(msg, cls.node)
+        if values:
+            with cls.lock:
+                cls.diag = values
 
     @classmethod
     def _on_log(cls, msg):

@@ -115,10 +115,11 @@ class RestartTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, m, node):
-        for s in m.status:
-            if s.hardware_id == node:
-                with cls.lock:
-                    cls.diags.append((s.level, s.message, {kv.key: kv.value for kv in s.values}))
+        # the restart is the node's own task's ("firmness station")
+        s = sc.diag_tasks(m, node).get('firmness station')
+        if s is not None:
+            with cls.lock:
+                cls.diags.append((s.level, s.message, sc.diag_values(m, node)))
 
     def truth_of(self, stamp):
         best = min(self.truth, key=lambda t: abs(t[0] - stamp))

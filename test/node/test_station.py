@@ -60,9 +60,7 @@ class StationTest(unittest.TestCase):
         end = time.time() + timeout_s
         while time.time() < end and not done(values):
             arr = rospy.wait_for_message('/diagnostics', DiagnosticArray, timeout=5.0)
-            for status in arr.status:
-                if status.hardware_id == rospy.resolve_name(sc.NODE):
-                    values = {kv.key: kv.value for kv in status.values}
+            values = sc.diag_values(arr, rospy.resolve_name(sc.NODE)) or values
         return values
 
     def test_01_node_up(self):

@@ -87,10 +87,10 @@ class StrikesTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, msg):
-        for status in msg.status:
-            if status.hardware_id == rospy.resolve_name(sc.NODE):
-                with cls.lock:
-                    cls.diag = {kv.key: kv.value for kv in status.values}
+        values = sc.diag_values(msg, rospy.resolve_name(sc.NODE))
+        if values:
+            with cls.lock:
+                cls.diag = values
 
     @classmethod
     def _play(cls):

@@ -71,10 +71,10 @@ class TapOnlyTest(unittest.TestCase):
 
     @classmethod
     def _on_diag(cls, msg):
-        for status in msg.status:
-            if status.hardware_id == rospy.resolve_name(sc.NODE):
-                with cls.lock:
-                    cls.diag = {kv.key: kv.value for kv in status.values}
+        values = sc.diag_values(msg, rospy.resolve_name(sc.NODE))
+        if values:
+            with cls.lock:
+                cls.diag = values
 
     def test_01_no_force_subscription(self):
         _, subscribers, _ = rosgraph.Master('/test_tap_only').getSystemState()

@@ -218,6 +218,46 @@ static af_status derive_force_unit(const af_settings *s, af_lane_config *c, char
   return AF_OK;
 }
 
+/* A stream's chunk rate [1/s]: its sample rate / the samples of a chunk;
+ * 0 samples = any size, only a silence judged. */
+static void chunk_rate(const af_settings *s, af_setting_id rate, af_setting_id samples,
+                       double tolerance, size_t window, af_rate_config *out)
+{
+  const double n = num(s, samples);
+  out->min_hz = n > 0.0 ? num(s, rate) / n : 0.0;
+  out->max_hz = n > 0.0 ? num(s, rate) / n : INFINITY;
+  out->tolerance = tolerance;
+  out->window = window;
+}
+
+/* The rate and stamp checks of the inputs (rate_status.h); the min < max pairs. */
+static af_status derive_input_health(const af_settings *s, af_lane_config *c, char *err, size_t len)
+{
+  static const af_setting_id pairs[][2] = {
+      {AF_SETTING_STREAM_STAMP_DELAY_MIN_S, AF_SETTING_STREAM_STAMP_DELAY_MAX_S},
+      {AF_SETTING_APPLE_STAMP_DELAY_MIN_S, AF_SETTING_APPLE_STAMP_DELAY_MAX_S},
+      {AF_SETTING_APPLE_RATE_MIN_HZ, AF_SETTING_APPLE_RATE_MAX_HZ},
+  };
+  for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++)
+    if (check_order(s, pairs[k][0], pairs[k][1], err, len) != AF_OK)
+      return AF_EINVAL;
+  const double tolerance = num(s, AF_SETTING_STREAM_RATE_TOLERANCE);
+  const size_t window = (size_t)num(s, AF_SETTING_DIAGNOSTIC_RATE_WINDOW);
+  chunk_rate(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ, AF_SETTING_FORCE_CHUNK_SAMPLES, tolerance, window,
+             &c->force_rate);
+  chunk_rate(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ, AF_SETTING_AUDIO_CHUNK_SAMPLES, tolerance, window,
+             &c->audio_rate);
+  c->apple_rate.min_hz = num(s, AF_SETTING_APPLE_RATE_MIN_HZ);
+  c->apple_rate.max_hz = num(s, AF_SETTING_APPLE_RATE_MAX_HZ);
+  c->apple_rate.tolerance = tolerance;
+  c->apple_rate.window = window;
+  c->stream_stamps.min_delay_s = num(s, AF_SETTING_STREAM_STAMP_DELAY_MIN_S);
+  c->stream_stamps.max_delay_s = num(s, AF_SETTING_STREAM_STAMP_DELAY_MAX_S);
+  c->apple_stamps.min_delay_s = num(s, AF_SETTING_APPLE_STAMP_DELAY_MIN_S);
+  c->apple_stamps.max_delay_s = num(s, AF_SETTING_APPLE_STAMP_DELAY_MAX_S);
+  return AF_OK;
+}
+
 static af_status derive_streams(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
   af_status st = derive_stream(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ, AF_SETTING_FORCE_BUFFER_S,
@@ -237,6 +277,9 @@ static af_status derive_streams(const af_settings *s, af_lane_config *c, char *e
   c->audio.to_si = 1.0;
   c->stream_stale_after_s = num(s, AF_SETTING_STREAM_STALE_AFTER_S);
   c->stream_absent_warn_s = num(s, AF_SETTING_STREAM_ABSENT_WARN_S);
+  st = derive_input_health(s, c, err, len);
+  if (st != AF_OK)
+    return st;
   return derive_force_unit(s, c, err, len);
 }
 

@@ -15,6 +15,7 @@
 #include "grade.h"
 #include "hammer_health.h"
 #include "onset.h"
+#include "rate_status.h"
 #include "measure.h"
 #include "model.h"
 #include "settings.h"
@@ -76,6 +77,12 @@ typedef struct {
   double stream_stale_after_s; /* a stream silent this long is stale [s] */
   double stream_absent_warn_s; /* warn when a stream sent nothing this long after start; 0 = never
                                   [s] */
+  /* The inputs' rate and stamp checks on /diagnostics (rate_status.h): chunks
+   * per second from the sample rate and *_chunk_samples (min = max, as
+   * velodyne_driver's packets; 0 samples: min 0, max INFINITY, only a
+   * silence warns), apples from apple_rate_*_hz. */
+  af_rate_config force_rate, audio_rate, apple_rate;
+  af_stamp_config stream_stamps, apple_stamps; /* force and audio; apple estimates */
   /* --- measured strikes --- */
   af_measured_config measured;
   /* --- cultivar --- */

@@ -122,6 +122,45 @@ const af_setting_def af_setting_rows[AF_SETTING_COUNT] = {
         NUM("stream_absent_warn_s", "5.0", "0 or [0.1, 3600] s", S,
             "/diagnostics warns when a stream has sent no chunk this long after the start "
             "(0 = never)"),
+    [AF_SETTING_FORCE_CHUNK_SAMPLES] =
+        WHOLE("force_chunk_samples", "1024", "[0, 1e6] samples", S,
+              "samples per force chunk the DAQ sends: /diagnostics expects force_sample_rate_hz / "
+              "this chunks per second (strike_bag: 1024); 0 = any size, the rate not judged"),
+    [AF_SETTING_AUDIO_CHUNK_SAMPLES] =
+        WHOLE("audio_chunk_samples", "1024", "[0, 1e6] samples", S,
+              "samples per audio chunk: /diagnostics expects audio_sample_rate_hz / this chunks "
+              "per second (strike_bag: 1024); 0 = any size, the rate not judged"),
+    [AF_SETTING_STREAM_RATE_TOLERANCE] =
+        NUM("stream_rate_tolerance", "0.1", "[0, 1]", S,
+            "fraction by which an input's message rate may leave its expected range before "
+            "/diagnostics warns (diagnostic_updater's FrequencyStatus tolerance)"),
+    [AF_SETTING_STREAM_STAMP_DELAY_MIN_S] =
+        NUM("stream_stamp_delay_min_s", "-1.0", "[-3600, 3600] s", S,
+            "earliest accepted receive time - header stamp of a force or audio chunk "
+            "(negative: stamped ahead of the node's clock)"),
+    [AF_SETTING_STREAM_STAMP_DELAY_MAX_S] =
+        NUM("stream_stamp_delay_max_s", "5.0", "[-3600, 3600] s", S,
+            "latest accepted receive time - header stamp of a chunk (its stamp is its first "
+            "sample: at least the chunk's duration), above stream_stamp_delay_min_s"),
+    [AF_SETTING_APPLE_RATE_MIN_HZ] =
+        NUM("apple_rate_min_hz", "0.0", "[0, 1000] Hz", S,
+            "fewest AppleEstimates per second expected; 0 = the line may stop (no warning "
+            "while none come)"),
+    [AF_SETTING_APPLE_RATE_MAX_HZ] =
+        NUM("apple_rate_max_hz", "20.0", "(0, 1000] Hz", S,
+            "most AppleEstimates per second expected, above apple_rate_min_hz"),
+    [AF_SETTING_APPLE_STAMP_DELAY_MIN_S] =
+        NUM("apple_stamp_delay_min_s", "-1.0", "[-3600, 3600] s", S,
+            "earliest accepted receive time - header stamp of an AppleEstimate"),
+    [AF_SETTING_APPLE_STAMP_DELAY_MAX_S] =
+        NUM("apple_stamp_delay_max_s", "5.0", "[-3600, 3600] s", S,
+            "latest accepted receive time - header stamp of an AppleEstimate (cameras stamp "
+            "late: the image's exposure, then the vision's work), above "
+            "apple_stamp_delay_min_s"),
+    [AF_SETTING_DIAGNOSTIC_RATE_WINDOW] =
+        WHOLE("diagnostic_rate_window", "10", "[1, 100] updates", S,
+              "diagnostic updates the inputs' rates are taken over (diagnostic_updater's "
+              "FrequencyStatus window; velodyne_driver's 10)"),
     [AF_SETTING_FORCE_UNIT] = CHOICE("force_unit", "N", "N, V", S,
                                      "the force transducer's unit: N, or V from a DAQ (divided by "
                                      "force_sensitivity_v_per_n at the lane's input)"),
