@@ -126,8 +126,8 @@ static bool yaml_float(const char *t, double *out)
   return *end == '\0';
 }
 
-/* A bare (plain) YAML scalar, typed as PyYAML types it. */
-static void resolve_plain(const char *t, af_value *v)
+/* A bare (plain) YAML scalar, typed as PyYAML types it (settings_private.h). */
+void af_settings_resolve_plain(const char *t, af_value *v)
 {
   static const char *const nulls[] = {"", "~", "null", "Null", "NULL", NULL};
   static const char *const trues[] = {"true", "True", "TRUE", "yes", "Yes",
@@ -218,7 +218,7 @@ bool af_settings_parse_scalar(const char *p, char *buf, size_t size, af_value *v
     *why = "not a flat value (a map inside a value)";
     return false;
   }
-  resolve_plain(buf, v);
+  af_settings_resolve_plain(buf, v);
   *rest = end;
   return true;
 }
@@ -243,8 +243,6 @@ bool af_settings_blank_or_comment(const char *p)
  * old Mac line end PyYAML would read as a line break where we would not); a
  * line longer than AF_YAML_LINE_MAX - 1 bytes is refused; a key given twice
  * is refused naming both lines. */
-#define AF_YAML_LINE_MAX 1024                /* bytes per line, with its NUL */
-#define AF_YAML_FILE_MAX_BYTES (1024 * 1024) /* a settings file, whole [bytes] */
 
 static const char *file_kind(mode_t m)
 {
@@ -256,8 +254,9 @@ static const char *file_kind(mode_t m)
                        : "not a regular file";
 }
 
-/* The whole file into *data (malloc'd, size bytes), or one line in err. */
-static af_status read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
+/* The whole file into *data (malloc'd, size bytes), or one line in err
+ * (settings_private.h). */
+af_status af_settings_read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
 {
   /* O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below. */
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -321,9 +320,9 @@ static af_status read_whole(const char *path, char **data, size_t *size, char *e
 
 /* The line at data[*pos..size) into line[AF_YAML_LINE_MAX] without its end;
  * *pos moves past the end. false with file:line:column on a NUL, a lone CR or
- * an over-long line. */
-static bool next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
-                      int number, char *err, size_t len)
+ * an over-long line (settings_private.h). */
+bool af_settings_next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
+                           int number, char *err, size_t len)
 {
   size_t n = 0, p = *pos;
   for (; p < size && data[p] != '\n'; p++) {
@@ -354,6 +353,7 @@ static bool next_line(const char *data, size_t size, size_t *pos, char *line, co
   return true;
 }
 
+#ifndef AF_SETTINGS_LIBYAML /* else settings_libyaml.c reads the file */
 /* One `key: value` line into copy; false with the message in err. */
 static af_status one_entry(af_settings *copy, const char *line, const char *path, int number,
                            int *first_line, char *err, size_t len)
@@ -405,7 +405,7 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
   }
   char *data = NULL;
   size_t size = 0, pos = 0;
-  af_status st = read_whole(path, &data, &size, err, len);
+  af_status st = af_settings_read_whole(path, &data, &size, err, len);
   if (st != AF_OK)
     return st;
   af_settings copy = *s;
@@ -417,7 +417,7 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
     pos = 3;
   while (st == AF_OK && pos < size) {
     number++;
-    if (!next_line(data, size, &pos, line, path, number, err, len)) {
+    if (!af_settings_next_line(data, size, &pos, line, path, number, err, len)) {
       st = AF_EINVAL;
       break;
     }
@@ -435,3 +435,4 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
     *s = copy;
   return st;
 }
+#endif
