@@ -26,12 +26,8 @@ option(ACOUSTIC_FIRMNESS_BENCH "keep frame pointers for perf call graphs" OFF)
 if(ACOUSTIC_FIRMNESS_BENCH)
   add_compile_options(-fno-omit-frame-pointer -mno-omit-leaf-frame-pointer)
 endif()
-# The readers measured against libraries (doc/layout.md, "Libraries
+# The reader measured against a library (doc/layout.md, "Libraries
 # measured"): -DAF_YAML_READER=libyaml reads the settings files with libyaml
-# (src/core/params/settings_libyaml.c) instead of the line reader;
-# -DAF_RECORDING_READER=sndfile reads recordings with libsndfile
-# (src/tools/recording_sndfile.c) instead of src/core/io/wav.c.
+# (src/core/params/settings_libyaml.c) instead of the line reader.
 #catkin_lint: ignore_once global_var_collision
 set(AF_YAML_READER "builtin" CACHE STRING "the settings file's reader: builtin or libyaml")
-#catkin_lint: ignore_once global_var_collision
-set(AF_RECORDING_READER "builtin" CACHE STRING "the recordings' reader: builtin or sndfile")
