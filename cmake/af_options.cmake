@@ -26,8 +26,3 @@ option(ACOUSTIC_FIRMNESS_BENCH "keep frame pointers for perf call graphs" OFF)
 if(ACOUSTIC_FIRMNESS_BENCH)
   add_compile_options(-fno-omit-frame-pointer -mno-omit-leaf-frame-pointer)
 endif()
-# The reader measured against a library (doc/layout.md, "Libraries
-# measured"): -DAF_YAML_READER=libyaml reads the settings files with libyaml
-# (src/core/params/settings_libyaml.c) instead of the line reader.
-#catkin_lint: ignore_once global_var_collision
-set(AF_YAML_READER "builtin" CACHE STRING "the settings file's reader: builtin or libyaml")

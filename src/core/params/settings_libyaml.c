@@ -1,17 +1,17 @@
-/* settings_libyaml.c — the flat YAML settings file read with libyaml's event
- * parser (built instead of settings_yaml.c's line reader with
- * -DAF_YAML_READER=libyaml; doc/layout.md, "Libraries measured").
+/* settings_libyaml.c — the flat YAML settings files (config/station.yaml, the
+ * cultivar's) read with libyaml's event parser, checked against the
+ * parameter table (doc/layout.md, "libyaml: measured, adopted").
  *
  * The file-level bounds stay ours and come first: a regular file of at most
  * AF_YAML_FILE_MAX_BYTES, read whole; then every line through the same
  * byte checks as the line reader (a NUL, a CR not followed by LF, a line
  * over AF_YAML_LINE_MAX - 1 bytes: file:line:column). Only then does libyaml
  * see the bytes. What it parses must still be one map of `name: scalar`:
- * flow style ({a: 1}) and anchors on scalars with their aliases are read as
- * PyYAML reads them; a list, a nested map, a tag, a block scalar, a second
- * document, an unknown or duplicate key are refused in one line. Scalars
- * are typed as the line reader types them (plain: af_settings_resolve_plain,
- * quoted: a string). */
+ * flow style ({a: 1}), indentation, quoted keys, every escape, and anchors
+ * on scalars with their aliases are read as PyYAML (rosparam) reads them; a
+ * list, a nested map, a tag, a block scalar, a second document, an unknown
+ * or duplicate key are refused in one line. Scalars are typed as rosparam
+ * types them (plain: af_settings_resolve_plain, quoted: a string). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -130,10 +130,11 @@ static af_status one_key(af_yaml_state *st, const yaml_event_t *e, af_setting_id
                          size_t key_len, const char *path, char *err, size_t len)
 {
   const int line = (int)e->start_mark.line + 1;
-  if (e->type != YAML_SCALAR_EVENT || e->data.scalar.style != YAML_PLAIN_SCALAR_STYLE ||
-      e->data.scalar.tag != NULL || e->data.scalar.anchor != NULL) {
+  if (e->type != YAML_SCALAR_EVENT || e->data.scalar.tag != NULL || e->data.scalar.anchor != NULL ||
+      e->data.scalar.style == YAML_LITERAL_SCALAR_STYLE ||
+      e->data.scalar.style == YAML_FOLDED_SCALAR_STYLE) {
     af_settings_say(err, len, "%s:%d: not a flat `key: value` entry: its key is %s", path, line,
-                    e->type == YAML_SCALAR_EVENT ? "quoted, tagged or anchored"
+                    e->type == YAML_SCALAR_EVENT ? "tagged, anchored or a block scalar"
                                                  : event_what(e->type));
     return AF_EINVAL;
   }

@@ -1,13 +1,15 @@
 /* settings_private.h — what the files of the parameter table share and
  * nothing else includes: the rows (settings_table.c), the one-line message
  * writer and the name as messages write it (settings.c), the typed value
- * and its check against a row (settings.c), the YAML 1.1 scalar parser
- * (settings_yaml.c). The public API is settings.h and lane_config.h.
+ * and its check against a row (settings.c), the YAML 1.1 scalar parser and
+ * the settings file's bounds (settings_yaml.c). The public API is settings.h
+ * and lane_config.h.
  *
  *   settings_table.c  the rows and their accessors (also built alone into the
  *                     generators of Station.cfg and af_defaults.h)
  *   settings.c        the values object: init, set, get, print
- *   settings_yaml.c   YAML 1.1 scalars and the flat YAML file
+ *   settings_yaml.c   YAML 1.1 scalars; the settings file's bounds
+ *   settings_libyaml.c  the settings file, parsed by libyaml
  *   lane_config.c     af_lane_config_derive and the lane's memory bound */
 #ifndef AF_SETTINGS_PRIVATE_H
 #define AF_SETTINGS_PRIVATE_H

@@ -1,6 +1,6 @@
 /* settings_yaml.c — YAML 1.1 scalars typed as rosparam (PyYAML) types them,
- * and the reader of the flat YAML files (config/station.yaml, the
- * cultivar's), both checked against the parameter table. */
+ * and the settings file's bounds checked before any parser sees its bytes
+ * (the file itself is parsed by libyaml, settings_libyaml.c). */
 #define _POSIX_C_SOURCE 200809L /* open, fstat, read */
 #include <errno.h>
 #include <fcntl.h>
@@ -352,87 +352,3 @@ bool af_settings_next_line(const char *data, size_t size, size_t *pos, char *lin
   *pos = p + (p < size); /* past the LF */
   return true;
 }
-
-#ifndef AF_SETTINGS_LIBYAML /* else settings_libyaml.c reads the file */
-/* One `key: value` line into copy; false with the message in err. */
-static af_status one_entry(af_settings *copy, const char *line, const char *path, int number,
-                           int *first_line, char *err, size_t len)
-{
-  char value[AF_YAML_LINE_MAX], why_buf[AF_SETTINGS_TEXT_MAX];
-  const char *p = line;
-  while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
-         *p == '_')
-    p++;
-  if (p == line || *p != ':' || (p[1] != '\0' && p[1] != ' ' && p[1] != '\t')) {
-    af_settings_say(err, len, "%s:%d: not a flat `key: value` line: '%.60s'", path, number, line);
-    return AF_EINVAL;
-  }
-  char key[80];
-  snprintf(key, sizeof key, "%.*s", (int)(p - line) < 79 ? (int)(p - line) : 79, line);
-  af_setting_id id;
-  if (af_setting_find(key, &id) != AF_OK) {
-    af_settings_say(err, len, "%s:%d: unknown parameter '%s'", path, number, key);
-    return AF_EINVAL;
-  }
-  if (first_line[id] != 0) {
-    af_settings_say(err, len, "%s:%d: duplicate key '%s': given on line %d and again on line %d",
-                    path, number, key, first_line[id], number);
-    return AF_EINVAL;
-  }
-  first_line[id] = number;
-  p++;
-  while (*p == ' ' || *p == '\t')
-    p++;
-  af_value v;
-  const char *rest = p, *why = NULL;
-  if (!af_settings_parse_scalar(p, value, sizeof value, &v, &rest, &why) ||
-      !af_settings_blank_or_comment(rest)) {
-    af_settings_say(err, len, "%s:%d: %s: %s", path, number, key,
-                    why ? why : "text after the quoted value");
-    return AF_EINVAL;
-  }
-  af_status st = af_settings_apply(copy, id, &v, why_buf, sizeof why_buf);
-  if (st != AF_OK)
-    af_settings_say(err, len, "%s:%d: %s", path, number, why_buf);
-  return st;
-}
-
-af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, size_t len)
-{
-  if (s == NULL || path == NULL) {
-    af_settings_say(err, len, "settings: a NULL argument");
-    return AF_EINVAL;
-  }
-  char *data = NULL;
-  size_t size = 0, pos = 0;
-  af_status st = af_settings_read_whole(path, &data, &size, err, len);
-  if (st != AF_OK)
-    return st;
-  af_settings copy = *s;
-  int first_line[AF_SETTING_COUNT] = {0};
-  char line[AF_YAML_LINE_MAX];
-  int number = 0;
-  bool any = false;
-  if (size >= 3 && memcmp(data, "\xEF\xBB\xBF", 3) == 0) /* a UTF-8 byte-order mark */
-    pos = 3;
-  while (st == AF_OK && pos < size) {
-    number++;
-    if (!af_settings_next_line(data, size, &pos, line, path, number, err, len)) {
-      st = AF_EINVAL;
-      break;
-    }
-    if (af_settings_blank_or_comment(line))
-      continue;
-    if (!any && strcmp(line, "---") == 0) { /* a document start before any key */
-      any = true;
-      continue;
-    }
-    any = true;
-    st = one_entry(&copy, line, path, number, first_line, err, len);
-  }
-  free(data);
-  if (st == AF_OK)
-    *s = copy;
-  return st;
-}
-#endif
