@@ -596,23 +596,53 @@ static void test_yaml(void)
   remove(path);
   CHECK_WORDS(load_text(&s, "modulus_min_pa: 1e+6\n", err), AF_EINVAL, err,
               "modulus_min_pa = '1e+6' is not a number");
-  CHECK_WORDS(load_text(&s, "  lobe: 1\n", err), AF_EINVAL, err,
-              ":1: not a flat `key: value` line");
-  CHECK_WORDS(load_text(&s, "lobe\n", err), AF_EINVAL, err, ":1: not a flat `key: value` line");
-  CHECK_WORDS(load_text(&s, "lobe:1\n", err), AF_EINVAL, err, ":1: not a flat `key: value` line");
+  /* YAML as rosparam reads it (libyaml): an indented map, flow style, a
+   * quoted key, an anchor and its alias, a value on the next line */
+  af_settings y = s;
+  AF_CHECK_STATUS(load_text(&y, "  lobe: 1\n", err), AF_OK);
+  AF_CHECK(af_settings_number(&y, AF_SETTING_LOBE) == 1.0);
+  AF_CHECK_STATUS(load_text(&y, "{lobe: 2, mass_max_kg: 0.3}\n", err), AF_OK);
+  AF_CHECK(af_settings_number(&y, AF_SETTING_LOBE) == 2.0);
+  AF_CHECK_STATUS(load_text(&y, "\"lobe\": 3\nmass_max_kg: &m 0.4\nmass_min_kg: *m\n", err), AF_OK);
+  AF_CHECK(af_settings_number(&y, AF_SETTING_LOBE) == 3.0);
+  AF_CHECK(af_settings_number(&y, AF_SETTING_MASS_MIN_KG) == 0.4);
+  AF_CHECK_STATUS(load_text(&y, "lobe:\n  4\n", err), AF_OK);
+  AF_CHECK(af_settings_number(&y, AF_SETTING_LOBE) == 4.0);
+  /* `key: # comment` is null, as rosparam reads it, never the text '# comment' */
+  CHECK_WORDS(load_text(&y, "cultivar: # Gala\n", err), AF_EINVAL, err,
+              ":1: cultivar has no value");
+  CHECK_WORDS(load_text(&s, "{lobe: 1,\n lobe: 2}\n", err), AF_EINVAL, err,
+              ":2: duplicate key 'lobe': given on line 1 and again on line 2");
+  CHECK_WORDS(load_text(&s, "lobe: 1\n---\nlobe: 2\n", err), AF_EINVAL, err,
+              ":2: a second YAML document; a settings file holds one");
+  CHECK_WORDS(load_text(&s, "lobe: *none\n", err), AF_EINVAL, err,
+              ":1: lobe: an alias to 'none', which is not an anchored scalar");
+  CHECK_WORDS(load_text(&s, "lobe\n", err), AF_EINVAL, err,
+              ":1: not a flat `key: value` file: the document is a scalar");
+  CHECK_WORDS(load_text(&s, "lobe:1\n", err), AF_EINVAL, err,
+              ":1: not a flat `key: value` file: the document is a scalar");
   CHECK_WORDS(load_text(&s, "- lobe: 1\n", err), AF_EINVAL, err,
-              ":1: not a flat `key: value` line");
+              ":1: not a flat `key: value` file: the document is a list");
+  CHECK_WORDS(load_text(&s, "lobe:\n  a: 1\n", err), AF_EINVAL, err,
+              ":2: lobe: not a flat value (a map)");
+  CHECK_WORDS(load_text(&s, "lobe: |\n  1\n", err), AF_EINVAL, err,
+              ":1: lobe: not a flat value (a block scalar)");
   CHECK_WORDS(load_text(&s, "lobe:\n", err), AF_EINVAL, err, ":1: lobe has no value");
   CHECK_WORDS(load_text(&s, "lobe: ~\n", err), AF_EINVAL, err, ":1: lobe has no value");
   CHECK_WORDS(load_text(&s, "lobe: [1, 2]\n", err), AF_EINVAL, err, ":1: lobe: not a flat value");
   CHECK_WORDS(load_text(&s, "lobe: !!int 1\n", err), AF_EINVAL, err, ":1: lobe: not a flat value");
-  CHECK_WORDS(load_text(&s, "cultivar: a: b\n", err), AF_EINVAL, err, ":1: cultivar: not a flat");
+  /* libyaml's own refusals: file:line:column and its words */
+  CHECK_WORDS(load_text(&s, "cultivar: a: b\n", err), AF_EINVAL, err,
+              ":1:12: mapping values are not allowed in this context");
   CHECK_WORDS(load_text(&s, "cultivar: 'Gala\n", err), AF_EINVAL, err,
-              ":1: cultivar:", "unterminated");
+              ":2:1: found unexpected end of stream while scanning a quoted scalar");
   CHECK_WORDS(load_text(&s, "cultivar: 'Gala' x\n", err), AF_EINVAL, err,
-              ":1: cultivar:", "text after");
+              ":1:18: did not find expected key while parsing a block mapping");
   CHECK_WORDS(load_text(&s, "cultivar: \"a\\qb\"\n", err), AF_EINVAL, err,
-              ":1: cultivar:", "escape");
+              ":1:13: found unknown escape character while parsing a quoted scalar");
+  /* an escape libyaml reads into a NUL: refused, never a C string cut short */
+  CHECK_WORDS(load_text(&s, "cultivar: \"a\\0b\"\n", err), AF_EINVAL, err,
+              ":1: cultivar: a NUL character in a quoted value");
   CHECK_WORDS(load_text(&s, "lobe: .inf\n", err), AF_EINVAL, err,
               "lobe = inf is outside the accepted range [1, 8]");
   CHECK_WORDS(load_text(&s, "stream_stale_after_s: .inf\n", err), AF_EINVAL, err,
@@ -683,7 +713,7 @@ static void test_yaml_bytes(void)
   AF_CHECK(strcmp(af_settings_string(&s, AF_SETTING_CULTIVAR), "Gala") == 0);
   /* a BOM elsewhere is text: not a key */
   CHECK_WORDS(LOAD_BYTES(&s, "lobe: 2\n\xef\xbb\xbflobe: 3\n", err, path), AF_EINVAL, err,
-              ":2: not a flat `key: value` line");
+              ":2:2: did not find expected key while parsing a block mapping");
   remove(path);
   /* 1023 bytes of a line are accepted, 1024 refused (with its CR LF or not) */
   static char line[1100];

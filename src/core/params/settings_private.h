@@ -1,13 +1,15 @@
 /* settings_private.h — what the files of the parameter table share and
  * nothing else includes: the rows (settings_table.c), the one-line message
  * writer and the name as messages write it (settings.c), the typed value
- * and its check against a row (settings.c), the YAML 1.1 scalar parser
- * (settings_yaml.c). The public API is settings.h and lane_config.h.
+ * and its check against a row (settings.c), the YAML 1.1 scalar parser and
+ * the settings file's bounds (settings_yaml.c). The public API is settings.h
+ * and lane_config.h.
  *
  *   settings_table.c  the rows and their accessors (also built alone into the
  *                     generators of Station.cfg and af_defaults.h)
  *   settings.c        the values object: init, set, get, print
- *   settings_yaml.c   YAML 1.1 scalars and the flat YAML file
+ *   settings_yaml.c   YAML 1.1 scalars; the settings file's bounds
+ *   settings_libyaml.c  the settings file, parsed by libyaml
  *   lane_config.c     af_lane_config_derive and the lane's memory bound */
 #ifndef AF_SETTINGS_PRIVATE_H
 #define AF_SETTINGS_PRIVATE_H
@@ -62,5 +64,20 @@ bool af_settings_parse_scalar(const char *p, char *buf, size_t size, af_value *v
                               const char **why);
 /* Nothing but blanks and a comment (settings_yaml.c). */
 bool af_settings_blank_or_comment(const char *p);
+/* A plain (unquoted) YAML scalar t typed as PyYAML types it (settings_yaml.c). */
+void af_settings_resolve_plain(const char *t, af_value *v);
+
+/* The settings file's bounds, checked before any parser sees its bytes. */
+#define AF_YAML_LINE_MAX 1024                /* bytes per line, with its NUL */
+#define AF_YAML_FILE_MAX_BYTES (1024 * 1024) /* a settings file, whole [bytes] */
+/* The whole of path into *data (malloc'd, *size bytes) when it is a regular
+ * file of at most AF_YAML_FILE_MAX_BYTES; else one line in err. */
+af_status af_settings_read_whole(const char *path, char **data, size_t *size, char *err,
+                                 size_t len);
+/* The line at data[*pos..size) into line[AF_YAML_LINE_MAX] without its end;
+ * *pos moves past it. false with file:line:column in err on a NUL byte, a CR
+ * not followed by LF or a line longer than AF_YAML_LINE_MAX - 1 bytes. */
+bool af_settings_next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
+                           int number, char *err, size_t len);
 
 #endif

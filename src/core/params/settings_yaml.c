@@ -1,6 +1,6 @@
 /* settings_yaml.c — YAML 1.1 scalars typed as rosparam (PyYAML) types them,
- * and the reader of the flat YAML files (config/station.yaml, the
- * cultivar's), both checked against the parameter table. */
+ * and the settings file's bounds checked before any parser sees its bytes
+ * (the file itself is parsed by libyaml, settings_libyaml.c). */
 #define _POSIX_C_SOURCE 200809L /* open, fstat, read */
 #include <errno.h>
 #include <fcntl.h>
@@ -126,8 +126,8 @@ static bool yaml_float(const char *t, double *out)
   return *end == '\0';
 }
 
-/* A bare (plain) YAML scalar, typed as PyYAML types it. */
-static void resolve_plain(const char *t, af_value *v)
+/* A bare (plain) YAML scalar, typed as PyYAML types it (settings_private.h). */
+void af_settings_resolve_plain(const char *t, af_value *v)
 {
   static const char *const nulls[] = {"", "~", "null", "Null", "NULL", NULL};
   static const char *const trues[] = {"true", "True", "TRUE", "yes", "Yes",
@@ -218,7 +218,7 @@ bool af_settings_parse_scalar(const char *p, char *buf, size_t size, af_value *v
     *why = "not a flat value (a map inside a value)";
     return false;
   }
-  resolve_plain(buf, v);
+  af_settings_resolve_plain(buf, v);
   *rest = end;
   return true;
 }
@@ -243,8 +243,6 @@ bool af_settings_blank_or_comment(const char *p)
  * old Mac line end PyYAML would read as a line break where we would not); a
  * line longer than AF_YAML_LINE_MAX - 1 bytes is refused; a key given twice
  * is refused naming both lines. */
-#define AF_YAML_LINE_MAX 1024                /* bytes per line, with its NUL */
-#define AF_YAML_FILE_MAX_BYTES (1024 * 1024) /* a settings file, whole [bytes] */
 
 static const char *file_kind(mode_t m)
 {
@@ -256,8 +254,9 @@ static const char *file_kind(mode_t m)
                        : "not a regular file";
 }
 
-/* The whole file into *data (malloc'd, size bytes), or one line in err. */
-static af_status read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
+/* The whole file into *data (malloc'd, size bytes), or one line in err
+ * (settings_private.h). */
+af_status af_settings_read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
 {
   /* O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below. */
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -321,9 +320,9 @@ static af_status read_whole(const char *path, char **data, size_t *size, char *e
 
 /* The line at data[*pos..size) into line[AF_YAML_LINE_MAX] without its end;
  * *pos moves past the end. false with file:line:column on a NUL, a lone CR or
- * an over-long line. */
-static bool next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
-                      int number, char *err, size_t len)
+ * an over-long line (settings_private.h). */
+bool af_settings_next_line(const char *data, size_t size, size_t *pos, char *line, const char *path,
+                           int number, char *err, size_t len)
 {
   size_t n = 0, p = *pos;
   for (; p < size && data[p] != '\n'; p++) {
@@ -352,86 +351,4 @@ static bool next_line(const char *data, size_t size, size_t *pos, char *line, co
   line[n] = '\0';
   *pos = p + (p < size); /* past the LF */
   return true;
-}
-
-/* One `key: value` line into copy; false with the message in err. */
-static af_status one_entry(af_settings *copy, const char *line, const char *path, int number,
-                           int *first_line, char *err, size_t len)
-{
-  char value[AF_YAML_LINE_MAX], why_buf[AF_SETTINGS_TEXT_MAX];
-  const char *p = line;
-  while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
-         *p == '_')
-    p++;
-  if (p == line || *p != ':' || (p[1] != '\0' && p[1] != ' ' && p[1] != '\t')) {
-    af_settings_say(err, len, "%s:%d: not a flat `key: value` line: '%.60s'", path, number, line);
-    return AF_EINVAL;
-  }
-  char key[80];
-  snprintf(key, sizeof key, "%.*s", (int)(p - line) < 79 ? (int)(p - line) : 79, line);
-  af_setting_id id;
-  if (af_setting_find(key, &id) != AF_OK) {
-    af_settings_say(err, len, "%s:%d: unknown parameter '%s'", path, number, key);
-    return AF_EINVAL;
-  }
-  if (first_line[id] != 0) {
-    af_settings_say(err, len, "%s:%d: duplicate key '%s': given on line %d and again on line %d",
-                    path, number, key, first_line[id], number);
-    return AF_EINVAL;
-  }
-  first_line[id] = number;
-  p++;
-  while (*p == ' ' || *p == '\t')
-    p++;
-  af_value v;
-  const char *rest = p, *why = NULL;
-  if (!af_settings_parse_scalar(p, value, sizeof value, &v, &rest, &why) ||
-      !af_settings_blank_or_comment(rest)) {
-    af_settings_say(err, len, "%s:%d: %s: %s", path, number, key,
-                    why ? why : "text after the quoted value");
-    return AF_EINVAL;
-  }
-  af_status st = af_settings_apply(copy, id, &v, why_buf, sizeof why_buf);
-  if (st != AF_OK)
-    af_settings_say(err, len, "%s:%d: %s", path, number, why_buf);
-  return st;
-}
-
-af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, size_t len)
-{
-  if (s == NULL || path == NULL) {
-    af_settings_say(err, len, "settings: a NULL argument");
-    return AF_EINVAL;
-  }
-  char *data = NULL;
-  size_t size = 0, pos = 0;
-  af_status st = read_whole(path, &data, &size, err, len);
-  if (st != AF_OK)
-    return st;
-  af_settings copy = *s;
-  int first_line[AF_SETTING_COUNT] = {0};
-  char line[AF_YAML_LINE_MAX];
-  int number = 0;
-  bool any = false;
-  if (size >= 3 && memcmp(data, "\xEF\xBB\xBF", 3) == 0) /* a UTF-8 byte-order mark */
-    pos = 3;
-  while (st == AF_OK && pos < size) {
-    number++;
-    if (!next_line(data, size, &pos, line, path, number, err, len)) {
-      st = AF_EINVAL;
-      break;
-    }
-    if (af_settings_blank_or_comment(line))
-      continue;
-    if (!any && strcmp(line, "---") == 0) { /* a document start before any key */
-      any = true;
-      continue;
-    }
-    any = true;
-    st = one_entry(&copy, line, path, number, first_line, err, len);
-  }
-  free(data);
-  if (st == AF_OK)
-    *s = copy;
-  return st;
 }
