@@ -6,9 +6,10 @@
 #     file and launched on a master of our own (a free port): the node must
 #     subscribe to the DAQ's and the vision system's topics it names;
 #  2. calibration step 2: a session recorded with the README's
-#     `rosbag record /lane1/force /lane1/audio /lane1/apple` while a
-#     strike_bag bag plays (the rig), then `firmness_report run.bag --config
-#     station.yaml --cultivar cultivar.yaml` with copies of the shipped
+#     `roslaunch acoustic_firmness record.launch prefix:=/data/calib` (the
+#     prefix moved to the scratch folder) while a strike_bag bag plays (the
+#     rig), then `firmness_report calib_*.bag --config station.yaml
+#     --cultivar cultivar.yaml` with copies of the shipped
 #     files; the modulus_factor it advises, written into the cultivar copy,
 #     must bring the median E(0S2) / fitted E2 to 1 (within 2e-4, the
 #     printed digits);
@@ -31,11 +32,11 @@ launch = re.search(r'```\n(<launch>\n.*?</launch>)\n```', text, re.S)
 flat = ' '.join(text.split())
 yield_measured = re.search(r'`yield_measured: ("[^"]*")`', flat)
 grades = re.search(r'e\.g\. `("[^"|]*(?:\|[^"|]*)+")`', flat)
-record = re.search(r'`(rosbag record /lane1/force /lane1/audio /lane1/apple)`', flat)
-report = re.search(r'`(firmness_report run\.bag --config station\.yaml --cultivar cultivar\.yaml)`', flat)
+record = re.search(r'`(roslaunch acoustic_firmness record\.launch prefix:=/data/calib)`', flat)
+report = re.search(r'`(firmness_report calib_\*\.bag --config station\.yaml --cultivar cultivar\.yaml)`', flat)
 design = re.search(r'`(firmness_model design --cultivar your\.yaml)`', flat)
 missing = [n for n, m in (('remap launch', launch), ('yield_measured', yield_measured),
-                          ('grade_classes', grades), ('rosbag record', record),
+                          ('grade_classes', grades), ('record.launch', record),
                           ('firmness_report', report), ('design', design)) if m is None]
 if missing:
     print('README: not found: ' + ', '.join(missing))
@@ -70,26 +71,23 @@ af_check_stopped "$port" || fail=1
 af_start_master "$port" "$tmp/master.log"
 "$lib/strike_bag" --strikes 30 --seed 4 --out "$tmp/rig.bag" 2>/dev/null
 read -r -a record <"$tmp/record"
-(cd "$tmp" && exec "${record[@]}" -O run.bag __name:=af_quick_record >"$tmp/record.log" 2>&1) &
+(cd "$tmp" && exec "${record[@]/prefix:=\/data\/calib/prefix:=$tmp/calib}" >"$tmp/record.log" 2>&1) &
 rec=$!
 pids+=("$rec")
 for topic in /lane1/force /lane1/audio /lane1/apple; do
-  for i in $(seq 150); do
-    rostopic info "$topic" 2>/dev/null | sed -n '/Subscribers:/,$p' | grep -q af_quick_record && break
-    [ "$i" = 150 ] && bad "rosbag record never subscribed to $topic"
-    sleep 0.2
-  done
+  af_wait_subscriber "$topic" /record_lane1 30 || bad "record.launch never subscribed to $topic"
 done
 # played once the recorder is connected on each topic (not only registered)
-/usr/bin/python3 "$AF_ROOT/scripts/play_connected.py" --wait /af_quick_record -- -q "$tmp/rig.bag" \
+/usr/bin/python3 "$AF_ROOT/scripts/play_connected.py" --wait /record_lane1 -- -q "$tmp/rig.bag" \
   >/dev/null || bad "the rig's bag was not played to the recorder"
 sleep 1
 kill -INT "$rec" 2>/dev/null || true
 wait "$rec" 2>/dev/null || true
-for _ in $(seq 150); do [ -f "$tmp/run.bag" ] && break; sleep 0.2; done
+for _ in $(seq 150); do ls "$tmp"/calib_*.bag >/dev/null 2>&1 && break; sleep 0.2; done
 af_stop_all
 af_check_stopped "$port" || fail=1
-[ -f "$tmp/run.bag" ] || { bad "rosbag record wrote no run.bag"; cat "$tmp/record.log" >&2; exit 1; }
+ls "$tmp"/calib_*.bag >/dev/null 2>&1 || { bad "record.launch wrote no calib_*.bag"; cat "$tmp/record.log" >&2; exit 1; }
+mv "$tmp"/calib_*.bag "$tmp/run.bag"
 
 cp "$AF_ROOT/config/station.yaml" "$tmp/station.yaml"
 cp "$AF_ROOT/config/jonagold.yaml" "$tmp/cultivar.yaml"
