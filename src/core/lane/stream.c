@@ -33,6 +33,16 @@ af_status af_stream_create(af_stream *s, const char *name, const af_stream_confi
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
 
+void af_stream_reset(af_stream *s)
+{
+  /* Everything but what create made (name, cfg, ring, scratch) is a count
+   * or a memory of the stream: zeroed as create leaves it. */
+  const af_stream keep = {.name = s->name, .cfg = s->cfg, .ring = s->ring, .si = s->si};
+  *s = keep;
+  s->clock_rate_hz = s->clock_last_step_s = NAN;
+  af_ring_reset(s->ring);
+}
+
 void af_stream_destroy(af_stream *s)
 {
   af_ring_destroy(s->ring);

@@ -139,6 +139,9 @@ size_t af_stream_to_si(double to_si, const float *x, size_t n, float *out);
  * conversion scratch. AF_ENOMEM. */
 af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg);
 void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
+/* Forgets every chunk: s as af_stream_create left it, its ring empty (the
+ * ring and the scratch kept). No allocation. */
+void af_stream_reset(af_stream *s);
 
 /* Checks one chunk (as sent: its unit, its rate, its indices) and buffers
  * it, times cfg->to_si, when good; a refused chunk is counted and described
