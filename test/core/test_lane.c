@@ -528,6 +528,27 @@ static void test_reset_is_new(void)
   free_session(&s);
 }
 
+/* An empty chunk (no samples, no data: x NULL) is accepted by either
+ * stream, the node's lane and a tap-only one alike, and changes nothing; the
+ * tap-only lane once offset NULL by 0 (undefined: UBSan in the sanitizer
+ * build, found by fuzz_lane, test/fuzz/lane/regress_empty_audio_chunk_tap_only). */
+static void test_empty_chunks(void)
+{
+  const char *tap[] = {"tap_only=true"};
+  for (int k = 0; k < 2; k++) {
+    af_lane_config cfg = config(tap, (size_t)k);
+    reports out;
+    af_lane *l = make_lane(&cfg, &out);
+    const af_chunk f = {0, 0, FS_FORCE, "N", "f", NULL, 0};
+    const af_chunk a = {0, 0, FS_AUDIO, "Pa", "m", NULL, 0};
+    AF_CHECK(af_lane_audio(l, &a, 0, NULL) == AF_CHUNK_OK);
+    AF_CHECK(af_lane_force(l, &f, 0, NULL) == AF_CHUNK_OK);
+    af_lane_finish(l);
+    AF_CHECK(out.n == 0 && af_lane_audio_stream(l)->chunks == 1);
+    af_lane_destroy(l);
+  }
+}
+
 /* No audio: live, after the time-out (no audio chunk received), and a full
  * queue (the oldest strike goes at once). */
 static void test_without_audio(void)
@@ -630,6 +651,7 @@ int main(void)
   test_no_apple();
   test_chunking_and_order();
   test_reset_is_new();
+  test_empty_chunks();
   test_without_audio();
   test_force_stall();
   return af_test_summary("test_lane");

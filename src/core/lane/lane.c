@@ -1115,6 +1115,10 @@ static void detect_onsets(af_lane *l, const af_chunk *c)
 {
   const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
   const size_t held = l->audio.last_held; /* an overlap's head: seen already */
+  /* Nothing new: an empty chunk's x may be NULL, and NULL + 0 is undefined
+   * (found by test/fuzz/fuzz_lane.c: a zero-length audio chunk, tap-only). */
+  if (c->n <= held)
+    return;
   (void)af_onset_write(l->onset, c->first_sample + held, c->x + held, c->n - held, on_onset, l);
   af_stage_end(l->mc->measure.stages, AF_STAGE_DETECT, t0_ns);
 }
