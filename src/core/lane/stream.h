@@ -157,6 +157,11 @@ void af_stream_reset(af_stream *s);
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                                 af_ring_write_info *info);
 
+/* af_stream_time_ns and af_stream_time_of_ns saturate at +- this [ns] (2^62 - 1, 146
+ * years; ROS times end at 2^32 s, 4.3e18 ns): an index far from every
+ * anchor saturates, and the difference of two such times never overflows. */
+#define AF_STREAM_TIME_MAX_NS ((int64_t)4611686018427387903)
+
 /* Time [ns] of the (fractional) sample index, through the newest chunk
  * starting at or before it (the oldest kept for earlier indices); meaningful
  * once s->seen. */
