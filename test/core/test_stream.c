@@ -395,7 +395,8 @@ static void test_far_index(void)
   af_ring_write_info w;
   AF_CHECK(af_stream_push(&s, &c, 3, &w) == AF_CHUNK_OK && w.restarted);
   AF_CHECK(af_stream_time_ns(&s, 1e30) == AF_STREAM_TIME_MAX_NS);
-  AF_CHECK(af_stream_time_ns(&s, -1e30) < 0 && af_stream_time_ns(&s, -1e30) >= -AF_STREAM_TIME_MAX_NS);
+  AF_CHECK(af_stream_time_ns(&s, -1e30) < 0 &&
+           af_stream_time_ns(&s, -1e30) >= -AF_STREAM_TIME_MAX_NS);
   AF_CHECK(af_stream_time_of_ns(&s, far - 50000, 0.0) == late_ns);
   af_stream_destroy(&s);
 }

@@ -425,7 +425,7 @@ static int64_t time_plus(int64_t stamp_ns, double offset_ns)
                          : offset_ns <= -max ? -AF_STREAM_TIME_MAX_NS
                                              : (int64_t)llround(offset_ns); /* NaN: not here */
   const int64_t t = stamp + offset;
-  return t > AF_STREAM_TIME_MAX_NS ? AF_STREAM_TIME_MAX_NS
+  return t > AF_STREAM_TIME_MAX_NS    ? AF_STREAM_TIME_MAX_NS
          : t < -AF_STREAM_TIME_MAX_NS ? -AF_STREAM_TIME_MAX_NS
                                       : t;
 }
