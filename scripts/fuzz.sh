@@ -79,11 +79,12 @@ export LSAN_OPTIONS="suppressions=$root/test/sanitizers/lsan.supp:print_suppress
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$root/test/sanitizers/ubsan.supp"
 
 # The longest input each harness takes [bytes]: a few chunks, a window of
-# audio, an argument list, a YAML file, a small bag, two short recordings, a WAV file.
+# audio, an argument list, a YAML file, a small bag, two short recordings, a WAV file,
+# a lane's program (its chunks are made from a few bytes each).
 max_len() {
   case "$1" in
     strike) echo 65536 ;; response) echo 16384 ;; cli) echo 1024 ;; yaml) echo 8192 ;; wav) echo 16384 ;;
-    msgs) echo 65536 ;; bag) echo 65536 ;; analyze) echo 65536 ;; *) echo 4096 ;;
+    msgs) echo 65536 ;; bag) echo 65536 ;; analyze) echo 65536 ;; lane) echo 4096 ;; *) echo 4096 ;;
   esac
 }
 

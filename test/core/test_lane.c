@@ -482,6 +482,73 @@ static void test_chunking_and_order(void)
   free_session(&s);
 }
 
+/* af_lane_reset: a lane that has run one session (apples, strikes, one
+ * still queued when it stops) and is reset judges the next exactly as a new
+ * lane does, bit for bit; the next stream's first chunk, at index 0, is no
+ * restart, and the strike left queued is dropped, not reported. */
+static void test_reset_is_new(void)
+{
+  const double strikes[] = {0.5, 1.5};
+  session s = make_session(strikes, 2);
+  af_lane_config cfg = config(NULL, 0);
+  reports a, b;
+  af_lane *la = make_lane(&cfg, &a), *lb = make_lane(&cfg, &b);
+  scheduled_apple before[] = {{apple(41, 0.3), 0.3, false}, {apple(47, 1.3), 1.3, false}};
+  feed(lb, &s, 512, 2048, true, before, 2, 1.52); /* stops with the second strike queued */
+  AF_CHECK(b.n == 1 && af_lane_pending(lb) == 1);
+  af_lane_reset(lb);
+  memset(&b, 0, sizeof b);
+  AF_CHECK(af_lane_pending(lb) == 0 && af_lane_get_stats(lb)->strikes == 0);
+  scheduled_apple pa[] = {{apple(1, 0.3), 0.3, false}, {apple(2, 1.3), 1.3, false}};
+  scheduled_apple pb[] = {{apple(1, 0.3), 0.3, false}, {apple(2, 1.3), 1.3, false}};
+  feed(la, &s, 1024, 1024, false, pa, 2, SPAN_S);
+  feed(lb, &s, 1024, 1024, false, pb, 2, SPAN_S);
+  af_lane_finish(la);
+  af_lane_finish(lb);
+  AF_CHECK(a.n == 2 && b.n == 2);
+  for (size_t k = 0; k < 2 && k < a.n && k < b.n; k++) {
+    const af_measure_report *x = &a.r[k], *y = &b.r[k];
+    AF_CHECK(a.start_ns[k] == b.start_ns[k] && a.apple_id[k] == b.apple_id[k]);
+    AF_CHECK(a.with_audio[k] == b.with_audio[k]);
+    AF_CHECK(memcmp(&x->contact_time_s, &y->contact_time_s, sizeof(double)) == 0);
+    AF_CHECK(memcmp(&x->resonance_hz, &y->resonance_hz, sizeof(double)) == 0);
+    AF_CHECK(memcmp(&x->fitted_modulus_pa, &y->fitted_modulus_pa, sizeof(double)) == 0);
+    AF_CHECK(x->verdict.flags == y->verdict.flags && strcmp(x->reason, y->reason) == 0);
+  }
+  const af_lane_stats *sa = af_lane_get_stats(la), *sb = af_lane_get_stats(lb);
+  AF_CHECK(sa->strikes == sb->strikes && sa->apples == sb->apples);
+  AF_CHECK(sa->late_apples == sb->late_apples && sa->doubtful == sb->doubtful);
+  AF_CHECK(sa->health.strikes == sb->health.strikes);
+  AF_CHECK(memcmp(&sa->transit_observed_s, &sb->transit_observed_s, sizeof(double)) == 0);
+  AF_CHECK(af_lane_factor(la)->applied == af_lane_factor(lb)->applied);
+  AF_CHECK(af_lane_force_stream(lb)->restarts == 0 && af_lane_audio_stream(lb)->restarts == 0);
+  AF_CHECK(af_lane_force_stream(lb)->chunks == af_lane_force_stream(la)->chunks);
+  af_lane_destroy(la);
+  af_lane_destroy(lb);
+  free_session(&s);
+}
+
+/* An empty chunk (no samples, no data: x NULL) is accepted by either
+ * stream, the node's lane and a tap-only one alike, and changes nothing; the
+ * tap-only lane once offset NULL by 0 (undefined: UBSan in the sanitizer
+ * build, found by fuzz_lane, test/fuzz/lane/regress_empty_audio_chunk_tap_only). */
+static void test_empty_chunks(void)
+{
+  const char *tap[] = {"tap_only=true"};
+  for (int k = 0; k < 2; k++) {
+    af_lane_config cfg = config(tap, (size_t)k);
+    reports out;
+    af_lane *l = make_lane(&cfg, &out);
+    const af_chunk f = {0, 0, FS_FORCE, "N", "f", NULL, 0};
+    const af_chunk a = {0, 0, FS_AUDIO, "Pa", "m", NULL, 0};
+    AF_CHECK(af_lane_audio(l, &a, 0, NULL) == AF_CHUNK_OK);
+    AF_CHECK(af_lane_force(l, &f, 0, NULL) == AF_CHUNK_OK);
+    af_lane_finish(l);
+    AF_CHECK(out.n == 0 && af_lane_audio_stream(l)->chunks == 1);
+    af_lane_destroy(l);
+  }
+}
+
 /* No audio: live, after the time-out (no audio chunk received), and a full
  * queue (the oldest strike goes at once). */
 static void test_without_audio(void)
@@ -583,6 +650,8 @@ int main(void)
   test_skipped_ids();
   test_no_apple();
   test_chunking_and_order();
+  test_reset_is_new();
+  test_empty_chunks();
   test_without_audio();
   test_force_stall();
   return af_test_summary("test_lane");

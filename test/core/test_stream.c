@@ -6,6 +6,7 @@
  * through the holding chunk against hand-computed stamps, the anchor ring's limit, and staleness
  * around its threshold. */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "af_test.h"
@@ -372,6 +373,34 @@ static void test_empty_chunk(void)
   af_stream_destroy(&s);
 }
 
+/* A sender whose index jumps by 2^63 (a corrupt first_sample) and then
+ * goes back into the jump's hole: the hole's times, extrapolated from the
+ * chunk before the jump, lie 1.8e14 s away. They saturate at
+ * AF_STREAM_TIME_MAX_NS, and the duplicate check's difference with the
+ * chunk's stamp (a late ROS time) is no longer a signed overflow (UBSan in
+ * the sanitizer build; found by fuzz_lane, test/fuzz/lane/regress_index_jump_back). */
+static void test_far_index(void)
+{
+  af_stream_config cfg = config(100000, 1.0); /* the hole in the ring is longer than the 2048
+                                                 samples a double resolves at 2^63 */
+  af_stream s;
+  AF_CHECK_STATUS(af_stream_create(&s, "force", &cfg), AF_OK);
+  const uint64_t far = ((uint64_t)1 << 63) + 5000;
+  const int64_t late_ns = (int64_t)4294967264 * 1000000000; /* 2106 */
+  af_chunk c = chunk(0, CHUNK, 0);
+  AF_CHECK(af_stream_push(&s, &c, 1, NULL) == AF_CHUNK_OK);
+  c = chunk(far, CHUNK, late_ns);
+  AF_CHECK(af_stream_push(&s, &c, 2, NULL) == AF_CHUNK_OK && s.gaps == 1);
+  c = chunk(far - 50000, CHUNK, late_ns); /* in the ring, before the newest chunk: the hole */
+  af_ring_write_info w;
+  AF_CHECK(af_stream_push(&s, &c, 3, &w) == AF_CHUNK_OK && w.restarted);
+  AF_CHECK(af_stream_time_ns(&s, 1e30) == AF_STREAM_TIME_MAX_NS);
+  AF_CHECK(af_stream_time_ns(&s, -1e30) < 0 &&
+           af_stream_time_ns(&s, -1e30) >= -AF_STREAM_TIME_MAX_NS);
+  AF_CHECK(af_stream_time_of_ns(&s, far - 50000, 0.0) == late_ns);
+  af_stream_destroy(&s);
+}
+
 int main(void)
 {
   test_gaps_and_restarts();
@@ -382,5 +411,6 @@ int main(void)
   test_time_mapping();
   test_anchor_limit();
   test_stale();
+  test_far_index();
   return af_test_summary("test_stream");
 }

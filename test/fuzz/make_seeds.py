@@ -194,6 +194,105 @@ def analyze_seeds():
     put('analyze', 'strike', bytes([head]) + body)
 
 
+class LaneProgram:
+    """An input of fuzz_lane (its header says the encoding), written from
+    its own description of the bytes, not from the harness's code."""
+    LENGTHS = [0, 1, 2, 17, 64, 100, 256, 480, 512, 1000, 1024, 1024, 2048, 4096]
+    FORCE_HZ, AUDIO_HZ = 50000.0, 48000.0
+
+    def __init__(self, lane, single_apple=False, late_epoch=False, noise=1):
+        self.out = bytearray([lane | (4 if single_apple else 0) | (8 if late_epoch else 0) | noise << 4])
+        self.next = {True: 0, False: 0}  # the next index of the force, the audio
+
+    def chunk(self, force, n=1024, event=None, src=0, rate=0, stamp=0, index=0, args=b''):
+        """event: (position byte, amplitude byte, shape byte); args: the
+        rate, index and stamp bytes the op bits ask for, in that order; src:
+        the source byte's other bits."""
+        op = (0 if force else 1) | rate << 2 | stamp << 4 | index << 6
+        k = self.LENGTHS.index(n) if n in self.LENGTHS else n  # 14, 15: the ring, past it
+        self.out += bytes([op, k]) + args + bytes([src | (4 if event else 0)])
+        if event:
+            self.out += bytes(event)
+        if index == 0 and k < 14:
+            self.next[force] += n
+
+    def apple(self, apple_id, when=128, mass=80, eqr=100, r2=120, conf=249, stem=0x15, direction=0):
+        self.out += bytes([2, apple_id, when, mass, eqr, r2, conf, stem, direction])
+
+    def clock(self, sub, args=b''):
+        self.out += bytes([3 | sub << 2]) + args
+
+    def stream_until(self, t_s, strike_s=None, apples=()):
+        """Both streams in 1024-sample chunks in time order up to t_s, a
+        strike (a pulse and its ring) at strike_s, apples (id, at_s)."""
+        apples = list(apples)
+        while True:
+            tf, ta = self.next[True] / self.FORCE_HZ, self.next[False] / self.AUDIO_HZ
+            t = min(tf, ta)
+            if t >= t_s:
+                return
+            while apples and apples[0][1] <= t:
+                self.apple(apples.pop(0)[0])
+            force = tf <= ta
+            fs = self.FORCE_HZ if force else self.AUDIO_HZ
+            i0 = self.next[force]
+            event = None
+            if strike_s is not None and i0 <= strike_s * fs < i0 + 1024:
+                pos = int((strike_s * fs - i0) * 256 / 1024)
+                event = (pos, 140, 198) if force else (pos, 100, 48)  # 35 N, 1.4 ms; 1 Pa, 680 Hz
+            self.chunk(force, event=event)
+
+
+def lane_seeds():
+    # The node: apples on a line (the transit match: the strike at 0.05 s takes
+    # the estimate stamped 0.2 s before it, not the one stamped at 0.03 s).
+    p = LaneProgram(0, late_epoch=True)
+    p.apple(1, when=128 - 15)
+    p.stream_until(0.1, strike_s=0.05, apples=[(2, 0.03)])
+    put('lane', 'node_strike', bytes(p.out))
+    # A desk tool: one apple for the recording.
+    p = LaneProgram(0, single_apple=True)
+    p.apple(7)
+    p.stream_until(0.1, strike_s=0.05)
+    put('lane', 'desk_strike', bytes(p.out))
+    # A microphone-only rig: the strike from the audio onset.
+    p = LaneProgram(1, single_apple=True, noise=0)
+    p.apple(9)
+    p.next[True] = 10 ** 9  # no force: every chunk is audio
+    p.stream_until(0.1, strike_s=0.05)
+    put('lane', 'tap_only', bytes(p.out))
+    # A force in V, and what a sender gets wrong: a gap, jitter, a clock step,
+    # NaN and inf, a restart, a duplicate, a raw float32 chunk, a wrong rate,
+    # a wrong unit, a long frame id, an oversized chunk, implausible apples.
+    p = LaneProgram(2, noise=2)
+    p.stream_until(0.04)
+    p.chunk(True, index=1, args=bytes([0x40, 0x00]))                  # a gap of 64 samples
+    p.chunk(True, stamp=1, args=bytes([0x90]))                        # jitter
+    p.chunk(True, stamp=2, args=bytes([0x10, 0x00]))                  # a step of 16 s
+    p.chunk(True, index=2, args=bytes([0x00, 0x04]))                  # back 1024: a duplicate
+    p.chunk(True, src=1 << 3)                                         # NaN (position, run)
+    p.out += bytes([0x40, 0x20])
+    p.chunk(True, src=2 << 3)                                         # inf
+    p.out += bytes([0x80, 0x01])
+    p.chunk(True, index=3, args=struct.pack('<Q', 5))                 # a restart at index 5
+    # raw float32: the scale byte (unused for float32), then the samples
+    p.chunk(False, n=17, src=3)
+    p.out += bytes([128]) + struct.pack('<17f', *([0.5] * 14 + [float('nan'), float('inf'), -1e38]))
+    p.chunk(True, rate=3, args=bytes([2]))                            # rate NaN
+    p.chunk(False, src=2 << 5)                                        # unit 'furlong'
+    p.chunk(True, src=0x80)                                           # a long frame id
+    p.chunk(True, n=15)                                               # past the ring: refused
+    p.apple(0)                                                        # the "no apple" id
+    p.apple(4, mass=252)                                              # NaN mass
+    p.apple(255, when=255)                                            # any id, any stamp
+    p.out += struct.pack('<I', 0xFFFFFFFF) + struct.pack('<II', 4000000000, 999999999)
+    p.clock(0, struct.pack('<H', 30000))                              # poll 300 ms later
+    p.clock(1, bytes([0xC0]))                                         # the clock 0.64 s behind
+    p.clock(2, bytes([3]))                                            # refused on the wire
+    p.clock(3, struct.pack('<II', 12, 5))                             # the clock back to 12 s
+    put('lane', 'volts_faults', bytes(p.out))
+
+
 def wav_seeds():
     # head byte: channel (bits 0-1; 0 = not given), a rate flag (bit 2);
     # then the file: each WAV kind the reader accepts, a LIST before the
@@ -236,6 +335,7 @@ if __name__ == '__main__':
     cli_seeds()
     yaml_seeds()
     analyze_seeds()
+    lane_seeds()
     try:
         msgs_seeds()
         bag_seeds()

@@ -2,6 +2,7 @@
 #include "lane.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,22 +73,31 @@ typedef struct {
 /* The audio of a pending strike: ready, to be waited for, or not coming. */
 typedef enum { AF_WAIT = 0, AF_READY, AF_NONE } af_decision;
 
+/* The parts af_lane_create makes (kept by af_lane_reset), then the state:
+ * every field from `head` on is a memory of the streams, zeroed by
+ * lane_clear at create and at every reset, so that a field added below is
+ * reset without being named. */
 struct af_lane {
   const af_lane_config *cfg;
   const af_measured_config *mc;
   af_lane_strike_fn *fn;
   void *user;
-  af_stream force, audio;
+  af_stream force, audio; /* reset by af_stream_reset: their counts are state too */
   af_strike *detector;
   af_strike_config detector_cfg; /* what the detector was made with */
   af_measure *measure;
   af_fastpath *model;       /* the prediction's: a handle on the process's shared table */
   af_factor_learn *factor;  /* the modulus factor learned from the reliable strikes */
   double factor_configured; /* cfg->model.modulus_factor when last seen (reconfigure) */
+  af_hammer_health *health; /* the hammer's running statistics (hammer_health.h) */
+  af_onset *onset;          /* tap-only: the strikes found in the audio (onset.h) */
   af_pending *pending;
   double *pulses;
-  size_t head, count;
   float *audio_buf, *noise_buf;
+  float *lag_buf; /* audio searched for a strike's onset: lag_cap samples */
+  size_t lag_cap;
+  /* --- the state (lane_clear): nothing above this line --- */
+  size_t head, count;
   af_apple_slot apples[AF_LANE_APPLES];
   size_t apple_next;
   uint64_t apples_received; /* estimates so far: the slots' order */
@@ -97,17 +107,14 @@ struct af_lane {
   bool finished;
   af_lane_strike out; /* callback scratch */
   af_lane_stats stats;
-  af_hammer_health *health; /* the hammer's running statistics (hammer_health.h) */
-  af_onset *onset;          /* tap-only: the strikes found in the audio (onset.h) */
-  af_prediction refused;    /* the prediction of the latest estimate refused before the model */
+  af_prediction refused;                /* the prediction of the latest estimate refused before
+                                           the model */
   double transit_s[AF_LANE_TRANSITS];   /* strike minus stamp of the latest matched strikes [s] */
   double unmatched_s[AF_LANE_TRANSITS]; /* ... of the nearest estimate, unmatched strikes [s] */
   uint64_t transits, unmatched;         /* written so far into each */
   bool recent_unmatched[AF_LANE_TRANSITS]; /* the latest strikes: without an apple? */
   uint64_t recent;
-  af_audio_lag lag; /* the audio clock's lag behind the force's (audio_lag.h) */
-  float *lag_buf;   /* audio searched for a strike's onset: lag_cap samples */
-  size_t lag_cap;
+  af_audio_lag lag;      /* the audio clock's lag behind the force's (audio_lag.h) */
   int64_t last_start_ns; /* the previous strike's contact start, for the search's reach */
   double v0_ref[AF_LANE_BOUNCE_STRIKES]; /* v0 from the impulse of the latest clean strikes */
   size_t v0_count;
@@ -1108,6 +1115,10 @@ static void detect_onsets(af_lane *l, const af_chunk *c)
 {
   const int64_t t0_ns = af_stage_begin(l->mc->measure.stages);
   const size_t held = l->audio.last_held; /* an overlap's head: seen already */
+  /* Nothing new: an empty chunk's x may be NULL, and NULL + 0 is undefined
+   * (found by test/fuzz/fuzz_lane.c: a zero-length audio chunk, tap-only). */
+  if (c->n <= held)
+    return;
   (void)af_onset_write(l->onset, c->first_sample + held, c->x + held, c->n - held, on_onset, l);
   af_stage_end(l->mc->measure.stages, AF_STAGE_DETECT, t0_ns);
 }
@@ -1241,6 +1252,31 @@ af_status af_lane_reconfigured(af_lane *l, const char **what)
 
 /* --- life cycle and queries ------------------------------------------------------- */
 
+/* The state as a new lane has it: every field from `head` on zeroed (the
+ * queue empty, no apple, no strike reported), then the figures that start
+ * as NaN (none yet). The parts must exist (stats.health is the hammer's). */
+static void lane_clear(af_lane *l)
+{
+  memset(&l->head, 0, sizeof *l - offsetof(af_lane, head));
+  l->stats.health = *af_hammer_health_get_stats(l->health);
+  l->stats.transit_observed_s = l->stats.unmatched_lag_s = NAN;
+  af_audio_lag_reset(&l->lag);
+  l->stats.lag_median_s = l->stats.lag_mad_s = NAN;
+}
+
+void af_lane_reset(af_lane *l)
+{
+  af_stream_reset(&l->force);
+  af_stream_reset(&l->audio);
+  af_strike_reset(l->detector); /* a strike in progress is dropped, not emitted */
+  af_onset_reset(l->onset);     /* NULL-safe: tap-only lanes only */
+  af_hammer_health_reset(l->health);
+  af_factor_learn_reset(l->factor);
+  /* The factor learned starts again from the configured one (a reconfigure's, if any). */
+  af_factor_learn_set_applied(l->factor, l->factor_configured);
+  lane_clear(l);
+}
+
 af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void *user,
                          af_lane **out, const char **what)
 {
@@ -1277,8 +1313,6 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   *what = "the hammer health";
   if ((s = af_hammer_health_create(&cfg->health, &l->health)) != AF_OK)
     goto fail;
-  l->stats.health = *af_hammer_health_get_stats(l->health);
-  l->stats.transit_observed_s = l->stats.unmatched_lag_s = NAN;
   *what = "the learned modulus factor";
   if ((s = af_factor_learn_create(&cfg->factor_learn, &l->factor)) != AF_OK)
     goto fail;
@@ -1300,12 +1334,11 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
                             cfg->audio.sample_rate_hz) +
                (size_t)lag_blocks + 1;
   l->lag_buf = calloc(l->lag_cap, sizeof *l->lag_buf);
-  af_audio_lag_reset(&l->lag);
-  l->stats.lag_median_s = l->stats.lag_mad_s = NAN;
   if (!l->pending || !l->pulses || !l->audio_buf || !l->noise_buf || !l->lag_buf)
     goto fail;
   for (size_t k = 0; k < n; k++)
     l->pending[k].pulse = l->pulses + k * cap;
+  lane_clear(l);
   *out = l;
   return AF_OK;
 fail:

@@ -172,6 +172,14 @@ af_status af_lane_reconfigured(af_lane *l, const char **what);
  * what there is (a window past the end of the audio: AF_AUDIO_STREAM_ENDED). */
 void af_lane_finish(af_lane *l);
 
+/* Forgets every chunk, apple and strike: the lane as af_lane_create left it
+ * (streams and queue empty, counters and learned figures at their start,
+ * the detector in its warm-up; a strike still pending or in the detector is
+ * dropped, not reported), with the parts it made kept: for a tool or a test
+ * that runs many recordings through one lane. The parts a reconfigure made
+ * stay as it made them. No allocation. */
+void af_lane_reset(af_lane *l);
+
 /* Offline only: the detector's baseline and noise from the whole force
  * recording x[0..n) [N, or V with force_unit V: converted in a copy made
  * here] (af_strike_prime), before it is written from its

@@ -33,6 +33,16 @@ af_status af_stream_create(af_stream *s, const char *name, const af_stream_confi
   return af_ring_create(cfg->capacity_samples, &s->ring);
 }
 
+void af_stream_reset(af_stream *s)
+{
+  /* Everything but what create made (name, cfg, ring, scratch) is a count
+   * or a memory of the stream: zeroed as create leaves it. */
+  const af_stream keep = {.name = s->name, .cfg = s->cfg, .ring = s->ring, .si = s->si};
+  *s = keep;
+  s->clock_rate_hz = s->clock_last_step_s = NAN;
+  af_ring_reset(s->ring);
+}
+
 void af_stream_destroy(af_stream *s)
 {
   af_ring_destroy(s->ring);
@@ -107,7 +117,13 @@ static bool same_samples(const float *a, const float *b, size_t m)
 static bool repeats(af_stream *s, const af_chunk *c, size_t m)
 {
   const double half_sample_ns = 0.5e9 / s->cfg->sample_rate_hz;
-  if (fabs((double)(af_stream_time_ns(s, (double)c->first_sample) - c->stamp_ns)) > half_sample_ns)
+  const int64_t held_ns = af_stream_time_ns(s, (double)c->first_sample);
+  /* Of one sign the difference cannot overflow; of both it is large anyway
+   * (the chunk's stamp is the sender's: any 64-bit value). */
+  const double off_ns = (held_ns >= 0) == (c->stamp_ns >= 0)
+                            ? (double)(held_ns - c->stamp_ns)
+                            : (double)held_ns - (double)c->stamp_ns;
+  if (fabs(off_ns) > half_sample_ns)
     return false;
   float *held = s->si + AF_STREAM_BLOCK;
   for (size_t at = 0; at < m; at += AF_STREAM_BLOCK) {
@@ -393,12 +409,33 @@ static const af_stream_anchor *holding_index(const af_stream *s, uint64_t index)
   return anchor(s, k);
 }
 
+/* stamp_ns + offset_ns, saturated at +-AF_STREAM_TIME_MAX_NS: an index a
+ * sender put 2^63 samples away from its anchor is a time no clock reaches,
+ * and the difference of two such times must still be a number (the sum of
+ * two values within the bound cannot overflow). The integer stamp is added
+ * to the rounded offset, not in a double: 1.7e18 ns in a double is only
+ * good to 256 ns. */
+static int64_t time_plus(int64_t stamp_ns, double offset_ns)
+{
+  const double max = (double)AF_STREAM_TIME_MAX_NS;
+  const int64_t stamp = stamp_ns > AF_STREAM_TIME_MAX_NS    ? AF_STREAM_TIME_MAX_NS
+                        : stamp_ns < -AF_STREAM_TIME_MAX_NS ? -AF_STREAM_TIME_MAX_NS
+                                                            : stamp_ns;
+  const int64_t offset = offset_ns >= max    ? AF_STREAM_TIME_MAX_NS
+                         : offset_ns <= -max ? -AF_STREAM_TIME_MAX_NS
+                                             : (int64_t)llround(offset_ns); /* NaN: not here */
+  const int64_t t = stamp + offset;
+  return t > AF_STREAM_TIME_MAX_NS    ? AF_STREAM_TIME_MAX_NS
+         : t < -AF_STREAM_TIME_MAX_NS ? -AF_STREAM_TIME_MAX_NS
+                                      : t;
+}
+
 int64_t af_stream_time_of_ns(const af_stream *s, uint64_t index, double frac)
 {
   const af_stream_anchor *a = holding_index(s, index);
   /* The difference in integers first: small, whatever the index. */
   const double offset = (double)(int64_t)(index - a->first_sample) + frac;
-  return a->stamp_ns + (int64_t)llround(offset / s->cfg->sample_rate_hz * 1e9);
+  return time_plus(a->stamp_ns, offset / s->cfg->sample_rate_hz * 1e9);
 }
 
 bool af_stream_pos_at(const af_stream *s, int64_t t_ns, uint64_t *index, double *frac)
@@ -417,7 +454,7 @@ int64_t af_stream_time_ns(const af_stream *s, double index)
 {
   const af_stream_anchor *a = holding(s, index, 0, false);
   double offset_s = (index - (double)a->first_sample) / s->cfg->sample_rate_hz;
-  return a->stamp_ns + (int64_t)llround(offset_s * 1e9);
+  return time_plus(a->stamp_ns, offset_s * 1e9);
 }
 
 double af_stream_index_at(const af_stream *s, int64_t t_ns)

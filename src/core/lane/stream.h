@@ -139,6 +139,9 @@ size_t af_stream_to_si(double to_si, const float *x, size_t n, float *out);
  * conversion scratch. AF_ENOMEM. */
 af_status af_stream_create(af_stream *s, const char *name, const af_stream_config *cfg);
 void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
+/* Forgets every chunk: s as af_stream_create left it, its ring empty (the
+ * ring and the scratch kept). No allocation. */
+void af_stream_reset(af_stream *s);
 
 /* Checks one chunk (as sent: its unit, its rate, its indices) and buffers
  * it, times cfg->to_si, when good; a refused chunk is counted and described
@@ -153,6 +156,11 @@ void af_stream_destroy(af_stream *s); /* safe on a zeroed or finished stream */
  * at arrival. No allocation. */
 af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
                                 af_ring_write_info *info);
+
+/* af_stream_time_ns and af_stream_time_of_ns saturate at +- this [ns] (2^62 - 1, 146
+ * years; ROS times end at 2^32 s, 4.3e18 ns): an index far from every
+ * anchor saturates, and the difference of two such times never overflows. */
+#define AF_STREAM_TIME_MAX_NS ((int64_t)4611686018427387903)
 
 /* Time [ns] of the (fractional) sample index, through the newest chunk
  * starting at or before it (the oldest kept for earlier indices); meaningful
