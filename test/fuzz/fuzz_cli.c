@@ -45,7 +45,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   }
 
   af_model_params p;
-  if (!af_cli_parse_model(argc, argv, 1, &p, NULL, NULL))
+  if (!af_cli_parse_model("firmness_model", NULL, NULL, argc, argv, 1, &p))
     return 0;
   af_model_result r;
   af_status st = af_model_execute(model, &p, &r);
