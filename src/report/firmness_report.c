@@ -51,8 +51,7 @@
 #include "closeout.h"
 #include "combined.h"
 #include "json.h"
-#include "json_read.h"
-#include "merge_state.h"
+#include "merge_run.h"
 #include "options.h"
 #include "output.h"
 #include "report_bench.h"
@@ -69,8 +68,7 @@
 #define AF_EXIT_USAGE 2
 #define AF_ERR_MAX 512
 #define AF_SETS_MAX 64
-#define AF_JOBS_MAX 256                            /* worker threads at most */
-#define AF_MERGE_MAX_BYTES (1024L * 1024L * 1024L) /* a report --merge reads [bytes] */
+#define AF_JOBS_MAX 256 /* worker threads at most */
 
 typedef struct {
   char **bags; /* as given, folders expanded to their *.bag files (owned) */
@@ -589,153 +587,12 @@ static int write_bag(af_writer *w, size_t k, size_t n, af_bag_job *j)
   return code;
 }
 
-/* The combined section: its heading and the summary over all, as text, or
- * the "combined" member's value as JSON. */
-static void print_combined(af_combined *all, bool json)
-{
-  af_summary m;
-  af_combined_summary(all, &m);
-  if (json) {
-    af_output_json_combined(stdout, all->bags, all->failed, &all->totals, &m);
-    return;
-  }
-  printf("== combined: %zu bags", all->bags);
-  if (all->failed)
-    printf(" (%zu more not read)", all->failed);
-  printf(", %zu strikes ==\n", m.strikes);
-  af_output_text_summary(stdout, &all->totals, &m);
-}
-
 static void write_combined(af_writer *w)
 {
   fputs(w->a->json ? "\n  ],\n  \"combined\": " : "\n", stdout);
-  print_combined(&w->all, w->a->json);
+  af_report_print_combined(&w->all, w->a->json);
   if (w->a->json)
     fputs("\n}\n", stdout);
-}
-
-/* ---- --merge --------------------------------------------------------------------- */
-
-/* A report's bags: its own merge state (one bag), each element of "bags"
- * (several), a bag not read ({"bag", "error"}) counted as failed. */
-static int merge_document(af_combined *all, const af_json_doc *d, af_merge_settings *set, char *err,
-                          size_t len)
-{
-  size_t bags = af_json_member(d, 0, "bags");
-  size_t first = bags && d->nodes[bags].type == AF_JSON_ARRAY ? d->nodes[bags].child : 0;
-  if (bags == 0)
-    first = 0; /* one bag: the document itself */
-  else if (d->nodes[bags].type != AF_JSON_ARRAY) {
-    snprintf(err, len, "\"bags\" is %s, not an array", af_json_type_name(d->nodes[bags].type));
-    return AF_EXIT_USAGE;
-  } else if (first == 0)
-    return 0; /* a report of no bag */
-  for (size_t k = first;; k = d->nodes[k].next) {
-    size_t state = af_json_member(d, k, "merge_state");
-    if (state == 0 && af_json_member(d, k, "error") != 0)
-      all->failed++;
-    else if (state == 0) {
-      snprintf(err, len, "no \"merge_state\": not a report of firmness_report --json");
-      return AF_EXIT_USAGE;
-    } else {
-      af_status st = af_merge_state_add(all, d, state, set, all->bags == 0, err, len);
-      if (st != AF_OK)
-        return st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
-    }
-    if (bags == 0 || d->nodes[k].next == 0)
-      return 0;
-  }
-}
-
-/* path's bytes, whole, into *text (allocated, NUL-terminated): a regular
- * file of at most max_bytes, with no NUL byte (not a text report). */
-static af_status read_text(const char *path, long max_bytes, char **text, size_t *n, char *err,
-                           size_t len)
-{
-  struct stat st;
-  FILE *f = fopen(path, "rb");
-  *text = NULL;
-  if (!f || fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > max_bytes) {
-    snprintf(err, len, "%s: %s", path,
-             !f                     ? strerror(errno)
-             : !S_ISREG(st.st_mode) ? "not a regular file"
-                                    : "larger than a report may be (1 GiB)");
-    if (f)
-      fclose(f);
-    return AF_EINVAL;
-  }
-  *n = (size_t)st.st_size;
-  if (!(*text = malloc(*n + 1))) {
-    fclose(f);
-    snprintf(err, len, "%s: out of memory for %zu bytes", path, *n);
-    return AF_ENOMEM;
-  }
-  size_t got = fread(*text, 1, *n, f);
-  bool more = fgetc(f) != EOF, failed = ferror(f) != 0;
-  fclose(f);
-  (*text)[got] = '\0';
-  if (failed || got != *n || more || memchr(*text, '\0', got) != NULL) {
-    snprintf(err, len, "%s: %s", path,
-             failed              ? "cannot be read"
-             : got != *n || more ? "changed while read"
-                                 : "holds a NUL byte: not a JSON report");
-    free(*text);
-    *text = NULL;
-    return AF_EINVAL;
-  }
-  return AF_OK;
-}
-
-/* One report file, read whole (a regular file of at most AF_MERGE_MAX_BYTES). */
-static int merge_file(af_combined *all, const char *path, af_merge_settings *set)
-{
-  char err[AF_ERR_MAX];
-  size_t n = 0;
-  char *text = NULL;
-  af_status st = read_text(path, AF_MERGE_MAX_BYTES, &text, &n, err, sizeof err);
-  if (st != AF_OK) {
-    fprintf(stderr, "firmness_report: --merge %s\n", err);
-    return st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
-  }
-  af_json_doc d;
-  int code;
-  st = af_json_parse(text, n, &d, err, sizeof err);
-  if (st != AF_OK)
-    code = st == AF_ENOMEM ? 1 : AF_EXIT_USAGE;
-  else
-    code = merge_document(all, &d, set, err, sizeof err);
-  if (code)
-    fprintf(stderr, "firmness_report: --merge %s: %s\n", path, err);
-  af_json_free(&d);
-  free(text);
-  return code;
-}
-
-/* Every report in the order given, then the combined summary: what one run
- * over all their bags prints as its combined section. */
-static int run_merge(const af_report_args *a)
-{
-  static af_merge_settings set; /* large: not on the stack */
-  af_combined all;
-  af_combined_init(&all);
-  int code = 0;
-  for (size_t k = 0; k < a->n_bags && code == 0; k++)
-    code = merge_file(&all, a->bags[k], &set);
-  if (code == 0) {
-    if (a->json) {
-      fputs("{\n  \"merged\": [", stdout);
-      for (size_t k = 0; k < a->n_bags; k++) {
-        fputs(k ? ", " : "", stdout);
-        af_json_string(stdout, a->bags[k]);
-      }
-      fputs("],\n  \"combined\": ", stdout);
-    }
-    print_combined(&all, a->json);
-    if (a->json)
-      fputs("\n}\n", stdout);
-  }
-  af_combined_free(&all);
-  return code;
 }
 
 /* ---- the run --------------------------------------------------------------------- */
@@ -858,7 +715,7 @@ int main(int argc, char **argv)
     return 0;
   }
   if (a.merge) {
-    code = run_merge(&a);
+    code = af_report_merge(a.bags, a.n_bags, a.json);
     free_bags(&a);
     return code;
   }
