@@ -1,7 +1,8 @@
 /* response_fit.c — the Levenberg-Marquardt fits of the complex spectrum
- * (solver: response_lm.c): one residual loop for both models, the bare pole
- * pair of stage 2 and the truncated one- or two-pole model of the peak list;
- * stage 2 itself and its round with one neighbour.
+ * (solver: response_lm.c; the models' residual pass by variable projection:
+ * response_vp.c), the bare pole pair of stage 2 and the truncated one- or
+ * two-pole model of the peak list; stage 2 itself and its round with one
+ * neighbour.
  *
  * Stage 2: the DFT of a damped cosine is the pole pair (response_mode.c).
  * An onset at sample d > 0 adds nothing new: the sum from d is
@@ -29,9 +30,10 @@
  * background polynomial, narrow enough for a quadratic to follow it. */
 #define AF_RESPONSE_FIT_HALFWIDTHS 2.5
 #define AF_RESPONSE_FIT_MIN_HALF 4
-/* Levenberg-Marquardt stops (response_lm.c): steps below 1e-8 relative, or
- * gradient/cost changes at rounding level; at most 50 iterations (typically
- * 5-15; a stage-2 fit that reaches the cap is refused: status CAPPED). */
+/* Levenberg-Marquardt stops (response_lm.c): steps of f0 and sigma' below
+ * 1e-8 relative, or gradient/cost changes at rounding level; at most 50
+ * iterations (typically 3-15; a stage-2 fit that reaches the cap is refused:
+ * status CAPPED). */
 #define AF_RESPONSE_FIT_MAX_ITER 50
 #define AF_RESPONSE_FIT_XTOL 1e-8
 #define AF_RESPONSE_FIT_GTOL 1e-10
@@ -40,9 +42,9 @@
  * far below the noise's scatter, and it halves their iterations. */
 #define AF_RESPONSE_SPLIT_XTOL 1e-6
 /* Iteration cap of the truncated fits: from the stage-1 reading a one-pole
- * fit takes ~6 (0.5 % of them reach the cap), a refit ~6; a two-pole fit that
- * has not settled in 25 is judged where it stands (status CAPPED; 80 % of
- * the two-pole fits on a noisy comb, most then refused). */
+ * fit takes 3-4 (a misfit, well above the noise, up to ~20), a refit ~3; a
+ * two-pole fit that has not settled in 25 is judged where it stands (status
+ * CAPPED; most of the two-pole fits on a noisy comb, most then refused). */
 #define AF_RESPONSE_SPLIT_MAX_ITER 25
 
 /* Parameters of a pole and of the background that follows the poles. */
@@ -97,195 +99,37 @@ static void pole_at(const af_response *r, const double *p, size_t j, af_peak *ou
   out->peak_power = af_response_mode_peak_power(r, out->c, out->sigma_windowed);
 }
 
-/* ---- the models ------------------------------------------------------------ */
-
-/* acc plus the complex quadratic background at bin k from the parameters at
- * nb on, term by term. Its derivatives, x^q and i x^q, are not stored: the
- * normal equations take them from the abscissa (af_response_fit_eval). */
-AF_NUMERIC_KERNEL static double complex background(const af_response *r, const double *x, size_t nb,
-                                                   double k, double complex acc)
-{
-  double xb = (k - r->ctx.center) / r->ctx.half, xp = 1.0;
-  const double *b = x + nb;
-  for (size_t j = 0; j < 3; ++j, xp *= xb)
-    acc += xp * (b[2 * j] + I * b[2 * j + 1]);
-  return acc;
-}
-
-/* z = exp((-sigma' + i 2 pi f0 / N) dt) of the pole pair's parameters. */
-AF_NUMERIC_KERNEL static double complex pair_z(const af_response *r, const double *q)
-{
-  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz;
-  return cexp(-q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft);
-}
-
-/* The pole pair (stage 2, pole z) plus the background at bin k, and its
- * derivatives. u_k from the phase table; the reciprocals without the C
- * library's careful complex division (1 - z u is bounded away from 0 by the
- * decay). */
-AF_NUMERIC_KERNEL static double complex pole_pair_eval(const af_response *r, const double *x,
-                                                       double complex z, size_t bin,
-                                                       double complex *d)
-{
-  const af_fit_ctx *f = &r->ctx;
-  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, k = (double)bin;
-  double complex u = r->phase_u[bin];
-  double complex zc = conj(z);
-  double complex c = f->norm * (x[P_ARE] + I * x[P_AIM]);
-  double complex d1 = complex_recip(1.0 - z * u), d2 = complex_recip(1.0 - zc * u);
-  double complex bg = background(r, x, P_POLE, k, 0.0);
-  /* d/dz of c / (1 - z u) is c u / (1 - z u)^2 */
-  double complex gz = c * u * d1 * d1, gzc = conj(c) * u * d2 * d2;
-  d[P_BIN] = (gz * z - gzc * zc) * (I * 2.0 * AF_PI / n_fft);
-  d[P_SIGMA] = -(gz * z + gzc * zc) / fs;
-  d[P_ARE] = f->norm * (d1 + d2);
-  d[P_AIM] = f->norm * I * (d1 - d2);
-  return c * d1 + conj(c) * d2 + bg;
-}
-
-/* The powers of z each pole of a truncated fit needs, from the parameters. */
-typedef struct {
-  double complex z, zm, zm1; /* z, z^m, z^(m - 1) */
-  double complex c;          /* complex amplitude */
-} pole_k;
-
-AF_NUMERIC_KERNEL static void truncated_poles(const af_response *r, const double *x, pole_k *pc)
-{
-  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
-  for (size_t j = 0; j < r->split_poles; ++j) {
-    const double *q = x + P_POLE * j;
-    double complex lz = -q[P_SIGMA] / fs + I * 2.0 * AF_PI * q[P_BIN] / n_fft;
-    pc[j].z = cexp(lz);
-    pc[j].zm = cexp(m * lz);
-    pc[j].zm1 = pc[j].zm / pc[j].z;
-    pc[j].c = r->ctx.norm * (q[P_ARE] + I * q[P_AIM]);
-  }
-}
-
-/* T(a) = (1 - a^m) / (1 - a) = sum_{k < m} a^k and dT/da, from a^m and
- * a^(m - 1). */
-AF_NUMERIC_KERNEL static double complex trunc_sum(double complex a, double complex am,
-                                                  double complex am1, double m, double complex *d)
-{
-  double complex inv = complex_recip(1.0 - a);
-  double complex t = (1.0 - am) * inv;
-  *d = (t - m * am1) * inv;
-  return t;
-}
-
-/* The truncated model of r->split_poles poles (constants pc) plus the
- * background at bin k, and its derivatives. r->phase_um must hold bin k. */
-AF_NUMERIC_KERNEL static double complex truncated_eval(const af_response *r, const pole_k *pc,
-                                                       const double *x, size_t k, double complex *d)
-{
-  const af_fit_ctx *f = &r->ctx;
-  double n_fft = (double)r->cfg.fft_size, fs = r->cfg.sample_rate_hz, m = r->split_len;
-  double complex u = r->phase_u[k], um = r->phase_um[k], um1 = um * conj(u), model = 0.0;
-  for (size_t j = 0; j < r->split_poles; ++j) {
-    double complex a = pc[j].z * u, ac = conj(pc[j].z) * u, c = pc[j].c, dt, dtc;
-    double complex t = trunc_sum(a, pc[j].zm * um, pc[j].zm1 * um1, m, &dt);
-    double complex tc = trunc_sum(ac, conj(pc[j].zm) * um, conj(pc[j].zm1) * um1, m, &dtc);
-    double complex ga = c * dt * a, gac = conj(c) * dtc * ac;
-    double complex *dj = d + P_POLE * j;
-    model += c * t + conj(c) * tc;
-    dj[P_BIN] = (ga - gac) * (I * 2.0 * AF_PI / n_fft);
-    dj[P_SIGMA] = -(ga + gac) / fs;
-    dj[P_ARE] = f->norm * (t + tc);
-    dj[P_AIM] = f->norm * I * (t - tc);
-  }
-  return background(r, x, P_POLE * r->split_poles, (double)k, model);
-}
-
-/* ---- the one residual loop ---------------------------------------------------
- * The cost (residual sum of squares, real and imaginary parts) of the model
- * under way (r->split_poles: 0 the pole pair, else the truncated poles) over
- * the fitted bins and, when a is not NULL, its normal equations a = J^T J
- * (p x p, full) and g = J^T f, formed in the same pass without storing J:
- * a bin's real and imaginary rows together give Re(conj(d_j) d_l); the
- * background's derivatives are x^q and i x^q (x its abscissa), so its block
- * of J^T J is the moments sum x^(q + q') of the bins alone and its cross
- * terms with a pole are Re d_j x^q and Im d_j x^q. */
-AF_NUMERIC_KERNEL int af_response_fit_eval(const af_response *r, const double *x, double *cost,
-                                           double *a, double *g)
-{
-  double complex d[AF_RESPONSE_SPLIT_PARAMS];
-  pole_k pc[2];
-  double complex z = 0.0;
-  size_t poles = r->split_poles > 0 ? r->split_poles : 1;
-  size_t np = P_POLE * poles, p = np + P_BACKGROUND;
-  double moment[5] = {0.0}, sum = 0.0;
-  if (r->split_poles > 0)
-    truncated_poles(r, x, pc);
-  else
-    z = pair_z(r, x);
-  if (a != NULL) {
-    memset(a, 0, p * p * sizeof *a);
-    memset(g, 0, p * sizeof *g);
-  }
-  for (size_t i = 0; i < r->ctx.count; ++i) {
-    size_t k = r->ctx.first + i;
-    double complex model =
-        r->split_poles > 0 ? truncated_eval(r, pc, x, k, d) : pole_pair_eval(r, x, z, k, d);
-    double complex res = model - r->ctx.gain * r->ctx.data[k];
-    double fr = creal(res), fi = cimag(res);
-    sum += fr * fr + fi * fi; /* a value not finite makes the sum so: checked once, below */
-    if (a == NULL)
-      continue;
-    double xb = ((double)k - r->ctx.center) / r->ctx.half;
-    const double xp[3] = {1.0, xb, xb * xb};
-    for (size_t j = 0; j < np; ++j) {
-      double dr = creal(d[j]), di = cimag(d[j]);
-      double *row = a + j * p;
-      g[j] += dr * fr + di * fi;
-      for (size_t l = j; l < np; ++l)
-        row[l] += dr * creal(d[l]) + di * cimag(d[l]);
-      for (size_t q = 0; q < 3; ++q) {
-        row[np + 2 * q] += dr * xp[q];
-        row[np + 2 * q + 1] += di * xp[q];
-      }
-    }
-    for (size_t q = 0; q < 3; ++q) {
-      g[np + 2 * q] += xp[q] * fr;
-      g[np + 2 * q + 1] += xp[q] * fi;
-    }
-    double xq = 1.0;
-    for (size_t q = 0; q < 5; ++q, xq *= xb)
-      moment[q] += xq;
-  }
-  *cost = sum;
-  if (!isfinite(sum))
-    return 0;
-  if (a == NULL)
-    return 1;
-  /* a derivative not finite makes its diagonal term so (the background's
-   * are powers of a finite abscissa) */
-  for (size_t j = 0; j < np; ++j)
-    if (!isfinite(a[j * p + j]) || !isfinite(g[j]))
-      return 0;
-  for (size_t q = 0; q < 3; ++q)
-    for (size_t t = q; t < 3; ++t) {
-      a[(np + 2 * q) * p + np + 2 * t] = moment[q + t];
-      a[(np + 2 * q + 1) * p + np + 2 * t + 1] = moment[q + t];
-    }
-  for (size_t j = 0; j < p; ++j) /* the lower triangle from the upper */
-    for (size_t l = 0; l < j; ++l)
-      a[j * p + l] = a[l * p + j];
-  return 1;
-}
-
-/* Runs the fit of r->ctx (model r->split_poles, params 10 or 14) from x (the
- * solution into x), at most max_iter iterations (response_lm.c); its cost
- * (residual sum of squares) into *rss. Counted in r->fit_stats. */
+/* Runs the fit of r->ctx (model r->split_poles, params 10 or 14, laid out
+ * as above) from x (the solution into x), at most max_iter iterations; its
+ * cost (residual sum of squares) into *rss. The solver (response_lm.c) moves
+ * only each pole's f0 and sigma'; the amplitudes and the background are
+ * solved at every point (variable projection, response_vp.c), so x's
+ * starting amplitudes are not used. Counted in r->fit_stats. */
 static af_response_fit_status run(af_response *r, size_t params, double *x, size_t max_iter,
                                   double xtol, double *rss)
 {
-  size_t iter = 0;
-  af_response_fit_status st = af_response_lm(r, params, x, max_iter, xtol, AF_RESPONSE_FIT_GTOL,
-                                             AF_RESPONSE_FIT_FTOL, rss, &iter);
+  size_t poles = (params - P_BACKGROUND) / P_POLE, iter = 0;
+  double theta[4], beta[AF_RESPONSE_SPLIT_PARAMS];
+  for (size_t j = 0; j < poles; ++j) {
+    theta[2 * j] = x[P_POLE * j + P_BIN];
+    theta[2 * j + 1] = x[P_POLE * j + P_SIGMA];
+  }
+  af_response_fit_status st =
+      af_response_lm(r, 2 * poles, theta, beta, max_iter, xtol, AF_RESPONSE_FIT_GTOL,
+                     AF_RESPONSE_FIT_FTOL, rss, &iter);
   r->fit_stats.fits[st]++;
   r->fit_stats.iterations += iter;
   if (iter > r->fit_stats.max_iterations)
     r->fit_stats.max_iterations = iter;
+  if (st == AF_RESPONSE_FIT_FAILED)
+    return st;
+  for (size_t j = 0; j < poles; ++j) {
+    x[P_POLE * j + P_BIN] = theta[2 * j];
+    x[P_POLE * j + P_SIGMA] = theta[2 * j + 1];
+    x[P_POLE * j + P_ARE] = beta[2 * j];
+    x[P_POLE * j + P_AIM] = beta[2 * j + 1];
+  }
+  memcpy(x + P_POLE * poles, beta + 2 * poles, P_BACKGROUND * sizeof *x);
   return st;
 }
 

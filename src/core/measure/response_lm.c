@@ -1,8 +1,10 @@
 /* response_lm.c — the Levenberg-Marquardt solver of the response's complex
  * fits (stage 2, the peak list's truncated one- and two-pole fits), in place
- * of GSL's multifit_nlinear driver.
+ * of GSL's multifit_nlinear driver. It moves only the poles' f0 and sigma'
+ * (2 or 4 parameters): the linear ones are solved at every point by the
+ * residual pass (variable projection, response_vp.c).
  *
- * Why not GSL: the fits are small (10 or 14 parameters, 18-130 rows) and
+ * Why not GSL: the fits are small (2 or 4 parameters, 18-130 rows) and
  * many (a dozen per strike). GSL's trust-region driver spent most of their
  * time outside the model: the residuals and the Jacobian in two passes, the
  * Jacobian stored and zeroed, cblas_dsyrk and cblas_dgemv for J^T J and
@@ -26,7 +28,7 @@
  *  CAPPED     max_iter steps taken (the callers' caps: 50 and 25);
  *  STALLED    AF_RESPONSE_LM_MAX_REJECT steps in a row raised the cost;
  *  FAILED     the start's residuals or Jacobian are not finite.
- * No allocation: everything lives on the stack (p <= 14). */
+ * No allocation: everything lives on the stack (p <= 4). */
 #include "response_private.h"
 
 #include <math.h>
@@ -86,7 +88,8 @@ typedef struct {
   double a[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS]; /* J^T J, p x p */
   double g[AF_RESPONSE_SPLIT_PARAMS];                            /* J^T f */
   double cost;                                                   /* |f|^2 */
-  int ok;                                                        /* J finite there */
+  double beta[AF_RESPONSE_SPLIT_PARAMS]; /* the linear parameters solved there */
+  int ok;                                /* J finite there */
 } normal_eq;
 
 /* One step from x (its normal equations *at, scaling d2): 1 taken (x, the
@@ -99,12 +102,12 @@ typedef struct {
  * taken step (the most) then needs no second pass (one model
  * evaluation per iteration, not two). */
 AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const normal_eq *at,
-                                     normal_eq *next, const double *d2, double *mu, double *nu,
-                                     double *dx, double xtol)
+                                     const double *a, normal_eq *next, const double *d2, double *mu,
+                                     double *nu, double *dx, double xtol)
 {
   double m[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], minus_g[AF_RESPONSE_SPLIT_PARAMS];
   double xt[AF_RESPONSE_SPLIT_PARAMS];
-  const double *a = at->a, *g = at->g;
+  const double *g = at->g;
   for (size_t j = 0; j < p; ++j)
     minus_g[j] = -g[j];
   for (size_t tries = 0; tries < AF_RESPONSE_LM_MAX_REJECT; ++tries) {
@@ -112,7 +115,8 @@ AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const 
     for (size_t j = 0; j < p; ++j)
       m[j * p + j] += *mu * d2[j];
     if (cholesky_solve(m, p, minus_g, dx)) {
-      /* predicted reduction: cost - |f + J dx|^2 = -2 g.dx - dx^T J^T J dx */
+      /* predicted reduction by the quadratic model of the cost (a: its
+       * Hessian / 2, J^T J in the Gauss-Newton model): -2 g.dx - dx^T a dx */
       double pred = 0.0;
       for (size_t j = 0; j < p; ++j) {
         double adx = 0.0;
@@ -122,7 +126,7 @@ AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const 
         xt[j] = x[j] + dx[j];
       }
       /* 0 from the pass: the cost or a derivative not finite there */
-      next->ok = af_response_fit_eval(r, xt, &next->cost, next->a, next->g);
+      next->ok = af_response_fit_eval(r, xt, &next->cost, next->a, next->g, next->beta);
       double trial = isfinite(next->cost) ? next->cost : INFINITY;
       double rho = pred > 0.0 ? (at->cost - trial) / pred : -1.0;
       if (isfinite(trial) && rho > 0.0) {
@@ -141,18 +145,59 @@ AF_NUMERIC_KERNEL static int lm_step(af_response *r, size_t p, double *x, const 
   return 0;
 }
 
-AF_NUMERIC_KERNEL af_response_fit_status af_response_lm(af_response *r, size_t p, double *x,
-                                                        size_t max_iter, double xtol, double gtol,
-                                                        double ftol, double *cost_out,
-                                                        size_t *iterations)
+/* The structured secant update of s (p x p), the part of the cost's
+ * Hessian / 2 that J^T J lacks (sum f_i d2f_i: large when the fit leaves a
+ * residual well above the noise, where the Gauss-Newton steps converge only
+ * linearly), after the step dx changed the gradient J^T f by y, a_new the
+ * new J^T J: s dx = y - a_new dx (the secant condition; Dennis, Gay and
+ * Welsch's update with NL2SOL's sizing). Skipped when y . dx <= 0. */
+AF_NUMERIC_KERNEL static void secant_update(size_t p, double *s, const double *dx, const double *y,
+                                            const double *a_new)
 {
-  normal_eq eq[2], *at = &eq[0], *next = &eq[1];
+  double ysharp[AF_RESPONSE_SPLIT_PARAMS], sdx[AF_RESPONSE_SPLIT_PARAMS];
+  double ys = 0.0, sys = 0.0, dsd = 0.0, ws = 0.0;
+  for (size_t j = 0; j < p; ++j) {
+    double adx = 0.0, s_dx = 0.0;
+    for (size_t l = 0; l < p; ++l) {
+      adx += a_new[j * p + l] * dx[l];
+      s_dx += s[j * p + l] * dx[l];
+    }
+    ysharp[j] = y[j] - adx;
+    sdx[j] = s_dx;
+    ys += y[j] * dx[j];
+    sys += ysharp[j] * dx[j];
+    dsd += s_dx * dx[j];
+  }
+  if (!(ys > 0.0) || !isfinite(ys))
+    return;
+  double tau = fabs(dsd) > 0.0 ? fmin(1.0, fabs(sys) / fabs(dsd)) : 1.0;
+  for (size_t j = 0; j < p; ++j) {
+    ysharp[j] -= tau * sdx[j]; /* now w = y# - tau s dx */
+    ws += ysharp[j] * dx[j];
+  }
+  for (size_t j = 0; j < p; ++j)
+    for (size_t l = 0; l < p; ++l)
+      s[j * p + l] = tau * s[j * p + l] + (ysharp[j] * y[l] + y[j] * ysharp[l]) / ys -
+                     ws * y[j] * y[l] / (ys * ys);
+}
+
+/* The iterations from *at (formed at x); the last point's equations in *at.
+ * The secant term s joins J^T J only in the tail (the last step lowered the
+ * cost by less than AF_RESPONSE_LM_TAIL of it): there the fit is in the
+ * minimum's basin and s only speeds the approach; earlier, the Gauss-Newton
+ * path decides which minimum is reached, as before s existed. */
+#define AF_RESPONSE_LM_TAIL 1e-3
+AF_NUMERIC_KERNEL static af_response_fit_status
+lm_iterate(af_response *r, size_t p, double *x, normal_eq **at_io, normal_eq **next_io,
+           size_t max_iter, double xtol, double gtol, double ftol, size_t *iterations)
+{
   double d2[AF_RESPONSE_SPLIT_PARAMS], dx[AF_RESPONSE_SPLIT_PARAMS];
   double mu = AF_RESPONSE_LM_MU0, nu = 2.0;
-  *iterations = 0;
-  if (!af_response_fit_eval(r, x, &at->cost, at->a, at->g))
-    return AF_RESPONSE_FIT_FAILED;
-  *cost_out = at->cost;
+  double s[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS] = {0.0};
+  double h[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], y[AF_RESPONSE_SPLIT_PARAMS];
+  normal_eq *at = *at_io, *next = *next_io;
+  af_response_fit_status st = AF_RESPONSE_FIT_CAPPED;
+  int tail = 0;
   for (size_t j = 0; j < p; ++j)
     d2[j] = 0.0;
   while (*iterations < max_iter) {
@@ -162,23 +207,54 @@ AF_NUMERIC_KERNEL af_response_fit_status af_response_lm(af_response *r, size_t p
       d2[j] = fmax(d2[j], diag > 0.0 ? diag : (d2[j] > 0.0 ? d2[j] : 1.0));
       gmax = fmax(gmax, fabs(at->g[j]) * fmax(fabs(x[j]), 1.0));
     }
-    if (gmax <= gtol * fmax(at->cost, 1.0))
-      return AF_RESPONSE_FIT_CONVERGED;
+    if (gmax <= gtol * fmax(at->cost, 1.0)) {
+      st = AF_RESPONSE_FIT_CONVERGED;
+      break;
+    }
     double before = at->cost;
-    int step = lm_step(r, p, x, at, next, d2, &mu, &nu, dx, xtol);
-    if (step == 2)
-      return AF_RESPONSE_FIT_CONVERGED;
-    if (step == 0)
-      return AF_RESPONSE_FIT_STALLED;
+    for (size_t j = 0; j < p * p; ++j)
+      h[j] = tail ? at->a[j] + s[j] : at->a[j];
+    int step = lm_step(r, p, x, at, h, next, d2, &mu, &nu, dx, xtol);
+    if (step != 1) {
+      st = step == 2 ? AF_RESPONSE_FIT_CONVERGED : AF_RESPONSE_FIT_STALLED;
+      break;
+    }
     normal_eq *taken = next;
     next = at;
     at = taken;
     ++*iterations;
-    *cost_out = at->cost;
-    if (!at->ok)
-      return AF_RESPONSE_FIT_FAILED; /* a derivative not finite there */
-    if (step_small(x, dx, p, xtol) || before - at->cost <= ftol * before)
-      return AF_RESPONSE_FIT_CONVERGED;
+    for (size_t j = 0; j < p; ++j)
+      y[j] = at->g[j] - next->g[j];
+    secant_update(p, s, dx, y, at->a);
+    tail = before - at->cost < AF_RESPONSE_LM_TAIL * before;
+    if (!at->ok) {
+      st = AF_RESPONSE_FIT_FAILED; /* a derivative not finite there */
+      break;
+    }
+    if (step_small(x, dx, p, xtol) || before - at->cost <= ftol * before) {
+      st = AF_RESPONSE_FIT_CONVERGED;
+      break;
+    }
   }
-  return AF_RESPONSE_FIT_CAPPED;
+  *at_io = at;
+  *next_io = next;
+  return st;
+}
+
+AF_NUMERIC_KERNEL af_response_fit_status af_response_lm(af_response *r, size_t p, double *x,
+                                                        double *beta, size_t max_iter, double xtol,
+                                                        double gtol, double ftol, double *cost_out,
+                                                        size_t *iterations)
+{
+  normal_eq eq[2], *at = &eq[0], *next = &eq[1];
+  *iterations = 0;
+  if (!af_response_fit_eval(r, x, &at->cost, at->a, at->g, at->beta)) {
+    *cost_out = at->cost;
+    return AF_RESPONSE_FIT_FAILED;
+  }
+  af_response_fit_status st =
+      lm_iterate(r, p, x, &at, &next, max_iter, xtol, gtol, ftol, iterations);
+  *cost_out = at->cost;
+  memcpy(beta, at->beta, sizeof at->beta);
+  return st;
 }

@@ -12,10 +12,10 @@
  *  response_noise.c     the noise floor: the reference, the band's median;
  *  response_peaks.c     peak finding and the closed-form stage-1 reading;
  *  response_mode.c      a mode's spectrum through the window (exact sums);
- *  response_fit.c       the complex fits (one residual loop for every model,
- *                       forming the normal equations), stage 2 and the
- *                       neighbour's round;
+ *  response_fit.c       the complex fits' bins, seeds and poles, stage 2 and
+ *                       the neighbour's round;
  *  response_lm.c        their Levenberg-Marquardt solver (caps, statuses);
+ *  response_vp.c        the fits' residual pass by variable projection;
  *  response_split.c     the peak list's two-pole split and backfit;
  *  response_list.c      af_response_execute_peaks: the list of a band's modes.
  *
@@ -287,18 +287,24 @@ int af_response_split_pole(const af_response *r, const double *p, size_t j, af_p
 /* The mode at the local maximum k, refined as far as the data allow. */
 int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
 
-/* The cost (residual sum of squares) of the model under way at x and, when
- * a is not NULL, its normal equations a = J^T J (p x p, full, row-major)
- * and g = J^T f, p its parameters; 0 if a value is not finite. */
-int af_response_fit_eval(const af_response *r, const double *x, double *cost, double *a, double *g);
+/* ---- response_vp.c ---- */
+/* The cost (residual sum of squares) of the model under way at theta (each
+ * pole's f0 [bins] and sigma' [1/s]) with its linear parameters solved
+ * (into beta: each pole's scaled amplitude, then the background's 6) and,
+ * when a is not NULL, the projected normal equations a = J^T J (p x p, p =
+ * 2 per pole, full, row-major) and g = J^T f (variable projection); 0 if a
+ * value is not finite or the linear least squares is singular. */
+int af_response_fit_eval(const af_response *r, const double *theta, double *cost, double *a,
+                         double *g, double *beta);
 
 /* ---- response_lm.c ---- */
-/* Levenberg-Marquardt on r->ctx from x (params values; the solution into x),
- * at most max_iter steps; the final cost (residual sum of squares) into
- * *cost, the steps taken into *iterations; the status says how it ended. */
-af_response_fit_status af_response_lm(af_response *r, size_t params, double *x, size_t max_iter,
-                                      double xtol, double gtol, double ftol, double *cost,
-                                      size_t *iterations);
+/* Levenberg-Marquardt on r->ctx from x (params nonlinear values; the
+ * solution into x, the linear parameters solved there into beta), at most
+ * max_iter steps; the final cost (residual sum of squares) into *cost, the
+ * steps taken into *iterations; the status says how it ended. */
+af_response_fit_status af_response_lm(af_response *r, size_t params, double *x, double *beta,
+                                      size_t max_iter, double xtol, double gtol, double ftol,
+                                      double *cost, size_t *iterations);
 
 /* ---- response_split.c ---- */
 /* The truncated reading of the peak at k (one or two poles; 0 none). */
