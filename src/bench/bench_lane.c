@@ -64,7 +64,7 @@ static af_status run_streams(void)
 static af_status run_detector(void)
 {
   af_strike *d = NULL;
-  af_status s = af_strike_create(&cfg.measured.strike, &d);
+  af_status s = af_strike_create(&cfg.strikes.strike, &d);
   af_strike_destroy(d);
   return s;
 }
@@ -80,7 +80,7 @@ static af_status run_impact(void)
 static af_status run_fit(void)
 {
   af_fit *w = NULL;
-  af_status s = af_fit_create(&cfg.measured.measure.fit, &w);
+  af_status s = af_fit_create(&cfg.strikes.measure.fit, &w);
   af_fit_destroy(w);
   return s;
 }
@@ -88,7 +88,7 @@ static af_status run_fit(void)
 static af_status run_response(void)
 {
   af_response *r = NULL;
-  af_status s = af_response_create(&cfg.measured.measure.response, &r);
+  af_status s = af_response_create(&cfg.strikes.measure.response, &r);
   af_response_destroy(r);
   return s;
 }
@@ -96,7 +96,7 @@ static af_status run_response(void)
 static af_status run_measure(void)
 {
   af_measure *m = NULL;
-  af_status s = af_measure_create(&cfg.measured.measure, &m);
+  af_status s = af_measure_create(&cfg.strikes.measure, &m);
   if (s == AF_OK)
     s = af_measure_prepare(m, &cfg.model);
   af_measure_destroy(m);

@@ -268,7 +268,7 @@ static void make_chunk(const station *st, const strike *s, size_t n_strikes, boo
                        uint64_t first, af_synth_rng *g, double noise_rms, float *buf,
                        af_signal_chunk *c)
 {
-  const double hum_hz = st->lane.measured.measure.response.hum_hz; /* the site's mains [Hz] */
+  const double hum_hz = st->lane.strikes.measure.response.hum_hz; /* the site's mains [Hz] */
   const double rate = force ? st->lane.force.sample_rate_hz : st->lane.audio.sample_rate_hz;
   const double two_pi = 2.0 * M_PI;
   memset(c, 0, sizeof *c);
@@ -286,7 +286,7 @@ static void make_chunk(const station *st, const strike *s, size_t n_strikes, boo
   for (size_t j = 0; j < n_strikes && n_near < 16; j++)
     if (s[j].t_s < t_last && s[j].t_s + (force ? s[j].pulse.res.contact_time_s : 0.5) > t_first)
       near[n_near++] = j;
-  const double full_scale_n = st->lane.measured.strike.full_scale_n;
+  const double full_scale_n = st->lane.strikes.strike.full_scale_n;
   for (size_t k = 0; k < CHUNK; k++) {
     double t = (double)(first + k) / rate;
     double x = noise_rms * af_synth_gauss(g);
@@ -375,7 +375,7 @@ static int source_next(strike_source *src, strike *sk)
   if (rc != AF_OK)
     return fail("impact model", rc);
   sk->force_gain =
-      sk->clipped ? CLIP_OVERDRIVE * c->measured.strike.full_scale_n / sk->pulse.res.peak_force_n
+      sk->clipped ? CLIP_OVERDRIVE * c->strikes.strike.full_scale_n / sk->pulse.res.peak_force_n
                   : 1.0;
   return 0;
 }

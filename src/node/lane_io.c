@@ -425,7 +425,7 @@ void af_lane_io_diag_detector(const af_lane_io *m, af_diag_status *d)
   af_diag_add(d, "strikes unreliable", "%llu (measurement errors %llu)",
               (unsigned long long)s->unreliable, (unsigned long long)s->measure_errors);
   af_diag_add(d, "strike queue", "%zu pending of %zu", af_lane_pending(m->lane),
-              m->cfg->lane.measured.pending_size);
+              m->cfg->lane.strikes.pending_size);
   af_diag_add(d, "strike queue overflows", "%llu", (unsigned long long)s->overflows);
   if (s->pulse_cut > 0)
     af_diag_add(d, "strike pulses cut", "%llu (longer than the pending slot)",
@@ -460,7 +460,7 @@ void af_lane_io_diag_attribution(const af_lane_io *m, af_diag_status *d)
               "median %.4f (MAD %.4f over %zu strikes), applied %.4f (audio_lag_learn %s); sound "
               "onset not found in %llu strikes; %llu moves%s%s",
               s->lag_median_s, s->lag_mad_s, s->lag_strikes, s->lag_applied_s,
-              m->cfg->lane.measured.audio_lag_learn ? "true" : "false",
+              m->cfg->lane.strikes.audio_lag_learn ? "true" : "false",
               (unsigned long long)s->lag_no_onset, (unsigned long long)s->lag_moves,
               s->lag_warning[0] ? ": " : "", s->lag_warning);
   af_diag_add(d, "strikes judged across a clock fault", "%llu",
@@ -473,12 +473,12 @@ void af_lane_io_diag_attribution(const af_lane_io *m, af_diag_status *d)
     af_diag_add(d, "apple transit [s]",
                 "%.4f observed (median of the latest %zu matched strikes; "
                 "apple_transit_s %g +- %g)",
-                s->transit_observed_s, s->transit_strikes, m->cfg->lane.measured.apple_transit_s,
-                m->cfg->lane.measured.apple_transit_tolerance_s);
+                s->transit_observed_s, s->transit_strikes, m->cfg->lane.strikes.apple_transit_s,
+                m->cfg->lane.strikes.apple_transit_tolerance_s);
   else
     af_diag_add(d, "apple transit [s]", "none observed yet (apple_transit_s %g +- %g)",
-                m->cfg->lane.measured.apple_transit_s,
-                m->cfg->lane.measured.apple_transit_tolerance_s);
+                m->cfg->lane.strikes.apple_transit_s,
+                m->cfg->lane.strikes.apple_transit_tolerance_s);
   af_diag_add(d, "apple transit check", "%s",
               s->transit_warning[0] != '\0' ? s->transit_warning : "OK");
   af_diag_add(d, "apple estimates that never came",

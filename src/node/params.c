@@ -101,7 +101,7 @@ static af_status read_urdf(af_ros *r, af_node_config *c, char *uerr, size_t ulen
   char ns[AF_SOURCE_TEXT_MAX / 2];
   node_namespace(r, ns, sizeof ns);
   af_text(c->urdf_source, sizeof c->urdf_source, "parameter %srobot_description", ns);
-  size_t size = af_ros_param_string_size(r, "robot_description", false);
+  size_t size = af_ros_param_string_bytes(r, "robot_description", false);
   if (size == 0) {
     af_text(uerr, ulen, "not set (and ~urdf_file is empty)");
     return AF_ENODATA;

@@ -35,7 +35,7 @@ void af_snapshot_publish(af_snapshot *p, const af_settings *s)
 static char *urdf_text(af_ros *ros, const af_node_config *cfg)
 {
   if (cfg->urdf_file[0] == '\0') {
-    size_t size = af_ros_param_string_size(ros, "robot_description", false);
+    size_t size = af_ros_param_string_bytes(ros, "robot_description", false);
     char *xml = size > 0 && size <= AF_URDF_TEXT_MAX_BYTES ? malloc(size) : NULL;
     if (xml && af_ros_param_string_global(ros, "robot_description", xml, size) != AF_OK) {
       free(xml);

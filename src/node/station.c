@@ -117,7 +117,7 @@ static af_status subscribe(af_station *st)
   af_ros_sub *sub; /* owned by the af_ros */
   af_status s = AF_OK;
   guard_wire(st);
-  if (!st->cfg->lane.measured.tap_only) { /* tap-only: a microphone, no force transducer */
+  if (!st->cfg->lane.strikes.tap_only) { /* tap-only: a microphone, no force transducer */
     s = af_ros_subscribe(st->ros, "force", AF_MSG_SIGNAL_CHUNK, AF_CHUNK_QUEUE, on_force, st, &sub);
     if (s == AF_OK)
       s = af_ros_sub_limit(sub, ring_samples(st, true), on_force_refused);

@@ -40,7 +40,7 @@ static bool absent_check(af_station *st, const af_stream *force, const af_stream
                          int64_t now_ns)
 {
   const af_node_config *c = st->cfg;
-  if (!c->lane.measured.tap_only)
+  if (!c->lane.strikes.tap_only)
     return af_absent_warning(force, audio, st->clock_start_ns, now_ns, c->lane.stream_absent_warn_s,
                              st->absent, sizeof st->absent);
   st->absent[0] = '\0';
@@ -252,7 +252,7 @@ static void diag_collect(af_station *st)
   af_lane_io_warnings_get(st->measured, &w);
 
   /* the streams */
-  if (c->lane.measured.tap_only)
+  if (c->lane.strikes.tap_only)
     set_comp(st, AF_COMP_FORCE, AF_DIAG_OK,
              "not used (tap_only: strikes from the audio onset, no force subscription)");
   else
@@ -289,9 +289,9 @@ static void diag_collect(af_station *st)
     set_comp(st, AF_COMP_DETECTOR, AF_DIAG_WARN, w.detector);
   else
     set_comp(st, AF_COMP_DETECTOR, AF_DIAG_OK,
-             c->lane.measured.tap_only ? "ok (tap_only: the audio onset)"
-             : tr.armed                ? "ok (armed)"
-                                       : "ok (learning the baseline or waiting for quiet)");
+             c->lane.strikes.tap_only ? "ok (tap_only: the audio onset)"
+             : tr.armed               ? "ok (armed)"
+                                      : "ok (learning the baseline or waiting for quiet)");
 
   /* attribution and clocks: a clock fault first (the stamps everything is matched by) */
   const unsigned long long clock_faults =
@@ -361,7 +361,7 @@ static void task_node(af_diag_status *d, void *user)
   task_station(user, d, AF_COMP_STATION);
   af_diag_add(d, "cultivar", "%s", c->lane.cultivar);
   af_diag_add(d, "input mode", "%s",
-              c->lane.measured.tap_only
+              c->lane.strikes.tap_only
                   ? "tap_only: strikes from the audio onset, no force subscription"
                   : "force and audio");
   af_diag_add(d, "URDF source", "%s", c->urdf_source);
@@ -447,7 +447,7 @@ static void task_attribution(af_diag_status *d, void *user)
 {
   af_station *st = task_station(user, d, AF_COMP_ATTRIBUTION);
   const af_lane *lane = af_lane_io_lane(st->measured);
-  if (!st->cfg->lane.measured.tap_only)
+  if (!st->cfg->lane.strikes.tap_only)
     diag_clock(d, af_lane_force_stream(lane));
   diag_clock(d, af_lane_audio_stream(lane));
   af_lane_io_diag_attribution(st->measured, d);

@@ -68,8 +68,8 @@ af_status af_strike_view_create(const af_lane_config *cfg, af_strike_view **out)
   if (!v)
     return AF_ENOMEM;
   v->cfg = cfg;
-  v->cap_pulse = cfg->measured.pulse_capacity_samples + 1;
-  v->cap_audio = cfg->measured.audio_window_samples + 1;
+  v->cap_pulse = cfg->strikes.pulse_capacity_samples + 1;
+  v->cap_audio = cfg->strikes.audio_window_samples + 1;
   v->cap_model = AF_VIEW_OVERSAMPLE * 4 * v->cap_pulse;
   v->fft_size = pow2_at_least(4 * v->cap_audio);
   v->pulse_n = calloc(v->cap_pulse, sizeof *v->pulse_n);
@@ -122,10 +122,10 @@ void af_strike_view_destroy(af_strike_view *v)
 static size_t capture_audio(af_strike_view *v, const af_lane_strike *s, const af_lane *lane)
 {
   const af_stream *a = af_lane_audio_stream(lane);
-  const size_t n = v->cfg->measured.audio_window_samples;
+  const size_t n = v->cfg->strikes.audio_window_samples;
   if (!s->with_audio || !a->seen || n == 0 || n > v->cap_audio)
     return 0;
-  const int64_t delay_ns = (int64_t)llround(v->cfg->measured.measure.audio_delay_s * 1e9);
+  const int64_t delay_ns = (int64_t)llround(v->cfg->strikes.measure.audio_delay_s * 1e9);
   const double first = af_stream_index_at(a, s->start_ns + delay_ns);
   if (first < -0.5)
     return 0;
@@ -177,7 +177,7 @@ static void prepare_model(af_strike_view *v)
   af_impact_params p = v->params.impact;
   p.fruit_modulus_pa = r->fitted_modulus_pa;
   p.restitution = r->fitted_restitution;
-  p.damping = v->cfg->measured.measure.fit.damping;
+  p.damping = v->cfg->strikes.measure.fit.damping;
   af_impact_result res;
   double dt = v->dt_s / AF_VIEW_OVERSAMPLE;
   if (af_impact_execute(v->impact, &p, dt, v->model_n, NULL, v->cap_model - 1, &res) != AF_OK)

@@ -474,7 +474,7 @@ static bool start_workers(af_run *r, af_worker *w, int n)
     if (!(w[k].cfg = malloc(sizeof *w[k].cfg)))
       return false;
     *w[k].cfg = *r->cfg;
-    w[k].cfg->measured.measure.stages = r->bench ? &w[k].bench.hook : NULL;
+    w[k].cfg->strikes.measure.stages = r->bench ? &w[k].bench.hook : NULL;
   }
   for (int k = 0; k < n; k++) {
     if (pthread_create(&w[k].thread, NULL, work, &w[k]) != 0)

@@ -273,7 +273,7 @@ static int feed(af_session_ctx *c, af_bag_reader *bag, char topics[AF_TOPICS][AF
     }
     own[which]++;
     s->messages++;
-    if (which == AF_TOPIC_FORCE && c->o->cfg->measured.tap_only)
+    if (which == AF_TOPIC_FORCE && c->o->cfg->strikes.tap_only)
       continue; /* tap-only: the strikes are the audio's onsets (said once by open) */
     if (which == AF_TOPIC_APPLE) {
       af_apple a = apple_of(&m.msg.apple);
@@ -363,7 +363,7 @@ static af_bag_reader *open(const af_session_options *o,
                    : o->cfg->audio.max_chunk_samples;
   af_bag_reader_limit(bag, cap);
   *total = 0;
-  const bool tap_only = o->cfg->measured.tap_only;
+  const bool tap_only = o->cfg->strikes.tap_only;
   for (int k = 0; k < AF_TOPICS; k++) {
     size_t n = af_bag_topic_count(bag, topics[k]);
     if (k == AF_TOPIC_FORCE && tap_only) { /* a microphone-only rig: none expected */
@@ -403,9 +403,9 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
   const char *what = "the lane";
   setup(o, true);
   af_bag_reader *bag = open(o, topics, &total, err, len);
-  const int64_t t0_ns = af_stage_begin(o->cfg->measured.measure.stages);
+  const int64_t t0_ns = af_stage_begin(o->cfg->strikes.measure.stages);
   af_status st = bag ? af_lane_create(o->cfg, on_lane_strike, &c, &c.lane, &what) : AF_EINVAL;
-  af_stage_end(o->cfg->measured.measure.stages, AF_STAGE_SETUP, t0_ns);
+  af_stage_end(o->cfg->strikes.measure.stages, AF_STAGE_SETUP, t0_ns);
   if (bag && st != AF_OK) {
     af_text(err, len, "could not create %s: %s", what, af_strerror(st));
     af_bag_close_read(bag);
@@ -425,9 +425,9 @@ int af_session_execute(const af_session_options *o, af_session *out, char *err, 
   af_lane_destroy(c.lane);
   af_bag_close_read(bag);
   setup(o, false);
-  const af_session_stream *timed = o->cfg->measured.tap_only ? &out->audio : &out->force;
+  const af_session_stream *timed = o->cfg->strikes.tap_only ? &out->audio : &out->force;
   out->recorded_s = (double)(timed->end_ns - timed->first_ns) * 1e-9;
-  out->tap_only = o->cfg->measured.tap_only;
+  out->tap_only = o->cfg->strikes.tap_only;
   out->wall_s = clock_s(CLOCK_MONOTONIC) - wall0;
   out->cpu_s = clock_s(CLOCK_THREAD_CPUTIME_ID) - cpu0;
   return code;

@@ -101,7 +101,7 @@ af_status af_ros_param_string(const af_ros *r, const char *name, char *buf, size
 /* A global or relative parameter (not private), e.g. "robot_description". */
 af_status af_ros_param_string_global(const af_ros *r, const char *name, char *buf, size_t len);
 /* The length + 1 a string parameter needs (0 when absent), to size buffers at start-up. */
-size_t af_ros_param_string_size(const af_ros *r, const char *name, bool private_ns);
+size_t af_ros_param_string_bytes(const af_ros *r, const char *name, bool private_ns);
 
 /* Publishers and subscribers on relative or absolute topics. queue >= 1. */
 af_status af_ros_advertise(af_ros *r, const char *topic, af_msg_type type, unsigned queue,

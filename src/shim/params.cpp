@@ -171,12 +171,12 @@ af_status af_ros_param_string_global(const af_ros *r, const char *name, char *bu
   }
 }
 
-size_t af_ros_param_string_size(const af_ros *r, const char *name, bool private_ns)
+size_t af_ros_param_string_bytes(const af_ros *r, const char *name, bool private_ns)
 {
   try {
     XmlRpc::XmlRpcValue v;
     std::string full;
-    if (fetch(r, private_ns, "af_ros_param_string_size", name, v, full) != AF_OK)
+    if (fetch(r, private_ns, "af_ros_param_string_bytes", name, v, full) != AF_OK)
       return 0;
     if (v.getType() != XmlRpc::XmlRpcValue::TypeString) {
       mismatch(r, full, v, "a string");

@@ -548,9 +548,9 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   const char *what = "";
   /* At most one strike per post_s of force (the detector waits that long
    * after each): the rows are sized once. */
-  c.cap_rows = cfg->measured.tap_only /* tap-only: one onset per hold-off */
-                   ? audio->n / (size_t)ceil(cfg->measured.onset.holdoff_s * a->rate_audio_hz) + 1
-                   : force->n / (size_t)ceil(cfg->measured.strike.post_s * a->rate_force_hz) + 1;
+  c.cap_rows = cfg->strikes.tap_only /* tap-only: one onset per hold-off */
+                   ? audio->n / (size_t)ceil(cfg->strikes.onset.holdoff_s * a->rate_audio_hz) + 1
+                   : force->n / (size_t)ceil(cfg->strikes.strike.post_s * a->rate_force_hz) + 1;
   if (c.cap_rows > AF_ANALYZE_MAX_STRIKES)
     c.cap_rows = AF_ANALYZE_MAX_STRIKES;
   c.rows = calloc(c.cap_rows, sizeof *c.rows);
@@ -573,7 +573,7 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
   } else {
     /* A triggered capture has its strike within a millisecond of its start:
      * the baseline and noise come from the whole capture's quiet parts. */
-    if (cfg->measured.tap_only)
+    if (cfg->strikes.tap_only)
       (void)af_lane_prime_audio(lane, audio->x, audio->n);
     else
       (void)af_lane_prime_force(lane, force->x, force->n);
@@ -582,16 +582,16 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
     double cpu_s = cpu_time_s() - t0;
     char why[AF_ERR_MAX] = "";
     if (c.n_rows == 0) {
-      if (cfg->measured.tap_only)
+      if (cfg->strikes.tap_only)
         snprintf(why, sizeof why,
                  "tap-only: no audio onset %g dB above the noise floor (onset_snr_db) in %s",
-                 cfg->measured.onset.snr_db, a->audio_path);
+                 cfg->strikes.onset.snr_db, a->audio_path);
       else if (force->n == 0)
         snprintf(why, sizeof why, "the force recording %s is empty", a->force_path);
       else
         why_no_strike(a, lane, force, why, sizeof why);
       fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
-    } else if (!cfg->measured.tap_only)
+    } else if (!cfg->strikes.tap_only)
       warn_inverted(a, &c, force);
     warn_refused(af_lane_force_stream(lane), a->force_path);
     warn_refused(af_lane_audio_stream(lane), a->audio_path);
@@ -601,7 +601,7 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
               c.dropped, c.cap_rows);
       code = 1;
     }
-    if (a->bench && cfg->measured.tap_only)
+    if (a->bench && cfg->strikes.tap_only)
       print_bench(a->rate_audio_hz, &c, cpu_s, audio->n);
     else if (a->bench)
       print_bench(a->rate_force_hz, &c, cpu_s, force->n);
@@ -661,7 +661,7 @@ static void analyze_help(void)
 static int analyze_inputs(const af_analyze_args *a, const af_lane_config *cfg,
                           const af_recording *force, const af_recording *audio)
 {
-  if (cfg->measured.tap_only) {
+  if (cfg->strikes.tap_only) {
     if (a->force_path != NULL)
       return print_usage("--force %s: tap_only is set (a microphone-only rig): the force is not "
                          "read; drop --force or set tap_only false",
@@ -715,14 +715,14 @@ int af_analyze_main(int argc, char **argv, int first)
   /* One apple for the whole recording: it must match every strike in it. */
   double span_s = fmax(force.n > 0 ? (double)force.n / a.rate_force_hz : 0.0,
                        (double)audio.n / a.rate_audio_hz);
-  cfg.measured.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
-  cfg.measured.single_apple = true;
+  cfg.strikes.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
+  cfg.strikes.single_apple = true;
   /* An integer WAV's step bounds the onset detector's floor (onset.h), and
    * the strike detector's: one step after exact zeros is no strike. */
-  cfg.measured.onset.quantum = audio.quantum;
+  cfg.strikes.onset.quantum = audio.quantum;
   if (force.quantum > 0.0 &&
-      cfg.measured.strike.threshold_min_n < AF_ANALYZE_FORCE_STEPS * force.quantum)
-    cfg.measured.strike.threshold_min_n = AF_ANALYZE_FORCE_STEPS * force.quantum;
+      cfg.strikes.strike.threshold_min_n < AF_ANALYZE_FORCE_STEPS * force.quantum)
+    cfg.strikes.strike.threshold_min_n = AF_ANALYZE_FORCE_STEPS * force.quantum;
   code = analyze_run(&a, &cfg, &force, &audio);
   af_recording_destroy(&force);
   af_recording_destroy(&audio);

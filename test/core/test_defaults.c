@@ -224,7 +224,7 @@ static void test_rows_through_derive(void)
   AF_CHECK_STATUS(derive_yaml("# nothing\n", &c, err), AF_OK);
   if (err[0])
     fprintf(stderr, "%s\n", err);
-  const af_response_config *r = &c.measured.measure.response;
+  const af_response_config *r = &c.strikes.measure.response;
   AF_CHECK(r->hum_hz == 50.0 && r->hum_harmonics == 3);
   AF_CHECK(r->noise_band_lo_hz == 4000.0 && r->noise_band_hi_hz == 16000.0);
   /* 0.04 s at 48 kHz = 1920 samples, the longer window; 4 x 1920 = 7680 -> 8192 */

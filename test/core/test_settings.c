@@ -302,24 +302,24 @@ static void test_derive_shipped(void)
   AF_CHECK(c.force.units[1][0] == '\0' && c.audio.units[1][0] == '\0');
   /* 40 ms and 20 ms at 48 kHz: 1920 and 960 samples; the longer zero-padded
    * 4 times to a power of two: 4 x 1920 = 7680 -> 8192. */
-  AF_CHECK(c.measured.audio_window_samples == 1920 && c.measured.noise_window_samples == 960);
-  AF_CHECK(c.measured.measure.response.window_samples == 1920);
-  AF_CHECK(c.measured.measure.response.fft_size == 8192);
-  AF_CHECK(c.measured.measure.response.sample_rate_hz == 48000.0);
-  AF_CHECK(c.measured.measure.response.snr_threshold_db == 15.0);
-  AF_CHECK(c.measured.pending_size == 8);
-  AF_CHECK(c.measured.apple_stale_after_s == 1.0 && c.measured.apple_wait_s == 0.5);
+  AF_CHECK(c.strikes.audio_window_samples == 1920 && c.strikes.noise_window_samples == 960);
+  AF_CHECK(c.strikes.measure.response.window_samples == 1920);
+  AF_CHECK(c.strikes.measure.response.fft_size == 8192);
+  AF_CHECK(c.strikes.measure.response.sample_rate_hz == 48000.0);
+  AF_CHECK(c.strikes.measure.response.snr_threshold_db == 15.0);
+  AF_CHECK(c.strikes.pending_size == 8);
+  AF_CHECK(c.strikes.apple_stale_after_s == 1.0 && c.strikes.apple_wait_s == 0.5);
   /* Event span at 50 kHz: pre-trigger 2 ms (100) + 2 contacts of 10 ms (2 x
    * 500) + gap 5 ms (250) + post 5 ms (250) + 4 = 1604 samples. */
-  AF_CHECK(c.measured.pulse_capacity_samples == 1604);
-  AF_CHECK(c.measured.strike.sample_rate_hz == 50000.0);
-  AF_CHECK(c.measured.strike.pre_trigger_s == 0.002 && c.measured.strike.post_s == 0.005);
-  AF_CHECK(c.measured.strike.rise_fit_level == 0.7 && c.measured.strike.fall_fit_level == 0.5);
+  AF_CHECK(c.strikes.pulse_capacity_samples == 1604);
+  AF_CHECK(c.strikes.strike.sample_rate_hz == 50000.0);
+  AF_CHECK(c.strikes.strike.pre_trigger_s == 0.002 && c.strikes.strike.post_s == 0.005);
+  AF_CHECK(c.strikes.strike.rise_fit_level == 0.7 && c.strikes.strike.fall_fit_level == 0.5);
   /* The fit holds the longest contact: 10 ms at 50 kHz + 2 = 502 samples. */
-  AF_CHECK(c.measured.measure.fit.max_samples == 502);
-  AF_CHECK(!c.measured.measure.fit.fit_velocity);
-  AF_CHECK(c.measured.measure.fit.damping == AF_DAMPING_EXACT);
-  AF_CHECK(c.measured.measure.audio_window_s == 0.04 && c.measured.measure.range_margin == 0.15);
+  AF_CHECK(c.strikes.measure.fit.max_samples == 502);
+  AF_CHECK(!c.strikes.measure.fit.fit_velocity);
+  AF_CHECK(c.strikes.measure.fit.damping == AF_DAMPING_EXACT);
+  AF_CHECK(c.strikes.measure.audio_window_s == 0.04 && c.strikes.measure.range_margin == 0.15);
   /* The model template. */
   const af_impact_params *i = &c.model.impact;
   AF_CHECK(i->hammer_mass_kg == 0.010 && i->hammer_radius_m == 0.0 && i->velocity_m_s == 1.4);
@@ -347,21 +347,21 @@ static void test_derive_shipped(void)
    * a 50 ms noise reference is the longer: 2205 -> 8820 -> 16384. */
   AF_CHECK_STATUS(af_settings_set_arg(&s, "audio_sample_rate_hz=44100", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
-  AF_CHECK(c.measured.audio_window_samples == 1764 && c.measured.measure.response.fft_size == 8192);
+  AF_CHECK(c.strikes.audio_window_samples == 1764 && c.strikes.measure.response.fft_size == 8192);
   AF_CHECK_STATUS(af_settings_set_arg(&s, "measure_noise_window_s=0.05", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
-  AF_CHECK(c.measured.noise_window_samples == 2205);
-  AF_CHECK(c.measured.measure.response.window_samples == 2205);
-  AF_CHECK(c.measured.measure.response.fft_size == 16384);
+  AF_CHECK(c.strikes.noise_window_samples == 2205);
+  AF_CHECK(c.strikes.measure.response.window_samples == 2205);
+  AF_CHECK(c.strikes.measure.response.fft_size == 16384);
   /* round(), not floor: 0.0333 s x 44.1 kHz = 1468.53 -> 1469. */
   AF_CHECK_STATUS(af_settings_set_arg(&s, "measure_audio_window_s=0.0333", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
-  AF_CHECK(c.measured.audio_window_samples == 1469);
+  AF_CHECK(c.strikes.audio_window_samples == 1469);
   /* The fit's own 256 stays when the longest contact needs fewer: 1 ms at
    * 50 kHz + 2 = 52 (the detector then needs a shorter gap and post). */
   AF_CHECK_STATUS(af_settings_set_arg(&s, "strike_max_contact_s=0.001", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
-  AF_CHECK(c.measured.measure.fit.max_samples == 256);
+  AF_CHECK(c.strikes.measure.fit.max_samples == 256);
   /* Choices and whole numbers reach the model. */
   AF_CHECK_STATUS(af_settings_set_arg(&s, "damping_law=hu-guo", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_settings_set_arg(&s, "lobe=2", err, sizeof err), AF_OK);
@@ -369,8 +369,8 @@ static void test_derive_shipped(void)
   AF_CHECK_STATUS(af_settings_set_arg(&s, "measure_fit_velocity=true", err, sizeof err), AF_OK);
   AF_CHECK_STATUS(af_lane_config_derive(&s, &c, err, sizeof err), AF_OK);
   AF_CHECK(c.model.impact.damping == AF_DAMPING_HU_GUO && c.model.lobe == 2);
-  AF_CHECK(c.measured.measure.fit.damping == AF_DAMPING_HU_GUO);
-  AF_CHECK(strcmp(c.audio.units[0], "V") == 0 && c.measured.measure.fit.fit_velocity);
+  AF_CHECK(c.strikes.measure.fit.damping == AF_DAMPING_HU_GUO);
+  AF_CHECK(strcmp(c.audio.units[0], "V") == 0 && c.strikes.measure.fit.fit_velocity);
 }
 
 /* ---- one value at a time: every message ---------------------------------------- */

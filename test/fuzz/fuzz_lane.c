@@ -435,7 +435,7 @@ static void apple(af_fuzz_run *r)
   const uint8_t id = u8(&r->in);
   a.apple_id = id < 255 ? id : (uint32_t)u64(&r->in, 4);
   const uint8_t when = u8(&r->in);
-  const af_fuzz_stream *data = r->f->cfg.measured.tap_only ? &r->audio : &r->force;
+  const af_fuzz_stream *data = r->f->cfg.strikes.tap_only ? &r->audio : &r->force;
   /* near the data: -1.28 to +1.26 s of the stream's next stamp; or any */
   a.stamp_ns = when < 255 ? clamp_ros_ns(data->next_stamp_ns + ((int64_t)when - 128) * 10000000)
                           : ros_time_ns(&r->in);
@@ -477,7 +477,7 @@ static void start(af_fuzz_run *r, const uint8_t *data, size_t size)
   const uint8_t h = u8(&r->in);
   r->f = &lanes[(h & 3) == 3 ? 0 : h & 3];
   /* The lane reads it at every match (nothing holds a copy): the owner's to set. */
-  r->f->cfg.measured.single_apple = (h & 4) != 0;
+  r->f->cfg.strikes.single_apple = (h & 4) != 0;
   const int64_t t0 = (h & 8) ? (int64_t)1700000000 * 1000000000 : 0;
   r->force = (af_fuzz_stream){true, &r->f->cfg.force, 0, t0, UINT64_MAX, 0.0, 1.0};
   r->audio = (af_fuzz_stream){false, &r->f->cfg.audio, 0, t0, UINT64_MAX, 0.0, 1.0};

@@ -66,7 +66,7 @@ static void test_null_handles(void)
   AF_CHECK_STATUS(af_ros_param_string(NULL, "x", buf, sizeof buf), AF_EINVAL);
   AF_CHECK_STATUS(af_ros_param_string_global(NULL, "x", buf, sizeof buf), AF_EINVAL);
   AF_CHECK_STATUS(af_ros_param_string(NULL, "x", NULL, 0), AF_EINVAL);
-  AF_CHECK(af_ros_param_string_size(NULL, "x", true) == 0);
+  AF_CHECK(af_ros_param_string_bytes(NULL, "x", true) == 0);
 
   af_ros_pub *p = (af_ros_pub *)&p;
   af_ros_sub *s = (af_ros_sub *)&s;

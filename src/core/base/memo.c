@@ -12,7 +12,7 @@
 typedef struct {
   const char *kind;
   unsigned char key[AF_MEMO_KEY_MAX];
-  size_t key_size;
+  size_t key_bytes;
   size_t size;
   void *value; /* size bytes, never freed (the process's life) */
 } entry;
@@ -29,25 +29,25 @@ static void lock_init(void)
   lock_ok = mtx_init(&lock, mtx_plain) == thrd_success;
 }
 
-static bool same(const entry *e, const char *kind, const void *key, size_t key_size, size_t size)
+static bool same(const entry *e, const char *kind, const void *key, size_t key_bytes, size_t size)
 {
-  return e->kind == kind && e->key_size == key_size && e->size == size &&
-         memcmp(e->key, key, key_size) == 0;
+  return e->kind == kind && e->key_bytes == key_bytes && e->size == size &&
+         memcmp(e->key, key, key_bytes) == 0;
 }
 
 /* The kept value of kind and key, or NULL. Under the lock. */
-static const void *lookup_locked(const char *kind, const void *key, size_t key_size, size_t size)
+static const void *lookup_locked(const char *kind, const void *key, size_t key_bytes, size_t size)
 {
   for (size_t k = 0; k < n_entries; k++)
-    if (same(&entries[k], kind, key, key_size, size))
+    if (same(&entries[k], kind, key, key_bytes, size))
       return entries[k].value;
   return NULL;
 }
 
 /* Copies the kept value into out; false when there is none. Under the lock. */
-static bool find_locked(const char *kind, const void *key, size_t key_size, void *out, size_t size)
+static bool find_locked(const char *kind, const void *key, size_t key_bytes, void *out, size_t size)
 {
-  const void *kept = lookup_locked(kind, key, key_size, size);
+  const void *kept = lookup_locked(kind, key, key_bytes, size);
   if (kept != NULL)
     memcpy(out, kept, size);
   return kept != NULL;
@@ -55,14 +55,15 @@ static bool find_locked(const char *kind, const void *key, size_t key_size, void
 
 /* Keeps value (malloc'd, size bytes; the store owns it then) when there is
  * room; false when not. Under the lock. */
-static bool add_locked(const char *kind, const void *key, size_t key_size, void *value, size_t size)
+static bool add_locked(const char *kind, const void *key, size_t key_bytes, void *value,
+                       size_t size)
 {
   if (n_entries == AF_MEMO_ENTRIES || size > AF_MEMO_BYTES - bytes_kept)
     return false;
   entry *e = &entries[n_entries++];
   e->kind = kind;
-  memcpy(e->key, key, key_size);
-  e->key_size = key_size;
+  memcpy(e->key, key, key_bytes);
+  e->key_bytes = key_bytes;
   e->size = size;
   e->value = value;
   bytes_kept += size;
@@ -71,27 +72,27 @@ static bool add_locked(const char *kind, const void *key, size_t key_size, void 
 
 /* Keeps a copy of value when there is room and no other thread kept it
  * first. Under the lock. */
-static void keep_locked(const char *kind, const void *key, size_t key_size, const void *value,
+static void keep_locked(const char *kind, const void *key, size_t key_bytes, const void *value,
                         size_t size)
 {
-  if (lookup_locked(kind, key, key_size, size) != NULL)
+  if (lookup_locked(kind, key, key_bytes, size) != NULL)
     return;
   void *copy = malloc(size);
   if (copy == NULL)
     return; /* not kept: the next caller computes it again */
   memcpy(copy, value, size);
-  if (!add_locked(kind, key, key_size, copy, size))
+  if (!add_locked(kind, key, key_bytes, copy, size))
     free(copy);
 }
 
-const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_memo_fn *fn,
+const void *af_memo_ref(const char *kind, const void *key, size_t key_bytes, af_memo_fn *fn,
                         size_t size)
 {
   call_once(&lock_once, lock_init);
-  if (!lock_ok || key_size > AF_MEMO_KEY_MAX || size == 0 || size > AF_MEMO_BYTES ||
+  if (!lock_ok || key_bytes > AF_MEMO_KEY_MAX || size == 0 || size > AF_MEMO_BYTES ||
       mtx_lock(&lock) != thrd_success)
     return NULL;
-  const void *kept = lookup_locked(kind, key, key_size, size);
+  const void *kept = lookup_locked(kind, key, key_bytes, size);
   mtx_unlock(&lock);
   if (kept != NULL)
     return kept;
@@ -100,8 +101,8 @@ const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_m
     free(value);
     return NULL;
   }
-  kept = lookup_locked(kind, key, key_size, size); /* another thread's, meanwhile */
-  if (kept == NULL && add_locked(kind, key, key_size, value, size)) {
+  kept = lookup_locked(kind, key, key_bytes, size); /* another thread's, meanwhile */
+  if (kept == NULL && add_locked(kind, key, key_bytes, value, size)) {
     kept = value;
     value = NULL;
   }
@@ -110,20 +111,20 @@ const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_m
   return kept;
 }
 
-af_status af_memo_get(const char *kind, const void *key, size_t key_size, af_memo_fn *fn, void *out,
-                      size_t size)
+af_status af_memo_get(const char *kind, const void *key, size_t key_bytes, af_memo_fn *fn,
+                      void *out, size_t size)
 {
   call_once(&lock_once, lock_init);
-  const bool usable = lock_ok && key_size <= AF_MEMO_KEY_MAX && size > 0;
+  const bool usable = lock_ok && key_bytes <= AF_MEMO_KEY_MAX && size > 0;
   if (usable && mtx_lock(&lock) == thrd_success) {
-    bool found = find_locked(kind, key, key_size, out, size);
+    bool found = find_locked(kind, key, key_bytes, out, size);
     mtx_unlock(&lock);
     if (found)
       return AF_OK;
   }
   af_status st = fn(key, out);
   if (st == AF_OK && usable && mtx_lock(&lock) == thrd_success) {
-    keep_locked(kind, key, key_size, out, size);
+    keep_locked(kind, key, key_bytes, out, size);
     mtx_unlock(&lock);
   }
   return st;

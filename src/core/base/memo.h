@@ -35,15 +35,15 @@ typedef af_status af_memo_fn(const void *key, void *out);
 /* out[0..size) = fn(key, out), or the kept copy of the first AF_OK result
  * for the same kind, key and size. Returns fn's status (AF_OK for a copy).
  * No allocation when the value is kept; one when it is first stored. */
-af_status af_memo_get(const char *kind, const void *key, size_t key_size, af_memo_fn *fn, void *out,
-                      size_t size);
+af_status af_memo_get(const char *kind, const void *key, size_t key_bytes, af_memo_fn *fn,
+                      void *out, size_t size);
 
 /* The kept value itself, read-only and shared by every caller for the
  * process's life (computed by fn on the first call): for tables too large
  * to copy per caller (a lane made per fuzz input paid a page fault per 4 kB
  * of the copy). NULL when it cannot be kept (the store full, no memory, fn
  * failed): the caller then computes its own. */
-const void *af_memo_ref(const char *kind, const void *key, size_t key_size, af_memo_fn *fn,
+const void *af_memo_ref(const char *kind, const void *key, size_t key_bytes, af_memo_fn *fn,
                         size_t size);
 
 #ifdef __cplusplus

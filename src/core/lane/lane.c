@@ -79,7 +79,7 @@ typedef enum { AF_WAIT = 0, AF_READY, AF_NONE } af_decision;
  * reset without being named. */
 struct af_lane {
   const af_lane_config *cfg;
-  const af_measured_config *mc;
+  const af_strikes_config *mc;
   af_lane_strike_fn *fn;
   void *user;
   af_stream force, audio; /* reset by af_stream_reset: their counts are state too */
@@ -210,7 +210,7 @@ static int64_t data_end_ns(const af_stream *s)
 
 /* How far from a strike an estimate can still bear on it [s]: its transit
  * window and apple_stale_after_s beyond. */
-static double apple_reach_s(const af_measured_config *mc)
+static double apple_reach_s(const af_strikes_config *mc)
 {
   return fabs(mc->apple_transit_s) + mc->apple_transit_tolerance_s + mc->apple_stale_after_s;
 }
@@ -252,7 +252,7 @@ static bool estimate_after(const af_lane *l, int64_t window_end_ns, int64_t star
  * simulated time after the bag), must not hold a strike forever. */
 static bool apple_decided(const af_lane *l, const af_pending *p)
 {
-  const af_measured_config *mc = l->mc;
+  const af_strikes_config *mc = l->mc;
   const int64_t window_end_ns =
       mc->single_apple
           ? p->start_ns
@@ -271,7 +271,7 @@ static bool apple_decided(const af_lane *l, const af_pending *p)
  * an older estimate. A line: a strike lay in its transit window. */
 static uint32_t check_late(af_lane *l, const af_apple *a)
 {
-  const af_measured_config *mc = l->mc;
+  const af_strikes_config *mc = l->mc;
   const af_lane_reported *hit = NULL;
   for (size_t k = 0; k < AF_LANE_REPORTED && k < l->reported_n; k++) {
     const af_lane_reported *r = &l->reported[k];
@@ -1286,7 +1286,7 @@ af_status af_lane_create(const af_lane_config *cfg, af_lane_strike_fn *fn, void 
   if (!l)
     return AF_ENOMEM;
   l->cfg = cfg;
-  l->mc = &cfg->measured;
+  l->mc = &cfg->strikes;
   l->fn = fn;
   l->user = user;
   af_status s;

@@ -296,7 +296,7 @@ static size_t power_of_two_at_least(size_t n)
 /* The strike detector on the force stream (strike_*). */
 static af_status derive_detector(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
-  af_strike_config *d = &c->measured.strike;
+  af_strike_config *d = &c->strikes.strike;
   *d = af_strike_config_default(); /* every field is overwritten below */
   d->sample_rate_hz = c->force.sample_rate_hz;
   d->full_scale_n = num(s, AF_SETTING_STRIKE_FULL_SCALE_N);
@@ -350,7 +350,7 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
                     af_settings_name_of(s, AF_SETTING_STRIKE_POST_S).text, span, fs);
     return AF_EINVAL;
   }
-  c->measured.pulse_capacity_samples = (size_t)span;
+  c->strikes.pulse_capacity_samples = (size_t)span;
   return AF_OK;
 }
 
@@ -359,7 +359,7 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
 static af_status trial_detector(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
   af_strike *trial = NULL;
-  af_status st = af_strike_create(&c->measured.strike, &trial);
+  af_status st = af_strike_create(&c->strikes.strike, &trial);
   af_strike_destroy(trial);
   if (st != AF_OK)
     af_settings_say(
@@ -367,7 +367,7 @@ static af_status trial_detector(const af_settings *s, af_lane_config *c, char *e
         "%s = %g Hz: the strike detector refuses the %sstrike_* parameters: %s (a window "
         "shorter than 2 samples?)",
         af_settings_name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text,
-        c->measured.strike.sample_rate_hz, s->name_prefix, af_strerror(st));
+        c->strikes.strike.sample_rate_hz, s->name_prefix, af_strerror(st));
   return st;
 }
 
@@ -414,8 +414,8 @@ static af_status check_noise_band(const af_settings *s, const af_response_config
  * response configuration stays af_response_config_default's. */
 static af_status derive_response(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
-  const af_measured_config *mc = &c->measured;
-  af_response_config *rc = &c->measured.measure.response;
+  const af_strikes_config *mc = &c->strikes;
+  af_response_config *rc = &c->strikes.measure.response;
   rc->sample_rate_hz = c->audio.sample_rate_hz;
   rc->window_samples = mc->audio_window_samples > mc->noise_window_samples
                            ? mc->audio_window_samples
@@ -443,7 +443,7 @@ static af_status derive_response(const af_settings *s, af_lane_config *c, char *
 /* The measurement of each strike (measure_*) and the pending queue. */
 static af_status derive_measure(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
-  af_measured_config *mc = &c->measured;
+  af_strikes_config *mc = &c->strikes;
   af_measure_config *m = &mc->measure;
   *m = af_measure_config_default(); /* the fit and response settings not exposed stay the core's */
   m->fit.fit_velocity = af_settings_bool(s, AF_SETTING_MEASURE_FIT_VELOCITY);
@@ -505,7 +505,7 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
 static af_status trial_measure(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
   af_measure *trial = NULL;
-  af_status st = af_measure_create(&c->measured.measure, &trial);
+  af_status st = af_measure_create(&c->strikes.measure, &trial);
   af_measure_destroy(trial);
   if (st != AF_OK)
     af_settings_say(err, len,
@@ -529,7 +529,7 @@ static double pow2_at_least(double n)
 void af_lane_config_memory(const af_lane_config *c, af_lane_memory *m)
 {
   memset(m, 0, sizeof *m);
-  const af_measured_config *mc = &c->measured;
+  const af_strikes_config *mc = &c->strikes;
   /* float rings */
   m->rings = 4.0 * ((double)c->force.capacity_samples + (double)c->audio.capacity_samples);
   /* detector: its float ring (span + a block), the span as float and twice
@@ -722,7 +722,7 @@ static af_status derive_factor_learn(const af_settings *s, af_lane_config *c, ch
  * derive_streams. */
 static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, size_t len)
 {
-  af_measured_config *mc = &c->measured;
+  af_strikes_config *mc = &c->strikes;
   af_onset_config *o = &mc->onset;
   const char *field = NULL;
   mc->tap_only = af_settings_bool(s, AF_SETTING_TAP_ONLY);
@@ -781,10 +781,10 @@ static double emission_s(const af_strike_config *d)
 static af_status check_audio_ring(const af_settings *s, const af_lane_config *c, char *err,
                                   size_t len)
 {
-  const af_measure_config *m = &c->measured.measure;
+  const af_measure_config *m = &c->strikes.measure;
   const double before_s = m->noise_window_s > 0.0 ? m->noise_window_s + m->noise_guard_s : 0.0;
   const double window_s = m->audio_delay_s + m->audio_window_s;
-  const double decided_s = fmax(c->measured.apple_wait_s, emission_s(&c->measured.strike));
+  const double decided_s = fmax(c->strikes.apple_wait_s, emission_s(&c->strikes.strike));
   const double needed_s = before_s + fmax(window_s, decided_s) + c->stream_stale_after_s;
   if (c->audio.buffer_s >= needed_s)
     return AF_OK;
@@ -793,9 +793,9 @@ static af_status check_audio_ring(const af_settings *s, const af_lane_config *c,
     snprintf(after, sizeof after, "%s + %s = %g s",
              af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_DELAY_S).text,
              af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, window_s);
-  else if (c->measured.apple_wait_s >= decided_s)
+  else if (c->strikes.apple_wait_s >= decided_s)
     snprintf(after, sizeof after, "%s %g s", af_settings_name_of(s, AF_SETTING_APPLE_WAIT_S).text,
-             c->measured.apple_wait_s);
+             c->strikes.apple_wait_s);
   else
     snprintf(after, sizeof after, "the strike detector's emission %g s after the contact start",
              decided_s);
@@ -820,8 +820,8 @@ static af_status check_audio_ring(const af_settings *s, const af_lane_config *c,
 static af_status check_force_ring(const af_settings *s, const af_lane_config *c, char *err,
                                   size_t len)
 {
-  const af_strike_config *d = &c->measured.strike;
-  const double event = (double)c->measured.pulse_capacity_samples;
+  const af_strike_config *d = &c->strikes.strike;
+  const double event = (double)c->strikes.pulse_capacity_samples;
   if ((double)c->force.max_chunk_samples >= event)
     return AF_OK;
   af_settings_say(
@@ -850,9 +850,9 @@ static af_status check_noise_band_vs_0s2(const af_settings *s, const af_lane_con
                                          size_t len)
 {
   const af_model_params *m = &c->model;
-  const af_response_config *rc = &c->measured.measure.response;
+  const af_response_config *rc = &c->strikes.measure.response;
   const double nu = m->impact.fruit_poisson, rho = m->fruit_density_kg_m3;
-  const double margin = c->measured.measure.range_margin, fs = c->audio.sample_rate_hz;
+  const double margin = c->strikes.measure.range_margin, fs = c->audio.sample_rate_hz;
   const double f_lo =
       (1.0 - margin) * af_lamb_frequency_hz(c->resonance_xi, m->modulus_factor * c->modulus_min_pa,
                                             nu, rho, c->mass_max_kg);
@@ -929,7 +929,7 @@ static af_status check_radius_vs_mass(const af_settings *s, const af_lane_config
 static af_status check_together(const af_settings *s, const af_lane_config *c, char *err,
                                 size_t len)
 {
-  af_status st = c->measured.tap_only ? AF_OK : check_force_ring(s, c, err, len);
+  af_status st = c->strikes.tap_only ? AF_OK : check_force_ring(s, c, err, len);
   if (st == AF_OK)
     st = check_audio_ring(s, c, err, len);
   if (st == AF_OK)

@@ -62,7 +62,7 @@ typedef struct {
                              on it is expected, not a doubtful match; false (0) in the node */
   bool tap_only;          /* tap_only: strikes from the audio onset, no force input (onset.h) */
   af_onset_config onset;  /* onset_*: the audio onset detector, at the audio rate */
-} af_measured_config;
+} af_strikes_config;
 
 typedef struct {
   /* --- the strike and the criteria --- */
@@ -84,7 +84,7 @@ typedef struct {
   af_rate_config force_rate, audio_rate, apple_rate;
   af_stamp_config stream_stamps, apple_stamps; /* force and audio; apple estimates */
   /* --- measured strikes --- */
-  af_measured_config measured;
+  af_strikes_config strikes;
   /* --- cultivar --- */
   char cultivar[AF_LANE_NAME_MAX];
   double modulus_min_pa, modulus_max_pa; /* firmness range of the resonance band [Pa] */
