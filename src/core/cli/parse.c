@@ -126,17 +126,24 @@ static bool read_pair(const char *tool, const af_option *o, const char *text, do
  * seed may be larger). */
 static void put_whole(const af_option *o, const char *text, double v, void *args)
 {
-  long l = (long)v;
-  unsigned u = (unsigned)v;
-  uint64_t w = (uint64_t)v;
+  /* Each cast only for its own kind: v fits that type (checked), not the others. */
   switch (o->kind) {
-  case AF_OPTION_LONG: put(args, o->offset, &l, sizeof l); break;
-  case AF_OPTION_UINT: put(args, o->offset, &u, sizeof u); break;
-  default:
-    if (strspn(text, "0123456789") == strlen(text))
-      w = (uint64_t)strtoull(text, NULL, 10);
+  case AF_OPTION_LONG: {
+    long l = (long)v;
+    put(args, o->offset, &l, sizeof l);
+    break;
+  }
+  case AF_OPTION_UINT: {
+    unsigned u = (unsigned)v;
+    put(args, o->offset, &u, sizeof u);
+    break;
+  }
+  default: {
+    uint64_t w = strspn(text, "0123456789") == strlen(text) ? (uint64_t)strtoull(text, NULL, 10)
+                                                            : (uint64_t)v;
     put(args, o->offset, &w, sizeof w);
     break;
+  }
   }
 }
 
