@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "json.h"
+#include "snapshot_text.h"
 
 typedef enum { F_U64, F_SIZE, F_F64, F_BOOL, F_TEXT } field_kind;
 
@@ -121,12 +122,14 @@ static const field session_fields[] = {
 
 /* Settings rows that name where and which lane, not how it measures: reports
  * of several lanes or machines merge though these differ. */
-static bool identity_row(const char *name)
+static bool identity_row(const char *line)
 {
   static const char *const rows[] = {"frame_prefix", "hardware_id", "urdf_file", "hammer_link"};
-  for (size_t k = 0; k < N_OF(rows); k++)
-    if (strcmp(name, rows[k]) == 0)
+  for (size_t k = 0; k < N_OF(rows); k++) {
+    size_t n = strlen(rows[k]);
+    if (strncmp(line, rows[k], n) == 0 && line[n] == ':')
       return true;
+  }
   return false;
 }
 
@@ -175,17 +178,19 @@ static void put_counts(FILE *out, const char *name, const size_t *v, size_t n)
   fputs("]", out);
 }
 
+/* The settings as the node's snapshot writes them (snapshot_text.h), one
+ * JSON string per line, the identity rows left out. */
 static void put_settings(FILE *out, const af_settings *settings)
 {
+  static char text[AF_SNAPSHOT_MAX_BYTES]; /* large: not on the stack; the writer's thread only */
   fputs(",\n    \"settings\": [", out);
+  (void)af_settings_snapshot(settings, text, sizeof text); /* every row fits the bound */
   bool first = true;
-  for (int id = 0; id < AF_SETTING_COUNT; id++) {
-    const char *name = af_setting_def_of((af_setting_id)id)->name;
-    if (identity_row(name))
+  for (char *line = text, *end; *line != '\0'; line = end + 1) {
+    end = strchr(line, '\n');
+    *end = '\0'; /* every snapshot line ends in one */
+    if (identity_row(line))
       continue;
-    char value[AF_SETTINGS_TEXT_MAX + 8], line[sizeof value + 80];
-    af_settings_value_text(settings, (af_setting_id)id, value, sizeof value);
-    snprintf(line, sizeof line, "%s: %s", name, value);
     fputs(first ? "\n      " : ",\n      ", out);
     af_json_string(out, line);
     first = false;

@@ -28,10 +28,12 @@
 void af_merge_state_write(FILE *out, const af_session *s, const af_summary *m,
                           const af_settings *settings);
 
-/* The settings as run, one "name: value" line each in row order: what two
- * reports must share to merge (and what a message quotes when they do not). */
+/* The settings as run, the node's snapshot lines (snapshot_text.h) in row
+ * order: what two reports must share to merge (and what a message quotes
+ * when they do not). A line is at most a name, ": " and a value quoted and
+ * escaped. */
 typedef struct {
-  char text[AF_SETTING_COUNT][AF_SETTINGS_NAME_MAX + AF_SETTINGS_TEXT_MAX + 4];
+  char text[AF_SETTING_COUNT][AF_SETTINGS_NAME_MAX + 2 * AF_SETTINGS_TEXT_MAX + 8];
 } af_merge_settings;
 
 /* Adds the bag whose merge_state is node k of doc to c. settings: the
