@@ -377,13 +377,12 @@ static int configure(const af_report_args *a, const char *ns, bool files_given, 
   return 0;
 }
 
-/* --config or --cultivar given: the files, not a bag's snapshot. */
-static bool files_given(int argc, char **argv)
+/* --config or --cultivar given (the parser stores the argument, never the
+ * default's text): the files, not a bag's snapshot. */
+static bool files_given(const af_report_args *a)
 {
-  for (int k = 1; k < argc; k++)
-    if (strcmp(argv[k], "--config") == 0 || strcmp(argv[k], "--cultivar") == 0)
-      return true;
-  return false;
+  const af_report_args d = report_args_default();
+  return a->config != d.config || a->cultivar != d.cultivar;
 }
 
 /* ---- the workers ----------------------------------------------------------------- */
@@ -735,7 +734,7 @@ int main(int argc, char **argv)
       fclose(probe);
   }
   if (code == 0)
-    code = configure(&a, ns, files_given(argc, argv), &settings, &cfg);
+    code = configure(&a, ns, files_given(&a), &settings, &cfg);
   if (code == 0 && a.csv && !(csv = fopen(a.csv, "w")))
     code = bad_flag("--csv %s: cannot write: %s", a.csv, strerror(errno));
   if (code == 0) {
