@@ -1,11 +1,9 @@
 /* snapshot.c — the node's settings and URDF, latched (see snapshot.h). */
-#define _POSIX_C_SOURCE 200809L
 #include "snapshot.h"
 
-#include <stdio.h>
 #include <stdlib.h>
-#include <sys/stat.h>
 
+#include "file_read.h"
 #include "snapshot_text.h"
 
 /* The URDF is read again for the topic, bounded like the settings' text. */
@@ -43,16 +41,11 @@ static char *urdf_text(af_ros *ros, const af_node_config *cfg)
     }
     return xml;
   }
-  FILE *f = fopen(cfg->urdf_file, "rb");
-  struct stat st;
-  char *xml = NULL;
-  if (f && fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) &&
-      (size_t)st.st_size < AF_URDF_TEXT_MAX_BYTES && (xml = malloc((size_t)st.st_size + 1))) {
-    size_t n = fread(xml, 1, (size_t)st.st_size, f);
-    xml[n] = '\0';
-  }
-  if (f)
-    fclose(f);
+  char *xml = NULL, err[AF_TEXT_MAX];
+  size_t n;
+  if (af_file_read_whole(cfg->urdf_file, AF_URDF_TEXT_MAX_BYTES, "a URDF", &xml, &n, err,
+                         sizeof err) != AF_OK)
+    af_ros_log(ros, AF_LOG_WARN, "robot_description topic: %s", err);
   return xml;
 }
 

@@ -1,13 +1,11 @@
 /* merge_run.c — firmness_report --merge (see merge_run.h). */
-#define _POSIX_C_SOURCE 200809L
 #include "merge_run.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "file_read.h"
 #include "json.h"
 #include "json_read.h"
 #include "merge_state.h"
@@ -62,43 +60,19 @@ static int merge_document(af_combined *all, const af_json_doc *d, af_merge_setti
   }
 }
 
-/* path's bytes, whole, into *text (allocated, NUL-terminated): a regular
- * file of at most max_bytes, with no NUL byte (not a text report). */
-static af_status read_text(const char *path, long max_bytes, char **text, size_t *n, char *err,
+/* path's bytes, whole (af_file_read_whole: a regular file of at most
+ * max_bytes), with no NUL byte: not a text report. */
+static af_status read_text(const char *path, size_t max_bytes, char **text, size_t *n, char *err,
                            size_t len)
 {
-  struct stat st;
-  FILE *f = fopen(path, "rb");
-  *text = NULL;
-  if (!f || fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > max_bytes) {
-    snprintf(err, len, "%s: %s", path,
-             !f                     ? strerror(errno)
-             : !S_ISREG(st.st_mode) ? "not a regular file"
-                                    : "larger than a report may be (1 GiB)");
-    if (f)
-      fclose(f);
-    return AF_EINVAL;
-  }
-  *n = (size_t)st.st_size;
-  if (!(*text = malloc(*n + 1))) {
-    fclose(f);
-    snprintf(err, len, "%s: out of memory for %zu bytes", path, *n);
-    return AF_ENOMEM;
-  }
-  size_t got = fread(*text, 1, *n, f);
-  bool more = fgetc(f) != EOF, failed = ferror(f) != 0;
-  fclose(f);
-  (*text)[got] = '\0';
-  if (failed || got != *n || more || memchr(*text, '\0', got) != NULL) {
-    snprintf(err, len, "%s: %s", path,
-             failed              ? "cannot be read"
-             : got != *n || more ? "changed while read"
-                                 : "holds a NUL byte: not a JSON report");
+  af_status st = af_file_read_whole(path, max_bytes, "a report", text, n, err, len);
+  if (st == AF_OK && memchr(*text, '\0', *n) != NULL) {
+    snprintf(err, len, "%s: holds a NUL byte: not a JSON report", path);
     free(*text);
     *text = NULL;
-    return AF_EINVAL;
+    st = AF_EINVAL;
   }
-  return AF_OK;
+  return st;
 }
 
 /* One report file, read whole (a regular file of at most AF_MERGE_MAX_BYTES). */

@@ -11,7 +11,7 @@
 #include "combined.h"
 
 /* A report read is at most this long [bytes]. */
-#define AF_MERGE_MAX_BYTES (1024L * 1024L * 1024L)
+#define AF_MERGE_MAX_BYTES ((size_t)1 << 30)
 
 /* The combined section: its heading and the summary over all, as text, or
  * the "combined" member's value as JSON (stdout). */

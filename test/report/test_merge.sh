@@ -75,7 +75,7 @@ EOF
 expect_usage "session.audio.chunks: missing" --merge "$tmp/nocol.json"
 printf '{"bag": "x"}\0' >"$tmp/nul.json"
 expect_usage "NUL" --merge "$tmp/nul.json"
-expect_usage "not a regular file" --merge /dev/null
+expect_usage "a report must be a regular file" --merge /dev/null
 expect_usage "No such file" --merge "$tmp/none.json"
 expect_usage "--merge takes only --json" --merge "$tmp/a.json" --csv "$tmp/x.csv"
 expect_usage "needs the reports" --merge

@@ -1,16 +1,14 @@
 /* settings_yaml.c — YAML 1.1 scalars typed as rosparam (PyYAML) types them,
  * and the settings file's bounds checked before any parser sees its bytes
  * (the file itself is parsed by libyaml, settings_libyaml.c). */
-#define _POSIX_C_SOURCE 200809L /* open, fstat, read */
+#define _POSIX_C_SOURCE 200809L
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
+#include "file_read.h"
 #include "settings_private.h"
 
 /* ---- YAML 1.1 scalars ------------------------------------------------------ */
@@ -244,78 +242,11 @@ bool af_settings_blank_or_comment(const char *p)
  * line longer than AF_YAML_LINE_MAX - 1 bytes is refused; a key given twice
  * is refused naming both lines. */
 
-static const char *file_kind(mode_t m)
-{
-  return S_ISDIR(m)    ? "a directory"
-         : S_ISFIFO(m) ? "a FIFO"
-         : S_ISCHR(m)  ? "a character device"
-         : S_ISBLK(m)  ? "a block device"
-         : S_ISSOCK(m) ? "a socket"
-                       : "not a regular file";
-}
-
 /* The whole file into *data (malloc'd, size bytes), or one line in err
  * (settings_private.h). */
 af_status af_settings_read_whole(const char *path, char **data, size_t *size, char *err, size_t len)
 {
-  /* O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below. */
-  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  struct stat st;
-  if (fd < 0) {
-    af_settings_say(err, len, "%s: cannot be opened: %s", path, strerror(errno));
-    return AF_EIO;
-  }
-  af_status status = AF_OK;
-  char *buf = NULL;
-  size_t n = 0;
-  if (fstat(fd, &st) != 0) {
-    af_settings_say(err, len, "%s: cannot be read: %s", path, strerror(errno));
-    status = AF_EIO;
-  } else if (!S_ISREG(st.st_mode)) {
-    af_settings_say(err, len,
-                    "%s: is %s; a settings file must be a regular file of at most %d bytes", path,
-                    file_kind(st.st_mode), AF_YAML_FILE_MAX_BYTES);
-    status = AF_EINVAL;
-  } else if (st.st_size > AF_YAML_FILE_MAX_BYTES) {
-    af_settings_say(err, len,
-                    "%s: %lld bytes is outside the accepted size of a settings file, "
-                    "[0, %d] bytes",
-                    path, (long long)st.st_size, AF_YAML_FILE_MAX_BYTES);
-    status = AF_EINVAL;
-  }
-  /* As long as fstat says + 1 (a file that grew after fstat is still
-   * bounded, and refused); never the cap itself, which would cost a 1 MiB
-   * allocation per file read. */
-  const size_t room = status == AF_OK ? (size_t)st.st_size + 1 : 0;
-  if (status == AF_OK && (buf = malloc(room)) == NULL) {
-    af_settings_say(err, len, "%s: no memory to read it", path);
-    status = AF_ENOMEM;
-  }
-  while (status == AF_OK && n < room) {
-    ssize_t got = read(fd, buf + n, room - n);
-    if (got < 0 && errno == EINTR)
-      continue;
-    if (got < 0) {
-      af_settings_say(err, len, "%s: read error: %s", path, strerror(errno));
-      status = AF_EIO;
-    } else if (got == 0) {
-      break;
-    }
-    n += status == AF_OK ? (size_t)got : 0;
-  }
-  if (status == AF_OK && n == room) {
-    af_settings_say(err, len, "%s: grew past its %lld bytes while read", path,
-                    (long long)st.st_size);
-    status = AF_EINVAL;
-  }
-  close(fd);
-  if (status != AF_OK) {
-    free(buf);
-    return status;
-  }
-  *data = buf;
-  *size = n;
-  return AF_OK;
+  return af_file_read_whole(path, AF_YAML_FILE_MAX_BYTES, "a settings file", data, size, err, len);
 }
 
 /* The line at data[*pos..size) into line[AF_YAML_LINE_MAX] without its end;
