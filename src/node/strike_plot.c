@@ -10,6 +10,12 @@
 #include "text.h"
 
 #define AF_PLOT_QUEUE 2 /* images waiting to be sent; a viewer wants the newest */
+/* While a strike waits to be drawn and nobody views the plot, roscpp is asked
+ * for the plot's subscribers at most this often [s]: the question (a lookup
+ * under roscpp's topic lock) was asked after every spin, ~5 % of the node's
+ * callback thread at 2 strikes/s; a viewer that connects sees the strike
+ * this much later at most. */
+#define AF_PLOT_LOOK_S 0.2
 
 struct af_strike_plot {
   af_ros *ros;
@@ -19,6 +25,7 @@ struct af_strike_plot {
   unsigned char *rgb;   /* width x height x 3, rows top first */
   af_image image;       /* points to rgb */
   bool dirty;           /* captured, not yet drawn */
+  double next_look_s;   /* wall time of the next look for a viewer [s] */
   af_header header;     /* of the captured strike: contact start, the force frame */
   /* For the diagnostics. */
   unsigned long long captured, rendered, published, skipped, failed;
@@ -87,10 +94,16 @@ void af_strike_plot_capture(af_strike_plot *p, const af_lane_strike *s, const af
 
 void af_strike_plot_update(af_strike_plot *p)
 {
-  if (!p || !p->dirty || af_ros_pub_subscribers(p->pub) == 0)
+  if (!p || !p->dirty)
     return;
-  p->dirty = false;
   const double t0 = wall_s();
+  if (t0 < p->next_look_s)
+    return;
+  if (af_ros_pub_subscribers(p->pub) == 0) {
+    p->next_look_s = t0 + AF_PLOT_LOOK_S;
+    return;
+  }
+  p->dirty = false;
   af_plot_target t = {AF_PLOT_MEMORY, NULL, p->rgb, p->cfg->strike_plot_width_px,
                       p->cfg->strike_plot_height_px};
   char err[AF_TEXT_MAX] = "";
