@@ -78,7 +78,27 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
   r->ctx.half = half;
   r->ctx.gain = 1.0 / cabs(data[k]);
   r->ctx.norm = 1.0 - exp(-sigma_windowed / r->cfg.sample_rate_hz);
+  r->ctx.cost_floor = 0.0;
   return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
+}
+
+/* A fit's cost is the residual sum of squares of the scaled bins; noise of
+ * power 'noise' per bin puts sigma_r^2 = noise gain^2 / 2 on each real
+ * component, and the poles' parameters scatter with covariance
+ * sigma_r^2 (J^T J)^-1. The Gauss-Newton step from a point, dx =
+ * -(J^T J)^-1 g, would lower the cost by g^T (J^T J)^-1 g = sigma_r^2 d^2, d
+ * the distance to the (linearised) minimum in those standard errors: at most
+ * AF_RESPONSE_FIT_STOP^2 sigma_r^2 (response_lm.c) puts the point within
+ * AF_RESPONSE_FIT_STOP standard errors of the minimum, a small fraction of the
+ * reading's own scatter under that noise. xtol (1e-6 relative) alone takes
+ * one to three steps more, each a pass over the bins. */
+#define AF_RESPONSE_FIT_STOP 0.1
+
+void af_response_fit_noise(af_response *r, double noise)
+{
+  double floor =
+      AF_RESPONSE_FIT_STOP * AF_RESPONSE_FIT_STOP * 0.5 * noise * r->ctx.gain * r->ctx.gain;
+  r->ctx.cost_floor = isfinite(floor) && floor > 0.0 ? floor : 0.0;
 }
 
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,

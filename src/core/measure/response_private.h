@@ -76,6 +76,8 @@ typedef struct {
   double half;                /* bins per unit of the background's abscissa */
   double gain;                /* 1 / |X| at the grid peak: data of order 1 */
   double norm;                /* 1 - r of the seed: amplitude of order 1 */
+  double cost_floor;          /* a step lowering the cost by at most this ends the fit
+                                 (af_response_fit_noise); 0 = only the solver's tolerances */
 } af_fit_ctx;
 
 struct af_response {
@@ -277,6 +279,11 @@ void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t 
  * (a zero bin, no decay). */
 int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
                          double center, double half, size_t k, double sigma_windowed);
+/* Lets the fit on r->ctx (set up by af_response_fit_bins) stop within a small
+ * fraction of its poles' standard errors under noise of power 'noise' per bin
+ * (response_fit.c); 0 = only the solver's tolerances. The peak list's
+ * one-pole fits. */
+void af_response_fit_noise(af_response *r, double noise);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
                           double complex c);
