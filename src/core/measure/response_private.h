@@ -266,6 +266,9 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);
 /* The mode q as the window holds it over the m analysed samples, at bin i. */
 double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i);
+/* The same by the fade-in's three geometric sums (af_response_fade_part),
+ * which af_response_mode_at rearranges over one denominator. */
+double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i);
 
 /* ---- response_fit.c ---- */
 /* Half-width of the fit around a peak of this windowed decay rate [bins]. */
