@@ -49,7 +49,7 @@ static double complex mode_sum(double complex c, double complex z, size_t m, siz
 static void check_mode(af_response *r, size_t m, double *worst_sum, double *worst_sums)
 {
   size_t n_fft = r->cfg.fft_size;
-  af_peak pk;
+  af_peak pk = {0};
   pk.bin = 40.0 + 1460.0 * af_test_uniform(&rng);
   pk.sigma_windowed = 55.0 + 545.0 * af_test_uniform(&rng);
   pk.c = (0.2 + af_test_uniform(&rng)) * cexp(I * 2.0 * AF_PI * af_test_uniform(&rng));
