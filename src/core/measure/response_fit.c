@@ -155,15 +155,18 @@ static af_response_fit_status run(af_response *r, size_t params, double *x, size
 
 /* ---- stage 2 ------------------------------------------------------------------ */
 
-/* Stage 2 on the spectrum x near its local maximum k, from the seed in *pk;
- * 0 (*pk untouched) if the fit fails or its frequency leaves the peak's top
- * (it went for a neighbour or the background). */
-static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk)
+/* Stage 2 on the spectrum x near its local maximum k, from the seed in *pk,
+ * ending within a small fraction of the pole's standard errors under noise of
+ * power 'noise' per bin (af_response_fit_noise); 0 (*pk untouched) if the fit
+ * fails or its frequency leaves the peak's top (it went for a neighbour or the
+ * background). */
+static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk, double noise)
 {
   size_t half = af_response_fit_half(r, pk->sigma_windowed), first, last;
   af_response_fit_around(r, k, half, &first, &last);
   if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
     return 0;
+  af_response_fit_noise(r, noise);
   double *p0 = r->fit_start, rss;
   memset(p0, 0, sizeof r->fit_start);
   af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
@@ -232,14 +235,15 @@ static void subtract(af_response *r, const af_peak *pk, size_t k, size_t j)
 
 /* The mode at the local maximum k, refined as far as the data allow; 1 if
  * the complex fit (stage 2) holds, 0 for a stage-1 or log-parabola estimate. */
-int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out)
+int af_response_refine(af_response *r, size_t k, double noise, af_peak *out)
 {
   if (!af_response_stage1(r, r->power, r->spec, k, out)) {
     af_response_log_parabola(r, k, out);
     return 0;
   }
-  if (!stage2(r, r->spec, k, out))
+  if (!stage2(r, r->spec, k, out, noise))
     return 0;
+  double min_power = noise * pow(10.0, 0.1 * r->cfg.snr_threshold_db);
   size_t j;
   if (!af_response_find_neighbour(r, k, af_response_fit_half(r, out->sigma_windowed), min_power,
                                   &j))
@@ -247,10 +251,10 @@ int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out)
   af_peak nb, again = *out;
   subtract(r, out, k, j);
   if (!(r->work_power[j] > r->work_power[j - 1] && r->work_power[j] >= r->work_power[j + 1]) ||
-      !af_response_stage1(r, r->work_power, r->work, j, &nb) || !stage2(r, r->work, j, &nb))
+      !af_response_stage1(r, r->work_power, r->work, j, &nb) || !stage2(r, r->work, j, &nb, noise))
     return 1;
   subtract(r, &nb, k, j);
-  if (stage2(r, r->work, k, &again))
+  if (stage2(r, r->work, k, &again, noise))
     *out = again;
   return 1;
 }

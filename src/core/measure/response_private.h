@@ -284,8 +284,8 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
                          double center, double half, size_t k, double sigma_windowed);
 /* Lets the fit on r->ctx (set up by af_response_fit_bins) stop within a small
  * fraction of its poles' standard errors under noise of power 'noise' per bin
- * (response_fit.c); 0 = only the solver's tolerances. The peak list's
- * one-pole fits. */
+ * (response_fit.c); 0 = only the solver's tolerances. The one-pole fits
+ * (stage 2, the peak list's truncated fits), not the two-pole ones. */
 void af_response_fit_noise(af_response *r, double noise);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
@@ -294,8 +294,9 @@ void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double 
 int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss);
 /* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
 int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out);
-/* The mode at the local maximum k, refined as far as the data allow. */
-int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
+/* The mode at the local maximum k, refined as far as the data allow (noise:
+ * power per bin there; a neighbour must clear snr_threshold_db over it). */
+int af_response_refine(af_response *r, size_t k, double noise, af_peak *out);
 
 /* ---- response_vp.c ---- */
 /* The cost (residual sum of squares) of the model under way at theta (each
