@@ -39,7 +39,9 @@
 #define AF_RESPONSE_FIT_GTOL 1e-10
 #define AF_RESPONSE_FIT_FTOL 1e-10
 /* The truncated fits stop at steps below 1e-6 relative: 1e-6 of a bin is
- * far below the noise's scatter, and it halves their iterations. */
+ * far below the noise's scatter, and it halves their iterations. The
+ * one-pole fits (these and stage 2) stop sooner where the noise allows
+ * (af_response_fit_noise). */
 #define AF_RESPONSE_SPLIT_XTOL 1e-6
 /* Iteration cap of the truncated fits: from the stage-1 reading a one-pole
  * fit takes 3-4 (a misfit, well above the noise, up to ~20), a refit ~3; a
