@@ -293,7 +293,7 @@ af_status af_response_begin(af_response *r, const float *audio, size_t n, double
 int af_response_read_peak(af_response *r, size_t k, double noise, af_peak *pk,
                           af_response_result *out)
 {
-  int fitted = af_response_refine(r, k, noise * pow(10.0, 0.1 * r->cfg.snr_threshold_db), pk);
+  int fitted = af_response_refine(r, k, noise, pk);
   af_response_result_fill(r, pk, out);
   /* The peak power is the mode's own fitted peak (free of other modes'
    * skirts, which may add to or cancel it in the periodogram), bounded by

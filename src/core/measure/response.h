@@ -266,7 +266,9 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
 
 /* How a nonlinear fit of the response ended (every fit is capped: stage 2
  * at 50 iterations, the peak list's truncated fits at 25):
- *  CONVERGED  the step, gradient or cost test met (response_lm.c);
+ *  CONVERGED  the step, gradient or cost test met, or (the one-pole fits)
+ *             the point within 0.1 standard error of the minimum under the
+ *             peak's noise (response_lm.c, response_fit.c);
  *  CAPPED     the iteration cap reached (stage 2 then refuses the fit; a
  *             truncated fit is judged where it stands, its residual decides);
  *  STALLED    15 steps in a row raised the cost (as CAPPED);

@@ -39,7 +39,9 @@
 #define AF_RESPONSE_FIT_GTOL 1e-10
 #define AF_RESPONSE_FIT_FTOL 1e-10
 /* The truncated fits stop at steps below 1e-6 relative: 1e-6 of a bin is
- * far below the noise's scatter, and it halves their iterations. */
+ * far below the noise's scatter, and it halves their iterations. The
+ * one-pole fits (these and stage 2) stop sooner where the noise allows
+ * (af_response_fit_noise). */
 #define AF_RESPONSE_SPLIT_XTOL 1e-6
 /* Iteration cap of the truncated fits: from the stage-1 reading a one-pole
  * fit takes 3-4 (a misfit, well above the noise, up to ~20), a refit ~3; a
@@ -78,7 +80,27 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
   r->ctx.half = half;
   r->ctx.gain = 1.0 / cabs(data[k]);
   r->ctx.norm = 1.0 - exp(-sigma_windowed / r->cfg.sample_rate_hz);
+  r->ctx.cost_floor = 0.0;
   return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
+}
+
+/* A fit's cost is the residual sum of squares of the scaled bins; noise of
+ * power 'noise' per bin puts sigma_r^2 = noise gain^2 / 2 on each real
+ * component, and the poles' parameters scatter with covariance
+ * sigma_r^2 (J^T J)^-1. The Gauss-Newton step from a point, dx =
+ * -(J^T J)^-1 g, would lower the cost by g^T (J^T J)^-1 g = sigma_r^2 d^2, d
+ * the distance to the (linearised) minimum in those standard errors: at most
+ * AF_RESPONSE_FIT_STOP^2 sigma_r^2 (response_lm.c) puts the point within
+ * AF_RESPONSE_FIT_STOP standard errors of the minimum, a small fraction of the
+ * reading's own scatter under that noise. xtol (1e-6 relative) alone takes
+ * one to three steps more, each a pass over the bins. */
+#define AF_RESPONSE_FIT_STOP 0.1
+
+void af_response_fit_noise(af_response *r, double noise)
+{
+  double floor =
+      AF_RESPONSE_FIT_STOP * AF_RESPONSE_FIT_STOP * 0.5 * noise * r->ctx.gain * r->ctx.gain;
+  r->ctx.cost_floor = isfinite(floor) && floor > 0.0 ? floor : 0.0;
 }
 
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
@@ -135,15 +157,18 @@ static af_response_fit_status run(af_response *r, size_t params, double *x, size
 
 /* ---- stage 2 ------------------------------------------------------------------ */
 
-/* Stage 2 on the spectrum x near its local maximum k, from the seed in *pk;
- * 0 (*pk untouched) if the fit fails or its frequency leaves the peak's top
- * (it went for a neighbour or the background). */
-static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk)
+/* Stage 2 on the spectrum x near its local maximum k, from the seed in *pk,
+ * ending within a small fraction of the pole's standard errors under noise of
+ * power 'noise' per bin (af_response_fit_noise); 0 (*pk untouched) if the fit
+ * fails or its frequency leaves the peak's top (it went for a neighbour or the
+ * background). */
+static int stage2(af_response *r, const double complex *x, size_t k, af_peak *pk, double noise)
 {
   size_t half = af_response_fit_half(r, pk->sigma_windowed), first, last;
   af_response_fit_around(r, k, half, &first, &last);
   if (!af_response_fit_bins(r, x, first, last, (double)k, (double)half, k, pk->sigma_windowed))
     return 0;
+  af_response_fit_noise(r, noise);
   double *p0 = r->fit_start, rss;
   memset(p0, 0, sizeof r->fit_start);
   af_response_fit_seed(r, p0, 0, pk->bin, pk->sigma_windowed, pk->c);
@@ -212,14 +237,15 @@ static void subtract(af_response *r, const af_peak *pk, size_t k, size_t j)
 
 /* The mode at the local maximum k, refined as far as the data allow; 1 if
  * the complex fit (stage 2) holds, 0 for a stage-1 or log-parabola estimate. */
-int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out)
+int af_response_refine(af_response *r, size_t k, double noise, af_peak *out)
 {
   if (!af_response_stage1(r, r->power, r->spec, k, out)) {
     af_response_log_parabola(r, k, out);
     return 0;
   }
-  if (!stage2(r, r->spec, k, out))
+  if (!stage2(r, r->spec, k, out, noise))
     return 0;
+  double min_power = noise * pow(10.0, 0.1 * r->cfg.snr_threshold_db);
   size_t j;
   if (!af_response_find_neighbour(r, k, af_response_fit_half(r, out->sigma_windowed), min_power,
                                   &j))
@@ -227,10 +253,10 @@ int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out)
   af_peak nb, again = *out;
   subtract(r, out, k, j);
   if (!(r->work_power[j] > r->work_power[j - 1] && r->work_power[j] >= r->work_power[j + 1]) ||
-      !af_response_stage1(r, r->work_power, r->work, j, &nb) || !stage2(r, r->work, j, &nb))
+      !af_response_stage1(r, r->work_power, r->work, j, &nb) || !stage2(r, r->work, j, &nb, noise))
     return 1;
   subtract(r, &nb, k, j);
-  if (stage2(r, r->work, k, &again))
+  if (stage2(r, r->work, k, &again, noise))
     *out = again;
   return 1;
 }

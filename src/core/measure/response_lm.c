@@ -24,7 +24,9 @@
  *             taken, or one refused because rounding made the cost rise at
  *             the minimum), or the scaled gradient
  *             max_j |g_j| max(|x_j|, 1) <= gtol max(cost, 1), or the cost
- *             fell by at most ftol of itself;
+ *             fell by at most ftol of itself, or (the peak list's truncated
+ *             fits, response_fit.c) the Gauss-Newton step from the point
+ *             would lower the cost by at most the fit's cost_floor;
  *  CAPPED     max_iter steps taken (the callers' caps: 50 and 25);
  *  STALLED    AF_RESPONSE_LM_MAX_REJECT steps in a row raised the cost;
  *  FAILED     the start's residuals or Jacobian are not finite.
@@ -181,6 +183,24 @@ AF_NUMERIC_KERNEL static void secant_update(size_t p, double *s, const double *d
                      ws * y[j] * y[l] / (ys * ys);
 }
 
+/* 1 if the Gauss-Newton step from *at would lower the cost by at most floor
+ * (> 0): g^T (J^T J)^-1 g, the cost the linearised model has still to lose,
+ * is the squared distance to its minimum in the metric J^T J. 0 when floor is
+ * 0 or J^T J is not positive definite. */
+AF_NUMERIC_KERNEL static int near_minimum(const normal_eq *at, size_t p, double floor)
+{
+  double m[AF_RESPONSE_SPLIT_PARAMS * AF_RESPONSE_SPLIT_PARAMS], y[AF_RESPONSE_SPLIT_PARAMS];
+  if (!(floor > 0.0))
+    return 0;
+  memcpy(m, at->a, p * p * sizeof *m);
+  if (!cholesky_solve(m, p, at->g, y))
+    return 0;
+  double decrement = 0.0;
+  for (size_t j = 0; j < p; ++j)
+    decrement += at->g[j] * y[j];
+  return decrement <= floor;
+}
+
 /* The iterations from *at (formed at x); the last point's equations in *at.
  * The secant term s joins J^T J only in the tail (the last step lowered the
  * cost by less than AF_RESPONSE_LM_TAIL of it): there the fit is in the
@@ -207,7 +227,7 @@ lm_iterate(af_response *r, size_t p, double *x, normal_eq **at_io, normal_eq **n
       d2[j] = fmax(d2[j], diag > 0.0 ? diag : (d2[j] > 0.0 ? d2[j] : 1.0));
       gmax = fmax(gmax, fabs(at->g[j]) * fmax(fabs(x[j]), 1.0));
     }
-    if (gmax <= gtol * fmax(at->cost, 1.0)) {
+    if (gmax <= gtol * fmax(at->cost, 1.0) || near_minimum(at, p, r->ctx.cost_floor)) {
       st = AF_RESPONSE_FIT_CONVERGED;
       break;
     }

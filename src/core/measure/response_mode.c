@@ -63,16 +63,52 @@ af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk)
   return q;
 }
 
+/* One side of the mode (a = z u, A = z^m u^m, al = z^L u^L) as the window
+ * holds it, T(a) - F(a), over one denominator. F's two fade-in poles pair up:
+ * with e = exp(i theta), h = exp(i theta / 2),
+ *   h / (1 - a e) + conj(h) / (1 - a conj(e)) = 2 cos(theta / 2) (1 - a) / Q,
+ *   Q = (1 - a e)(1 - a conj(e)) = (1 - a)^2 + kappa a,  kappa = 4 sin^2(theta / 2)
+ * (Q in that form: near the peak a ~ 1 and 1 - 2 cos(theta) a + a^2 would
+ * cancel), so that
+ *   T - F = ((1/2 - A + al / 2) Q - cos(theta / 2) / 2 (1 + al) (1 - a)^2)
+ *           / ((1 - a) Q):
+ * one reciprocal a side where the three sums took three. */
+static double complex windowed_side(double complex a, double complex am, double complex al,
+                                    double kappa, double half_cos)
+{
+  double complex d = 1.0 - a, d2 = d * d, q = d2 + kappa * a;
+  double complex num = (0.5 - am + 0.5 * al) * q - half_cos * (1.0 + al) * d2;
+  return num * complex_recip(d * q);
+}
+
 /* The mode q as the window holds it over the m analysed samples, at bin i
  * (r->phase_um filled there):
  *   c (T(z u) - F(z u)) + conj,  T(a) = (1 - a^m) / (1 - a),
- * F the fade-in's part (fade_sum). The fits see the pole alone (the
- * fade-in and the cut are smooth or small across a peak, taken by the
- * background), but far from the peak both matter: the cut leaves a ripple of
- * period fs / m (~ -36 dB at 40 ms), the fade-in a broad term ~ -25 dB of
- * the peak; a bare pole subtracted would leave them as false peaks beside the
- * mode and as a raised floor under the weaker modes sought next. */
+ * F the fade-in's part (fade_sum; windowed_side when there is a fade-in). The
+ * fits see the pole alone (the fade-in and the cut are smooth or small across
+ * a peak, taken by the background), but far from the peak both matter: the
+ * cut leaves a ripple of period fs / m (~ -36 dB at 40 ms), the fade-in a
+ * broad term ~ -25 dB of the peak; a bare pole subtracted would leave them as
+ * false peaks beside the mode and as a raised floor under the weaker modes
+ * sought next. */
 double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i)
+{
+  double complex u = r->phase_u[i], um = r->phase_um[i], ul = r->phase_ul[i];
+  double complex a = q->z * u, ac = conj(q->z) * u;
+  if (r->fade_samples == 0) {
+    double complex t = (1.0 - q->zm * um) * complex_recip(1.0 - a);
+    double complex tc = (1.0 - conj(q->zm) * um) * complex_recip(1.0 - ac);
+    return q->c * t + conj(q->c) * tc;
+  }
+  double s = cimag(r->fade_eh), kappa = 4.0 * s * s, half_cos = 0.5 * creal(r->fade_eh);
+  double complex t = windowed_side(a, q->zm * um, q->zl * ul, kappa, half_cos);
+  double complex tc = windowed_side(ac, conj(q->zm) * um, conj(q->zl) * ul, kappa, half_cos);
+  return q->c * t + conj(q->c) * tc;
+}
+
+/* The same, by the three geometric sums (fade_sum): what windowed_side
+ * rearranges, for the tests. */
+double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i)
 {
   double complex u = r->phase_u[i], um = r->phase_um[i], ul = r->phase_ul[i];
   double complex a = q->z * u, ac = conj(q->z) * u;

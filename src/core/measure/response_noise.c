@@ -4,7 +4,6 @@
 #include "response_private.h"
 
 #include <math.h>
-#include <string.h>
 
 #include <gsl/gsl_statistics_double.h>
 
@@ -12,6 +11,31 @@
  * reference's mean over f / 1.2 .. 1.2 f (coloured noise changes across a
  * wide list band; +-20 % holds ~70 bins at 700 Hz). */
 #define AF_RESPONSE_LIST_NOISE_SPAN 1.2
+
+/* A fresh reference (none yet, or after a clear: the lane clears it at every
+ * strike and adds one segment): the segment's periodogram per unit window
+ * energy, written once, with its running sum. The same values as the
+ * running mean from zeros (0 + 1 x (x - 0) = x exactly), without clearing
+ * every bin first and reading it back. */
+static void reference_start(af_response *r, double per_energy)
+{
+  r->noise_cum[0] = 0.0;
+  for (size_t k = 0; k < r->bins; ++k) {
+    r->noise_ref[k] = r->power[k] * per_energy;
+    r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
+  }
+}
+
+/* One more segment into the running mean of the r->noise_segments before it. */
+static void reference_update(af_response *r, double per_energy)
+{
+  double weight = 1.0 / (double)(r->noise_segments + 1);
+  r->noise_cum[0] = 0.0;
+  for (size_t k = 0; k < r->bins; ++k) {
+    r->noise_ref[k] += weight * (r->power[k] * per_energy - r->noise_ref[k]);
+    r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
+  }
+}
 
 af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
 {
@@ -28,14 +52,11 @@ af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
   af_response_transform(r, noise, n, 0, &energy);
   /* running mean: one segment's floor over a range of a few hundred Hz
    * scatters by ~1.5 dB, the mean of m segments by ~1.5/sqrt(m) dB */
-  if (r->noise_segments == 0) /* fresh, or after a clear: no mean to update */
-    memset(r->noise_ref, 0, r->bins * sizeof *r->noise_ref);
-  double weight = 1.0 / (double)(r->noise_segments + 1), per_energy = 1.0 / energy;
-  r->noise_cum[0] = 0.0;
-  for (size_t k = 0; k < r->bins; ++k) {
-    r->noise_ref[k] += weight * (r->power[k] * per_energy - r->noise_ref[k]);
-    r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
-  }
+  double per_energy = 1.0 / energy;
+  if (r->noise_segments == 0)
+    reference_start(r, per_energy);
+  else
+    reference_update(r, per_energy);
   r->noise_segments++;
   return AF_OK;
 }

@@ -76,6 +76,8 @@ typedef struct {
   double half;                /* bins per unit of the background's abscissa */
   double gain;                /* 1 / |X| at the grid peak: data of order 1 */
   double norm;                /* 1 - r of the seed: amplitude of order 1 */
+  double cost_floor;          /* a step lowering the cost by at most this ends the fit
+                                 (af_response_fit_noise); 0 = only the solver's tolerances */
 } af_fit_ctx;
 
 struct af_response {
@@ -264,6 +266,9 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);
 /* The mode q as the window holds it over the m analysed samples, at bin i. */
 double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i);
+/* The same by the fade-in's three geometric sums (af_response_fade_part),
+ * which af_response_mode_at rearranges over one denominator. */
+double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i);
 
 /* ---- response_fit.c ---- */
 /* Half-width of the fit around a peak of this windowed decay rate [bins]. */
@@ -277,6 +282,11 @@ void af_response_fit_around(const af_response *r, size_t k, size_t half, size_t 
  * (a zero bin, no decay). */
 int af_response_fit_bins(af_response *r, const double complex *data, size_t first, size_t last,
                          double center, double half, size_t k, double sigma_windowed);
+/* Lets the fit on r->ctx (set up by af_response_fit_bins) stop within a small
+ * fraction of its poles' standard errors under noise of power 'noise' per bin
+ * (response_fit.c); 0 = only the solver's tolerances. The one-pole fits
+ * (stage 2, the peak list's truncated fits), not the two-pole ones. */
+void af_response_fit_noise(af_response *r, double noise);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
                           double complex c);
@@ -284,8 +294,9 @@ void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double 
 int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss);
 /* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
 int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out);
-/* The mode at the local maximum k, refined as far as the data allow. */
-int af_response_refine(af_response *r, size_t k, double min_power, af_peak *out);
+/* The mode at the local maximum k, refined as far as the data allow (noise:
+ * power per bin there; a neighbour must clear snr_threshold_db over it). */
+int af_response_refine(af_response *r, size_t k, double noise, af_peak *out);
 
 /* ---- response_vp.c ---- */
 /* The cost (residual sum of squares) of the model under way at theta (each

@@ -32,12 +32,20 @@
 static const double split_offsets[] = {0.5, 1.0};
 
 /* The truncated one-pole fit of the mode pk on r->ctx; its residual sum of
- * squares into *rss; 0 if it fails. */
-static int one_pole(af_response *r, const af_peak *pk, double *rss)
+ * squares into *rss; 0 if it fails. It stops within a small fraction of the
+ * pole's standard errors under noise of power 'noise' per bin
+ * (af_response_fit_noise). Not the two-pole fits: two poles a few bins apart
+ * trade amplitude for position, their J^T J is near singular and its
+ * standard errors large, and a linearised test there would stop them short of
+ * the minimum (a split 0S3 left in the spectrum hid the 0S2 beside it). */
+static int one_pole(af_response *r, const af_peak *pk, double noise, double *rss)
 {
   memset(r->fit_start, 0, sizeof r->fit_start);
   af_response_fit_seed(r, r->fit_start, 0, pk->bin, pk->sigma_windowed, pk->c);
-  return af_response_split_run(r, 1, r->fit_start, rss);
+  af_response_fit_noise(r, noise);
+  int ok = af_response_split_run(r, 1, r->fit_start, rss);
+  af_response_fit_noise(r, 0.0);
+  return ok;
 }
 
 /* The bins of a two-pole fit around k (and the neighbour j, 0 if none):
@@ -95,7 +103,7 @@ int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise,
   if (!split_setup(r, k, j, pk))
     return 0;
   double rss1, expected = (double)r->ctx.count * noise * r->ctx.gain * r->ctx.gain;
-  if (!one_pole(r, pk, &rss1))
+  if (!one_pole(r, pk, noise, &rss1))
     return 0;
   if (!(rss1 > AF_RESPONSE_SPLIT_MISFIT * expected))
     return j == 0 && af_response_split_pole(r, r->split_x, 0, &a[0]) && a[0].bin >= pk->span_lo &&
@@ -140,7 +148,8 @@ int af_response_split(af_response *r, size_t k, const af_peak *pk, double noise,
 #define AF_RESPONSE_BACKFIT_PASSES 2
 
 /* Refits listed mode i on r->orig less the others; 1 if its reading moved. */
-static int backfit_one(af_response *r, af_peak *modes, af_mode_k *consts, size_t n, size_t i)
+static int backfit_one(af_response *r, af_peak *modes, af_mode_k *consts, size_t n, size_t i,
+                       double noise)
 {
   size_t half = af_response_fit_half(r, modes[i].sigma_windowed), first, last;
   double centre = round(modes[i].bin);
@@ -161,7 +170,7 @@ static int backfit_one(af_response *r, af_peak *modes, af_mode_k *consts, size_t
     return 0;
   double rss;
   af_peak pk;
-  if (!one_pole(r, &modes[i], &rss) || !af_response_split_pole(r, r->split_x, 0, &pk))
+  if (!one_pole(r, &modes[i], noise, &rss) || !af_response_split_pole(r, r->split_x, 0, &pk))
     return 0;
   double halfwidth_bins = modes[i].sigma_windowed / (2.0 * AF_PI * r->bin_hz);
   if (!(fabs(pk.bin - modes[i].bin) <= halfwidth_bins))
@@ -183,7 +192,7 @@ void af_response_list_backfit(af_response *r, af_response_result *list, af_peak 
     consts[i] = af_response_mode_consts(r, &modes[i]);
   for (int pass = 0; pass < AF_RESPONSE_BACKFIT_PASSES; ++pass)
     for (size_t i = 0; i < n; ++i) {
-      if (!backfit_one(r, modes, consts, n, i))
+      if (!backfit_one(r, modes, consts, n, i, noise[i]))
         continue;
       size_t k = (size_t)lround(modes[i].bin);
       double top = creal(r->orig[k] * conj(r->orig[k]));
