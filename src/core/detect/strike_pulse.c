@@ -567,27 +567,70 @@ static long clamp_index(long k, long n)
 }
 
 /* The crossing of `level` by the band-limited reconstruction of r between
- * samples k and k + 1, which straddle it (bisection to AF_STRIKE_EDGE_TOL:
- * the reconstruction passes through both samples, so a crossing exists). */
-static double level_crossing(const double *r, long n, long k, double level)
+ * samples k and k + 1, which straddle it, found by bisection to
+ * AF_STRIKE_EDGE_TOL (the reconstruction passes through both samples, so a
+ * crossing exists). The bisection is run lazily: a crossing is a bracket
+ * [a, b] that always holds the final value (the midpoint of the last
+ * bracket), refined only as far as a decision needs it (crossing_decide);
+ * the value itself, once asked for, is the same double as the whole
+ * bisection gives. Each step costs a 32-tap reconstruction, and for a long
+ * pulse the crossings only bound its fitted edges, which lie samples away
+ * from the bounds: most strikes need no step at all. */
+typedef struct {
+  const double *r;
+  long n, k;
+  double level, a, b;
+  bool a_below; /* r[k] <= level */
+} af_crossing;
+
+static af_crossing crossing_at(const double *r, long n, long k, double level)
 {
-  double a = (double)k, b = (double)(k + 1);
-  bool a_below = r[k] <= level;
-  while (b - a > AF_STRIKE_EDGE_TOL) {
-    double m = 0.5 * (a + b);
-    if ((sinc_at(r, n, m) <= level) == a_below)
-      a = m;
-    else
-      b = m;
-  }
-  return 0.5 * (a + b);
+  return (af_crossing){.r = r,
+                       .n = n,
+                       .k = k,
+                       .level = level,
+                       .a = (double)k,
+                       .b = (double)(k + 1),
+                       .a_below = r[k] <= level};
 }
 
-/* Crossings of `level` around the largest sample ipk: *t0 between the last
- * sample at or below it before ipk and the next, *t1 likewise after ipk
- * (the outermost sample when the span ends above it). Returns the number
- * of samples above it (0 when r[ipk] is not). */
-static long level_edges(const double *r, long n, long ipk, double level, double *t0, double *t1)
+/* An end of the span reached above the level: the outermost sample, exact. */
+static af_crossing crossing_exact(double t)
+{
+  return (af_crossing){.r = NULL, .a = t, .b = t};
+}
+
+static bool crossing_done(const af_crossing *c)
+{
+  return c->r == NULL || !(c->b - c->a > AF_STRIKE_EDGE_TOL);
+}
+
+/* One bisection step; false when the bracket is already final. */
+static bool crossing_step(af_crossing *c)
+{
+  if (crossing_done(c))
+    return false;
+  double m = 0.5 * (c->a + c->b);
+  if ((sinc_at(c->r, c->n, m) <= c->level) == c->a_below)
+    c->a = m;
+  else
+    c->b = m;
+  return true;
+}
+
+static double crossing_value(af_crossing *c)
+{
+  while (crossing_step(c))
+    ;
+  return c->r == NULL ? c->a : 0.5 * (c->a + c->b);
+}
+
+/* Crossings of `level` around the largest sample ipk: *c0 between the last
+ * sample at or below it before ipk and the next, *c1 likewise after ipk
+ * (the outermost sample when the span ends above it), both unrefined.
+ * Returns the number of samples above it (0 when r[ipk] is not). */
+static long level_edges(const double *r, long n, long ipk, double level, af_crossing *c0,
+                        af_crossing *c1)
 {
   if (!(r[ipk] > level))
     return 0;
@@ -596,9 +639,75 @@ static long level_edges(const double *r, long n, long ipk, double level, double 
     lo--;
   while (hi < n - 1 && r[hi + 1] > level)
     hi++;
-  *t0 = lo > 0 ? level_crossing(r, n, lo - 1, level) : (double)lo;
-  *t1 = hi < n - 1 ? level_crossing(r, n, hi, level) : (double)hi;
+  *c0 = lo > 0 ? crossing_at(r, n, lo - 1, level) : crossing_exact((double)lo);
+  *c1 = hi < n - 1 ? crossing_at(r, n, hi, level) : crossing_exact((double)hi);
   return hi - lo + 1;
+}
+
+/* A condition on the crossings' final values l0 and l1, given in interval
+ * form: +1 true and -1 false for every l0 in [a0, b0] and l1 in [a1, b1],
+ * 0 undecided. The conditions below are built from operations monotone in
+ * each argument (rounding to nearest is monotone), so evaluating them at the
+ * bracket's ends bounds their value at the final crossings. */
+typedef int af_crossing_test(double a0, double b0, double a1, double b1, double t);
+
+/* l1 > l0 */
+static int test_ordered(double a0, double b0, double a1, double b1, double t)
+{
+  (void)t;
+  return a1 > b0 ? 1 : !(b1 > a0) ? -1 : 0;
+}
+
+/* The fitted start t is plausible: l0 - out <= t <= l0 + AF_STRIKE_FIT_SLACK
+ * with out = AF_STRIKE_FIT_GAP (l1 - l0) + 1 (measure_span says why). */
+static int test_start(double a0, double b0, double a1, double b1, double t)
+{
+  double out_lo = AF_STRIKE_FIT_GAP * (a1 - b0) + 1.0, out_hi = AF_STRIKE_FIT_GAP * (b1 - a0) + 1.0;
+  if (t <= a0 + AF_STRIKE_FIT_SLACK && t >= b0 - out_lo)
+    return 1;
+  if (!(t <= b0 + AF_STRIKE_FIT_SLACK) || !(t >= a0 - out_hi))
+    return -1; /* NaN too */
+  return 0;
+}
+
+/* The fitted end t is plausible: l1 - AF_STRIKE_FIT_SLACK <= t <= l1 + out. */
+static int test_end(double a0, double b0, double a1, double b1, double t)
+{
+  double out_lo = AF_STRIKE_FIT_GAP * (a1 - b0) + 1.0, out_hi = AF_STRIKE_FIT_GAP * (b1 - a0) + 1.0;
+  if (t >= b1 - AF_STRIKE_FIT_SLACK && t <= a1 + out_lo)
+    return 1;
+  if (!(t >= a1 - AF_STRIKE_FIT_SLACK) || !(t <= b1 + out_hi))
+    return -1;
+  return 0;
+}
+
+/* The bounds of c's final value: the bracket, or the value once final. */
+static void crossing_bounds(af_crossing *c, double *lo, double *hi)
+{
+  if (crossing_done(c)) {
+    *lo = *hi = crossing_value(c);
+  } else {
+    *lo = c->a;
+    *hi = c->b;
+  }
+}
+
+/* The test's value at the final crossings, refining the wider bracket
+ * until it is decided (once both are final the bounds are points and the
+ * test is the exact comparison). */
+static bool crossing_decide(af_crossing_test *test, af_crossing *c0, af_crossing *c1, double t)
+{
+  for (;;) {
+    double a0, b0, a1, b1;
+    crossing_bounds(c0, &a0, &b0);
+    crossing_bounds(c1, &a1, &b1);
+    int v = test(a0, b0, a1, b1, t);
+    if (v != 0)
+      return v > 0;
+    af_crossing *wide = b0 - a0 >= b1 - a1 ? c0 : c1;
+    if (!crossing_step(wide) && !crossing_step(wide == c0 ? c1 : c0))
+      return false; /* unreachable: point bounds decide */
+  }
 }
 
 /* Result of the two baseline/fit passes, span-relative. */
@@ -629,13 +738,13 @@ static void measure_span(const af_strike_pulse_input *in, af_span *s, af_fit_out
     long ipk = argmax(s->r, clamp_index(a, s->n), clamp_index(e - 1, s->n));
     peak_n = refine_peak(s->r, s->n, ipk, &peak_at);
     level = fmax(AF_STRIKE_LEVEL_NOISE * in->noise_rms_n, AF_STRIKE_LEVEL_FRACTION * peak_n);
-    double l0 = 0.0, l1 = 0.0;
-    long above = level_edges(s->r, s->n, ipk, level, &l0, &l1);
-    bool crossed = above > 0 && l1 > l0;
+    af_crossing c0 = crossing_exact(0.0), c1 = crossing_exact(0.0);
+    long above = level_edges(s->r, s->n, ipk, level, &c0, &c1);
+    bool crossed = above > 0 && crossing_decide(test_ordered, &c0, &c1, 0.0);
     start_edge = end_edge = AF_STRIKE_EDGES_LEVEL;
     if (crossed && above < AF_STRIKE_SHORT_SAMPLES) {
-      t0 = l0;
-      t1 = l1;
+      t0 = crossing_value(&c0);
+      t1 = crossing_value(&c1);
     } else {
       double tol = pass == 0 ? AF_STRIKE_EDGE_TOL_COARSE : AF_STRIKE_EDGE_TOL;
       t0 = fit_start(s, a - reach, ipk, in->rise_fit_level * peak_n, NAN, tol);
@@ -643,15 +752,14 @@ static void measure_span(const af_strike_pulse_input *in, af_span *s, af_fit_out
       /* No fit (too few samples), a fitted zero on the wrong side of its
        * level crossing or further out than any plausible foot: the fit
        * failed, the crossing stands (the coarse contact without one). */
-      double out = AF_STRIKE_FIT_GAP * (l1 - l0) + 1.0;
-      if (crossed && !(t0 <= l0 + AF_STRIKE_FIT_SLACK && t0 >= l0 - out)) {
-        t0 = l0;
+      if (crossed && !crossing_decide(test_start, &c0, &c1, t0)) {
+        t0 = crossing_value(&c0);
       } else {
         start_edge = AF_STRIKE_EDGES_FIT;
         t0 = isnan(t0) ? (double)a : t0;
       }
-      if (crossed && !(t1 >= l1 - AF_STRIKE_FIT_SLACK && t1 <= l1 + out)) {
-        t1 = l1;
+      if (crossed && !crossing_decide(test_end, &c0, &c1, t1)) {
+        t1 = crossing_value(&c1);
       } else {
         end_edge = AF_STRIKE_EDGES_FIT;
         t1 = isnan(t1) ? (double)e - 1.0 : t1;
