@@ -265,39 +265,65 @@ static double edge_golden(const af_edge *e, double a, double b)
 /* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
  * every k - z on the half-sample lattice: s = (m / 2) scale for a whole m,
  * so the basis is tabulated once per edge over m (the same doubles as
- * edge_rss computes) and each scan point costs multiply-adds only. Windows
- * longer than the table are scanned by edge_rss. */
+ * edge_rss computes) and each scan point costs multiply-adds only. The
+ * samples on the contact's side of z take every other m of one parity,
+ * m0, m0 + 2, ..., from the first one past z (m0 = 1 or 2) outwards, so the
+ * normal matrix's sums, which depend on m only, are running sums over the
+ * table per parity; only the two sums with the data remain per scan point.
+ * Windows longer than the table are scanned by edge_rss. */
 #define AF_STRIKE_EDGE_LATTICE 1024
 
-/* The basis at s = (m / 2) scale, m = 1 .. m_max, into p0[m], p1[m]. */
-static void edge_lattice(double scale, long m_max, double *p0, double *p1)
+/* The edge's lattice: p0[m], p1[m] the basis at s = (m / 2) scale, and
+ * q00[m], q10[m], q11[m] the sums of p0 p0, p1 p0, p1 p1 over m, m - 2, ...
+ * down to 1 or 2 (index 0 and -1, i.e. [m + 1] stored, hold 0). */
+typedef struct {
+  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
+  double q00[AF_STRIKE_EDGE_LATTICE + 1], q10[AF_STRIKE_EDGE_LATTICE + 1],
+      q11[AF_STRIKE_EDGE_LATTICE + 1];
+} af_edge_lattice;
+
+/* The lattice for m = 1 .. m_max; q's are stored one place up (q[m + 1]),
+ * so that q[m - 1] is the empty sum below m = 1 or 2. */
+static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
 {
-  for (long m = 1; m <= m_max; m++)
-    edge_basis((double)m * 0.5 * scale, &p0[m], &p1[m]);
+  t->q00[0] = t->q10[0] = t->q11[0] = 0.0;
+  t->q00[1] = t->q10[1] = t->q11[1] = 0.0;
+  for (long m = 1; m <= m_max; m++) {
+    edge_basis((double)m * 0.5 * scale, &t->p0[m], &t->p1[m]);
+    t->q00[m + 1] = t->q00[m - 1] + t->p0[m] * t->p0[m];
+    t->q10[m + 1] = t->q10[m - 1] + t->p1[m] * t->p0[m];
+    t->q11[m + 1] = t->q11[m - 1] + t->p1[m] * t->p1[m];
+  }
 }
 
 /* The scan of fit_edge over the lattice; the best zero and its rss. */
 static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
                               double *best_rss)
 {
-  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
-  edge_lattice(e->scale, m_max, p0, p1);
+  af_edge_lattice t;
+  edge_lattice(e->scale, m_max, &t);
   const long zl = (long)zlo;
   for (long i = 0; i <= steps; i++) {
     double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
-    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
     /* Only the samples on the contact's side of z (m >= 1) enter the sums:
      * k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1) / 2 - 1 falling. */
     long k0 = e->side > 0 ? zl + (i + 2) / 2 : e->lo,
          k1 = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
-    for (long k = k0 < e->lo ? e->lo : k0; k <= (k1 > e->hi ? e->hi : k1); k++) {
-      long m = e->side * (2 * (k - zl) - i);
-      double y = e->r[k];
-      b0 += p0[m] * y;
-      a00 += p0[m] * p0[m];
-      b1 += p1[m] * y;
-      a10 += p1[m] * p0[m];
-      a11 += p1[m] * p1[m];
+    k0 = k0 < e->lo ? e->lo : k0;
+    k1 = k1 > e->hi ? e->hi : k1;
+    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+    if (k1 >= k0) {
+      /* m at k0, stepping by dm per sample; the smallest and largest m. */
+      long m = e->side * (2 * (k0 - zl) - i), dm = 2 * e->side;
+      long m_in = e->side > 0 ? m : e->side * (2 * (k1 - zl) - i), m_out = m_in + 2 * (k1 - k0);
+      for (long k = k0; k <= k1; k++, m += dm) {
+        double y = e->r[k];
+        b0 += t.p0[m] * y;
+        b1 += t.p1[m] * y;
+      }
+      a00 = t.q00[m_out + 1] - t.q00[m_in - 1];
+      a10 = t.q10[m_out + 1] - t.q10[m_in - 1];
+      a11 = t.q11[m_out + 1] - t.q11[m_in - 1];
     }
     double rss = edge_rss_of(e->yy, a00, a10, a11, b0, b1);
     if (rss < *best_rss) {
