@@ -318,16 +318,22 @@ static inline size_t idle_loop(af_idle *s, const float *x, size_t n, double a, d
                                double min_n, double factor2, bool check_finite)
 {
   double b = s->b, ms = s->ms, top = s->top, top_ms = s->top_ms;
+  /* Both tests below need r above top or above min_n: one compare a sample
+   * (top soon stops growing between strikes). */
+  double gate = fmin(top, min_n);
   size_t k = 0, top_k = s->top_k;
   for (; k < n; k++) {
     double v = x[k], r = v - b;
-    if (r > top) {
-      top = r;
-      top_ms = ms;
-      top_k = k;
+    if (r > gate) {
+      if (r > top) {
+        top = r;
+        top_ms = ms;
+        top_k = k;
+        gate = fmin(top, min_n);
+      }
+      if (r > min_n && r * r > factor2 * ms)
+        break;
     }
-    if (r > min_n && r * r > factor2 * ms)
-      break;
     if (check_finite && !isfinite(v))
       continue;
     b = keep * b + a * v;

@@ -133,9 +133,16 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
     s->slope = 0.0;
     s->b0 = pre ? m1 : post ? m2 : s->fallback;
   }
-  for (long k = 0; k < s->n; k++)
+  /* A non-finite sample makes the sum non-finite: one add a sample instead
+   * of fill_holes' test (a sum that overflows only runs fill_holes on a
+   * finite r, which leaves it as it is). */
+  double sum = 0.0;
+  for (long k = 0; k < s->n; k++) {
     s->r[k] = s->x[k] - (s->b0 + s->slope * (double)k);
-  fill_holes(s->r, s->n);
+    sum += s->r[k];
+  }
+  if (!isfinite(sum))
+    fill_holes(s->r, s->n);
 }
 
 static long argmax(const double *r, long lo, long hi)
@@ -223,7 +230,13 @@ static double edge_rss_of(double yy, double a00, double a10, double a11, double 
 static double edge_rss(const af_edge *e, double z)
 {
   double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
-  for (long k = e->lo; k <= e->hi; k++) {
+  /* only the samples on the contact's side of z: k > z rising, k < z falling */
+  long lo = e->lo, hi = e->hi;
+  if (e->side > 0 && (double)lo <= z)
+    lo = (long)floor(z) + 1;
+  if (e->side < 0 && (double)hi >= z)
+    hi = (long)ceil(z) - 1;
+  for (long k = lo; k <= hi; k++) {
     double s = (double)e->side * ((double)k - z) * e->scale;
     if (s <= 0.0)
       continue;
@@ -393,6 +406,16 @@ static double fit_end(const af_span *s, long outer, long ipk, double level, doub
   return fit_edge(&e, (double)(lo + AF_STRIKE_EDGE_TERMS + 1), (double)hi + 1.0, fallback);
 }
 
+/* Value of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u: poly_eval's *v
+ * alone (the same double), for the scan. */
+static double poly_value(const double *c, double u)
+{
+  double v = 0.0;
+  for (int i = AF_STRIKE_PEAK_TERMS - 1; i >= 0; i--)
+    v = v * u + c[i];
+  return v;
+}
+
 /* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
 static void poly_eval(const double *c, double u, double *v, double *d1, double *d2)
 {
@@ -540,7 +563,7 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
   long steps = (long)floor((uhi - ulo) / du);
   for (long i = 0; i <= steps; i++) {
     double u = ulo + (double)i * du;
-    poly_eval(c, u, &v, &d1, &d2);
+    v = poly_value(c, u);
     if (v > best) {
       best = v;
       ub = u;
