@@ -309,6 +309,46 @@ static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
   }
 }
 
+/* The samples k0 .. k1 on the contact's side of the lattice's zero
+ * z = zl + i / 2 (m >= 1): k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1)
+ * / 2 - 1 falling. */
+static void edge_lattice_side(const af_edge *e, long zl, long i, long *k0, long *k1)
+{
+  long lo = e->side > 0 ? zl + (i + 2) / 2 : e->lo, hi = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
+  *k0 = lo < e->lo ? e->lo : lo;
+  *k1 = hi > e->hi ? e->hi : hi;
+}
+
+/* The rss of the lattice's zero z = zl + i / 2, its contact side k0 .. k1. */
+static double edge_lattice_rss(const af_edge *e, const af_edge_lattice *t, long zl, long i, long k0,
+                               long k1)
+{
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+  if (k1 >= k0) {
+    /* m at k0, stepping by dm per sample; the smallest and largest m. */
+    long m = e->side * (2 * (k0 - zl) - i), dm = 2 * e->side;
+    long m_in = e->side > 0 ? m : e->side * (2 * (k1 - zl) - i), m_out = m_in + 2 * (k1 - k0);
+    for (long k = k0; k <= k1; k++, m += dm) {
+      double y = e->r[k];
+      b0 += t->p0[m] * y;
+      b1 += t->p1[m] * y;
+    }
+    a00 = t->q00[m_out + 1] - t->q00[m_in - 1];
+    a10 = t->q10[m_out + 1] - t->q10[m_in - 1];
+    a11 = t->q11[m_out + 1] - t->q11[m_in - 1];
+  }
+  return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
+}
+
+/* Far enough past the edge the quiet side holds signal: the rss of every
+ * zero further on is at least the sum of r^2 over the samples it leaves
+ * on the quiet side (modelled as 0), which only grows, so the scan stops
+ * once that sum passes the best rss (by a margin far above the rounding of
+ * either, ~1e-14 yy: no zero it skips could have been taken). The scan runs
+ * from the window's quiet end towards the contact (falling edges
+ * backwards, ties still to the smaller zero), where the sum grows. */
+#define AF_STRIKE_EDGE_PRUNE_MARGIN 1e-9
+
 /* The scan of fit_edge over the lattice; the best zero and its rss. */
 static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
                               double *best_rss)
@@ -316,32 +356,20 @@ static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_m
   af_edge_lattice t;
   edge_lattice(e->scale, m_max, &t);
   const long zl = (long)zlo;
-  for (long i = 0; i <= steps; i++) {
-    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
-    /* Only the samples on the contact's side of z (m >= 1) enter the sums:
-     * k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1) / 2 - 1 falling. */
-    long k0 = e->side > 0 ? zl + (i + 2) / 2 : e->lo,
-         k1 = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
-    k0 = k0 < e->lo ? e->lo : k0;
-    k1 = k1 > e->hi ? e->hi : k1;
-    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
-    if (k1 >= k0) {
-      /* m at k0, stepping by dm per sample; the smallest and largest m. */
-      long m = e->side * (2 * (k0 - zl) - i), dm = 2 * e->side;
-      long m_in = e->side > 0 ? m : e->side * (2 * (k1 - zl) - i), m_out = m_in + 2 * (k1 - k0);
-      for (long k = k0; k <= k1; k++, m += dm) {
-        double y = e->r[k];
-        b0 += t.p0[m] * y;
-        b1 += t.p1[m] * y;
-      }
-      a00 = t.q00[m_out + 1] - t.q00[m_in - 1];
-      a10 = t.q10[m_out + 1] - t.q10[m_in - 1];
-      a11 = t.q11[m_out + 1] - t.q11[m_in - 1];
-    }
-    double rss = edge_rss_of(e->yy, a00, a10, a11, b0, b1);
-    if (rss < *best_rss) {
+  const double margin = AF_STRIKE_EDGE_PRUNE_MARGIN * e->yy;
+  double quiet = 0.0;                      /* sum of r^2 on the quiet side of the zero */
+  long next = e->side > 0 ? e->lo : e->hi; /* the next sample to join it */
+  for (long done = 0; done <= steps; done++) {
+    long i = e->side > 0 ? done : steps - done, k0, k1;
+    edge_lattice_side(e, zl, i, &k0, &k1);
+    for (; e->side > 0 ? next < k0 && next <= e->hi : next > k1 && next >= e->lo; next += e->side)
+      quiet += e->r[next] * e->r[next];
+    if (quiet > *best_rss + margin)
+      break;
+    double rss = edge_lattice_rss(e, &t, zl, i, k0, k1);
+    if (e->side > 0 ? rss < *best_rss : rss <= *best_rss) {
       *best_rss = rss;
-      *best = z;
+      *best = zlo + (double)i * AF_STRIKE_EDGE_STEP;
     }
   }
 }
