@@ -435,13 +435,12 @@ static double fit_end(const af_span *s, long outer, long ipk, double level, doub
 }
 
 /* Value of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u: poly_eval's *v
- * alone (the same double), for the scan. */
+ * alone (the same double: its first step, 0 u + c[4], is c[4]), written
+ * out for the scan. */
+_Static_assert(AF_STRIKE_PEAK_TERMS == 5, "poly_value is written out for a quartic");
 static double poly_value(const double *c, double u)
 {
-  double v = 0.0;
-  for (int i = AF_STRIKE_PEAK_TERMS - 1; i >= 0; i--)
-    v = v * u + c[i];
-  return v;
+  return (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
 }
 
 /* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
