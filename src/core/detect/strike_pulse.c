@@ -251,28 +251,96 @@ static double edge_rss(const af_edge *e, double z)
   return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
 }
 
-/* Golden-section minimum of edge_rss on [a, b]. */
-static double edge_golden(const af_edge *e, double a, double b)
+/* Brent's minimiser (parabolic steps, golden-section ones when a parabola
+ * is not trusted; Brent 1973, netlib fmin) of edge_rss on [a, b]: the
+ * profile residual is smooth near its minimum, where the parabolas
+ * converge superlinearly, so it takes about half the evaluations of the
+ * plain golden section to the same accuracy. It stops when the minimum is
+ * bracketed within AF_STRIKE_BRENT_REACH of the tolerance e->tol on either
+ * side of the point returned, as close as the golden section's midpoint of
+ * a final bracket e->tol wide (within e->tol / 2). */
+#define AF_STRIKE_BRENT_REACH 0.5
+#define AF_STRIKE_SQRT_EPS 1.4901161193847656e-08
+typedef struct {
+  double a, b;    /* the bracket */
+  double x, w, v; /* best, second best, previous second best */
+  double fx, fw, fv;
+  double d, step; /* the last move and the one before */
+} af_brent;
+
+/* The next point to evaluate: a parabolic step through x, w, v when it
+ * falls inside the bracket and moves less than half the step before last,
+ * else a golden-section step into the larger part. */
+static double brent_next(af_brent *s, double tol1)
 {
-  const double g = 0.6180339887498949;
-  double u = b - g * (b - a), v = a + g * (b - a);
-  double fu = edge_rss(e, u), fv = edge_rss(e, v);
-  while (b - a > e->tol) {
-    if (fu < fv) {
-      b = v;
-      v = u;
-      fv = fu;
-      u = b - g * (b - a);
-      fu = edge_rss(e, u);
-    } else {
-      a = u;
-      u = v;
-      fu = fv;
-      v = a + g * (b - a);
-      fv = edge_rss(e, v);
+  const double c = 0.3819660112501051; /* (3 - sqrt 5) / 2 */
+  double xm = 0.5 * (s->a + s->b);
+  bool parabolic = false;
+  if (fabs(s->step) > tol1) {
+    double r = (s->x - s->w) * (s->fx - s->fv), q = (s->x - s->v) * (s->fx - s->fw);
+    double p = (s->x - s->v) * q - (s->x - s->w) * r, before_last = s->step;
+    q = 2.0 * (q - r);
+    if (q > 0.0)
+      p = -p;
+    q = fabs(q);
+    s->step = s->d;
+    if (fabs(p) < fabs(0.5 * q * before_last) && p > q * (s->a - s->x) && p < q * (s->b - s->x)) {
+      s->d = p / q;
+      double u = s->x + s->d;
+      if (u - s->a < 2.0 * tol1 || s->b - u < 2.0 * tol1)
+        s->d = xm >= s->x ? tol1 : -tol1;
+      parabolic = true;
     }
   }
-  return 0.5 * (a + b);
+  if (!parabolic) {
+    s->step = (s->x >= xm ? s->a : s->b) - s->x;
+    s->d = c * s->step;
+  }
+  return s->x + (fabs(s->d) >= tol1 ? s->d : (s->d > 0.0 ? tol1 : -tol1));
+}
+
+/* Takes the value fu at u into the bracket and the three best points. */
+static void brent_take(af_brent *s, double u, double fu)
+{
+  if (fu <= s->fx) {
+    if (u >= s->x)
+      s->a = s->x;
+    else
+      s->b = s->x;
+    s->v = s->w;
+    s->fv = s->fw;
+    s->w = s->x;
+    s->fw = s->fx;
+    s->x = u;
+    s->fx = fu;
+    return;
+  }
+  if (u < s->x)
+    s->a = u;
+  else
+    s->b = u;
+  if (fu <= s->fw || s->w == s->x) {
+    s->v = s->w;
+    s->fv = s->fw;
+    s->w = u;
+    s->fw = fu;
+  } else if (fu <= s->fv || s->v == s->x || s->v == s->w) {
+    s->v = u;
+    s->fv = fu;
+  }
+}
+
+static double edge_brent(const af_edge *e, double a, double b)
+{
+  double x = a + 0.3819660112501051 * (b - a), fx = edge_rss(e, x);
+  af_brent s = {.a = a, .b = b, .x = x, .w = x, .v = x, .fx = fx, .fw = fx, .fv = fx};
+  for (;;) {
+    double tol1 = AF_STRIKE_SQRT_EPS * fabs(s.x) + 0.5 * AF_STRIKE_BRENT_REACH * e->tol;
+    if (fabs(s.x - 0.5 * (s.a + s.b)) <= 2.0 * tol1 - 0.5 * (s.b - s.a))
+      return s.x;
+    double u = brent_next(&s, tol1);
+    brent_take(&s, u, edge_rss(e, u));
+  }
 }
 
 /* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
@@ -402,7 +470,7 @@ static double fit_edge(af_edge *e, double zlo, double zhi, double fallback)
   if (!isfinite(best_rss))
     return fallback;
   double a = fmax(zlo, best - AF_STRIKE_EDGE_STEP), b = fmin(zhi, best + AF_STRIKE_EDGE_STEP);
-  return edge_golden(e, a, b);
+  return edge_brent(e, a, b);
 }
 
 /* Contact start: fit from the quiet signal at `outer` up to the last sample
