@@ -345,9 +345,11 @@ double af_fit_check_shift(const af_fit *w)
   const gsl_matrix *J = af_fit_jacobian(w);
   const size_t p = w->n_params;
   double g[AF_FIT_MAX_PARAMS] = {0};
-  for (size_t k = 0; k < w->n; k++)
+  for (size_t k = 0; k < w->n; k++) {
+    const double *row = J->data + k * J->tda; /* gsl_matrix_get's element, unchecked */
     for (size_t j = 0; j < p; j++)
-      g[j] += gsl_matrix_get(J, k, j) * w->scale * (w->check_n[k] - w->base_at_n[k]);
+      g[j] += row[j] * w->scale * (w->check_n[k] - w->base_at_n[k]);
+  }
   double r_norm = gsl_blas_dnrm2(af_fit_residual(w));
   double s2 = r_norm * r_norm / (double)(w->n - p); /* normal holds s2 (J^T J)^-1 */
   if (!(s2 > 0.0))
