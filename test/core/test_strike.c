@@ -3,6 +3,7 @@
  * sub-sample delay), buried in stated imperfections, written in 1024-sample
  * chunks. Truth is the model's own contact time, peak and the momentum
  * balance's impulse, never the detector's output. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -706,6 +707,47 @@ static void test_prime_errors(void)
 
 /* ---- the measured band through af_spectrum ------------------------------------- */
 
+/* Lost samples while armed and idle: a NaN or -inf sample teaches the
+ * trackers nothing (either would poison them), wherever it falls in a
+ * chunk. The trackers after the stream against the exponential averages
+ * written out here over the finite samples alone. */
+static void test_lost_in_idle(void)
+{
+  static collector c;
+  af_strike_config cfg = af_strike_config_default();
+  af_strike *d = make_detector(&cfg);
+  enum { N = 4 * CHUNK };
+  static float x[N];
+  for (size_t k = 0; k < N; k++)
+    x[k] = (float)(2.0 + 0.02 * sin(0.37 * (double)k)); /* quiet: 14 mN RMS about 2 N */
+  AF_CHECK_STATUS(af_strike_prime(d, x, N), AF_OK);
+  af_strike_tracker t;
+  af_strike_get_tracker(d, &t);
+  double b = t.baseline_n, ms = t.noise_rms_n * t.noise_rms_n;
+  x[0] = NAN;                 /* first of a chunk */
+  x[CHUNK + 300] = -INFINITY; /* then finite samples */
+  x[2 * CHUNK + 10] = NAN;    /* two in a row */
+  x[2 * CHUNK + 11] = NAN;
+  x[3 * CHUNK - 1] = NAN; /* last of a chunk */
+  c.n = 0;
+  for (size_t k = 0; k < N; k += CHUNK)
+    AF_CHECK_STATUS(af_strike_write(d, k, x + k, CHUNK, collect, &c), AF_OK);
+  AF_CHECK(c.n == 0);
+  double a = -expm1(-1.0 / (cfg.baseline_time_constant_s * cfg.sample_rate_hz)), keep = 1.0 - a;
+  for (size_t k = 0; k < N; k++) {
+    double v = x[k];
+    if (!isfinite(v))
+      continue;
+    b = keep * b + a * v;
+    ms = keep * ms + a * (v - b) * (v - b);
+  }
+  af_strike_get_tracker(d, &t);
+  AF_CHECK(t.armed);
+  AF_CHECK_ABS(t.baseline_n, b, 1e-12); /* [N] */
+  AF_CHECK_REL(t.noise_rms_n, sqrt(ms), 1e-9);
+  af_strike_destroy(d);
+}
+
 static void test_band(void)
 {
   static collector c;
@@ -780,6 +822,7 @@ int main(void)
   test_restart();
   test_primed_short_pre_trigger();
   test_prime_errors();
+  test_lost_in_idle();
   test_band();
   af_impact_destroy(impact);
   return af_test_summary("test_strike");

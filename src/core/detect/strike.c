@@ -302,38 +302,76 @@ static void settle(af_strike *d, uint64_t from)
   d->settle_since = from;
 }
 
-/* The armed idle state over x[0..n) (x[0] has index at): the trackers in
- * registers, one multiply-add per tracker and sample (this loop is nearly
- * all of the streaming cost). Returns the samples consumed: n, or up to and
- * including the one that triggered. */
-static size_t idle_run(af_strike *d, uint64_t at, const float *x, size_t n)
+/* The armed idle state's trackers and its diagnosis (the largest
+ * excursion, the mean square then, its index in the block; n: none). */
+typedef struct {
+  double b, ms, top, top_ms;
+  size_t top_k;
+} af_idle;
+
+/* idle_run's loop over x[0..n): one multiply-add per tracker and sample
+ * (this loop is nearly all of the streaming cost). Returns the samples
+ * before the one that triggered (n: none did). check_finite: a lost
+ * (non-finite) sample teaches nothing; without the check one would poison
+ * the trackers, which the caller sees afterwards (see idle_run). */
+static inline size_t idle_loop(af_idle *s, const float *x, size_t n, double a, double keep,
+                               double min_n, double factor2, bool check_finite)
 {
-  const double a = d->alpha, keep = 1.0 - d->alpha, min_n = d->cfg.threshold_min_n;
-  const double factor2 = d->factor2;
-  double b = d->baseline_n, ms = d->mean_square;
-  double top = d->rec.idle_max, top_ms = d->rec.idle_ms; /* diagnosis */
-  size_t k = 0, top_k = n;
+  double b = s->b, ms = s->ms, top = s->top, top_ms = s->top_ms;
+  /* Both tests below need r above top or above min_n: one compare a sample
+   * (top soon stops growing between strikes). */
+  double gate = fmin(top, min_n);
+  size_t k = 0, top_k = s->top_k;
   for (; k < n; k++) {
     double v = x[k], r = v - b;
-    if (r > top) {
-      top = r;
-      top_ms = ms;
-      top_k = k;
+    if (r > gate) {
+      if (r > top) {
+        top = r;
+        top_ms = ms;
+        top_k = k;
+        gate = fmin(top, min_n);
+      }
+      if (r > min_n && r * r > factor2 * ms)
+        break;
     }
-    if (r > min_n && r * r > factor2 * ms)
-      break;
-    if (!isfinite(v))
-      continue; /* a lost sample teaches nothing */
+    if (check_finite && !isfinite(v))
+      continue;
     b = keep * b + a * v;
     double e = v - b;
     ms = keep * ms + a * e * e;
   }
-  d->baseline_n = b;
-  d->mean_square = ms;
-  if (top_k < n) {
-    d->rec.idle_max = top;
-    d->rec.idle_ms = top_ms;
-    d->rec.idle_at = at + top_k;
+  *s = (af_idle){.b = b, .ms = ms, .top = top, .top_ms = top_ms, .top_k = top_k};
+  return k;
+}
+
+/* The armed idle state over x[0..n) (x[0] has index at), the trackers in
+ * registers. Returns the samples consumed: n, or up to and including the
+ * one that triggered. The block is first run without the per-sample test
+ * for lost samples: a finite block gives the same doubles as with it, and
+ * a lost one leaves a tracker non-finite (NaN or -inf taught; a trigger
+ * against a poisoned baseline leaves it so too), so the block is then run
+ * again from the start with the test. Float samples cannot overflow the
+ * trackers: a non-finite tracker means a lost sample. */
+static size_t idle_run(af_strike *d, uint64_t at, const float *x, size_t n)
+{
+  const double a = d->alpha, keep = 1.0 - d->alpha, min_n = d->cfg.threshold_min_n;
+  const af_idle start = {.b = d->baseline_n,
+                         .ms = d->mean_square,
+                         .top = d->rec.idle_max,
+                         .top_ms = d->rec.idle_ms,
+                         .top_k = n};
+  af_idle s = start;
+  size_t k = idle_loop(&s, x, n, a, keep, min_n, d->factor2, false);
+  if (!(isfinite(s.b) && isfinite(s.ms))) {
+    s = start;
+    k = idle_loop(&s, x, n, a, keep, min_n, d->factor2, true);
+  }
+  d->baseline_n = s.b;
+  d->mean_square = s.ms;
+  if (s.top_k < n) {
+    d->rec.idle_max = s.top;
+    d->rec.idle_ms = s.top_ms;
+    d->rec.idle_at = at + s.top_k;
   }
   if (k == n)
     return n;

@@ -133,9 +133,16 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
     s->slope = 0.0;
     s->b0 = pre ? m1 : post ? m2 : s->fallback;
   }
-  for (long k = 0; k < s->n; k++)
+  /* A non-finite sample makes the sum non-finite: one add a sample instead
+   * of fill_holes' test (a sum that overflows only runs fill_holes on a
+   * finite r, which leaves it as it is). */
+  double sum = 0.0;
+  for (long k = 0; k < s->n; k++) {
     s->r[k] = s->x[k] - (s->b0 + s->slope * (double)k);
-  fill_holes(s->r, s->n);
+    sum += s->r[k];
+  }
+  if (!isfinite(sum))
+    fill_holes(s->r, s->n);
 }
 
 static long argmax(const double *r, long lo, long hi)
@@ -223,7 +230,13 @@ static double edge_rss_of(double yy, double a00, double a10, double a11, double 
 static double edge_rss(const af_edge *e, double z)
 {
   double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
-  for (long k = e->lo; k <= e->hi; k++) {
+  /* only the samples on the contact's side of z: k > z rising, k < z falling */
+  long lo = e->lo, hi = e->hi;
+  if (e->side > 0 && (double)lo <= z)
+    lo = (long)floor(z) + 1;
+  if (e->side < 0 && (double)hi >= z)
+    hi = (long)ceil(z) - 1;
+  for (long k = lo; k <= hi; k++) {
     double s = (double)e->side * ((double)k - z) * e->scale;
     if (s <= 0.0)
       continue;
@@ -238,71 +251,193 @@ static double edge_rss(const af_edge *e, double z)
   return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
 }
 
-/* Golden-section minimum of edge_rss on [a, b]. */
-static double edge_golden(const af_edge *e, double a, double b)
+/* Brent's minimiser (parabolic steps, golden-section ones when a parabola
+ * is not trusted; Brent 1973, netlib fmin) of edge_rss on [a, b]: the
+ * profile residual is smooth near its minimum, where the parabolas
+ * converge superlinearly, so it takes about half the evaluations of the
+ * plain golden section to the same accuracy. It stops when the minimum is
+ * bracketed within AF_STRIKE_BRENT_REACH of the tolerance e->tol on either
+ * side of the point returned, as close as the golden section's midpoint of
+ * a final bracket e->tol wide (within e->tol / 2). */
+#define AF_STRIKE_BRENT_REACH 0.5
+#define AF_STRIKE_SQRT_EPS 1.4901161193847656e-08
+typedef struct {
+  double a, b;    /* the bracket */
+  double x, w, v; /* best, second best, previous second best */
+  double fx, fw, fv;
+  double d, step; /* the last move and the one before */
+} af_brent;
+
+/* The next point to evaluate: a parabolic step through x, w, v when it
+ * falls inside the bracket and moves less than half the step before last,
+ * else a golden-section step into the larger part. */
+static double brent_next(af_brent *s, double tol1)
 {
-  const double g = 0.6180339887498949;
-  double u = b - g * (b - a), v = a + g * (b - a);
-  double fu = edge_rss(e, u), fv = edge_rss(e, v);
-  while (b - a > e->tol) {
-    if (fu < fv) {
-      b = v;
-      v = u;
-      fv = fu;
-      u = b - g * (b - a);
-      fu = edge_rss(e, u);
-    } else {
-      a = u;
-      u = v;
-      fu = fv;
-      v = a + g * (b - a);
-      fv = edge_rss(e, v);
+  const double c = 0.3819660112501051; /* (3 - sqrt 5) / 2 */
+  double xm = 0.5 * (s->a + s->b);
+  bool parabolic = false;
+  if (fabs(s->step) > tol1) {
+    double r = (s->x - s->w) * (s->fx - s->fv), q = (s->x - s->v) * (s->fx - s->fw);
+    double p = (s->x - s->v) * q - (s->x - s->w) * r, before_last = s->step;
+    q = 2.0 * (q - r);
+    if (q > 0.0)
+      p = -p;
+    q = fabs(q);
+    s->step = s->d;
+    if (fabs(p) < fabs(0.5 * q * before_last) && p > q * (s->a - s->x) && p < q * (s->b - s->x)) {
+      s->d = p / q;
+      double u = s->x + s->d;
+      if (u - s->a < 2.0 * tol1 || s->b - u < 2.0 * tol1)
+        s->d = xm >= s->x ? tol1 : -tol1;
+      parabolic = true;
     }
   }
-  return 0.5 * (a + b);
+  if (!parabolic) {
+    s->step = (s->x >= xm ? s->a : s->b) - s->x;
+    s->d = c * s->step;
+  }
+  return s->x + (fabs(s->d) >= tol1 ? s->d : (s->d > 0.0 ? tol1 : -tol1));
+}
+
+/* Takes the value fu at u into the bracket and the three best points. */
+static void brent_take(af_brent *s, double u, double fu)
+{
+  if (fu <= s->fx) {
+    if (u >= s->x)
+      s->a = s->x;
+    else
+      s->b = s->x;
+    s->v = s->w;
+    s->fv = s->fw;
+    s->w = s->x;
+    s->fw = s->fx;
+    s->x = u;
+    s->fx = fu;
+    return;
+  }
+  if (u < s->x)
+    s->a = u;
+  else
+    s->b = u;
+  if (fu <= s->fw || s->w == s->x) {
+    s->v = s->w;
+    s->fv = s->fw;
+    s->w = u;
+    s->fw = fu;
+  } else if (fu <= s->fv || s->v == s->x || s->v == s->w) {
+    s->v = u;
+    s->fv = fu;
+  }
+}
+
+static double edge_brent(const af_edge *e, double a, double b)
+{
+  double x = a + 0.3819660112501051 * (b - a), fx = edge_rss(e, x);
+  af_brent s = {.a = a, .b = b, .x = x, .w = x, .v = x, .fx = fx, .fw = fx, .fv = fx};
+  for (;;) {
+    double tol1 = AF_STRIKE_SQRT_EPS * fabs(s.x) + 0.5 * AF_STRIKE_BRENT_REACH * e->tol;
+    if (fabs(s.x - 0.5 * (s.a + s.b)) <= 2.0 * tol1 - 0.5 * (s.b - s.a))
+      return s.x;
+    double u = brent_next(&s, tol1);
+    brent_take(&s, u, edge_rss(e, u));
+  }
 }
 
 /* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
  * every k - z on the half-sample lattice: s = (m / 2) scale for a whole m,
  * so the basis is tabulated once per edge over m (the same doubles as
- * edge_rss computes) and each scan point costs multiply-adds only. Windows
- * longer than the table are scanned by edge_rss. */
+ * edge_rss computes) and each scan point costs multiply-adds only. The
+ * samples on the contact's side of z take every other m of one parity,
+ * m0, m0 + 2, ..., from the first one past z (m0 = 1 or 2) outwards, so the
+ * normal matrix's sums, which depend on m only, are running sums over the
+ * table per parity; only the two sums with the data remain per scan point.
+ * Windows longer than the table are scanned by edge_rss. */
 #define AF_STRIKE_EDGE_LATTICE 1024
 
-/* The basis at s = (m / 2) scale, m = 1 .. m_max, into p0[m], p1[m]. */
-static void edge_lattice(double scale, long m_max, double *p0, double *p1)
+/* The edge's lattice: p0[m], p1[m] the basis at s = (m / 2) scale, and
+ * q00[m], q10[m], q11[m] the sums of p0 p0, p1 p0, p1 p1 over m, m - 2, ...
+ * down to 1 or 2 (index 0 and -1, i.e. [m + 1] stored, hold 0). */
+typedef struct {
+  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
+  double q00[AF_STRIKE_EDGE_LATTICE + 1], q10[AF_STRIKE_EDGE_LATTICE + 1],
+      q11[AF_STRIKE_EDGE_LATTICE + 1];
+} af_edge_lattice;
+
+/* The lattice for m = 1 .. m_max; q's are stored one place up (q[m + 1]),
+ * so that q[m - 1] is the empty sum below m = 1 or 2. */
+static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
 {
-  for (long m = 1; m <= m_max; m++)
-    edge_basis((double)m * 0.5 * scale, &p0[m], &p1[m]);
+  t->q00[0] = t->q10[0] = t->q11[0] = 0.0;
+  t->q00[1] = t->q10[1] = t->q11[1] = 0.0;
+  for (long m = 1; m <= m_max; m++) {
+    edge_basis((double)m * 0.5 * scale, &t->p0[m], &t->p1[m]);
+    t->q00[m + 1] = t->q00[m - 1] + t->p0[m] * t->p0[m];
+    t->q10[m + 1] = t->q10[m - 1] + t->p1[m] * t->p0[m];
+    t->q11[m + 1] = t->q11[m - 1] + t->p1[m] * t->p1[m];
+  }
 }
+
+/* The samples k0 .. k1 on the contact's side of the lattice's zero
+ * z = zl + i / 2 (m >= 1): k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1)
+ * / 2 - 1 falling. */
+static void edge_lattice_side(const af_edge *e, long zl, long i, long *k0, long *k1)
+{
+  long lo = e->side > 0 ? zl + (i + 2) / 2 : e->lo, hi = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
+  *k0 = lo < e->lo ? e->lo : lo;
+  *k1 = hi > e->hi ? e->hi : hi;
+}
+
+/* The rss of the lattice's zero z = zl + i / 2, its contact side k0 .. k1. */
+static double edge_lattice_rss(const af_edge *e, const af_edge_lattice *t, long zl, long i, long k0,
+                               long k1)
+{
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+  if (k1 >= k0) {
+    /* m at k0, stepping by dm per sample; the smallest and largest m. */
+    long m = e->side * (2 * (k0 - zl) - i), dm = 2 * e->side;
+    long m_in = e->side > 0 ? m : e->side * (2 * (k1 - zl) - i), m_out = m_in + 2 * (k1 - k0);
+    for (long k = k0; k <= k1; k++, m += dm) {
+      double y = e->r[k];
+      b0 += t->p0[m] * y;
+      b1 += t->p1[m] * y;
+    }
+    a00 = t->q00[m_out + 1] - t->q00[m_in - 1];
+    a10 = t->q10[m_out + 1] - t->q10[m_in - 1];
+    a11 = t->q11[m_out + 1] - t->q11[m_in - 1];
+  }
+  return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
+}
+
+/* Far enough past the edge the quiet side holds signal: the rss of every
+ * zero further on is at least the sum of r^2 over the samples it leaves
+ * on the quiet side (modelled as 0), which only grows, so the scan stops
+ * once that sum passes the best rss (by a margin far above the rounding of
+ * either, ~1e-14 yy: no zero it skips could have been taken). The scan runs
+ * from the window's quiet end towards the contact (falling edges
+ * backwards, ties still to the smaller zero), where the sum grows. */
+#define AF_STRIKE_EDGE_PRUNE_MARGIN 1e-9
 
 /* The scan of fit_edge over the lattice; the best zero and its rss. */
 static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
                               double *best_rss)
 {
-  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
-  edge_lattice(e->scale, m_max, p0, p1);
+  af_edge_lattice t;
+  edge_lattice(e->scale, m_max, &t);
   const long zl = (long)zlo;
-  for (long i = 0; i <= steps; i++) {
-    double z = zlo + (double)i * AF_STRIKE_EDGE_STEP;
-    double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
-    /* Only the samples on the contact's side of z (m >= 1) enter the sums:
-     * k >= zl + (i + 2) / 2 rising, k <= zl + (i + 1) / 2 - 1 falling. */
-    long k0 = e->side > 0 ? zl + (i + 2) / 2 : e->lo,
-         k1 = e->side > 0 ? e->hi : zl + (i + 1) / 2 - 1;
-    for (long k = k0 < e->lo ? e->lo : k0; k <= (k1 > e->hi ? e->hi : k1); k++) {
-      long m = e->side * (2 * (k - zl) - i);
-      double y = e->r[k];
-      b0 += p0[m] * y;
-      a00 += p0[m] * p0[m];
-      b1 += p1[m] * y;
-      a10 += p1[m] * p0[m];
-      a11 += p1[m] * p1[m];
-    }
-    double rss = edge_rss_of(e->yy, a00, a10, a11, b0, b1);
-    if (rss < *best_rss) {
+  const double margin = AF_STRIKE_EDGE_PRUNE_MARGIN * e->yy;
+  double quiet = 0.0;                      /* sum of r^2 on the quiet side of the zero */
+  long next = e->side > 0 ? e->lo : e->hi; /* the next sample to join it */
+  for (long done = 0; done <= steps; done++) {
+    long i = e->side > 0 ? done : steps - done, k0, k1;
+    edge_lattice_side(e, zl, i, &k0, &k1);
+    for (; e->side > 0 ? next < k0 && next <= e->hi : next > k1 && next >= e->lo; next += e->side)
+      quiet += e->r[next] * e->r[next];
+    if (quiet > *best_rss + margin)
+      break;
+    double rss = edge_lattice_rss(e, &t, zl, i, k0, k1);
+    if (e->side > 0 ? rss < *best_rss : rss <= *best_rss) {
       *best_rss = rss;
-      *best = z;
+      *best = zlo + (double)i * AF_STRIKE_EDGE_STEP;
     }
   }
 }
@@ -335,7 +470,7 @@ static double fit_edge(af_edge *e, double zlo, double zhi, double fallback)
   if (!isfinite(best_rss))
     return fallback;
   double a = fmax(zlo, best - AF_STRIKE_EDGE_STEP), b = fmin(zhi, best + AF_STRIKE_EDGE_STEP);
-  return edge_golden(e, a, b);
+  return edge_brent(e, a, b);
 }
 
 /* Contact start: fit from the quiet signal at `outer` up to the last sample
@@ -365,6 +500,15 @@ static double fit_end(const af_span *s, long outer, long ipk, double level, doub
   af_edge e = {.r = s->r, .lo = lo, .hi = hi, .side = -1, .tol = tol};
   e.scale = 1.0 / (double)(hi - lo + 1);
   return fit_edge(&e, (double)(lo + AF_STRIKE_EDGE_TERMS + 1), (double)hi + 1.0, fallback);
+}
+
+/* Value of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u: poly_eval's *v
+ * alone (the same double: its first step, 0 u + c[4], is c[4]), written
+ * out for the scan. */
+_Static_assert(AF_STRIKE_PEAK_TERMS == 5, "poly_value is written out for a quartic");
+static double poly_value(const double *c, double u)
+{
+  return (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
 }
 
 /* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
@@ -514,7 +658,7 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
   long steps = (long)floor((uhi - ulo) / du);
   for (long i = 0; i <= steps; i++) {
     double u = ulo + (double)i * du;
-    poly_eval(c, u, &v, &d1, &d2);
+    v = poly_value(c, u);
     if (v > best) {
       best = v;
       ub = u;
@@ -567,27 +711,70 @@ static long clamp_index(long k, long n)
 }
 
 /* The crossing of `level` by the band-limited reconstruction of r between
- * samples k and k + 1, which straddle it (bisection to AF_STRIKE_EDGE_TOL:
- * the reconstruction passes through both samples, so a crossing exists). */
-static double level_crossing(const double *r, long n, long k, double level)
+ * samples k and k + 1, which straddle it, found by bisection to
+ * AF_STRIKE_EDGE_TOL (the reconstruction passes through both samples, so a
+ * crossing exists). The bisection is run lazily: a crossing is a bracket
+ * [a, b] that always holds the final value (the midpoint of the last
+ * bracket), refined only as far as a decision needs it (crossing_decide);
+ * the value itself, once asked for, is the same double as the whole
+ * bisection gives. Each step costs a 32-tap reconstruction, and for a long
+ * pulse the crossings only bound its fitted edges, which lie samples away
+ * from the bounds: most strikes need no step at all. */
+typedef struct {
+  const double *r;
+  long n, k;
+  double level, a, b;
+  bool a_below; /* r[k] <= level */
+} af_crossing;
+
+static af_crossing crossing_at(const double *r, long n, long k, double level)
 {
-  double a = (double)k, b = (double)(k + 1);
-  bool a_below = r[k] <= level;
-  while (b - a > AF_STRIKE_EDGE_TOL) {
-    double m = 0.5 * (a + b);
-    if ((sinc_at(r, n, m) <= level) == a_below)
-      a = m;
-    else
-      b = m;
-  }
-  return 0.5 * (a + b);
+  return (af_crossing){.r = r,
+                       .n = n,
+                       .k = k,
+                       .level = level,
+                       .a = (double)k,
+                       .b = (double)(k + 1),
+                       .a_below = r[k] <= level};
 }
 
-/* Crossings of `level` around the largest sample ipk: *t0 between the last
- * sample at or below it before ipk and the next, *t1 likewise after ipk
- * (the outermost sample when the span ends above it). Returns the number
- * of samples above it (0 when r[ipk] is not). */
-static long level_edges(const double *r, long n, long ipk, double level, double *t0, double *t1)
+/* An end of the span reached above the level: the outermost sample, exact. */
+static af_crossing crossing_exact(double t)
+{
+  return (af_crossing){.r = NULL, .a = t, .b = t};
+}
+
+static bool crossing_done(const af_crossing *c)
+{
+  return c->r == NULL || !(c->b - c->a > AF_STRIKE_EDGE_TOL);
+}
+
+/* One bisection step; false when the bracket is already final. */
+static bool crossing_step(af_crossing *c)
+{
+  if (crossing_done(c))
+    return false;
+  double m = 0.5 * (c->a + c->b);
+  if ((sinc_at(c->r, c->n, m) <= c->level) == c->a_below)
+    c->a = m;
+  else
+    c->b = m;
+  return true;
+}
+
+static double crossing_value(af_crossing *c)
+{
+  while (crossing_step(c))
+    ;
+  return c->r == NULL ? c->a : 0.5 * (c->a + c->b);
+}
+
+/* Crossings of `level` around the largest sample ipk: *c0 between the last
+ * sample at or below it before ipk and the next, *c1 likewise after ipk
+ * (the outermost sample when the span ends above it), both unrefined.
+ * Returns the number of samples above it (0 when r[ipk] is not). */
+static long level_edges(const double *r, long n, long ipk, double level, af_crossing *c0,
+                        af_crossing *c1)
 {
   if (!(r[ipk] > level))
     return 0;
@@ -596,9 +783,75 @@ static long level_edges(const double *r, long n, long ipk, double level, double 
     lo--;
   while (hi < n - 1 && r[hi + 1] > level)
     hi++;
-  *t0 = lo > 0 ? level_crossing(r, n, lo - 1, level) : (double)lo;
-  *t1 = hi < n - 1 ? level_crossing(r, n, hi, level) : (double)hi;
+  *c0 = lo > 0 ? crossing_at(r, n, lo - 1, level) : crossing_exact((double)lo);
+  *c1 = hi < n - 1 ? crossing_at(r, n, hi, level) : crossing_exact((double)hi);
   return hi - lo + 1;
+}
+
+/* A condition on the crossings' final values l0 and l1, given in interval
+ * form: +1 true and -1 false for every l0 in [a0, b0] and l1 in [a1, b1],
+ * 0 undecided. The conditions below are built from operations monotone in
+ * each argument (rounding to nearest is monotone), so evaluating them at the
+ * bracket's ends bounds their value at the final crossings. */
+typedef int af_crossing_test(double a0, double b0, double a1, double b1, double t);
+
+/* l1 > l0 */
+static int test_ordered(double a0, double b0, double a1, double b1, double t)
+{
+  (void)t;
+  return a1 > b0 ? 1 : !(b1 > a0) ? -1 : 0;
+}
+
+/* The fitted start t is plausible: l0 - out <= t <= l0 + AF_STRIKE_FIT_SLACK
+ * with out = AF_STRIKE_FIT_GAP (l1 - l0) + 1 (measure_span says why). */
+static int test_start(double a0, double b0, double a1, double b1, double t)
+{
+  double out_lo = AF_STRIKE_FIT_GAP * (a1 - b0) + 1.0, out_hi = AF_STRIKE_FIT_GAP * (b1 - a0) + 1.0;
+  if (t <= a0 + AF_STRIKE_FIT_SLACK && t >= b0 - out_lo)
+    return 1;
+  if (!(t <= b0 + AF_STRIKE_FIT_SLACK) || !(t >= a0 - out_hi))
+    return -1; /* NaN too */
+  return 0;
+}
+
+/* The fitted end t is plausible: l1 - AF_STRIKE_FIT_SLACK <= t <= l1 + out. */
+static int test_end(double a0, double b0, double a1, double b1, double t)
+{
+  double out_lo = AF_STRIKE_FIT_GAP * (a1 - b0) + 1.0, out_hi = AF_STRIKE_FIT_GAP * (b1 - a0) + 1.0;
+  if (t >= b1 - AF_STRIKE_FIT_SLACK && t <= a1 + out_lo)
+    return 1;
+  if (!(t >= a1 - AF_STRIKE_FIT_SLACK) || !(t <= b1 + out_hi))
+    return -1;
+  return 0;
+}
+
+/* The bounds of c's final value: the bracket, or the value once final. */
+static void crossing_bounds(af_crossing *c, double *lo, double *hi)
+{
+  if (crossing_done(c)) {
+    *lo = *hi = crossing_value(c);
+  } else {
+    *lo = c->a;
+    *hi = c->b;
+  }
+}
+
+/* The test's value at the final crossings, refining the wider bracket
+ * until it is decided (once both are final the bounds are points and the
+ * test is the exact comparison). */
+static bool crossing_decide(af_crossing_test *test, af_crossing *c0, af_crossing *c1, double t)
+{
+  for (;;) {
+    double a0, b0, a1, b1;
+    crossing_bounds(c0, &a0, &b0);
+    crossing_bounds(c1, &a1, &b1);
+    int v = test(a0, b0, a1, b1, t);
+    if (v != 0)
+      return v > 0;
+    af_crossing *wide = b0 - a0 >= b1 - a1 ? c0 : c1;
+    if (!crossing_step(wide) && !crossing_step(wide == c0 ? c1 : c0))
+      return false; /* unreachable: point bounds decide */
+  }
 }
 
 /* Result of the two baseline/fit passes, span-relative. */
@@ -629,13 +882,13 @@ static void measure_span(const af_strike_pulse_input *in, af_span *s, af_fit_out
     long ipk = argmax(s->r, clamp_index(a, s->n), clamp_index(e - 1, s->n));
     peak_n = refine_peak(s->r, s->n, ipk, &peak_at);
     level = fmax(AF_STRIKE_LEVEL_NOISE * in->noise_rms_n, AF_STRIKE_LEVEL_FRACTION * peak_n);
-    double l0 = 0.0, l1 = 0.0;
-    long above = level_edges(s->r, s->n, ipk, level, &l0, &l1);
-    bool crossed = above > 0 && l1 > l0;
+    af_crossing c0 = crossing_exact(0.0), c1 = crossing_exact(0.0);
+    long above = level_edges(s->r, s->n, ipk, level, &c0, &c1);
+    bool crossed = above > 0 && crossing_decide(test_ordered, &c0, &c1, 0.0);
     start_edge = end_edge = AF_STRIKE_EDGES_LEVEL;
     if (crossed && above < AF_STRIKE_SHORT_SAMPLES) {
-      t0 = l0;
-      t1 = l1;
+      t0 = crossing_value(&c0);
+      t1 = crossing_value(&c1);
     } else {
       double tol = pass == 0 ? AF_STRIKE_EDGE_TOL_COARSE : AF_STRIKE_EDGE_TOL;
       t0 = fit_start(s, a - reach, ipk, in->rise_fit_level * peak_n, NAN, tol);
@@ -643,15 +896,14 @@ static void measure_span(const af_strike_pulse_input *in, af_span *s, af_fit_out
       /* No fit (too few samples), a fitted zero on the wrong side of its
        * level crossing or further out than any plausible foot: the fit
        * failed, the crossing stands (the coarse contact without one). */
-      double out = AF_STRIKE_FIT_GAP * (l1 - l0) + 1.0;
-      if (crossed && !(t0 <= l0 + AF_STRIKE_FIT_SLACK && t0 >= l0 - out)) {
-        t0 = l0;
+      if (crossed && !crossing_decide(test_start, &c0, &c1, t0)) {
+        t0 = crossing_value(&c0);
       } else {
         start_edge = AF_STRIKE_EDGES_FIT;
         t0 = isnan(t0) ? (double)a : t0;
       }
-      if (crossed && !(t1 >= l1 - AF_STRIKE_FIT_SLACK && t1 <= l1 + out)) {
-        t1 = l1;
+      if (crossed && !crossing_decide(test_end, &c0, &c1, t1)) {
+        t1 = crossing_value(&c1);
       } else {
         end_edge = AF_STRIKE_EDGES_FIT;
         t1 = isnan(t1) ? (double)e - 1.0 : t1;

@@ -300,7 +300,7 @@ static af_status fit_alloc_buffers(af_fit *w)
   w->probe_n = malloc(w->model_cap * sizeof *w->probe_n);
   w->base_at_n = malloc(w->cfg.max_samples * sizeof *w->base_at_n);
   w->base_slope_n_s = malloc(w->cfg.max_samples * sizeof *w->base_slope_n_s);
-  w->jac_n = malloc(AF_FIT_MAX_PARAMS * w->cfg.max_samples * sizeof *w->jac_n);
+  w->jac_n = calloc(AF_FIT_MAX_PARAMS * w->cfg.max_samples, sizeof *w->jac_n);
   w->check_n = malloc(w->cfg.max_samples * sizeof *w->check_n);
   w->res_n = malloc(w->cfg.max_samples * sizeof *w->res_n);
   w->final_res_n = malloc(w->cfg.max_samples * sizeof *w->final_res_n);

@@ -41,8 +41,9 @@ struct af_fit {
   /* The table path. */
   const af_pulse_table *table;         /* the process's, shared read-only */
   af_pulse_shape shape;                /* the base point's interpolated pulse */
-  double *jac_n;                       /* max_samples x n_params, row-major: the base's
-                                          Jacobian [scaled residual per unit x] */
+  double *jac_n;                       /* max_samples x AF_FIT_MAX_PARAMS, row-major, the
+                                          columns past n_params 0: the base's Jacobian
+                                          [scaled residual per unit x] */
   double *res_n;                       /* the base's scaled residual [-] */
   gsl_matrix_view jac_view;            /* n x p over jac_n, for this fit */
   gsl_vector_view res_view;            /* n over res_n */

@@ -97,14 +97,18 @@ static void table_sample(af_fit *w, const af_fit_scales *sc, size_t k, double t0
 {
   double tau = ((double)k * w->dt_s - t0_s) / sc->t_s, f, f_tau, f_chi, f_gamma;
   af_pulse_shape_eval(&w->shape, tau, &f, &f_tau, &f_chi, &f_gamma);
-  w->base_at_n[k] = sc->f0_n * f;
-  w->base_slope_n_s[k] = sc->f0_n * f_tau / sc->t_s;
+  double base = sc->f0_n * f, slope = sc->f0_n * f_tau / sc->t_s;
+  /* the products common to every column, in the order of the sum below */
+  double stretch = -f_tau * tau, bend = f_gamma * sc->gamma;
+  double *row = w->jac_n + k * AF_FIT_MAX_PARAMS;
+  w->base_at_n[k] = base;
+  w->base_slope_n_s[k] = slope;
   for (size_t j = 0; j < w->n_params; j++) {
-    double d = j == w->ix_time ? -w->dt_s * w->base_slope_n_s[k]
-                               : w->base_at_n[k] * sc->dln_f0[j] +
-                                     sc->f0_n * (-f_tau * tau * sc->dln_t[j] + f_chi * sc->dchi[j] +
-                                                 f_gamma * sc->gamma * sc->dln_gamma[j]);
-    w->jac_n[k * w->n_params + j] = w->scale * d;
+    double d = j == w->ix_time ? -w->dt_s * slope
+                               : base * sc->dln_f0[j] +
+                                     sc->f0_n * (stretch * sc->dln_t[j] + f_chi * sc->dchi[j] +
+                                                 bend * sc->dln_gamma[j]);
+    row[j] = w->scale * d;
   }
   w->res_n[k] = w->scale * (w->base_at_n[k] - w->pulse_n[k]);
 }
@@ -188,25 +192,45 @@ static bool lm_solve(size_t p, const double *a, const double *d2, double mu, con
   return true;
 }
 
-/* J^T J into a (p x p), J^T r into g and |r|^2, at the base. */
+/* J^T J into a (p x p), J^T r into g and |r|^2, at the base. The sums run
+ * over all four columns of jac_n whatever p (those past p are 0), written
+ * out so that they stay in registers (the loops over a run-time p cost
+ * three times their multiply-adds); adding 0 x 0 leaves the other sums the
+ * same doubles. */
+_Static_assert(AF_FIT_MAX_PARAMS == 4, "lm_normal's sums are written out for 4 columns");
 static double lm_normal(const af_fit *w, double *a, double *g)
 {
-  const size_t p = w->n_params;
-  double cost = 0.0;
-  memset(a, 0, p * p * sizeof *a);
-  memset(g, 0, p * sizeof *g);
+  double g0 = 0.0, g1 = 0.0, g2 = 0.0, g3 = 0.0, cost = 0.0;
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0, a20 = 0.0, a21 = 0.0, a22 = 0.0;
+  double a30 = 0.0, a31 = 0.0, a32 = 0.0, a33 = 0.0;
   for (size_t k = 0; k < w->n; k++) {
-    const double *row = w->jac_n + k * p;
-    for (size_t i = 0; i < p; i++) {
-      g[i] += row[i] * w->res_n[k];
-      for (size_t j = 0; j <= i; j++)
-        a[i * p + j] += row[i] * row[j];
-    }
-    cost += w->res_n[k] * w->res_n[k];
+    const double *row = w->jac_n + k * AF_FIT_MAX_PARAMS, res = w->res_n[k];
+    double r0 = row[0], r1 = row[1], r2 = row[2], r3 = row[3];
+    g0 += r0 * res;
+    g1 += r1 * res;
+    g2 += r2 * res;
+    g3 += r3 * res;
+    a00 += r0 * r0;
+    a10 += r1 * r0;
+    a11 += r1 * r1;
+    a20 += r2 * r0;
+    a21 += r2 * r1;
+    a22 += r2 * r2;
+    a30 += r3 * r0;
+    a31 += r3 * r1;
+    a32 += r3 * r2;
+    a33 += r3 * r3;
+    cost += res * res;
   }
-  for (size_t i = 0; i < p; i++)
-    for (size_t j = 0; j < i; j++)
-      a[j * p + i] = a[i * p + j];
+  const double gg[AF_FIT_MAX_PARAMS] = {g0, g1, g2, g3};
+  const double aa[AF_FIT_MAX_PARAMS][AF_FIT_MAX_PARAMS] = {
+      {a00, a10, a20, a30}, {a10, a11, a21, a31}, {a20, a21, a22, a32}, {a30, a31, a32, a33}};
+  const size_t p = w->n_params;
+  for (size_t i = 0; i < p; i++) {
+    g[i] = gg[i];
+    for (size_t j = 0; j < p; j++)
+      a[i * p + j] = aa[i][j];
+  }
   return cost;
 }
 
@@ -240,7 +264,7 @@ af_status af_fit_table_search(af_fit *w)
   for (size_t i = 0; i < p; i++)
     w->lm_x[i] = gsl_vector_get(w->x_start, i);
   w->lm_iterations = 0;
-  w->jac_view = gsl_matrix_view_array(w->jac_n, w->n, p);
+  w->jac_view = gsl_matrix_view_array_with_tda(w->jac_n, w->n, p, AF_FIT_MAX_PARAMS);
   w->res_view = gsl_vector_view_array(w->res_n, w->n);
   if (!isfinite(lm_cost_at(w, w->lm_x)))
     return AF_ENUMERIC;
@@ -321,9 +345,11 @@ double af_fit_check_shift(const af_fit *w)
   const gsl_matrix *J = af_fit_jacobian(w);
   const size_t p = w->n_params;
   double g[AF_FIT_MAX_PARAMS] = {0};
-  for (size_t k = 0; k < w->n; k++)
+  for (size_t k = 0; k < w->n; k++) {
+    const double *row = J->data + k * J->tda; /* gsl_matrix_get's element, unchecked */
     for (size_t j = 0; j < p; j++)
-      g[j] += gsl_matrix_get(J, k, j) * w->scale * (w->check_n[k] - w->base_at_n[k]);
+      g[j] += row[j] * w->scale * (w->check_n[k] - w->base_at_n[k]);
+  }
   double r_norm = gsl_blas_dnrm2(af_fit_residual(w));
   double s2 = r_norm * r_norm / (double)(w->n - p); /* normal holds s2 (J^T J)^-1 */
   if (!(s2 > 0.0))
