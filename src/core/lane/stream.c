@@ -10,9 +10,25 @@
  * absorbs a rate that went through a float. */
 #define AF_RATE_RTOL 1e-6
 
+/* Samples already in SI (a factor of exactly 1, or 0: a config made without
+ * a unit): copied, non-finite ones to NaN; the same floats as the product
+ * below, in single precision (four samples a vector instead of two). */
+static size_t copy_si(const float *x, size_t n, float *out)
+{
+  size_t refused = 0;
+  for (size_t k = 0; k < n; k++) {
+    const float v = x[k];
+    refused += !isfinite(v);
+    out[k] = isfinite(v) ? v : NAN;
+  }
+  return refused;
+}
+
 size_t af_stream_to_si(double to_si, const float *x, size_t n, float *out)
 {
-  const double k_si = to_si == 0.0 ? 1.0 : to_si; /* 0: a config made without a unit */
+  if (to_si == 0.0 || to_si == 1.0)
+    return copy_si(x, n, out);
+  const double k_si = to_si;
   size_t refused = 0;
   for (size_t k = 0; k < n; k++) {
     float v = (float)((double)x[k] * k_si);
