@@ -163,6 +163,20 @@ static size_t trend_fold(af_response *r, const float *x, size_t start, size_t m)
   return period;
 }
 
+/* sums[0] += sum_j c[j] y[j], sums[1] += sum_j s[j] y[j] (j < len, in order),
+ * s = c + period: two columns of the table in one pass over y. */
+static void column_pair(const double *c, size_t period, const double *y, size_t len, double *sums)
+{
+  const double *s = c + period;
+  double a = sums[0], b = sums[1];
+  for (size_t j = 0; j < len; ++j) {
+    a += c[j] * y[j];
+    b += s[j] * y[j];
+  }
+  sums[0] = a;
+  sums[1] = b;
+}
+
 /* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
  * basis repeats every P samples: x is first folded onto one period
  * (trend_fold), then the basis runs over P samples only (~4x fewer for 4096
@@ -175,13 +189,13 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
   size_t p = 1 + 2 * harmonics, period = r->hum_period;
   if (harmonics > 0 && period > 0) {
     size_t len = trend_fold(r, x, start, m);
-    for (size_t i = 0; i < p; ++i) {
-      const double *col = r->trend_cols + i * period, *y = r->trend_fold;
-      double sum = rhs[i];
-      for (size_t j = 0; j < len; ++j)
-        sum += col[j] * y[j];
-      rhs[i] = sum;
-    }
+    const double *y = r->trend_fold, *dc = r->trend_cols;
+    double sum = rhs[0];
+    for (size_t j = 0; j < len; ++j)
+      sum += dc[j] * y[j];
+    rhs[0] = sum;
+    for (size_t h = 1; h <= harmonics; ++h) /* a harmonic's cos and sin in one pass */
+      column_pair(dc + (2 * h - 1) * period, period, y, len, rhs + 2 * h - 1);
     return;
   }
   if (harmonics == 0) { /* the constant alone: the sum (1 x sample is the sample) */
@@ -241,12 +255,15 @@ static double trend_at(const af_response *r, rotor *rot, size_t harmonics, size_
 static void trend_period(af_response *r, const double *coef, size_t len)
 {
   double *t = r->trend_fold;
+  const double *dc = r->trend_cols;
+  size_t period = r->hum_period;
   for (size_t j = 0; j < len; ++j)
-    t[j] = 0.0;
-  for (size_t i = 0; i < r->trend_terms; ++i) {
-    const double *col = r->trend_cols + i * r->hum_period;
+    t[j] = 0.0 + dc[j] * coef[0];
+  for (size_t i = 1; i + 1 < r->trend_terms; i += 2) { /* a harmonic's cos and sin */
+    const double *c = dc + i * period, *s = c + period;
+    const double cc = coef[i], cs = coef[i + 1];
     for (size_t j = 0; j < len; ++j)
-      t[j] += col[j] * coef[i];
+      t[j] = (t[j] + c[j] * cc) + s[j] * cs;
   }
 }
 
