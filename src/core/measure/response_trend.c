@@ -191,8 +191,8 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
     size_t len = trend_fold(r, x, start, m);
     const double *y = r->trend_fold, *dc = r->trend_cols;
     double sum = rhs[0];
-    for (size_t j = 0; j < len; ++j)
-      sum += dc[j] * y[j];
+    for (size_t j = 0; j < len; ++j) /* the DC's column: 1 x y_j is y_j */
+      sum += y[j];
     rhs[0] = sum;
     for (size_t h = 1; h <= harmonics; ++h) /* a harmonic's cos and sin in one pass */
       column_pair(dc + (2 * h - 1) * period, period, y, len, rhs + 2 * h - 1);
