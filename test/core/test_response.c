@@ -214,6 +214,9 @@ static void test_bad_arguments(void)
   AF_CHECK_STATUS(af_response_add_noise(r, NULL, n), AF_EINVAL);
   AF_CHECK_STATUS(af_response_add_noise(r, x, 7), AF_EINVAL);
   AF_CHECK_STATUS(af_response_add_noise(r, x, n + 1), AF_ESIZE);
+  AF_CHECK_STATUS(af_response_add_noise_below(r, x, n, 0.0), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_add_noise_below(r, x, n, NAN), AF_EINVAL);
+  AF_CHECK_STATUS(af_response_add_noise_below(NULL, x, n, 900.0), AF_EINVAL);
   af_response_clear_noise(NULL);
   /* digital silence: no peak, no noise, ENODATA with -inf SNR */
   AF_CHECK_STATUS(af_response_execute(r, x, n, 500, 900, &res), AF_ENODATA);
@@ -458,6 +461,17 @@ static void test_noise_reference(void)
     AF_CHECK_STATUS(af_response_add_noise(r, pre + i * n, n / 2), AF_OK);
   AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
   AF_CHECK_ABS(ref.snr_db, truth, 1.5);
+  /* the reference held only up to the range's top (af_response_add_noise_below):
+   * the same truth; a band above it is floored from the highest bins held */
+  af_response_clear_noise(r);
+  for (size_t i = 0; i < SEGMENTS; ++i)
+    AF_CHECK_STATUS(af_response_add_noise_below(r, pre + i * n, n, 900.0), AF_OK);
+  AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
+  AF_CHECK(ref.noise_segments == SEGMENTS);
+  AF_CHECK_ABS(ref.snr_db, truth, 1.5);
+  af_response_result above;
+  (void)af_response_execute(r, x, n, 5000.0, 9000.0, &above);
+  AF_CHECK(above.noise_segments == SEGMENTS && !isnan(above.snr_db));
   af_response_clear_noise(r);
   AF_CHECK_STATUS(af_response_execute(r, x, n, 500.0, 900.0, &ref), AF_OK);
   AF_CHECK(ref.noise_segments == 0);

@@ -404,13 +404,18 @@ static void lamb_range(const af_measure *m, const af_measure_apple *apple, doubl
  * station, and a changed noise environment shows at once. Its last
  * noise_samples samples, those nearest the strike; too short or non-finite:
  * the window's own noise band instead. */
-static void set_noise(af_measure *m, const float *noise, size_t n_noise)
+static void set_noise(af_measure *m, const float *noise, size_t n_noise, const af_measure_steps *s)
 {
   af_response_clear_noise(m->response);
   if (noise == NULL || n_noise < AF_MEASURE_MIN_AUDIO || m->noise_samples < AF_MEASURE_MIN_AUDIO)
     return;
   size_t n = n_noise < m->noise_samples ? n_noise : m->noise_samples;
-  (void)af_response_add_noise(m->response, noise + (n_noise - n), n);
+  /* the reference only as high as the peak list's band (identify) reads it */
+  double band_lo, band_hi = INFINITY;
+  if (af_modes_list_band(s->f_lo_hz, s->f_hi_hz, m->cfg.response.sample_rate_hz, &band_lo,
+                         &band_hi) != AF_OK)
+    band_hi = INFINITY;
+  (void)af_response_add_noise_below(m->response, noise + (n_noise - n), n, band_hi);
 }
 
 /* The 0S2 predicted from the fitted E2 [Hz], the prior of the mode
@@ -564,7 +569,7 @@ static void step_audio(af_measure *m, const af_measure_apple *apple, const float
   if (s->judge_status != AF_OK || s->n_audio < AF_MEASURE_MIN_AUDIO)
     return;
   lamb_range(m, apple, xi, &s->f_lo_hz, &s->f_hi_hz);
-  set_noise(m, noise, n_noise);
+  set_noise(m, noise, n_noise, s);
   size_t n = s->n_audio < m->window_samples ? s->n_audio : m->window_samples;
   s->audio_status = identify(m, apple, audio, n, xi, out, s);
   if (s->audio_status != AF_OK)

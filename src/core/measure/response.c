@@ -124,10 +124,13 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->cfg = *cfg;
   r->bins = cfg->fft_size / 2 + 1;
   r->bin_hz = cfg->sample_rate_hz / (double)cfg->fft_size;
-  r->in = fftw_alloc_real(cfg->fft_size);
-  r->in_written = cfg->fft_size; /* not zeroed yet: the first transform pads it */
+  r->in.samples = fftw_alloc_real(cfg->fft_size);
+  r->in.written = cfg->fft_size; /* not zeroed yet: the first transform pads it */
+  r->noise_in.samples = fftw_alloc_real(cfg->fft_size);
+  r->noise_in.written = cfg->fft_size;
   r->spec = fftw_alloc_complex(r->bins);
   r->window = fftw_alloc_real(cfg->window_samples);
+  r->window_energy = fftw_alloc_real(cfg->window_samples + 1);
   r->power = fftw_alloc_real(r->bins);
   r->noise_ref = fftw_alloc_real(r->bins);
   r->scratch = fftw_alloc_real(r->bins);
@@ -139,17 +142,20 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->phase_um = fftw_alloc_complex(r->bins);
   r->hum_period = af_response_hum_period(cfg);
   r->trend_fold = fftw_alloc_real(cfg->window_samples);
-  if (r->hum_period > 0)
+  if (r->hum_period > 0) {
     r->trend_table = fftw_alloc_real(r->hum_period * (1 + 2 * cfg->hum_harmonics));
+    r->trend_cols = fftw_alloc_real(r->hum_period * (1 + 2 * cfg->hum_harmonics));
+  }
   r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->share_terms = af_response_share_terms(cfg);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
-  if (r->in == NULL || r->spec == NULL || r->window == NULL || r->power == NULL ||
-      r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
-      r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
-      r->trend_fold == NULL || (r->hum_period > 0 && r->trend_table == NULL) ||
+  if (r->in.samples == NULL || r->noise_in.samples == NULL || r->spec == NULL ||
+      r->window == NULL || r->window_energy == NULL || r->power == NULL || r->noise_ref == NULL ||
+      r->scratch == NULL || r->work == NULL || r->work_power == NULL || r->orig == NULL ||
+      r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL || r->trend_fold == NULL ||
+      (r->hum_period > 0 && (r->trend_table == NULL || r->trend_cols == NULL)) ||
       r->noise_cum == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
       r->trend_coef == NULL) {
     af_response_destroy(r);
@@ -179,9 +185,11 @@ void af_response_destroy(af_response *r)
   if (r == NULL)
     return;
   af_fft_r2c_release(&r->plan);
-  fftw_free(r->in);
+  fftw_free(r->in.samples);
+  fftw_free(r->noise_in.samples);
   fftw_free(r->spec);
   fftw_free(r->window);
+  fftw_free(r->window_energy);
   fftw_free(r->power);
   fftw_free(r->noise_ref);
   fftw_free(r->scratch);
@@ -193,6 +201,7 @@ void af_response_destroy(af_response *r)
   fftw_free(r->phase_um);
   fftw_free(r->trend_fold);
   fftw_free(r->trend_table);
+  fftw_free(r->trend_cols);
   fftw_free(r->share_own);
   fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
@@ -286,7 +295,7 @@ af_status af_response_begin(af_response *r, const float *audio, size_t n, double
     return s;
   *start = af_response_onset(audio, n, mean, r->cfg.onset_fraction);
   af_response_trend_fit(r, audio, *start, n, af_response_hum_harmonics(r, f_lo_hz));
-  af_response_transform(r, audio, n, *start, energy);
+  af_response_transform(r, &r->in, audio, n, *start, r->bins, energy);
   return AF_OK;
 }
 

@@ -168,6 +168,14 @@ const af_response_config *af_response_get_config(const af_response *r);
  * pointer or n < 8, AF_ESIZE for n > window_samples, AF_ENUMERIC for a
  * non-finite sample (the reference is then unchanged). No allocation. */
 af_status af_response_add_noise(af_response *r, const float *noise, size_t n);
+/* The same for analyses whose band ends at or below f_max_hz (f_hi of
+ * af_response_execute, band_hi of af_response_execute_peaks): the same
+ * floors at a fraction of the cost, as only the bins those read are
+ * transformed into the reference. A later analysis above f_max_hz takes the
+ * floor of the highest bins held. AF_EINVAL also for f_max_hz <= 0 or NaN;
+ * INFINITY: every bin (af_response_add_noise). */
+af_status af_response_add_noise_below(af_response *r, const float *noise, size_t n,
+                                      double f_max_hz);
 /* Forgets the reference: the noise floor comes from the noise band again.
  * NULL-safe. */
 void af_response_clear_noise(af_response *r);

@@ -17,29 +17,47 @@
  * energy, written once, with its running sum. The same values as the
  * running mean from zeros (0 + 1 x (x - 0) = x exactly), without clearing
  * every bin first and reading it back. */
-static void reference_start(af_response *r, double per_energy)
+static void reference_start(af_response *r, double per_energy, size_t bins)
 {
+  r->noise_bins = bins;
   r->noise_cum[0] = 0.0;
-  for (size_t k = 0; k < r->bins; ++k) {
+  for (size_t k = 0; k < bins; ++k) {
     r->noise_ref[k] = r->power[k] * per_energy;
     r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
   }
 }
 
-/* One more segment into the running mean of the r->noise_segments before it. */
-static void reference_update(af_response *r, double per_energy)
+/* One more segment into the running mean of the r->noise_segments before it
+ * (the bins all of them hold). */
+static void reference_update(af_response *r, double per_energy, size_t bins)
 {
   double weight = 1.0 / (double)(r->noise_segments + 1);
+  r->noise_bins = bins < r->noise_bins ? bins : r->noise_bins;
   r->noise_cum[0] = 0.0;
-  for (size_t k = 0; k < r->bins; ++k) {
+  for (size_t k = 0; k < r->noise_bins; ++k) {
     r->noise_ref[k] += weight * (r->power[k] * per_energy - r->noise_ref[k]);
     r->noise_cum[k + 1] = r->noise_cum[k] + r->noise_ref[k];
   }
 }
 
+/* Bins the reference needs for analyses that end at or below f_max_hz: up
+ * to the list's floor at the top of its band (f x AF_RESPONSE_LIST_NOISE_SPAN,
+ * floored as af_response_band_bins floors), one more against rounding; all
+ * of them for an infinite f_max_hz. */
+static size_t reference_bins(const af_response *r, double f_max_hz)
+{
+  double k = floor(f_max_hz * AF_RESPONSE_LIST_NOISE_SPAN / r->bin_hz) + 2.0;
+  return k < (double)r->bins ? (size_t)k : r->bins;
+}
+
 af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
 {
-  if (r == NULL || noise == NULL || n < AF_RESPONSE_MIN_SAMPLES)
+  return af_response_add_noise_below(r, noise, n, INFINITY);
+}
+
+af_status af_response_add_noise_below(af_response *r, const float *noise, size_t n, double f_max_hz)
+{
+  if (r == NULL || noise == NULL || n < AF_RESPONSE_MIN_SAMPLES || !(f_max_hz > 0.0))
     return AF_EINVAL;
   if (n > r->cfg.window_samples)
     return AF_ESIZE;
@@ -49,14 +67,18 @@ af_status af_response_add_noise(af_response *r, const float *noise, size_t n)
     return s;
   /* the reference does not know the range: every configured harmonic goes */
   af_response_trend_fit(r, noise, 0, n, r->cfg.hum_hz > 0.0 ? r->cfg.hum_harmonics : 0);
-  af_response_transform(r, noise, n, 0, &energy);
+  /* only the bins read: the rest of the periodogram and the running mean
+   * (~80 % of the bins for the peak list's band at the default rate) is
+   * not computed; the bins computed are the same doubles */
+  size_t bins = reference_bins(r, f_max_hz);
+  af_response_transform(r, &r->noise_in, noise, n, 0, bins, &energy);
   /* running mean: one segment's floor over a range of a few hundred Hz
    * scatters by ~1.5 dB, the mean of m segments by ~1.5/sqrt(m) dB */
   double per_energy = 1.0 / energy;
   if (r->noise_segments == 0)
-    reference_start(r, per_energy);
+    reference_start(r, per_energy, bins);
   else
-    reference_update(r, per_energy);
+    reference_update(r, per_energy, bins);
   r->noise_segments++;
   return AF_OK;
 }
@@ -91,7 +113,11 @@ double af_response_band_floor(af_response *r)
 static double reference_floor(const af_response *r, double f_lo_hz, double f_hi_hz, double energy)
 {
   size_t k_lo, k_hi;
-  af_response_band_bins(f_lo_hz, f_hi_hz, r->bin_hz, r->bins - 1, &k_lo, &k_hi);
+  /* clipped to the bins the reference holds (af_response_add_noise_below:
+   * a band that ends below its f_max never reaches past them) */
+  size_t last = r->noise_bins - 1;
+  af_response_band_bins(f_lo_hz, f_hi_hz, r->bin_hz, last, &k_lo, &k_hi);
+  k_lo = k_lo > last ? last : k_lo;
   if (k_hi < k_lo)
     k_hi = k_lo;
   /* from the running sum: one subtraction per peak, not a loop over its

@@ -80,15 +80,25 @@ typedef struct {
                                  (af_response_fit_noise); 0 = only the solver's tolerances */
 } af_fit_ctx;
 
+/* An fft input buffer (fft_size samples, FFTW's alignment) and how far
+ * its last transform wrote: samples[written..fft_size) hold zeros. */
+typedef struct {
+  double *samples;
+  size_t written;
+} af_response_input;
+
 struct af_response {
   af_response_config cfg;
   size_t bins;                    /* fft_size / 2 + 1 */
   double bin_hz;                  /* sample_rate_hz / fft_size [Hz] */
-  double *in;                     /* fft input, fft_size samples */
-  size_t in_written;              /* in[in_written..fft_size) hold zeros */
+  af_response_input in;           /* the analysed window's fft input */
+  af_response_input noise_in;     /* the noise reference's: its own, so that the padding of
+                                     one is not rewritten after the other's transform */
   double complex *spec;           /* fft output, bins values */
   af_fft_r2c plan;                /* r2c, shared by the process (fft_plan.h) */
   double *window;                 /* window_samples weights */
+  double *window_energy;          /* window_energy[m] = sum_{k < m} window[k]^2, summed in
+                                     order: the energy of an m-sample transform */
   size_t fade_samples;            /* length of the fade-in [samples] */
   double *power;                  /* periodogram |X_k|^2 of the last transform */
   double *noise_ref;              /* mean reference periodogram per unit window energy */
@@ -103,6 +113,7 @@ struct af_response {
   double split_len;               /* that m [samples] */
   double complex fade_e, fade_eh; /* exp(i theta), exp(i theta / 2), theta = pi / L */
   size_t noise_segments;          /* segments averaged into noise_ref */
+  size_t noise_bins;              /* bins of noise_ref and noise_cum (+ 1) that hold it */
   double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
   double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
   size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
@@ -115,6 +126,8 @@ struct af_response {
   double *trend_fold;                 /* one hum period: folded samples, then the trend */
   double *trend_table;                /* the basis over one hum period (NULL without one):
                                          row j holds sample j's 1 + 2 hum_harmonics terms */
+  double *trend_cols;                 /* the same by term: column i's hum_period values in a
+                                         row of its own (contiguous loops over the samples) */
   double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
   size_t share_terms;                 /* the trend's terms as windowed poles: the DC and
                                          hum_harmonics (with a hum), 0 without the exponential
@@ -224,9 +237,10 @@ void af_response_fill_phases(af_response *r);
 /* Bins of [lo_hz, hi_hz] on a grid of bin_hz, clipped to 1..last. */
 void af_response_band_bins(double lo_hz, double hi_hz, double bin_hz, size_t last, size_t *k_lo,
                            size_t *k_hi);
-/* Periodogram of x[start..n), less its fitted trend, into r->power. */
-void af_response_transform(af_response *r, const float *x, size_t n, size_t start,
-                           double *window_energy);
+/* Periodogram of x[start..n), less its fitted trend, into r->power, bins
+ * below 'bins' (at most r->bins), through the fft input 'in'. */
+void af_response_transform(af_response *r, af_response_input *in, const float *x, size_t n,
+                           size_t start, size_t bins, double *window_energy);
 
 /* ---- response_noise.c ---- */
 /* Mean noise power per bin of the window's own noise band. */

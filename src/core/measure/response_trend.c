@@ -78,6 +78,9 @@ void af_response_fill_trend_table(af_response *r)
   rotor rot = rotor_start(r);
   for (size_t j = 0; j < r->hum_period; ++j)
     trend_basis(&rot, r->cfg.hum_harmonics, r->trend_table + j * terms);
+  for (size_t j = 0; j < r->hum_period; ++j)
+    for (size_t i = 0; i < terms; ++i)
+      r->trend_cols[i * r->hum_period + j] = r->trend_table[j * terms + i];
 }
 
 /* sum_{k < m} cos(theta k) and sin(theta k), in closed form:
@@ -139,31 +142,69 @@ static const double *basis_at(const af_response *r, rotor *rot, size_t harmonics
   return phi;
 }
 
+/* The samples x[start..start + m) onto one hum period, into r->trend_fold:
+ * y_j = the sum of the samples k = j mod P when the run is longer than a
+ * period, else the samples themselves (a run of a period or less: the
+ * 0.02 s noise reference is one at 48 kHz and 50 Hz). Its length back. */
+static size_t trend_fold(af_response *r, const float *x, size_t start, size_t m)
+{
+  size_t period = r->hum_period;
+  double *y = r->trend_fold;
+  if (m <= period) {
+    for (size_t j = 0; j < m; ++j)
+      y[j] = (double)x[start + j];
+    return m;
+  }
+  for (size_t j = 0; j < period; ++j)
+    y[j] = 0.0;
+  for (size_t k0 = 0; k0 < m; k0 += period) /* period by period: no wrap test per sample */
+    for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
+      y[j] += (double)x[start + k0 + j];
+  return period;
+}
+
+/* sums[0] += sum_j c[j] y[j], sums[1] += sum_j s[j] y[j] (j < len, in order),
+ * s = c + period: two columns of the table in one pass over y. */
+static void column_pair(const double *c, size_t period, const double *y, size_t len, double *sums)
+{
+  const double *s = c + period;
+  double a = sums[0], b = sums[1];
+  for (size_t j = 0; j < len; ++j) {
+    a += c[j] * y[j];
+    b += s[j] * y[j];
+  }
+  sums[0] = a;
+  sums[1] = b;
+}
+
 /* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
  * basis repeats every P samples: x is first folded onto one period
- * (y_j = sum of the samples k = j mod P), then the basis runs over P samples
- * only (~4x fewer for 4096 samples at 48 kHz and a 960-sample period); else
- * over all m. The basis from the table (basis_at). */
+ * (trend_fold), then the basis runs over P samples only (~4x fewer for 4096
+ * samples at 48 kHz and a 960-sample period), term by term from the table's
+ * columns (each rhs_i the same products in the same order as row by row, in
+ * a contiguous loop); else the rotor over all m. */
 static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
                       double *rhs)
 {
   size_t p = 1 + 2 * harmonics, period = r->hum_period;
-  rotor rot = rotor_start(r);
-  double phi[AF_RESPONSE_MAX_TERMS];
-  if (harmonics > 0 && period > 0 && period < m) {
-    double *y = r->trend_fold;
-    for (size_t j = 0; j < period; ++j)
-      y[j] = 0.0;
-    for (size_t k0 = 0; k0 < m; k0 += period) /* period by period: no wrap test per sample */
-      for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
-        y[j] += (double)x[start + k0 + j];
-    for (size_t j = 0; j < period; ++j) {
-      const double *t = basis_at(r, &rot, harmonics, j, phi);
-      for (size_t i = 0; i < p; ++i)
-        rhs[i] += t[i] * y[j];
-    }
+  if (harmonics > 0 && period > 0) {
+    size_t len = trend_fold(r, x, start, m);
+    const double *y = r->trend_fold, *dc = r->trend_cols;
+    double sum = rhs[0];
+    for (size_t j = 0; j < len; ++j) /* the DC's column: 1 x y_j is y_j */
+      sum += y[j];
+    rhs[0] = sum;
+    for (size_t h = 1; h <= harmonics; ++h) /* a harmonic's cos and sin in one pass */
+      column_pair(dc + (2 * h - 1) * period, period, y, len, rhs + 2 * h - 1);
     return;
   }
+  if (harmonics == 0) { /* the constant alone: the sum (1 x sample is the sample) */
+    for (size_t k = 0; k < m; ++k)
+      rhs[0] += (double)x[start + k];
+    return;
+  }
+  rotor rot = rotor_start(r);
+  double phi[AF_RESPONSE_MAX_TERMS];
   for (size_t k = 0; k < m; ++k) {
     const double *t = basis_at(r, &rot, harmonics, k, phi);
     for (size_t i = 0; i < p; ++i)
@@ -207,6 +248,25 @@ static double trend_at(const af_response *r, rotor *rot, size_t harmonics, size_
   return trend;
 }
 
+/* The trend of the last fit (coef) at samples 0..len of one hum period, len
+ * <= the period, into r->trend_fold: term by term from the table's columns,
+ * each value the same sum in the same order as trend_at's, in loops over
+ * the samples that the compiler vectorises. */
+static void trend_period(af_response *r, const double *coef, size_t len)
+{
+  double *t = r->trend_fold;
+  const double *dc = r->trend_cols;
+  size_t period = r->hum_period;
+  for (size_t j = 0; j < len; ++j)
+    t[j] = 0.0 + dc[j] * coef[0];
+  for (size_t i = 1; i + 1 < r->trend_terms; i += 2) { /* a harmonic's cos and sin */
+    const double *c = dc + i * period, *s = c + period;
+    const double cc = coef[i], cs = coef[i + 1];
+    for (size_t j = 0; j < len; ++j)
+      t[j] = (t[j] + c[j] * cc) + s[j] * cs;
+  }
+}
+
 /* dst[k] = x[start + k] less the trend of the last fit, k < m: the DC and
  * harmonics of r->trend_coef, the rotor restarted at start (the fit's phase
  * origin); with a whole hum period, one period of the trend computed and
@@ -214,19 +274,24 @@ static double trend_at(const af_response *r, rotor *rot, size_t harmonics, size_
 void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst)
 {
   size_t harmonics = (r->trend_terms - 1) / 2, period = r->hum_period;
-  rotor rot = rotor_start(r);
   double coef[AF_RESPONSE_MAX_TERMS];
   for (size_t i = 0; i < r->trend_terms; ++i)
     coef[i] = gsl_vector_get(r->trend_coef, i);
-  if (harmonics > 0 && period > 0 && period < m) {
-    double *t = r->trend_fold;
-    for (size_t j = 0; j < period; ++j)
-      t[j] = trend_at(r, &rot, harmonics, j, coef);
+  if (harmonics > 0 && period > 0) {
+    const double *t = r->trend_fold;
+    trend_period(r, coef, m < period ? m : period);
     for (size_t k0 = 0; k0 < m; k0 += period)
       for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
         dst[k0 + j] = (double)x[start + k0 + j] - t[j];
     return;
   }
+  if (harmonics == 0) { /* the constant alone: trend_at's 0 + 1 x coef, once */
+    const double t0 = 0.0 + coef[0];
+    for (size_t k = 0; k < m; ++k)
+      dst[k] = (double)x[start + k] - t0;
+    return;
+  }
+  rotor rot = rotor_start(r);
   for (size_t k = 0; k < m; ++k)
     dst[k] = (double)x[start + k] - trend_at(r, &rot, harmonics, k, coef);
 }
