@@ -81,6 +81,7 @@ int af_response_fit_bins(af_response *r, const double complex *data, size_t firs
   r->ctx.gain = 1.0 / cabs(data[k]);
   r->ctx.norm = 1.0 - exp(-sigma_windowed / r->cfg.sample_rate_hz);
   r->ctx.cost_floor = 0.0;
+  r->ctx.cost_stop = 0.0;
   return isfinite(r->ctx.gain) && r->ctx.norm > 0.0;
 }
 

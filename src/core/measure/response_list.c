@@ -43,8 +43,12 @@ static int is_excluded(const size_t *excluded, size_t n_excluded, size_t k)
  * off (exactly, with its ripple) before they are looked at. Not excluded,
  * and whose top bin could still clear the threshold (a peak's reported
  * power is at most AF_RESPONSE_PEAK_BOUND times it); 0 if none. Its noise
- * floor into *noise; the largest SNR of any maximum's rise above its floor
- * raised into *rise_snr_db. */
+ * floor into *noise; with rise_snr_db not NULL, the largest SNR of any
+ * maximum's rise above its floor raised into *rise_snr_db. The side floors
+ * (8 % of the list's instructions when read at every maximum) are read only
+ * where they may decide: for a maximum that could be the best by the cheap
+ * tests, or whose rise could raise *rise_snr_db (a rise is at most the top's
+ * SNR; the 1e-9 dB spares that bound's rounding). */
 static size_t list_candidate(const af_response *r, size_t k_lo, size_t k_hi, double band_floor,
                              double energy, const size_t *excluded, size_t n_excluded,
                              double *noise, double *rise_snr_db)
@@ -55,18 +59,23 @@ static size_t list_candidate(const af_response *r, size_t k_lo, size_t k_hi, dou
   for (size_t k = k_lo; k <= k_hi; ++k) {
     if (!(p[k] > p[k - 1] && p[k] >= p[k + 1]))
       continue;
+    double noise_k = af_response_list_noise(r, (double)k * r->bin_hz, band_floor, energy);
+    int may_be_best = !(AF_RESPONSE_PEAK_BOUND * p[k] < threshold * noise_k) &&
+                      (best == 0 || p[k] > p[best]) && !is_excluded(excluded, n_excluded, k);
+    int may_rise =
+        rise_snr_db != NULL && !(af_response_snr_db(p[k], noise_k) + 1e-9 < *rise_snr_db);
+    if (!may_be_best && !may_rise)
+      continue;
     double left, right;
     af_response_side_floors(r, k, &left, &right);
     double low = fmin(left, right), high = fmax(left, right);
-    double noise_k = af_response_list_noise(r, (double)k * r->bin_hz, band_floor, energy);
-    *rise_snr_db = fmax(*rise_snr_db, af_response_snr_db(p[k] - high, noise_k));
-    if (p[k] < AF_RESPONSE_PROMINENCE * low || p[k] < AF_RESPONSE_NEIGHBOUR_PROMINENCE * high ||
-        AF_RESPONSE_PEAK_BOUND * p[k] < threshold * noise_k || is_excluded(excluded, n_excluded, k))
+    if (may_rise)
+      *rise_snr_db = fmax(*rise_snr_db, af_response_snr_db(p[k] - high, noise_k));
+    if (!may_be_best || p[k] < AF_RESPONSE_PROMINENCE * low ||
+        p[k] < AF_RESPONSE_NEIGHBOUR_PROMINENCE * high)
       continue;
-    if (best == 0 || p[k] > p[best]) {
-      best = k;
-      *noise = noise_k;
-    }
+    best = k;
+    *noise = noise_k;
   }
   return best;
 }
@@ -233,8 +242,9 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
   double rise_snr_db = -INFINITY;
   for (size_t tries = 0; tries < AF_RESPONSE_LIST_TRIES && kept < AF_RESPONSE_MAX_PEAKS; ++tries) {
     double noise = NAN;
+    /* the rise is reported only when no mode is listed, and a listed one stays */
     size_t k = list_candidate(r, k_lo, k_hi, band_floor, energy, excluded, n_excluded, &noise,
-                              &rise_snr_db);
+                              kept == 0 ? &rise_snr_db : NULL);
     if (k == 0)
       break;
     /* the truncated fits from the stage-1 reading (one pole, or two for a

@@ -26,7 +26,9 @@
  *             max_j |g_j| max(|x_j|, 1) <= gtol max(cost, 1), or the cost
  *             fell by at most ftol of itself, or (the peak list's truncated
  *             fits, response_fit.c) the Gauss-Newton step from the point
- *             would lower the cost by at most the fit's cost_floor;
+ *             would lower the cost by at most the fit's cost_floor, or the
+ *             cost is at most the fit's cost_stop (a caller that asks only
+ *             whether the minimum lies below it);
  *  CAPPED     max_iter steps taken (the callers' caps: 50 and 25);
  *  STALLED    AF_RESPONSE_LM_MAX_REJECT steps in a row raised the cost;
  *  FAILED     the start's residuals or Jacobian are not finite.
@@ -221,6 +223,11 @@ lm_iterate(af_response *r, size_t p, double *x, normal_eq **at_io, normal_eq **n
   for (size_t j = 0; j < p; ++j)
     d2[j] = 0.0;
   while (*iterations < max_iter) {
+    /* every step taken lowers the cost: the minimum lies below this point */
+    if (r->ctx.cost_stop > 0.0 && at->cost <= r->ctx.cost_stop) {
+      st = AF_RESPONSE_FIT_CONVERGED;
+      break;
+    }
     double gmax = 0.0;
     for (size_t j = 0; j < p; ++j) {
       double diag = at->a[j * p + j];

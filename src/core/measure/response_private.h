@@ -78,6 +78,8 @@ typedef struct {
   double norm;                /* 1 - r of the seed: amplitude of order 1 */
   double cost_floor;          /* a step lowering the cost by at most this ends the fit
                                  (af_response_fit_noise); 0 = only the solver's tolerances */
+  double cost_stop;           /* a point of cost at most this ends the fit: its caller asks
+                                 only whether the minimum lies below; 0 = none */
 } af_fit_ctx;
 
 /* An fft input buffer (fft_size samples, FFTW's alignment) and how far
