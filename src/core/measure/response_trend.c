@@ -145,7 +145,7 @@ static const double *basis_at(const af_response *r, rotor *rot, size_t harmonics
 /* The samples x[start..start + m) onto one hum period, into r->trend_fold:
  * y_j = the sum of the samples k = j mod P when the run is longer than a
  * period, else the samples themselves (a run of a period or less: the
- * 0.02 s noise reference is one at 48 kHz and 50 Hz). Its length back. */
+ * default noise reference is one hum period long). Its length back. */
 static size_t trend_fold(af_response *r, const float *x, size_t start, size_t m)
 {
   size_t period = r->hum_period;
