@@ -260,6 +260,11 @@ static double edge_rss(const af_edge *e, double z)
  * side of the point returned, as close as the golden section's midpoint of
  * a final bracket e->tol wide (within e->tol / 2). */
 #define AF_STRIKE_BRENT_REACH 0.5
+/* Evaluations at most: the golden-section fallback shrinks the bracket by
+ * 0.618 at least every other step, so a bracket of a whole window (< 2^20
+ * samples) reaches the tolerance in well under 200; the cap only guards a
+ * bracket that a non-finite end would keep from shrinking. */
+#define AF_STRIKE_BRENT_MAX_EVALS 200
 #define AF_STRIKE_SQRT_EPS 1.4901161193847656e-08
 typedef struct {
   double a, b;    /* the bracket */
@@ -334,13 +339,14 @@ static double edge_brent(const af_edge *e, double a, double b)
 {
   double x = a + 0.3819660112501051 * (b - a), fx = edge_rss(e, x);
   af_brent s = {.a = a, .b = b, .x = x, .w = x, .v = x, .fx = fx, .fw = fx, .fv = fx};
-  for (;;) {
+  for (int evals = 1; evals < AF_STRIKE_BRENT_MAX_EVALS; evals++) {
     double tol1 = AF_STRIKE_SQRT_EPS * fabs(s.x) + 0.5 * AF_STRIKE_BRENT_REACH * e->tol;
     if (fabs(s.x - 0.5 * (s.a + s.b)) <= 2.0 * tol1 - 0.5 * (s.b - s.a))
       return s.x;
     double u = brent_next(&s, tol1);
     brent_take(&s, u, edge_rss(e, u));
   }
+  return s.x; /* the best point found */
 }
 
 /* The scan's zeros z = zlo + i / 2 with zlo a whole number of samples put
