@@ -3,7 +3,6 @@
 #include "file_read.h"
 
 #include <errno.h>
-#include <stdarg.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,22 +11,6 @@
 #include <unistd.h>
 
 #include "text.h"
-
-/* One line in err, whatever the path holds: a control character (a newline
- * in a name) shows as '?'. */
-static void say(char *err, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void say(char *err, size_t len, const char *fmt, ...)
-{
-  if (err == NULL || len == 0)
-    return;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, len, fmt, ap);
-  va_end(ap);
-  for (char *p = err; *p; p++)
-    if (af_text_is_control(*p))
-      *p = '?';
-}
 
 static const char *file_kind(mode_t m)
 {
@@ -44,17 +27,17 @@ static af_status check_file(int fd, const char *path, size_t max_bytes, const ch
                             struct stat *st, char *err, size_t len)
 {
   if (fstat(fd, st) != 0) {
-    say(err, len, "%s: cannot be read: %s", path, strerror(errno));
+    af_text_line(err, len, "%s: cannot be read: %s", path, strerror(errno));
     return AF_EIO;
   }
   if (!S_ISREG(st->st_mode)) {
-    say(err, len, "%s: is %s; %s must be a regular file of at most %zu bytes", path,
-        file_kind(st->st_mode), what, max_bytes);
+    af_text_line(err, len, "%s: is %s; %s must be a regular file of at most %zu bytes", path,
+                 file_kind(st->st_mode), what, max_bytes);
     return AF_EINVAL;
   }
   if ((unsigned long long)st->st_size > max_bytes) {
-    say(err, len, "%s: %lld bytes is outside the accepted size of %s, [0, %zu] bytes", path,
-        (long long)st->st_size, what, max_bytes);
+    af_text_line(err, len, "%s: %lld bytes is outside the accepted size of %s, [0, %zu] bytes",
+                 path, (long long)st->st_size, what, max_bytes);
     return AF_EINVAL;
   }
   return AF_OK;
@@ -70,7 +53,7 @@ static af_status read_all(int fd, const char *path, char *buf, size_t room, size
     if (got < 0 && errno == EINTR)
       continue;
     if (got < 0) {
-      say(err, len, "%s: read error: %s", path, strerror(errno));
+      af_text_line(err, len, "%s: read error: %s", path, strerror(errno));
       return AF_EIO;
     }
     if (got == 0)
@@ -86,7 +69,7 @@ af_status af_file_read_whole(const char *path, size_t max_bytes, const char *wha
   /* O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below. */
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
-    say(err, len, "%s: cannot be opened: %s", path, strerror(errno));
+    af_text_line(err, len, "%s: cannot be opened: %s", path, strerror(errno));
     return AF_EIO;
   }
   struct stat st;
@@ -98,13 +81,13 @@ af_status af_file_read_whole(const char *path, size_t max_bytes, const char *wha
    * allocation per file read. */
   const size_t room = status == AF_OK ? (size_t)st.st_size + 1 : 0;
   if (status == AF_OK && (buf = malloc(room)) == NULL) {
-    say(err, len, "%s: no memory to read it", path);
+    af_text_line(err, len, "%s: no memory to read it", path);
     status = AF_ENOMEM;
   }
   if (status == AF_OK)
     status = read_all(fd, path, buf, room, &n, err, len);
   if (status == AF_OK && n == room) {
-    say(err, len, "%s: grew past its %lld bytes while read", path, (long long)st.st_size);
+    af_text_line(err, len, "%s: grew past its %lld bytes while read", path, (long long)st.st_size);
     status = AF_EINVAL;
   }
   close(fd);

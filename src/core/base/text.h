@@ -20,6 +20,15 @@ void af_text(char *buf, size_t len, const char *fmt, ...)
 #endif
     ;
 
+/* af_text for a one-line message that quotes what it was given (a path, a
+ * flag's value, a file's text): control characters in the result show as
+ * '?', so a newline in a name or a CR of a DOS file cannot split it. */
+void af_text_line(char *buf, size_t len, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
 /* A control character (below 0x20, or DEL): one that would split or garble
  * a one-line message quoting it (a newline in a flag's value, a CR of a DOS
  * file); where quoted, it is shown as '?'. */

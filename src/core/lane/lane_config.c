@@ -36,18 +36,18 @@ static af_status check_values(const af_settings *s, char *err, size_t len)
     const af_setting_def *d = &af_setting_rows[k];
     if (!s->present[k] && d->kind != AF_SETTING_STRING) {
       if (d->optional)
-        af_settings_say(err, len, "%s is not set (%s unless given)",
-                        af_settings_name_of(s, id).text, d->absent);
+        af_text_line(err, len, "%s is not set (%s unless given)", af_settings_name_of(s, id).text,
+                     d->absent);
       else
-        af_settings_say(err, len, "%s has no value", af_settings_name_of(s, id).text);
+        af_text_line(err, len, "%s has no value", af_settings_name_of(s, id).text);
       return AF_EINVAL;
     }
     af_setting_range r;
     if (d->range &&
         (af_setting_range_of(id, &r) != AF_OK || !af_setting_range_contains(&r, s->value[k]) ||
          (d->kind == AF_SETTING_WHOLE && s->value[k] != floor(s->value[k])))) {
-      af_settings_say(err, len, "%s = %g is outside the accepted range %s",
-                      af_settings_name_of(s, id).text, s->value[k], d->range);
+      af_text_line(err, len, "%s = %g is outside the accepted range %s",
+                   af_settings_name_of(s, id).text, s->value[k], d->range);
       return AF_EINVAL;
     }
   }
@@ -59,8 +59,8 @@ static af_status check_order(const af_settings *s, af_setting_id lo, af_setting_
 {
   if (num(s, lo) < num(s, hi))
     return AF_OK;
-  af_settings_say(err, len, "%s = %g must be below %s = %g", af_settings_name_of(s, lo).text,
-                  num(s, lo), af_settings_name_of(s, hi).text, num(s, hi));
+  af_text_line(err, len, "%s = %g must be below %s = %g", af_settings_name_of(s, lo).text,
+               num(s, lo), af_settings_name_of(s, hi).text, num(s, hi));
   return AF_EINVAL;
 }
 
@@ -72,8 +72,8 @@ static af_status parse_choice(const af_settings *s, af_setting_id id,
   char word[64] = "";
   if (af_settings_choice(s, id, word, sizeof word) == AF_OK && parse(word, out) == AF_OK)
     return AF_OK;
-  af_settings_say(err, len, "%s = '%s' is not one of: %s", af_settings_name_of(s, id).text, word,
-                  af_setting_rows[id].choices);
+  af_text_line(err, len, "%s = '%s' is not one of: %s", af_settings_name_of(s, id).text, word,
+               af_setting_rows[id].choices);
   return AF_EINVAL;
 }
 
@@ -141,18 +141,17 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
   char why[160];
   if (af_yield_points_parse(af_settings_string(s, AF_SETTING_YIELD_MEASURED), &m->yield_measured,
                             why, sizeof why) != AF_OK) {
-    af_settings_say(err, len, "%s: %s", af_settings_name_of(s, AF_SETTING_YIELD_MEASURED).text,
-                    why);
+    af_text_line(err, len, "%s: %s", af_settings_name_of(s, AF_SETTING_YIELD_MEASURED).text, why);
     return AF_EINVAL;
   }
   m->modulus_factor = num(s, AF_SETTING_MODULUS_FACTOR);
   m->bruise_energy_j = num(s, AF_SETTING_BRUISE_ENERGY_J);
   if (!(c->modulus_min_pa <= i->fruit_modulus_pa && i->fruit_modulus_pa <= c->modulus_max_pa)) {
-    af_settings_say(err, len, "%s = %g must lie in [%s, %s] = [%g, %g] Pa",
-                    af_settings_name_of(s, AF_SETTING_MODULUS_NOMINAL_PA).text, i->fruit_modulus_pa,
-                    af_settings_name_of(s, AF_SETTING_MODULUS_MIN_PA).text,
-                    af_settings_name_of(s, AF_SETTING_MODULUS_MAX_PA).text, c->modulus_min_pa,
-                    c->modulus_max_pa);
+    af_text_line(err, len, "%s = %g must lie in [%s, %s] = [%g, %g] Pa",
+                 af_settings_name_of(s, AF_SETTING_MODULUS_NOMINAL_PA).text, i->fruit_modulus_pa,
+                 af_settings_name_of(s, AF_SETTING_MODULUS_MIN_PA).text,
+                 af_settings_name_of(s, AF_SETTING_MODULUS_MAX_PA).text, c->modulus_min_pa,
+                 c->modulus_max_pa);
     return AF_EINVAL;
   }
   static const af_setting_id pairs[][2] = {
@@ -165,8 +164,8 @@ static af_status derive_cultivar(const af_settings *s, af_lane_config *c, char *
     if (check_order(s, pairs[k][0], pairs[k][1], err, len) != AF_OK)
       return AF_EINVAL;
   if (af_lamb_root(i->fruit_poisson, &c->resonance_xi) != AF_OK) {
-    af_settings_say(err, len, "%s = %g: no 0S2 root of Lamb's equation found",
-                    af_settings_name_of(s, AF_SETTING_FRUIT_POISSON).text, i->fruit_poisson);
+    af_text_line(err, len, "%s = %g: no 0S2 root of Lamb's equation found",
+                 af_settings_name_of(s, AF_SETTING_FRUIT_POISSON).text, i->fruit_poisson);
     return AF_EINVAL;
   }
   return AF_OK;
@@ -180,7 +179,7 @@ static af_status derive_stream(const af_settings *s, af_setting_id rate, af_sett
   sc->clock_step_s = num(s, AF_SETTING_STREAM_CLOCK_STEP_S);
   double samples = ceil(sc->buffer_s * sc->sample_rate_hz);
   if (samples > AF_RING_MAX_SAMPLES) {
-    af_settings_say(
+    af_text_line(
         err, len, "%s = %g and %s = %g make a ring of %.0f samples, above the %.0f accepted",
         af_settings_name_of(s, buffer).text, sc->buffer_s, af_settings_name_of(s, rate).text,
         sc->sample_rate_hz, samples, AF_RING_MAX_SAMPLES);
@@ -198,20 +197,20 @@ static af_status derive_force_unit(const af_settings *s, af_lane_config *c, char
 {
   const af_setting_id unit = AF_SETTING_FORCE_UNIT, sens = AF_SETTING_FORCE_SENSITIVITY_V_PER_N;
   if (af_settings_choice(s, unit, c->force.units[0], AF_LANE_UNIT_MAX) != AF_OK) {
-    af_settings_say(err, len, "%s has no value", af_settings_name_of(s, unit).text);
+    af_text_line(err, len, "%s has no value", af_settings_name_of(s, unit).text);
     return AF_EINVAL;
   }
   const bool volts = strcmp(c->force.units[0], "V") == 0;
   if (volts && num(s, sens) == 0.0) {
-    af_settings_say(err, len, "%s = 0 (none), but %s = V needs it: a number in %s other than 0",
-                    af_settings_name_of(s, sens).text, af_settings_name_of(s, unit).text,
-                    af_setting_rows[sens].range);
+    af_text_line(err, len, "%s = 0 (none), but %s = V needs it: a number in %s other than 0",
+                 af_settings_name_of(s, sens).text, af_settings_name_of(s, unit).text,
+                 af_setting_rows[sens].range);
     return AF_EINVAL;
   }
   if (!volts && num(s, sens) != 0.0) {
-    af_settings_say(err, len, "%s = %g is given but %s = %s (the sensitivity converts volts only)",
-                    af_settings_name_of(s, sens).text, num(s, sens),
-                    af_settings_name_of(s, unit).text, c->force.units[0]);
+    af_text_line(err, len, "%s = %g is given but %s = %s (the sensitivity converts volts only)",
+                 af_settings_name_of(s, sens).text, num(s, sens), af_settings_name_of(s, unit).text,
+                 c->force.units[0]);
     return AF_EINVAL;
   }
   c->force.to_si = volts ? 1.0 / num(s, sens) : 1.0;
@@ -270,8 +269,7 @@ static af_status derive_streams(const af_settings *s, af_lane_config *c, char *e
   /* The microphone speaks pascals or volts, as sent. */
   st = af_settings_choice(s, AF_SETTING_AUDIO_UNIT, c->audio.units[0], AF_LANE_UNIT_MAX);
   if (st != AF_OK) {
-    af_settings_say(err, len, "%s has no value",
-                    af_settings_name_of(s, AF_SETTING_AUDIO_UNIT).text);
+    af_text_line(err, len, "%s has no value", af_settings_name_of(s, AF_SETTING_AUDIO_UNIT).text);
     return st;
   }
   c->audio.to_si = 1.0;
@@ -318,14 +316,13 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
    * above its full scale no strike could ever cross it (a detector silent for
    * good, e.g. after a reconfigure to 1e6 N). */
   if (st == AF_OK && !(isfinite(d->threshold_min_n) && d->threshold_min_n < d->full_scale_n)) {
-    af_settings_say(err, len, "%s = %g N is outside the accepted range (0, %s = %g N)",
-                    af_settings_name_of(s, AF_SETTING_STRIKE_THRESHOLD_MIN_N).text,
-                    d->threshold_min_n, af_settings_name_of(s, AF_SETTING_STRIKE_FULL_SCALE_N).text,
-                    d->full_scale_n);
+    af_text_line(err, len, "%s = %g N is outside the accepted range (0, %s = %g N)",
+                 af_settings_name_of(s, AF_SETTING_STRIKE_THRESHOLD_MIN_N).text, d->threshold_min_n,
+                 af_settings_name_of(s, AF_SETTING_STRIKE_FULL_SCALE_N).text, d->full_scale_n);
     st = AF_EINVAL;
   }
   if (st == AF_OK && d->post_s < d->double_hit_gap_s) {
-    af_settings_say(
+    af_text_line(
         err, len,
         "%s = %g must be at least %s = %g (a bounce must be ruled out before the strike is "
         "emitted)",
@@ -341,13 +338,13 @@ static af_status derive_detector(const af_settings *s, af_lane_config *c, char *
   double span = ceil(d->pre_trigger_s * fs) + 2.0 * ceil(d->max_contact_s * fs) +
                 ceil(d->double_hit_gap_s * fs) + ceil(d->post_s * fs) + 4.0;
   if (span > AF_SPAN_MAX_SAMPLES) {
-    af_settings_say(err, len,
-                    "%s, %s, %s and %s give an event span of %.0f samples at %g Hz, above the 2^24 "
-                    "accepted",
-                    af_settings_name_of(s, AF_SETTING_STRIKE_PRE_TRIGGER_S).text,
-                    af_settings_name_of(s, AF_SETTING_STRIKE_MAX_CONTACT_S).text,
-                    af_settings_name_of(s, AF_SETTING_STRIKE_DOUBLE_HIT_GAP_S).text,
-                    af_settings_name_of(s, AF_SETTING_STRIKE_POST_S).text, span, fs);
+    af_text_line(err, len,
+                 "%s, %s, %s and %s give an event span of %.0f samples at %g Hz, above the 2^24 "
+                 "accepted",
+                 af_settings_name_of(s, AF_SETTING_STRIKE_PRE_TRIGGER_S).text,
+                 af_settings_name_of(s, AF_SETTING_STRIKE_MAX_CONTACT_S).text,
+                 af_settings_name_of(s, AF_SETTING_STRIKE_DOUBLE_HIT_GAP_S).text,
+                 af_settings_name_of(s, AF_SETTING_STRIKE_POST_S).text, span, fs);
     return AF_EINVAL;
   }
   c->strikes.pulse_capacity_samples = (size_t)span;
@@ -362,12 +359,11 @@ static af_status trial_detector(const af_settings *s, af_lane_config *c, char *e
   af_status st = af_strike_create(&c->strikes.strike, &trial);
   af_strike_destroy(trial);
   if (st != AF_OK)
-    af_settings_say(
-        err, len,
-        "%s = %g Hz: the strike detector refuses the %sstrike_* parameters: %s (a window "
-        "shorter than 2 samples?)",
-        af_settings_name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text,
-        c->strikes.strike.sample_rate_hz, s->name_prefix, af_strerror(st));
+    af_text_line(err, len,
+                 "%s = %g Hz: the strike detector refuses the %sstrike_* parameters: %s (a window "
+                 "shorter than 2 samples?)",
+                 af_settings_name_of(s, AF_SETTING_FORCE_SAMPLE_RATE_HZ).text,
+                 c->strikes.strike.sample_rate_hz, s->name_prefix, af_strerror(st));
   return st;
 }
 
@@ -378,10 +374,10 @@ static af_status check_below_nyquist(const af_settings *s, af_setting_id id, con
   const double nyquist_hz = 0.5 * num(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ);
   if (num(s, id) < nyquist_hz)
     return AF_OK;
-  af_settings_say(err, len, "%s = %g must be below the audio Nyquist frequency %g Hz (%s = %g)%s",
-                  af_settings_name_of(s, id).text, num(s, id), nyquist_hz,
-                  af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text,
-                  num(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ), what);
+  af_text_line(err, len, "%s = %g must be below the audio Nyquist frequency %g Hz (%s = %g)%s",
+               af_settings_name_of(s, id).text, num(s, id), nyquist_hz,
+               af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text,
+               num(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ), what);
   return AF_EINVAL;
 }
 
@@ -394,16 +390,16 @@ static af_status check_noise_band(const af_settings *s, const af_response_config
   size_t bins = af_response_noise_band_bins(rc);
   if (bins >= AF_RESPONSE_MIN_NOISE_BINS)
     return AF_OK;
-  af_settings_say(err, len,
-                  "%s = %g .. %s = %g Hz, clipped to the Nyquist frequency %g Hz (%s = %g), holds "
-                  "%zu FFT bins of %.3g Hz, fewer than the %d the noise floor needs: lower %s",
-                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text,
-                  rc->noise_band_lo_hz,
-                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ).text,
-                  rc->noise_band_hi_hz, 0.5 * rc->sample_rate_hz,
-                  af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text, rc->sample_rate_hz,
-                  bins, rc->sample_rate_hz / (double)rc->fft_size, AF_RESPONSE_MIN_NOISE_BINS,
-                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text);
+  af_text_line(err, len,
+               "%s = %g .. %s = %g Hz, clipped to the Nyquist frequency %g Hz (%s = %g), holds "
+               "%zu FFT bins of %.3g Hz, fewer than the %d the noise floor needs: lower %s",
+               af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text,
+               rc->noise_band_lo_hz,
+               af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_HIGH_HZ).text,
+               rc->noise_band_hi_hz, 0.5 * rc->sample_rate_hz,
+               af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text, rc->sample_rate_hz,
+               bins, rc->sample_rate_hz / (double)rc->fft_size, AF_RESPONSE_MIN_NOISE_BINS,
+               af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_BAND_LOW_HZ).text);
   return AF_EINVAL;
 }
 
@@ -467,27 +463,27 @@ static af_status derive_measure(const af_settings *s, af_lane_config *c, char *e
   /* Rounded as the measurement rounds them (measure.c). */
   double window = round(m->audio_window_s * fs), noise = round(m->noise_window_s * fs);
   if (window < 8.0) {
-    af_settings_say(
-        err, len, "%s = %g gives %.0f audio samples at %g Hz, fewer than the 8 the analysis needs",
-        af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, m->audio_window_s, window,
-        fs);
+    af_text_line(err, len,
+                 "%s = %g gives %.0f audio samples at %g Hz, fewer than the 8 the analysis needs",
+                 af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, m->audio_window_s,
+                 window, fs);
     return AF_EINVAL;
   }
   if (noise > 0.0 && noise < 8.0) {
-    af_settings_say(err, len, "%s = %g gives %.0f audio samples at %g Hz: 0 (none) or at least 8",
-                    af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
-                    m->noise_window_s, noise, fs);
+    af_text_line(err, len, "%s = %g gives %.0f audio samples at %g Hz: 0 (none) or at least 8",
+                 af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text, m->noise_window_s,
+                 noise, fs);
     return AF_EINVAL;
   }
   /* The ring must hold the noise before the strike, the delay and the window. */
   double needed_s = m->noise_window_s + m->noise_guard_s + m->audio_delay_s + m->audio_window_s;
   if (!(needed_s < c->audio.buffer_s)) {
-    af_settings_say(err, len, "%s + %s + %s + %s = %g s must be below %s = %g s",
-                    af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
-                    af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text,
-                    af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_DELAY_S).text,
-                    af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, needed_s,
-                    af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text, c->audio.buffer_s);
+    af_text_line(err, len, "%s + %s + %s + %s = %g s must be below %s = %g s",
+                 af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
+                 af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text,
+                 af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_DELAY_S).text,
+                 af_settings_name_of(s, AF_SETTING_MEASURE_AUDIO_WINDOW_S).text, needed_s,
+                 af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text, c->audio.buffer_s);
     return AF_EINVAL;
   }
   mc->audio_window_samples = (size_t)window;
@@ -508,10 +504,10 @@ static af_status trial_measure(const af_settings *s, af_lane_config *c, char *er
   af_status st = af_measure_create(&c->strikes.measure, &trial);
   af_measure_destroy(trial);
   if (st != AF_OK)
-    af_settings_say(err, len,
-                    "%s = %g Hz: the strike measurement refuses the %smeasure_* parameters: %s",
-                    af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text,
-                    c->audio.sample_rate_hz, s->name_prefix, af_strerror(st));
+    af_text_line(err, len,
+                 "%s = %g Hz: the strike measurement refuses the %smeasure_* parameters: %s",
+                 af_settings_name_of(s, AF_SETTING_AUDIO_SAMPLE_RATE_HZ).text,
+                 c->audio.sample_rate_hz, s->name_prefix, af_strerror(st));
   return st;
 }
 
@@ -573,7 +569,7 @@ static af_status check_memory(const af_settings *s, const af_lane_config *c, cha
   if (m.total <= (double)AF_LANE_MEMORY_MAX_BYTES)
     return AF_OK;
   const double mib = 1048576.0;
-  af_settings_say(
+  af_text_line(
       err, len,
       "the lane would allocate about %.0f MiB (rings %.0f: %sforce_buffer_s x "
       "%sforce_sample_rate_hz + %saudio_buffer_s x %saudio_sample_rate_hz; detector and queue "
@@ -658,8 +654,8 @@ static af_status check_model(const af_settings *s, const af_lane_config *c, char
           continue;
         char names[256];
         field_parameters(s, e.field, names, sizeof names);
-        af_settings_say(err, len, "%s: %s = %g is outside the accepted range %s", names, e.field,
-                        e.value, e.range);
+        af_text_line(err, len, "%s: %s = %g is outside the accepted range %s", names, e.field,
+                     e.value, e.range);
         return AF_EINVAL;
       }
   return AF_OK;
@@ -682,10 +678,9 @@ static af_status derive_health(const af_settings *s, af_lane_config *c, char *er
   h->baseline_drift_limit_n = num(s, AF_SETTING_HAMMER_HEALTH_BASELINE_DRIFT_N);
   h->clip_rate_limit = num(s, AF_SETTING_HAMMER_HEALTH_CLIP_RATE);
   if (h->min_strikes > h->window) {
-    af_settings_say(err, len, "%s = %zu must be at most %s = %zu",
-                    af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_MIN_STRIKES).text,
-                    h->min_strikes, af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_WINDOW).text,
-                    h->window);
+    af_text_line(err, len, "%s = %zu must be at most %s = %zu",
+                 af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_MIN_STRIKES).text, h->min_strikes,
+                 af_settings_name_of(s, AF_SETTING_HAMMER_HEALTH_WINDOW).text, h->window);
     return AF_EINVAL;
   }
   return af_hammer_health_check(h, err, len);
@@ -706,15 +701,15 @@ static af_status derive_factor_learn(const af_settings *s, af_lane_config *c, ch
   f->initial_factor = c->model.modulus_factor;
   af_setting_range r;
   if (af_setting_range_of(AF_SETTING_MODULUS_FACTOR, &r) != AF_OK) {
-    af_settings_say(err, len, "the modulus_factor row has no range");
+    af_text_line(err, len, "the modulus_factor row has no range");
     return AF_EINVAL;
   }
   f->factor_min = r.lo;
   f->factor_max = r.hi;
   if (f->min_strikes <= f->window_strikes)
     return AF_OK;
-  af_settings_say(err, len, "%s = %zu must be at most %s = %zu", af_settings_name_of(s, min).text,
-                  f->min_strikes, af_settings_name_of(s, window).text, f->window_strikes);
+  af_text_line(err, len, "%s = %zu must be at most %s = %zu", af_settings_name_of(s, min).text,
+               f->min_strikes, af_settings_name_of(s, window).text, f->window_strikes);
   return AF_EINVAL;
 }
 
@@ -738,12 +733,12 @@ static af_status derive_tap(const af_settings *s, af_lane_config *c, char *err, 
   if (!mc->tap_only || af_onset_config_check(o, &field) == AF_OK)
     return AF_OK;
   if (strcmp(field, "onset_frame_s") == 0)
-    af_settings_say(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least %d",
-                    af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s,
-                    o->frame_s * o->sample_rate_hz, o->sample_rate_hz, AF_ONSET_MIN_FRAME_SAMPLES);
+    af_text_line(err, len, "%s = %g gives %.1f audio samples at %g Hz: at least %d",
+                 af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s,
+                 o->frame_s * o->sample_rate_hz, o->sample_rate_hz, AF_ONSET_MIN_FRAME_SAMPLES);
   else
-    af_settings_say(err, len, "%s must be at least %s = %g s", field,
-                    af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s);
+    af_text_line(err, len, "%s must be at least %s = %g s", field,
+                 af_settings_name_of(s, AF_SETTING_ONSET_FRAME_S).text, o->frame_s);
   return AF_EINVAL;
 }
 
@@ -799,16 +794,16 @@ static af_status check_audio_ring(const af_settings *s, const af_lane_config *c,
   else
     snprintf(after, sizeof after, "the strike detector's emission %g s after the contact start",
              decided_s);
-  af_settings_say(err, len,
-                  "%s = %g s is shorter than the audio a strike must find still held when it is "
-                  "read: %g s of noise reference before the contact (%s + %s), %s after it, and "
-                  "%s %g s the audio may run ahead of the force: raise %s to at least %g s",
-                  af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text, c->audio.buffer_s,
-                  before_s, af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
-                  af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text, after,
-                  af_settings_name_of(s, AF_SETTING_STREAM_STALE_AFTER_S).text,
-                  c->stream_stale_after_s, af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text,
-                  round_4(needed_s, true));
+  af_text_line(err, len,
+               "%s = %g s is shorter than the audio a strike must find still held when it is "
+               "read: %g s of noise reference before the contact (%s + %s), %s after it, and "
+               "%s %g s the audio may run ahead of the force: raise %s to at least %g s",
+               af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text, c->audio.buffer_s, before_s,
+               af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_WINDOW_S).text,
+               af_settings_name_of(s, AF_SETTING_MEASURE_NOISE_GUARD_S).text, after,
+               af_settings_name_of(s, AF_SETTING_STREAM_STALE_AFTER_S).text,
+               c->stream_stale_after_s, af_settings_name_of(s, AF_SETTING_AUDIO_BUFFER_S).text,
+               round_4(needed_s, true));
   return AF_EINVAL;
 }
 
@@ -824,7 +819,7 @@ static af_status check_force_ring(const af_settings *s, const af_lane_config *c,
   const double event = (double)c->strikes.pulse_capacity_samples;
   if ((double)c->force.max_chunk_samples >= event)
     return AF_OK;
-  af_settings_say(
+  af_text_line(
       err, len,
       "%s = %g s holds %zu samples at %s = %g Hz, fewer than one strike's event of "
       "%.0f samples (%s + 2 x %s + %s + %s = %g s): the station refuses every force "
@@ -863,7 +858,7 @@ static af_status check_noise_band_vs_0s2(const af_settings *s, const af_lane_con
   const double band_hi = fmin(rc->noise_band_hi_hz, 0.5 * fs);
   if (!(rc->noise_band_lo_hz < f_hi && band_hi > f_lo))
     return AF_OK;
-  af_settings_say(
+  af_text_line(
       err, len,
       "%s = %g .. %s = %g Hz overlaps the 0S2's search range %.0f .. %.0f Hz (%s = %g .. %s = "
       "%g Pa x %s = %g, %s = %g .. %s = %g kg at %s = %g kg/m3, widened by %s = %g): the noise "
@@ -910,16 +905,16 @@ static af_status check_radius_vs_mass(const af_settings *s, const af_lane_config
                       mass = too_small ? AF_SETTING_MASS_MIN_KG : AF_SETTING_MASS_MAX_KG,
                       aspect =
                           too_small ? AF_SETTING_ASPECT_RATIO_MAX : AF_SETTING_ASPECT_RATIO_MIN;
-  af_settings_say(err, len,
-                  "%s = %g m is %s than any apple the cultivar accepts: %s = %g kg at %s = %g "
-                  "kg/m3 and %s = %g has an equatorial radius of %.5g m (cbrt(3 m / (4 pi rho "
-                  "aspect))): every apple would be refused: %s %s to %s %.4g m",
-                  af_settings_name_of(s, radius).text, num(s, radius),
-                  too_small ? "smaller" : "larger", af_settings_name_of(s, mass).text, num(s, mass),
-                  af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
-                  af_settings_name_of(s, aspect).text, num(s, aspect),
-                  too_small ? smallest : largest, too_small ? "raise" : "lower",
-                  af_settings_name_of(s, radius).text, too_small ? "at least" : "at most", bound);
+  af_text_line(err, len,
+               "%s = %g m is %s than any apple the cultivar accepts: %s = %g kg at %s = %g "
+               "kg/m3 and %s = %g has an equatorial radius of %.5g m (cbrt(3 m / (4 pi rho "
+               "aspect))): every apple would be refused: %s %s to %s %.4g m",
+               af_settings_name_of(s, radius).text, num(s, radius),
+               too_small ? "smaller" : "larger", af_settings_name_of(s, mass).text, num(s, mass),
+               af_settings_name_of(s, AF_SETTING_DENSITY_KG_M3).text, rho,
+               af_settings_name_of(s, aspect).text, num(s, aspect), too_small ? smallest : largest,
+               too_small ? "raise" : "lower", af_settings_name_of(s, radius).text,
+               too_small ? "at least" : "at most", bound);
   return AF_EINVAL;
 }
 
@@ -942,7 +937,7 @@ static af_status check_together(const af_settings *s, const af_lane_config *c, c
 af_status af_lane_config_derive(const af_settings *s, af_lane_config *out, char *err, size_t len)
 {
   if (s == NULL || out == NULL) {
-    af_settings_say(err, len, "af_lane_config_derive: s or out is NULL");
+    af_text_line(err, len, "af_lane_config_derive: s or out is NULL");
     return AF_EINVAL;
   }
   memset(out, 0, sizeof *out);

@@ -6,7 +6,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <threads.h>
@@ -14,22 +13,7 @@
 #include "settings_private.h"
 #include "text.h"
 
-/* ---- helpers (the first two shared: settings_private.h) ------------------- */
-
-void af_settings_say(char *err, size_t len, const char *fmt, ...)
-{
-  if (err == NULL || len == 0)
-    return;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, len, fmt, ap);
-  va_end(ap);
-  /* One line, whatever the values quoted in it hold: a control character
-   * (a newline in a flag's value, a CR of a DOS file) shows as '?'. */
-  for (char *p = err; *p; p++)
-    if (af_text_is_control(*p))
-      *p = '?';
-}
+/* ---- helpers (shared: settings_private.h) ------------------------------- */
 
 af_name af_settings_name_of(const af_settings *s, af_setting_id id)
 {
@@ -110,19 +94,19 @@ static af_status store_number(af_settings *s, af_setting_id id, double v, char *
   }
   af_setting_range r;
   if (af_setting_range_of(id, &r) != AF_OK) {
-    af_settings_say(err, len, "%s has no valid range in the table", n.text);
+    af_text_line(err, len, "%s has no valid range in the table", n.text);
     return AF_EINVAL;
   }
   if (!af_setting_range_contains(&r, v)) {
     if (d->optional)
-      af_settings_say(err, len, "%s = %g is outside the accepted range %s (%sabsent = %s)", n.text,
-                      v, d->range, d->zero_is_absent ? "0 or " : "", d->absent);
+      af_text_line(err, len, "%s = %g is outside the accepted range %s (%sabsent = %s)", n.text, v,
+                   d->range, d->zero_is_absent ? "0 or " : "", d->absent);
     else
-      af_settings_say(err, len, "%s = %g is outside the accepted range %s", n.text, v, d->range);
+      af_text_line(err, len, "%s = %g is outside the accepted range %s", n.text, v, d->range);
     return AF_EINVAL;
   }
   if (d->kind == AF_SETTING_WHOLE && v != floor(v)) {
-    af_settings_say(err, len, "%s = %g is not a whole number in %s", n.text, v, d->range);
+    af_text_line(err, len, "%s = %g is not a whole number in %s", n.text, v, d->range);
     return AF_EINVAL;
   }
   s->value[id] = v;
@@ -137,12 +121,12 @@ static af_status store_string(af_settings *s, af_setting_id id, const char *v, c
   const af_setting_def *d = &af_setting_rows[id];
   int slot = string_slot(id);
   if (slot < 0) {
-    af_settings_say(err, len, "%s: no room for its text", af_settings_name_of(s, id).text);
+    af_text_line(err, len, "%s: no room for its text", af_settings_name_of(s, id).text);
     return AF_EINVAL;
   }
   if (strlen(v) > d->max_chars) {
-    af_settings_say(err, len, "%s = '%.40s...' is longer than %zu characters",
-                    af_settings_name_of(s, id).text, v, d->max_chars);
+    af_text_line(err, len, "%s = '%.40s...' is longer than %zu characters",
+                 af_settings_name_of(s, id).text, v, d->max_chars);
     return AF_EINVAL;
   }
   snprintf(s->text[slot], sizeof s->text[slot], "%s", v);
@@ -162,7 +146,7 @@ af_status af_settings_apply(af_settings *s, af_setting_id id, const af_value *v,
   if (v->type == AF_V_NULL) {
     char expected[160];
     expected_text(id, expected, sizeof expected);
-    af_settings_say(err, len, "%s has no value (expected %s)", n.text, expected);
+    af_text_line(err, len, "%s has no value (expected %s)", n.text, expected);
     return AF_EINVAL;
   }
   switch (d->kind) {
@@ -174,13 +158,13 @@ af_status af_settings_apply(af_settings *s, af_setting_id id, const af_value *v,
     if (v->type == AF_V_STRING && v->lenient && !v->quoted && c_number(v->text, &x))
       return store_number(s, id, x, err, len);
     if (v->type == AF_V_STRING && !v->quoted && c_number(v->text, &x))
-      af_settings_say(
+      af_text_line(
           err, len,
           "%s = %s is not a number (YAML 1.1 reads it as a string: write a dot and a signed "
           "exponent, e.g. 8.0e+6)",
           n.text, shown);
     else
-      af_settings_say(err, len, "%s = %s is not a number (expected %s)", n.text, shown, d->range);
+      af_text_line(err, len, "%s = %s is not a number (expected %s)", n.text, shown, d->range);
     return AF_EINVAL;
   }
   case AF_SETTING_BOOL:
@@ -190,17 +174,17 @@ af_status af_settings_apply(af_settings *s, af_setting_id id, const af_value *v,
       s->given[id] = true;
       return AF_OK;
     }
-    af_settings_say(err, len, "%s = %s is not true or false", n.text, shown);
+    af_text_line(err, len, "%s = %s is not true or false", n.text, shown);
     return AF_EINVAL;
   case AF_SETTING_STRING:
     if (v->type == AF_V_STRING)
       return store_string(s, id, v->text, err, len);
-    af_settings_say(err, len, "%s = %s is not a string (quote it)", n.text, shown);
+    af_text_line(err, len, "%s = %s is not a string (quote it)", n.text, shown);
     return AF_EINVAL;
   case AF_SETTING_CHOICE: {
     int k = v->type == AF_V_STRING ? choice_index(id, v->text) : -1;
     if (k < 0) {
-      af_settings_say(err, len, "%s = %s is not one of: %s", n.text, shown, d->choices);
+      af_text_line(err, len, "%s = %s is not one of: %s", n.text, shown, d->choices);
       return AF_EINVAL;
     }
     s->value[id] = k;
@@ -215,11 +199,11 @@ af_status af_settings_apply(af_settings *s, af_setting_id id, const af_value *v,
 static af_status check_args(const af_settings *s, af_setting_id id, char *err, size_t len)
 {
   if (s == NULL) {
-    af_settings_say(err, len, "settings: s is NULL");
+    af_text_line(err, len, "settings: s is NULL");
     return AF_EINVAL;
   }
   if (!setting_valid_id(id)) {
-    af_settings_say(err, len, "unknown parameter #%d", (int)id);
+    af_text_line(err, len, "unknown parameter #%d", (int)id);
     return AF_EINVAL;
   }
   return AF_OK;
@@ -286,12 +270,12 @@ static af_status set_scalar(af_settings *s, const char *name, const char *text, 
                             char *err, size_t len)
 {
   if (s == NULL || name == NULL || text == NULL) {
-    af_settings_say(err, len, "settings: a NULL argument");
+    af_text_line(err, len, "settings: a NULL argument");
     return AF_EINVAL;
   }
   af_setting_id id;
   if (af_setting_find(name, &id) != AF_OK) {
-    af_settings_say(err, len, "unknown parameter '%s%.64s'", s->name_prefix, name);
+    af_text_line(err, len, "unknown parameter '%s%.64s'", s->name_prefix, name);
     return AF_EINVAL;
   }
   char buf[AF_SETTINGS_TEXT_MAX * 2];
@@ -300,12 +284,12 @@ static af_status set_scalar(af_settings *s, const char *name, const char *text, 
   while (*text == ' ' || *text == '\t')
     text++;
   if (!af_settings_parse_scalar(text, buf, sizeof buf, &v, &rest, &why)) {
-    af_settings_say(err, len, "%s: %s", af_settings_name_of(s, id).text, why);
+    af_text_line(err, len, "%s: %s", af_settings_name_of(s, id).text, why);
     return AF_EINVAL;
   }
   if (!af_settings_blank_or_comment(rest)) {
-    af_settings_say(err, len, "%s: text after the value: '%.40s'", af_settings_name_of(s, id).text,
-                    rest);
+    af_text_line(err, len, "%s: text after the value: '%.40s'", af_settings_name_of(s, id).text,
+                 rest);
     return AF_EINVAL;
   }
   v.lenient = lenient;
@@ -329,12 +313,12 @@ af_status af_settings_set_arg(af_settings *s, const char *arg, char *err, size_t
 {
   const char *eq = arg ? strchr(arg, '=') : NULL;
   if (eq == NULL) {
-    af_settings_say(err, len, "'%.80s' is not name=value", arg ? arg : "(null)");
+    af_text_line(err, len, "'%.80s' is not name=value", arg ? arg : "(null)");
     return AF_EINVAL;
   }
   char name[80];
   if ((size_t)(eq - arg) >= sizeof name) {
-    af_settings_say(err, len, "unknown parameter '%.*s...'", 60, arg);
+    af_text_line(err, len, "unknown parameter '%.*s...'", 60, arg);
     return AF_EINVAL;
   }
   memcpy(name, arg, (size_t)(eq - arg));
@@ -345,7 +329,7 @@ af_status af_settings_set_arg(af_settings *s, const char *arg, char *err, size_t
 af_status af_settings_check_required(const af_settings *s, unsigned files, char *err, size_t len)
 {
   if (s == NULL) {
-    af_settings_say(err, len, "settings: s is NULL");
+    af_text_line(err, len, "settings: s is NULL");
     return AF_EINVAL;
   }
   for (int k = 0; k < AF_SETTING_COUNT; k++) {
@@ -354,11 +338,11 @@ af_status af_settings_check_required(const af_settings *s, unsigned files, char 
       continue;
     char expected[160];
     expected_text((af_setting_id)k, expected, sizeof expected);
-    af_settings_say(err, len, "%s is missing (expected %s; %s)",
-                    af_settings_name_of(s, (af_setting_id)k).text, expected,
-                    d->file == AF_SETTINGS_STATION
-                        ? "its default is in config/station.yaml"
-                        : "a cultivar value: see the cultivar's YAML, e.g. config/jonagold.yaml");
+    af_text_line(err, len, "%s is missing (expected %s; %s)",
+                 af_settings_name_of(s, (af_setting_id)k).text, expected,
+                 d->file == AF_SETTINGS_STATION
+                     ? "its default is in config/station.yaml"
+                     : "a cultivar value: see the cultivar's YAML, e.g. config/jonagold.yaml");
     return AF_EINVAL;
   }
   return AF_OK;

@@ -92,8 +92,8 @@ static af_status one_value(af_yaml_state *st, af_setting_id id, const char *key,
       if (strcmp(st->anchors[k].name, (const char *)e->data.alias.anchor) == 0)
         a = &st->anchors[k];
     if (a == NULL) {
-      af_settings_say(err, len, "%s:%d: %s: an alias to '%.40s', which is not an anchored scalar",
-                      path, vline, key, (const char *)e->data.alias.anchor);
+      af_text_line(err, len, "%s:%d: %s: an alias to '%.40s', which is not an anchored scalar",
+                   path, vline, key, (const char *)e->data.alias.anchor);
       return AF_EINVAL;
     }
     memcpy(buf, a->text, sizeof buf);
@@ -102,15 +102,15 @@ static af_status one_value(af_yaml_state *st, af_setting_id id, const char *key,
     else
       af_settings_resolve_plain(buf, &v);
   } else if (e->type != YAML_SCALAR_EVENT) {
-    af_settings_say(err, len, "%s:%d: %s: not a flat value (%s)", path, vline, key,
-                    event_what(e->type));
+    af_text_line(err, len, "%s:%d: %s: not a flat value (%s)", path, vline, key,
+                 event_what(e->type));
     return AF_EINVAL;
   } else if (!scalar_value(e, buf, &v, &why)) {
-    af_settings_say(err, len, "%s:%d: %s: %s", path, vline, key, why);
+    af_text_line(err, len, "%s:%d: %s: %s", path, vline, key, why);
     return AF_EINVAL;
   } else if (e->data.scalar.anchor != NULL) {
     if (st->n_anchors >= AF_YAML_ANCHORS_MAX) {
-      af_settings_say(err, len, "%s:%d: more than %d anchors", path, vline, AF_YAML_ANCHORS_MAX);
+      af_text_line(err, len, "%s:%d: more than %d anchors", path, vline, AF_YAML_ANCHORS_MAX);
       return AF_EINVAL;
     }
     af_anchor *a = &st->anchors[st->n_anchors++];
@@ -119,7 +119,7 @@ static af_status one_value(af_yaml_state *st, af_setting_id id, const char *key,
     a->quoted = v.quoted;
   }
   if (af_settings_apply(&st->copy, id, &v, why_buf, sizeof why_buf) != AF_OK) {
-    af_settings_say(err, len, "%s:%d: %s", path, line, why_buf);
+    af_text_line(err, len, "%s:%d: %s", path, line, why_buf);
     return AF_EINVAL;
   }
   return AF_OK;
@@ -133,20 +133,20 @@ static af_status one_key(af_yaml_state *st, const yaml_event_t *e, af_setting_id
   if (e->type != YAML_SCALAR_EVENT || e->data.scalar.tag != NULL || e->data.scalar.anchor != NULL ||
       e->data.scalar.style == YAML_LITERAL_SCALAR_STYLE ||
       e->data.scalar.style == YAML_FOLDED_SCALAR_STYLE) {
-    af_settings_say(err, len, "%s:%d: not a flat `key: value` entry: its key is %s", path, line,
-                    e->type == YAML_SCALAR_EVENT ? "tagged, anchored or a block scalar"
-                                                 : event_what(e->type));
+    af_text_line(err, len, "%s:%d: not a flat `key: value` entry: its key is %s", path, line,
+                 e->type == YAML_SCALAR_EVENT ? "tagged, anchored or a block scalar"
+                                              : event_what(e->type));
     return AF_EINVAL;
   }
   snprintf(key, key_len, "%.*s", (int)(e->data.scalar.length < 79 ? e->data.scalar.length : 79),
            (const char *)e->data.scalar.value);
   if (strlen(key) != e->data.scalar.length || af_setting_find(key, id) != AF_OK) {
-    af_settings_say(err, len, "%s:%d: unknown parameter '%s'", path, line, key);
+    af_text_line(err, len, "%s:%d: unknown parameter '%s'", path, line, key);
     return AF_EINVAL;
   }
   if (st->first_line[*id] != 0) {
-    af_settings_say(err, len, "%s:%d: duplicate key '%s': given on line %d and again on line %d",
-                    path, line, key, st->first_line[*id], line);
+    af_text_line(err, len, "%s:%d: duplicate key '%s': given on line %d and again on line %d", path,
+                 line, key, st->first_line[*id], line);
     return AF_EINVAL;
   }
   st->first_line[*id] = line;
@@ -166,9 +166,9 @@ static af_status parse_events(yaml_parser_t *p, af_yaml_state *st, const char *p
   while (status == AF_OK && !done) {
     yaml_event_t e;
     if (!yaml_parser_parse(p, &e)) {
-      af_settings_say(err, len, "%s:%d:%d: %s%s%s", path, (int)p->problem_mark.line + 1,
-                      (int)p->problem_mark.column + 1, p->problem ? p->problem : "a YAML error",
-                      p->context ? " " : "", p->context ? p->context : "");
+      af_text_line(err, len, "%s:%d:%d: %s%s%s", path, (int)p->problem_mark.line + 1,
+                   (int)p->problem_mark.column + 1, p->problem ? p->problem : "a YAML error",
+                   p->context ? " " : "", p->context ? p->context : "");
       return AF_EINVAL;
     }
     const int line = (int)e.start_mark.line + 1;
@@ -178,8 +178,8 @@ static af_status parse_events(yaml_parser_t *p, af_yaml_state *st, const char *p
     case YAML_STREAM_END_EVENT: done = true; break;
     case YAML_DOCUMENT_START_EVENT:
       if (++docs > 1) {
-        af_settings_say(err, len, "%s:%d: a second YAML document; a settings file holds one", path,
-                        line);
+        af_text_line(err, len, "%s:%d: a second YAML document; a settings file holds one", path,
+                     line);
         status = AF_EINVAL;
       }
       break;
@@ -190,8 +190,8 @@ static af_status parse_events(yaml_parser_t *p, af_yaml_state *st, const char *p
                  e.data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
         /* an empty document ("---" alone): no settings */
       } else if (depth == 0) {
-        af_settings_say(err, len, "%s:%d: not a flat `key: value` file: the document is %s", path,
-                        line, event_what(e.type));
+        af_text_line(err, len, "%s:%d: not a flat `key: value` file: the document is %s", path,
+                     line, event_what(e.type));
         status = AF_EINVAL;
       } else if (e.type == YAML_MAPPING_END_EVENT && want_key) {
         depth = 0;
@@ -212,7 +212,7 @@ static af_status parse_events(yaml_parser_t *p, af_yaml_state *st, const char *p
 af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, size_t len)
 {
   if (s == NULL || path == NULL) {
-    af_settings_say(err, len, "settings: a NULL argument");
+    af_text_line(err, len, "settings: a NULL argument");
     return AF_EINVAL;
   }
   char *data = NULL;
@@ -227,12 +227,12 @@ af_status af_settings_load_yaml(af_settings *s, const char *path, char *err, siz
       status = AF_EINVAL;
   af_yaml_state *st = status == AF_OK ? calloc(1, sizeof *st) : NULL;
   if (status == AF_OK && st == NULL) {
-    af_settings_say(err, len, "%s: no memory to read it", path);
+    af_text_line(err, len, "%s: no memory to read it", path);
     status = AF_ENOMEM;
   }
   yaml_parser_t parser;
   if (status == AF_OK && !yaml_parser_initialize(&parser)) {
-    af_settings_say(err, len, "%s: no memory for the YAML parser", path);
+    af_text_line(err, len, "%s: no memory for the YAML parser", path);
     status = AF_ENOMEM;
   } else if (status == AF_OK) {
     st->copy = *s;

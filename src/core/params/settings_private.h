@@ -18,6 +18,7 @@
 #include <stddef.h>
 
 #include "settings.h"
+#include "text.h" /* af_text_line: the one-line messages */
 
 /* The table, indexed by af_setting_id (settings_table.c). */
 extern const af_setting_def af_setting_rows[AF_SETTING_COUNT];
@@ -26,13 +27,6 @@ static inline bool setting_valid_id(af_setting_id id)
 {
   return (int)id >= 0 && id < AF_SETTING_COUNT;
 }
-
-/* vsnprintf into err[len], cut at len - 1 (err may be NULL), control
- * characters shown as '?' so that the message stays one line (settings.c). */
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-void af_settings_say(char *err, size_t len, const char *fmt, ...);
 
 /* The name as messages write it: prefix + name (settings.c). */
 typedef struct {

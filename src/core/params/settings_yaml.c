@@ -259,22 +259,21 @@ bool af_settings_next_line(const char *data, size_t size, size_t *pos, char *lin
   for (; p < size && data[p] != '\n'; p++) {
     int column = (int)n + 1;
     if (data[p] == '\0') {
-      af_settings_say(err, len, "%s:%d:%d: a NUL byte; a settings file is text", path, number,
-                      column);
+      af_text_line(err, len, "%s:%d:%d: a NUL byte; a settings file is text", path, number, column);
       return false;
     }
     if (data[p] == '\r' && (p + 1 == size || data[p + 1] != '\n')) {
-      af_settings_say(err, len,
-                      "%s:%d:%d: a carriage return not followed by a line feed; lines end with "
-                      "LF or CR LF",
-                      path, number, column);
+      af_text_line(err, len,
+                   "%s:%d:%d: a carriage return not followed by a line feed; lines end with "
+                   "LF or CR LF",
+                   path, number, column);
       return false;
     }
     if (data[p] == '\r') /* CR LF: the CR ends the line */
       continue;
     if (n + 1 >= AF_YAML_LINE_MAX) {
-      af_settings_say(err, len, "%s:%d: a line longer than %d bytes", path, number,
-                      AF_YAML_LINE_MAX - 1);
+      af_text_line(err, len, "%s:%d: a line longer than %d bytes", path, number,
+                   AF_YAML_LINE_MAX - 1);
       return false;
     }
     line[n++] = data[p];
