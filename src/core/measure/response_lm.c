@@ -33,6 +33,7 @@
  *  STALLED    AF_RESPONSE_LM_MAX_REJECT steps in a row raised the cost;
  *  FAILED     the start's residuals or Jacobian are not finite.
  * No allocation: everything lives on the stack (p <= 4). */
+#include "response_chol.h"
 #include "response_private.h"
 
 #include <math.h>
@@ -48,33 +49,10 @@
  * its Cholesky factor); 0 if m is not positive definite. */
 AF_NUMERIC_KERNEL static int cholesky_solve(double *m, size_t p, const double *b, double *x)
 {
-  for (size_t j = 0; j < p; ++j) {
-    double d = m[j * p + j];
-    for (size_t k = 0; k < j; ++k)
-      d -= m[j * p + k] * m[j * p + k];
-    if (!(d > 0.0))
-      return 0;
-    d = sqrt(d);
-    m[j * p + j] = d;
-    for (size_t i = j + 1; i < p; ++i) {
-      double s = m[i * p + j];
-      for (size_t k = 0; k < j; ++k)
-        s -= m[i * p + k] * m[j * p + k];
-      m[i * p + j] = s / d;
-    }
-  }
-  for (size_t i = 0; i < p; ++i) { /* L y = b */
-    double s = b[i];
-    for (size_t k = 0; k < i; ++k)
-      s -= m[i * p + k] * x[k];
-    x[i] = s / m[i * p + i];
-  }
-  for (size_t i = p; i-- > 0;) { /* L^T x = y */
-    double s = x[i];
-    for (size_t k = i + 1; k < p; ++k)
-      s -= m[k * p + i] * x[k];
-    x[i] = s / m[i * p + i];
-  }
+  if (!af_response_chol_factor(m, p))
+    return 0;
+  memcpy(x, b, p * sizeof *x);
+  af_response_chol_solve(m, p, x);
   return 1;
 }
 

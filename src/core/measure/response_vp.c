@@ -30,6 +30,7 @@
  *   truncated (list):     t = (1 - (z u)^m) / (1 - z u), e = (z u) dT/da
  * with e such that d(c t)/dz z = c e; then dModel/df0 = (c e - conj(c) ec)
  * i 2 pi / N and dModel/dsigma' = -(c e + conj(c) ec) / fs. */
+#include "response_chol.h"
 #include "response_private.h"
 
 #include <math.h>
@@ -54,46 +55,6 @@ typedef struct {
 typedef struct {
   double complex z, zm, zm1; /* z, z^m, z^(m - 1) (the last two: truncated model) */
 } vp_pole;
-
-/* Solves l l^T x = b in place in x (l: Cholesky factor, lower, n x n). */
-AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void chol_solve(const double *l,
-                                                                               size_t n, double *x)
-{
-  for (size_t i = 0; i < n; ++i) {
-    double s = x[i];
-    for (size_t k = 0; k < i; ++k)
-      s -= l[i * n + k] * x[k];
-    x[i] = s / l[i * n + i];
-  }
-  for (size_t i = n; i-- > 0;) {
-    double s = x[i];
-    for (size_t k = i + 1; k < n; ++k)
-      s -= l[k * n + i] * x[k];
-    x[i] = s / l[i * n + i];
-  }
-}
-
-/* m (n x n, symmetric, upper triangle read) into its Cholesky factor, lower;
- * 0 if not positive definite. */
-AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) int chol_factor(double *m, size_t n)
-{
-  for (size_t j = 0; j < n; ++j) {
-    double d = m[j * n + j];
-    for (size_t k = 0; k < j; ++k)
-      d -= m[j * n + k] * m[j * n + k];
-    if (!(d > 0.0))
-      return 0;
-    d = sqrt(d);
-    m[j * n + j] = d;
-    for (size_t i = j + 1; i < n; ++i) {
-      double s = m[j * n + i];
-      for (size_t k = 0; k < j; ++k)
-        s -= m[i * n + k] * m[j * n + k];
-      m[i * n + j] = s / d;
-    }
-  }
-  return 1;
-}
 
 /* The poles' constants from theta (per pole f0 [bins], sigma' [1/s]). */
 AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void
@@ -246,7 +207,7 @@ vp_project(const double *l, size_t nl, size_t nt, const double *w, double *a)
     double z[VP_MAX_LINEAR];
     for (size_t i = 0; i < nl; ++i)
       z[i] = w[i * nt + k];
-    chol_solve(l, nl, z);
+    af_response_chol_solve(l, nl, z);
     for (size_t j = k; j < nt; ++j) {
       double s = 0.0;
       for (size_t i = 0; i < nl; ++i)
@@ -285,9 +246,9 @@ vp_eval(const af_response *r, const double *theta, double *cost, double *a, doub
       moment[q] += xq;
   }
   vp_gram_background(gram, npc, nl, moment);
-  if (!chol_factor(gram, nl))
+  if (!af_response_chol_factor(gram, nl))
     return 0;
-  chol_solve(gram, nl, beta);
+  af_response_chol_solve(gram, nl, beta);
   if (a != NULL) {
     memset(a, 0, nt * nt * sizeof *a);
     memset(g, 0, nt * sizeof *g);
