@@ -3,8 +3,9 @@
 # of synthetic strikes (strike_bag: 50 kHz force + 48 kHz audio, one strike
 # every 0.5 s: 2 strikes/s; --rate 10: every 0.1 s, a grading line's rate)
 # at real time through station.launch and prints
-#  - the node's CPU per second of streamed input: utime + stime from
-#    /proc/<pid>/stat over the replay, divided by the bag's duration
+#  - the node's CPU per second of streamed input: its threads' run time
+#    from /proc/<pid>/task/*/schedstat [ns] over the replay, divided by the
+#    bag's duration
 #    (the targets: 1 % of one core at 2 strikes/s, 3 % at 10), and
 #    its idle CPU before the replay;
 #  - the latency per strike from the last sample it needs (the audio chunk
@@ -136,16 +137,25 @@ while time.time() < end and pid is None:
         time.sleep(0.2)
 if pid is None:
     sys.exit('bench: %s did not come up' % node)
-tick = os.sysconf('SC_CLK_TCK')
 
 
 floor_pid = int(os.environ['AF_FLOOR_PID'])   # af_bench_floor (--floor), else 0
 
 
 def cpu_of(p):
-    with open('/proc/%d/stat' % p) as f:
-        fields = f.read().rsplit(')', 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / tick   # utime, stime
+    """The process's CPU time [s]: the run time of each of its threads from
+    /proc/PID/task/TID/schedstat (ns, what the scheduler charged), summed;
+    /proc/PID/stat's utime + stime counts whole 10 ms ticks, too coarse for
+    the node's few tenths of a percent. A thread that ended between two reads
+    takes its time with it: roscpp's threads live as long as the node."""
+    total = 0
+    for tid in os.listdir('/proc/%d/task' % p):
+        try:
+            with open('/proc/%d/task/%s/schedstat' % (p, tid)) as f:
+                total += int(f.read().split()[0])
+        except OSError:   # the thread ended while listed
+            pass
+    return total * 1e-9
 
 
 def cpu_s():
