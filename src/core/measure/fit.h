@@ -141,8 +141,8 @@ typedef struct {
   double relative_residual; /* residual_rms_n / max_k pulse_k */
   size_t iterations;        /* accepted trust-region steps */
   size_t model_runs;        /* impact-model integrations spent (the cost): 1 on the table
-                               path (the check; 2 when the pulse is too long for the check's
-                               dt / 4), the check's + the ODE fit's on a fallback */
+                               path (the check), the check's + the ODE fit's on a
+                               fallback */
   af_fit_path path;         /* the model the result comes from */
   double check_shift;       /* table path: the check's largest first-order move of a
                                scaled parameter, in its standard errors (each floored at

@@ -8,8 +8,8 @@
  * J is analytic (table_sample), and with J in hand at every evaluation the
  * Levenberg-Marquardt step is solved on the p x p normal equations
  * (af_fit_table_search) instead of GSL's QR of the max_samples x p Jacobian, which
- * cost more than the model. At the optimum one ODE run (at dt / 4) checks
- * the table: the Gauss-Newton step that the ODE model's residual would add
+ * cost more than the model. At the optimum one ODE run, sampled at the data
+ * times, checks the table: the Gauss-Newton step that the ODE model's residual would add
  * from there, (J^T J)^-1 J^T (F_ODE - F_table), must stay within
  * table_check_se of every parameter's standard error (floored at 1e-3 in x).
  * The result then reports the ODE run's contact time, peak and residual, the
@@ -38,12 +38,6 @@
  * end it (GSL's 16 before GSL_ENOPROG). */
 #define AF_LM_MU_START 1e-3
 #define AF_LM_MAX_REJECTS 16
-/* The check's model runs at dt / this (when the pulse fits the model
- * buffer, else at the ODE path's dt / oversample), so that the cubic
- * interpolant's own error (~(h / t_c)^3) stays far below the table's: it
- * checks the table against the ODE, not against a coarse sampling of it. */
-#define AF_FIT_CHECK_OVERSAMPLE 4
-
 /* ---- the table's model -------------------------------------------------- */
 
 /* dchi/de of the fit's damping law by a central difference (one-sided at
@@ -311,26 +305,32 @@ af_status af_fit_table_search(af_fit *w)
 }
 
 /* The table path's check, part 1: one ODE run at the table's optimum x,
- * read at the data times into check_n; its contact time and peak into out
- * (the ODE's, as on the ODE path). */
+ * sampled at the data times k dt - t0 themselves (impact.c's quintic
+ * interpolant across its steps, ~1e-9: no interpolation of ours, whose own
+ * error would add to the table's) into check_n, 0 before the contact and
+ * after it; its contact time and peak into out (the ODE's, as on the ODE
+ * path). */
 af_status af_fit_check_run(af_fit *w, const double *x, af_fit_result *out)
 {
   af_impact_params p;
   af_impact_result res;
-  double t0_s, slope, h_s = w->dt_s / AF_FIT_CHECK_OVERSAMPLE;
+  double t0_s;
   af_fit_unpack(w, x, &p, &t0_s);
+  if (!isfinite(t0_s))
+    return AF_ENUMERIC;
+  /* the first sample in contact, k_first dt - t0 >= 0 (rounding may make it
+   * -0: F = 0 there either way); none when the contact starts after the
+   * window */
+  double k_first = t0_s > 0.0 ? fmin(ceil(t0_s / w->dt_s), (double)w->n) : 0.0;
+  double t_first_s = fmax(k_first * w->dt_s - t0_s, 0.0);
   w->model_runs++;
-  af_status st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  if (st == AF_ESIZE && h_s < w->h_s) { /* a long pulse: the search's step */
-    h_s = w->h_s;
-    w->model_runs++;
-    st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  }
+  af_status st =
+      af_impact_execute_from(w->impact, &p, t_first_s, w->dt_s, w->model_n, w->model_cap, &res);
   if (st != AF_OK)
     return st;
+  size_t first = (size_t)k_first;
   for (size_t k = 0; k < w->n; k++)
-    af_fit_interp(w->model_n, res.n_samples, h_s, (double)k * w->dt_s - t0_s, &w->check_n[k],
-                  &slope);
+    w->check_n[k] = k >= first && k - first < res.n_samples ? w->model_n[k - first] : 0.0;
   out->contact_time_s = res.contact_time_s;
   out->peak_force_n = res.peak_force_n;
   return AF_OK;

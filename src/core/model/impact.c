@@ -88,6 +88,7 @@ struct af_impact {
 
 /* Where and how one pulse is sampled. */
 typedef struct {
+  double tau_first;      /* first sample's time [D/v0], >= 0 (0: at contact) */
   double dtau;           /* sampling step [D/v0] */
   size_t cap;            /* samples that fit */
   double *force_n;       /* may be NULL */
@@ -402,7 +403,7 @@ static double quintic_fit(const double c[6], double s)
          c[4] * (-4.0 * s3 + 7.0 * s4 - 3.0 * s5) + c[5] * 0.5 * (s3 - 2.0 * s4 + s5);
 }
 
-/* Writes the samples tau_k = k dtau lying in (a->t, b->t] from the quintic
+/* Writes the samples tau_k = tau_first + k dtau lying in (a->t, b->t] from the quintic
  * interpolants of x and u across the step, whose ends carry x, u, u' and u''
  * = -dF/dtau exactly: sixth-order accurate, so the sampling step never
  * constrains the integration step. AF_ESIZE when a sample falls beyond cap. */
@@ -410,7 +411,7 @@ static af_status sink_fill(const af_sink *k, const af_rhs_params *p, const af_st
                            const af_state *b, size_t *next)
 {
   double len = b->t - a->t;
-  double t = (double)*next * k->dtau;
+  double t = k->tau_first + (double)*next * k->dtau;
   if (t > b->t)
     return AF_OK;
   double ga, dga, gb, dgb;
@@ -419,7 +420,7 @@ static af_status sink_fill(const af_sink *k, const af_rhs_params *p, const af_st
   double aa = accel(p, a), ab = accel(p, b), l2 = len * len;
   const double cx[6] = {a->x, a->u * len, aa * l2, b->x, b->u * len, ab * l2};
   const double cu[6] = {a->u, aa * len, -ga * l2, b->u, ab * len, -gb * l2};
-  for (; t <= b->t; t = (double)*next * k->dtau) {
+  for (; t <= b->t; t = k->tau_first + (double)*next * k->dtau) {
     if (*next >= k->cap)
       return AF_ESIZE;
     double s = (t - a->t) / len;
@@ -490,7 +491,7 @@ static void reset_state(af_impact *w, double chi, double gamma)
 }
 
 /* Integrates one pulse from contact to separation with free adaptive steps,
- * samples it on tau_k = k sink->dtau and locates the contact end and the
+ * samples it on tau_first + k dtau and locates the contact end and the
  * extrema inside the step where each happens. */
 static af_status pulse_run(af_impact *w, double chi, double gamma, const af_sink *sink,
                            af_pulse *out)
@@ -502,11 +503,14 @@ static af_status pulse_run(af_impact *w, double chi, double gamma, const af_sink
   memset(out, 0, sizeof *out);
   af_state prev = {0.0, 0.0, 1.0}, cur;
   double h = AF_H_START;
-  size_t next = 1;
-  if (sink->force_n != NULL) /* the sample at contact */
-    sink->force_n[0] = 0.0;
-  if (sink->deformation_m != NULL)
-    sink->deformation_m[0] = 0.0;
+  size_t next = 0;
+  if (sink->tau_first == 0.0) { /* the sample at contact */
+    if (sink->force_n != NULL)
+      sink->force_n[0] = 0.0;
+    if (sink->deformation_m != NULL)
+      sink->deformation_m[0] = 0.0;
+    next = 1;
+  }
   af_status st = AF_OK;
   while (st == AF_OK) {
     cur = prev;
@@ -734,11 +738,14 @@ static bool params_valid(const af_impact_params *p)
          in_range(p->gravity_m_s2, 0.0, INFINITY, false, true);
 }
 
-af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
-                            double *deformation_m, size_t cap, af_impact_result *res)
+/* af_impact_execute and af_impact_execute_from: samples at t_first_s + k dt_s. */
+static af_status impact_run(af_impact *w, const af_impact_params *p, double t_first_s, double dt_s,
+                            double *force_n, double *deformation_m, size_t cap,
+                            af_impact_result *res)
 {
   if (w == NULL || p == NULL || res == NULL || !params_valid(p) ||
-      !in_range(dt_s, 0.0, INFINITY, true, true))
+      !in_range(dt_s, 0.0, INFINITY, true, true) ||
+      !in_range(t_first_s, 0.0, INFINITY, false, true))
     return AF_EINVAL;
   double chi;
   af_status st = af_impact_chi(w, p->damping, p->restitution, &chi);
@@ -747,13 +754,15 @@ af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s
   double v0 = p->velocity_m_s, m1 = p->hammer_mass_kg;
   double d_scale = pow(1.25 * m1 * v0 * v0 / af_impact_stiffness(p), 0.4); /* D [m] */
   double t_scale = d_scale / v0;                                           /* T [s] */
-  af_sink sink = {.dtau = dt_s / t_scale,
+  af_sink sink = {.tau_first = t_first_s / t_scale,
+                  .dtau = dt_s / t_scale,
                   .cap = cap,
                   .force_n = force_n,
                   .deformation_m = deformation_m,
                   .force_scale_n = m1 * v0 * v0 / d_scale,
                   .length_scale_m = d_scale};
-  if (!isfinite(sink.dtau) || !isfinite(sink.force_scale_n) || !(sink.dtau > 0.0))
+  if (!isfinite(sink.dtau) || !isfinite(sink.force_scale_n) || !(sink.dtau > 0.0) ||
+      !isfinite(sink.tau_first))
     return AF_ENUMERIC;
   af_pulse pulse;
   st = pulse_run(w, chi, p->gravity_m_s2 * d_scale / (v0 * v0), &sink, &pulse);
@@ -768,4 +777,16 @@ af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s
                             .dt_s = dt_s,
                             .n_samples = pulse.n};
   return AF_OK;
+}
+
+af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
+                            double *deformation_m, size_t cap, af_impact_result *res)
+{
+  return impact_run(w, p, 0.0, dt_s, force_n, deformation_m, cap, res);
+}
+
+af_status af_impact_execute_from(af_impact *w, const af_impact_params *p, double t_first_s,
+                                 double dt_s, double *force_n, size_t cap, af_impact_result *res)
+{
+  return impact_run(w, p, t_first_s, dt_s, force_n, NULL, cap, res);
 }

@@ -114,6 +114,14 @@ typedef struct {
 af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
                             double *deformation_m, size_t cap, af_impact_result *res);
 
+/* As af_impact_execute, the force alone, sampled at t_k = t_first_s + k dt_s
+ * (t_first_s >= 0, else AF_EINVAL; t_{n-1} <= t_c): a model read at a
+ * measurement's own sample times (the fit's check), with no interpolation
+ * between samples. With t_first_s 0 the samples are af_impact_execute's, bit
+ * for bit. No allocation. */
+af_status af_impact_execute_from(af_impact *w, const af_impact_params *p, double t_first_s,
+                                 double dt_s, double *force_n, size_t cap, af_impact_result *res);
+
 #ifdef __cplusplus
 }
 #endif
