@@ -36,6 +36,12 @@
 /* Step of the central difference of chi(e) [-]: the laws are smooth (the
  * exact one a spline), so the error is ~1e-12 relative. */
 #define AF_FIT_CHI_STEP 1e-6
+/* The check's ODE runs at impact.c's tolerances times this [-]: its samples
+ * then lie within ~1e-7 of the peak of the reference run's (1e-9), a
+ * hundredth of the table's own error (pulse_table.h: ~1e-5), so that the
+ * check still measures the table; its contact time within ~1e-8, its peak
+ * within ~1e-7 (relative). A third of the reference run's steps. */
+#define AF_FIT_CHECK_TOL_FACTOR 1e3
 /* The table search's Levenberg-Marquardt: the first damping relative to the
  * More-scaled curvature [-] (GSL's), and the rejected trials in a row that
  * end it (GSL's 16 before GSL_ENOPROG). */
@@ -404,8 +410,8 @@ af_status af_fit_check_run(af_fit *w, const double *x, af_fit_result *out)
   double k_first = t0_s > 0.0 ? fmin(ceil(t0_s / w->dt_s), (double)w->n) : 0.0;
   double t_first_s = fmax(k_first * w->dt_s - t0_s, 0.0);
   w->model_runs++;
-  af_status st =
-      af_impact_execute_from(w->impact, &p, t_first_s, w->dt_s, w->model_n, w->model_cap, &res);
+  af_status st = af_impact_execute_from(w->impact, &p, t_first_s, w->dt_s, AF_FIT_CHECK_TOL_FACTOR,
+                                        w->model_n, w->model_cap, &res);
   if (st != AF_OK)
     return st;
   size_t first = (size_t)k_first;

@@ -81,6 +81,7 @@ struct af_impact {
   gsl_odeiv2_system sys;
   af_rhs_params rhs;          /* sys.params points here */
   size_t steps_left;          /* of AF_IMPACT_STEP_BUDGET, for the pulse being run */
+  double tol_factor;          /* control's tolerances: AF_EPS_ABS, AF_EPS_REL times this */
   gsl_interp *exact;          /* y(e) of the exact law */
   double exact_e[AF_EXACT_N]; /* nodes [-] */
   double exact_y[AF_EXACT_N]; /* chi e/(1-e) at the nodes [-] */
@@ -625,6 +626,7 @@ static af_status integrator_alloc(af_impact *w)
 {
   w->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rkck, 2);
   w->control = gsl_odeiv2_control_y_new(AF_EPS_ABS, AF_EPS_REL);
+  w->tol_factor = 1.0;
   w->evolve = gsl_odeiv2_evolve_alloc(2);
   w->sys = (gsl_odeiv2_system){ode_rhs, NULL, 2, &w->rhs};
   return w->step && w->control && w->evolve ? AF_OK : AF_ENOMEM;
@@ -738,17 +740,39 @@ static bool params_valid(const af_impact_params *p)
          in_range(p->gravity_m_s2, 0.0, INFINITY, false, true);
 }
 
-/* af_impact_execute and af_impact_execute_from: samples at t_first_s + k dt_s. */
+/* Sets w's control to AF_EPS_ABS and AF_EPS_REL times factor: the very
+ * numbers control_y_new took at factor 1, so that af_impact_execute's runs
+ * stay the same whatever ran before them. */
+static af_status set_tolerance(af_impact *w, double factor)
+{
+  if (factor == w->tol_factor)
+    return AF_OK;
+  double abs_tol = AF_EPS_ABS, rel_tol = AF_EPS_REL;
+  if (factor != 1.0) {
+    abs_tol *= factor;
+    rel_tol *= factor;
+  }
+  if (gsl_odeiv2_control_init(w->control, abs_tol, rel_tol, 1.0, 0.0) != GSL_SUCCESS)
+    return AF_EINVAL;
+  w->tol_factor = factor;
+  return AF_OK;
+}
+
+/* af_impact_execute and af_impact_execute_from: samples at t_first_s + k dt_s,
+ * the tolerances times tol_factor. */
 static af_status impact_run(af_impact *w, const af_impact_params *p, double t_first_s, double dt_s,
-                            double *force_n, double *deformation_m, size_t cap,
+                            double tol_factor, double *force_n, double *deformation_m, size_t cap,
                             af_impact_result *res)
 {
   if (w == NULL || p == NULL || res == NULL || !params_valid(p) ||
       !in_range(dt_s, 0.0, INFINITY, true, true) ||
-      !in_range(t_first_s, 0.0, INFINITY, false, true))
+      !in_range(t_first_s, 0.0, INFINITY, false, true) ||
+      !in_range(tol_factor, 1.0, AF_IMPACT_MAX_TOL_FACTOR, false, false))
     return AF_EINVAL;
   double chi;
   af_status st = af_impact_chi(w, p->damping, p->restitution, &chi);
+  if (st == AF_OK)
+    st = set_tolerance(w, tol_factor);
   if (st != AF_OK)
     return st;
   double v0 = p->velocity_m_s, m1 = p->hammer_mass_kg;
@@ -782,11 +806,12 @@ static af_status impact_run(af_impact *w, const af_impact_params *p, double t_fi
 af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
                             double *deformation_m, size_t cap, af_impact_result *res)
 {
-  return impact_run(w, p, 0.0, dt_s, force_n, deformation_m, cap, res);
+  return impact_run(w, p, 0.0, dt_s, 1.0, force_n, deformation_m, cap, res);
 }
 
 af_status af_impact_execute_from(af_impact *w, const af_impact_params *p, double t_first_s,
-                                 double dt_s, double *force_n, size_t cap, af_impact_result *res)
+                                 double dt_s, double tol_factor, double *force_n, size_t cap,
+                                 af_impact_result *res)
 {
-  return impact_run(w, p, t_first_s, dt_s, force_n, NULL, cap, res);
+  return impact_run(w, p, t_first_s, dt_s, tol_factor, force_n, NULL, cap, res);
 }
