@@ -19,10 +19,12 @@
  * Method: GSL multifit_nlinear, trust region (Levenberg-Marquardt), from a
  * start matched to the pulse's impulse and peak by the model's scaling laws.
  * By default (use_table) the model is the normalised pulse of pulse_table.h
- * scaled back to newtons and seconds, its Jacobian analytic; one impact run
- * at the optimum checks it, and the whole fit reruns on the ODE (the
- * reference path, below) when a point of the search leaves the table or
- * the check fails (af_fit_path, af_fit_counts). The reference path runs
+ * scaled back to newtons and seconds, its Jacobian analytic, its search
+ * ending within a small fraction of a standard error of the minimum
+ * (fit_table.c); one impact run at the optimum checks it, and the whole
+ * fit reruns on the ODE (the reference path, below) when a point of the
+ * search leaves the table or the check fails (af_fit_path, af_fit_counts).
+ * The reference path runs
  * the impact model at every evaluation, its Jacobian by forward differences
  * (one impact run per free physical parameter) and analytically for t0:
  * about 30 impact runs per fit with v0 free, 17 with v0 measured (see
@@ -141,8 +143,8 @@ typedef struct {
   double relative_residual; /* residual_rms_n / max_k pulse_k */
   size_t iterations;        /* accepted trust-region steps */
   size_t model_runs;        /* impact-model integrations spent (the cost): 1 on the table
-                               path (the check; 2 when the pulse is too long for the check's
-                               dt / 4), the check's + the ODE fit's on a fallback */
+                               path (the check), the check's + the ODE fit's on a
+                               fallback */
   af_fit_path path;         /* the model the result comes from */
   double check_shift;       /* table path: the check's largest first-order move of a
                                scaled parameter, in its standard errors (each floored at

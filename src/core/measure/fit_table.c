@@ -7,16 +7,19 @@
  * The table gives f and its slopes in tau, chi and gamma, so every column of
  * J is analytic (table_sample), and with J in hand at every evaluation the
  * Levenberg-Marquardt step is solved on the p x p normal equations
- * (af_fit_table_search) instead of GSL's QR of the max_samples x p Jacobian, which
- * cost more than the model. At the optimum one ODE run (at dt / 4) checks
- * the table: the Gauss-Newton step that the ODE model's residual would add
- * from there, (J^T J)^-1 J^T (F_ODE - F_table), must stay within
- * table_check_se of every parameter's standard error (floored at 1e-3 in x).
- * The result then reports the ODE run's contact time, peak and residual, the
- * table's parameters and standard errors. A point of the search off the
- * table's grid, or a failed check, reruns the whole fit on the ODE path
- * (af_fit_path, af_fit_counts): the fallback's result is the ODE fit's, bit
- * for bit.
+ * (af_fit_table_search) instead of GSL's QR of the max_samples x p Jacobian,
+ * which cost more than the model. The search ends once Gauss-Newton's quadratic
+ * regime puts it within AF_FIT_STOP_SE standard errors of the minimum, that
+ * last step taken on the linear model (lm_near_minimum): an evaluation or two
+ * fewer than step_tol's end, the result within ~1e-3 standard error of it. At
+ * the optimum one ODE run, sampled at the data times, checks the table: the
+ * Gauss-Newton step that the ODE model's residual would add from there,
+ * (J^T J)^-1 J^T (F_ODE - F_table), must stay within table_check_se of every
+ * parameter's standard error (floored at 1e-3 in x). The result then reports
+ * the ODE run's contact time, peak and residual, the table's parameters and
+ * standard errors. A point of the search off the table's grid, or a failed
+ * check, reruns the whole fit on the ODE path (af_fit_path, af_fit_counts): the
+ * fallback's result is the ODE fit's, bit for bit.
  */
 #include "fit_private.h"
 
@@ -33,17 +36,34 @@
 /* Step of the central difference of chi(e) [-]: the laws are smooth (the
  * exact one a spline), so the error is ~1e-12 relative. */
 #define AF_FIT_CHI_STEP 1e-6
+/* The check's ODE runs at impact.c's tolerances times this [-]: its samples
+ * then lie within ~1e-7 of the peak of the reference run's (1e-9), a
+ * hundredth of the table's own error (pulse_table.h: ~1e-5), so that the
+ * check still measures the table; its contact time within ~1e-8, its peak
+ * within ~1e-7 (relative). A third of the reference run's steps. */
+#define AF_FIT_CHECK_TOL_FACTOR 1e3
 /* The table search's Levenberg-Marquardt: the first damping relative to the
  * More-scaled curvature [-] (GSL's), and the rejected trials in a row that
  * end it (GSL's 16 before GSL_ENOPROG). */
 #define AF_LM_MU_START 1e-3
 #define AF_LM_MAX_REJECTS 16
-/* The check's model runs at dt / this (when the pulse fits the model
- * buffer, else at the ODE path's dt / oversample), so that the cubic
- * interpolant's own error (~(h / t_c)^3) stays far below the table's: it
- * checks the table against the ODE, not against a coarse sampling of it. */
-#define AF_FIT_CHECK_OVERSAMPLE 4
-
+/* The table search ends at a point within this many standard errors [-] of
+ * the linearised minimum (lm_gauss_newton), the Gauss-Newton step from there
+ * taken on the linear model (lm_final_step): as the response fits, a small
+ * fraction of the result's scatter under the pulse's noise, and the step's
+ * own error is second order in it. */
+#define AF_FIT_STOP_SE 0.1
+/* ... when that distance fell by at least this factor [-] over the last
+ * step: the quadratic regime of Gauss-Newton, where the linear model
+ * holds (a search crawling along a curved valley of correlated E2, e and
+ * v0 shortens its steps by a few tens of percent a step, its linearised
+ * distance far below the true one) ... */
+#define AF_FIT_STOP_RATIO 10.0
+/* ... and when no scaled parameter moves by more than this [-] in the step:
+ * its error, ~ its square (the model's curvature in x is of order 1), stays
+ * a tenth of the check's floor (a pulse of a few samples has standard
+ * errors of order 1 in x, where 0.1 of them is no small step). */
+#define AF_FIT_STOP_STEP 1e-2
 /* ---- the table's model -------------------------------------------------- */
 
 /* dchi/de of the fit's damping law by a central difference (one-sided at
@@ -247,14 +267,67 @@ static double lm_cost_at(af_fit *w, const double *x)
   return cost;
 }
 
+/* The Gauss-Newton step dx = -(J^T J)^-1 g from the point whose normal
+ * equations are a, g (lm_normal) and cost, and its length in standard
+ * errors (the Mahalanobis distance to the linearised minimum): the
+ * covariance being s2 (J^T J)^-1, s2 = cost / (n - p) (fit_covariance), the
+ * step lowers the linear model's cost by g^T (J^T J)^-1 g = s2 d^2.
+ * Infinite when J^T J is not positive definite or s2 is 0. */
+static double lm_gauss_newton(const af_fit *w, const double *a, const double *g, double cost,
+                              double *dx)
+{
+  const size_t p = w->n_params;
+  const double no_damping[AF_FIT_MAX_PARAMS] = {0};
+  if (!lm_solve(p, a, no_damping, 0.0, g, dx))
+    return INFINITY;
+  double decrement = 0.0;
+  for (size_t i = 0; i < p; i++)
+    decrement -= g[i] * dx[i];
+  double d = sqrt(decrement / (cost / (double)(w->n - p)));
+  return isnan(d) ? INFINITY : d;
+}
+
+/* Whether the search stops at a point whose Gauss-Newton step is dx, d
+ * standard errors long, after a point d_prev from the minimum. */
+static bool lm_near_minimum(const af_fit *w, const double *dx, double d, double d_prev)
+{
+  bool small = d <= AF_FIT_STOP_SE && d * AF_FIT_STOP_RATIO <= d_prev;
+  for (size_t i = 0; i < w->n_params; i++)
+    small = small && fabs(dx[i]) <= AF_FIT_STOP_STEP;
+  return small;
+}
+
+/* Takes the Gauss-Newton step dx of lm_gauss_newton on the linear model:
+ * the position moves by dx and the base's values and residual by J dx,
+ * J stays; their error against the table there is second order in dx, a
+ * model evaluation saved. The result then reads the base as the model at
+ * the reported point (fit_report: the covariance, the check's shift). */
+static void lm_final_step(af_fit *w, const double *dx)
+{
+  for (size_t k = 0; k < w->n; k++) {
+    const double *row = w->jac_n + k * AF_FIT_MAX_PARAMS;
+    double move = 0.0; /* scaled */
+    for (size_t j = 0; j < w->n_params; j++)
+      move += row[j] * dx[j];
+    w->res_n[k] += move;
+    w->base_at_n[k] += move / w->scale;
+  }
+  for (size_t j = 0; j < w->n_params; j++) {
+    w->lm_x[j] += dx[j];
+    w->base_x[j] = w->lm_x[j];
+  }
+  w->lm_iterations++;
+}
+
 /* The table path's search: Levenberg-Marquardt as GSL's (More scaling, the
  * damping mu updated by Nielsen's rule, a step accepted when it lowers the
  * cost), on the p x p normal equations, which are cheap here because the
- * table gives J analytically with every evaluation. The same ends as
- * fit_iterate: af_fit_converged, or AF_LM_MAX_REJECTS rejected trials in a
- * row (a minimum to the model's precision: AF_OK), or max_iterations
- * accepted steps (AF_EBUDGET_FIT_ITER). Leaving the table stops it
- * (left_table). From x_start, which fit_start has made the base. */
+ * table gives J analytically with every evaluation. It ends at a point
+ * near the minimum (lm_near_minimum, then lm_final_step), else with the
+ * ends of fit_iterate: af_fit_converged, or AF_LM_MAX_REJECTS rejected
+ * trials in a row (a minimum to the model's precision: AF_OK), or
+ * max_iterations accepted steps (AF_EBUDGET_FIT_ITER). Leaving the table
+ * stops it (left_table). From x_start, which fit_start has made the base. */
 af_status af_fit_table_search(af_fit *w)
 {
   const size_t p = w->n_params;
@@ -269,6 +342,7 @@ af_status af_fit_table_search(af_fit *w)
   if (!isfinite(lm_cost_at(w, w->lm_x)))
     return AF_ENUMERIC;
   double cost = lm_normal(w, a, g);
+  double d_prev = lm_gauss_newton(w, a, g, cost, dx); /* the start's distance */
   for (size_t it = 0; it < w->cfg.max_iterations; it++) {
     for (size_t i = 0; i < p; i++)
       d2[i] = fmax(d2[i], a[i * p + i]);
@@ -302,6 +376,12 @@ af_status af_fit_table_search(af_fit *w)
     memcpy(w->lm_x, trial, p * sizeof trial[0]);
     w->lm_iterations++;
     cost = lm_normal(w, a, g); /* the base is the accepted trial */
+    double gn[AF_FIT_MAX_PARAMS], d = lm_gauss_newton(w, a, g, cost, gn);
+    if (lm_near_minimum(w, gn, d, d_prev)) {
+      lm_final_step(w, gn);
+      return AF_OK;
+    }
+    d_prev = d;
     gsl_vector_view dxv = gsl_vector_view_array(dx, p);
     if (af_fit_converged(&dxv.vector, &w->jac_view.matrix, &w->res_view.vector, w->cfg.step_tol,
                          w->cfg.gradient_tol))
@@ -311,26 +391,32 @@ af_status af_fit_table_search(af_fit *w)
 }
 
 /* The table path's check, part 1: one ODE run at the table's optimum x,
- * read at the data times into check_n; its contact time and peak into out
- * (the ODE's, as on the ODE path). */
+ * sampled at the data times k dt - t0 themselves (impact.c's quintic
+ * interpolant across its steps, ~1e-9: no interpolation of ours, whose own
+ * error would add to the table's) into check_n, 0 before the contact and
+ * after it; its contact time and peak into out (the ODE's, as on the ODE
+ * path). */
 af_status af_fit_check_run(af_fit *w, const double *x, af_fit_result *out)
 {
   af_impact_params p;
   af_impact_result res;
-  double t0_s, slope, h_s = w->dt_s / AF_FIT_CHECK_OVERSAMPLE;
+  double t0_s;
   af_fit_unpack(w, x, &p, &t0_s);
+  if (!isfinite(t0_s))
+    return AF_ENUMERIC;
+  /* the first sample in contact, k_first dt - t0 >= 0 (rounding may make it
+   * -0: F = 0 there either way); none when the contact starts after the
+   * window */
+  double k_first = t0_s > 0.0 ? fmin(ceil(t0_s / w->dt_s), (double)w->n) : 0.0;
+  double t_first_s = fmax(k_first * w->dt_s - t0_s, 0.0);
   w->model_runs++;
-  af_status st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  if (st == AF_ESIZE && h_s < w->h_s) { /* a long pulse: the search's step */
-    h_s = w->h_s;
-    w->model_runs++;
-    st = af_impact_execute(w->impact, &p, h_s, w->model_n, NULL, w->model_cap, &res);
-  }
+  af_status st = af_impact_execute_from(w->impact, &p, t_first_s, w->dt_s, AF_FIT_CHECK_TOL_FACTOR,
+                                        w->model_n, w->model_cap, &res);
   if (st != AF_OK)
     return st;
+  size_t first = (size_t)k_first;
   for (size_t k = 0; k < w->n; k++)
-    af_fit_interp(w->model_n, res.n_samples, h_s, (double)k * w->dt_s - t0_s, &w->check_n[k],
-                  &slope);
+    w->check_n[k] = k >= first && k - first < res.n_samples ? w->model_n[k - first] : 0.0;
   out->contact_time_s = res.contact_time_s;
   out->peak_force_n = res.peak_force_n;
   return AF_OK;

@@ -81,6 +81,7 @@ struct af_impact {
   gsl_odeiv2_system sys;
   af_rhs_params rhs;          /* sys.params points here */
   size_t steps_left;          /* of AF_IMPACT_STEP_BUDGET, for the pulse being run */
+  double tol_factor;          /* control's tolerances: AF_EPS_ABS, AF_EPS_REL times this */
   gsl_interp *exact;          /* y(e) of the exact law */
   double exact_e[AF_EXACT_N]; /* nodes [-] */
   double exact_y[AF_EXACT_N]; /* chi e/(1-e) at the nodes [-] */
@@ -88,6 +89,7 @@ struct af_impact {
 
 /* Where and how one pulse is sampled. */
 typedef struct {
+  double tau_first;      /* first sample's time [D/v0], >= 0 (0: at contact) */
   double dtau;           /* sampling step [D/v0] */
   size_t cap;            /* samples that fit */
   double *force_n;       /* may be NULL */
@@ -402,7 +404,7 @@ static double quintic_fit(const double c[6], double s)
          c[4] * (-4.0 * s3 + 7.0 * s4 - 3.0 * s5) + c[5] * 0.5 * (s3 - 2.0 * s4 + s5);
 }
 
-/* Writes the samples tau_k = k dtau lying in (a->t, b->t] from the quintic
+/* Writes the samples tau_k = tau_first + k dtau lying in (a->t, b->t] from the quintic
  * interpolants of x and u across the step, whose ends carry x, u, u' and u''
  * = -dF/dtau exactly: sixth-order accurate, so the sampling step never
  * constrains the integration step. AF_ESIZE when a sample falls beyond cap. */
@@ -410,7 +412,7 @@ static af_status sink_fill(const af_sink *k, const af_rhs_params *p, const af_st
                            const af_state *b, size_t *next)
 {
   double len = b->t - a->t;
-  double t = (double)*next * k->dtau;
+  double t = k->tau_first + (double)*next * k->dtau;
   if (t > b->t)
     return AF_OK;
   double ga, dga, gb, dgb;
@@ -419,7 +421,7 @@ static af_status sink_fill(const af_sink *k, const af_rhs_params *p, const af_st
   double aa = accel(p, a), ab = accel(p, b), l2 = len * len;
   const double cx[6] = {a->x, a->u * len, aa * l2, b->x, b->u * len, ab * l2};
   const double cu[6] = {a->u, aa * len, -ga * l2, b->u, ab * len, -gb * l2};
-  for (; t <= b->t; t = (double)*next * k->dtau) {
+  for (; t <= b->t; t = k->tau_first + (double)*next * k->dtau) {
     if (*next >= k->cap)
       return AF_ESIZE;
     double s = (t - a->t) / len;
@@ -490,7 +492,7 @@ static void reset_state(af_impact *w, double chi, double gamma)
 }
 
 /* Integrates one pulse from contact to separation with free adaptive steps,
- * samples it on tau_k = k sink->dtau and locates the contact end and the
+ * samples it on tau_first + k dtau and locates the contact end and the
  * extrema inside the step where each happens. */
 static af_status pulse_run(af_impact *w, double chi, double gamma, const af_sink *sink,
                            af_pulse *out)
@@ -502,11 +504,14 @@ static af_status pulse_run(af_impact *w, double chi, double gamma, const af_sink
   memset(out, 0, sizeof *out);
   af_state prev = {0.0, 0.0, 1.0}, cur;
   double h = AF_H_START;
-  size_t next = 1;
-  if (sink->force_n != NULL) /* the sample at contact */
-    sink->force_n[0] = 0.0;
-  if (sink->deformation_m != NULL)
-    sink->deformation_m[0] = 0.0;
+  size_t next = 0;
+  if (sink->tau_first == 0.0) { /* the sample at contact */
+    if (sink->force_n != NULL)
+      sink->force_n[0] = 0.0;
+    if (sink->deformation_m != NULL)
+      sink->deformation_m[0] = 0.0;
+    next = 1;
+  }
   af_status st = AF_OK;
   while (st == AF_OK) {
     cur = prev;
@@ -621,6 +626,7 @@ static af_status integrator_alloc(af_impact *w)
 {
   w->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rkck, 2);
   w->control = gsl_odeiv2_control_y_new(AF_EPS_ABS, AF_EPS_REL);
+  w->tol_factor = 1.0;
   w->evolve = gsl_odeiv2_evolve_alloc(2);
   w->sys = (gsl_odeiv2_system){ode_rhs, NULL, 2, &w->rhs};
   return w->step && w->control && w->evolve ? AF_OK : AF_ENOMEM;
@@ -734,26 +740,53 @@ static bool params_valid(const af_impact_params *p)
          in_range(p->gravity_m_s2, 0.0, INFINITY, false, true);
 }
 
-af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
-                            double *deformation_m, size_t cap, af_impact_result *res)
+/* Sets w's control to AF_EPS_ABS and AF_EPS_REL times factor: the very
+ * numbers control_y_new took at factor 1, so that af_impact_execute's runs
+ * stay the same whatever ran before them. */
+static af_status set_tolerance(af_impact *w, double factor)
+{
+  if (factor == w->tol_factor)
+    return AF_OK;
+  double abs_tol = AF_EPS_ABS, rel_tol = AF_EPS_REL;
+  if (factor != 1.0) {
+    abs_tol *= factor;
+    rel_tol *= factor;
+  }
+  if (gsl_odeiv2_control_init(w->control, abs_tol, rel_tol, 1.0, 0.0) != GSL_SUCCESS)
+    return AF_EINVAL;
+  w->tol_factor = factor;
+  return AF_OK;
+}
+
+/* af_impact_execute and af_impact_execute_from: samples at t_first_s + k dt_s,
+ * the tolerances times tol_factor. */
+static af_status impact_run(af_impact *w, const af_impact_params *p, double t_first_s, double dt_s,
+                            double tol_factor, double *force_n, double *deformation_m, size_t cap,
+                            af_impact_result *res)
 {
   if (w == NULL || p == NULL || res == NULL || !params_valid(p) ||
-      !in_range(dt_s, 0.0, INFINITY, true, true))
+      !in_range(dt_s, 0.0, INFINITY, true, true) ||
+      !in_range(t_first_s, 0.0, INFINITY, false, true) ||
+      !in_range(tol_factor, 1.0, AF_IMPACT_MAX_TOL_FACTOR, false, false))
     return AF_EINVAL;
   double chi;
   af_status st = af_impact_chi(w, p->damping, p->restitution, &chi);
+  if (st == AF_OK)
+    st = set_tolerance(w, tol_factor);
   if (st != AF_OK)
     return st;
   double v0 = p->velocity_m_s, m1 = p->hammer_mass_kg;
   double d_scale = pow(1.25 * m1 * v0 * v0 / af_impact_stiffness(p), 0.4); /* D [m] */
   double t_scale = d_scale / v0;                                           /* T [s] */
-  af_sink sink = {.dtau = dt_s / t_scale,
+  af_sink sink = {.tau_first = t_first_s / t_scale,
+                  .dtau = dt_s / t_scale,
                   .cap = cap,
                   .force_n = force_n,
                   .deformation_m = deformation_m,
                   .force_scale_n = m1 * v0 * v0 / d_scale,
                   .length_scale_m = d_scale};
-  if (!isfinite(sink.dtau) || !isfinite(sink.force_scale_n) || !(sink.dtau > 0.0))
+  if (!isfinite(sink.dtau) || !isfinite(sink.force_scale_n) || !(sink.dtau > 0.0) ||
+      !isfinite(sink.tau_first))
     return AF_ENUMERIC;
   af_pulse pulse;
   st = pulse_run(w, chi, p->gravity_m_s2 * d_scale / (v0 * v0), &sink, &pulse);
@@ -768,4 +801,17 @@ af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s
                             .dt_s = dt_s,
                             .n_samples = pulse.n};
   return AF_OK;
+}
+
+af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
+                            double *deformation_m, size_t cap, af_impact_result *res)
+{
+  return impact_run(w, p, 0.0, dt_s, 1.0, force_n, deformation_m, cap, res);
+}
+
+af_status af_impact_execute_from(af_impact *w, const af_impact_params *p, double t_first_s,
+                                 double dt_s, double tol_factor, double *force_n, size_t cap,
+                                 af_impact_result *res)
+{
+  return impact_run(w, p, t_first_s, dt_s, tol_factor, force_n, NULL, cap, res);
 }

@@ -114,6 +114,21 @@ typedef struct {
 af_status af_impact_execute(af_impact *w, const af_impact_params *p, double dt_s, double *force_n,
                             double *deformation_m, size_t cap, af_impact_result *res);
 
+/* The largest tolerance factor of af_impact_execute_from. */
+#define AF_IMPACT_MAX_TOL_FACTOR 1e4
+
+/* As af_impact_execute, the force alone, sampled at t_k = t_first_s + k dt_s
+ * (t_first_s >= 0; t_{n-1} <= t_c), the integration's tolerances (about
+ * 1e-9 on the dimensionless deformation and rate) times tol_factor (1 ..
+ * AF_IMPACT_MAX_TOL_FACTOR): a model read at a measurement's own sample
+ * times, as accurate as its use needs (the fit's check), with no
+ * interpolation between samples. AF_EINVAL as af_impact_execute's, or for
+ * t_first_s or tol_factor out of range. With t_first_s 0 and tol_factor 1
+ * the samples are af_impact_execute's, bit for bit. No allocation. */
+af_status af_impact_execute_from(af_impact *w, const af_impact_params *p, double t_first_s,
+                                 double dt_s, double tol_factor, double *force_n, size_t cap,
+                                 af_impact_result *res);
+
 #ifdef __cplusplus
 }
 #endif
