@@ -1046,16 +1046,20 @@ static void on_strike(const af_strike_event *ev, void *user)
 
 /* An accepted force chunk into the detector, in newtons (a force in V
  * converted), block by block in the stream's scratch, a refused
- * (non-finite) sample as NaN: a lost sample to the detector. Only the
- * chunk's new samples: the head of an overlap (stream.h, last_held) was
+ * (non-finite) sample as NaN: a lost sample to the detector; samples the
+ * stream held as sent (stream.h, last_as_sent) straight from the chunk.
+ * Only the chunk's new samples: the head of an overlap (last_held) was
  * held, and detected, with the chunk before. */
 static void detect(af_lane *l, const af_chunk *c)
 {
   for (size_t at = l->force.last_held; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
-    (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
-    (void)af_strike_write(l->detector, c->first_sample + at - l->force_origin, l->force.si, m,
-                          on_strike, l);
+    const float *x = c->x + at;
+    if (!l->force.last_as_sent) {
+      (void)af_stream_to_si(l->cfg->force.to_si, x, m, l->force.si);
+      x = l->force.si;
+    }
+    (void)af_strike_write(l->detector, c->first_sample + at - l->force_origin, x, m, on_strike, l);
   }
 }
 
