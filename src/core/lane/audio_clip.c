@@ -5,18 +5,29 @@
 #include <stdint.h>
 #include <string.h>
 
+/* A negative float's magnitude bits flipped (the bits' own inverse). */
+static uint32_t flip_negative(uint32_t b)
+{
+  return b ^ ((0u - (b >> 31)) >> 1);
+}
+
 /* An order-preserving key of a finite float: its bits as a signed integer,
  * a negative one's magnitude bits flipped (so -0 sorts just below +0). */
 static int32_t key_of(float v)
 {
-  int32_t b;
+  uint32_t b;
   memcpy(&b, &v, sizeof b);
-  return b ^ (int32_t)((uint32_t)(b >> 31) >> 1);
+  b = flip_negative(b);
+  int32_t key;
+  memcpy(&key, &b, sizeof key);
+  return key;
 }
 
 static float value_of(int32_t key)
 {
-  const int32_t b = key ^ (int32_t)((uint32_t)(key >> 31) >> 1);
+  uint32_t b;
+  memcpy(&b, &key, sizeof b);
+  b = flip_negative(b);
   float v;
   memcpy(&v, &b, sizeof v);
   return v;

@@ -400,13 +400,13 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
  * test per sample it does not), in 32-bit counts of at most 2^16 each. */
 static size_t count_bad(const float *x, size_t n)
 {
-  size_t bad = 0;
-  for (size_t at = 0; at < n; at += AF_LANE_COUNT_RUN) {
-    const size_t m = n - at < AF_LANE_COUNT_RUN ? n - at : AF_LANE_COUNT_RUN;
+  size_t bad = 0, k = 0;
+  while (k < n) {
+    const size_t end = n - k > AF_LANE_COUNT_RUN ? k + AF_LANE_COUNT_RUN : n;
     uint32_t run = 0;
-    for (size_t k = 0; k < m; k++) {
+    for (; k < end; k++) {
       uint32_t b;
-      memcpy(&b, &x[at + k], sizeof b);
+      memcpy(&b, &x[k], sizeof b);
       run += (b & 0x7f800000u) == 0x7f800000u;
     }
     bad += run;
