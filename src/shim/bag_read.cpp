@@ -149,27 +149,54 @@ constexpr std::size_t AF_CHUNK_OVERHEAD_BYTES = 8192;
 // and its size against the cap before they are copied (a chunk longer than
 // the ring can never be used; copying and deserializing it took three times
 // its size).
+//
+// The bytes are first written into the room raw already has (a stream's
+// chunks are of one length, so nearly always enough): rosbag's size() parses
+// the record's header as write() does again, the most of a chunk's cost of
+// reading. A longer message overruns the room before a byte is copied
+// (OStream::advance checks first), and is then sized, checked against the
+// cap and written as before; the room never reaches past the cap, so a
+// message over it always takes that way.
+bool write_into_room(af_bag_reader *r, const rosbag::MessageInstance &mi)
+{
+  std::size_t room = r->raw.capacity();
+  if (r->max_samples > 0 && room > 4 * r->max_samples + AF_CHUNK_OVERHEAD_BYTES)
+    room = 4 * r->max_samples + AF_CHUNK_OVERHEAD_BYTES;
+  if (room == 0)
+    return false;
+  r->raw.resize(room);
+  ros::serialization::OStream out(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
+  try {
+    mi.write(out);
+  } catch (const ros::serialization::StreamOverrunException &) {
+    return false;
+  }
+  r->raw.resize(static_cast<std::size_t>(out.getData() - r->raw.data()));
+  return true;
+}
+
 void check_chunk_bytes(af_bag_reader *r, const rosbag::MessageInstance &mi)
 {
-  const std::size_t size = mi.size();
-  const std::string on = mi.getTopic() + ": ";
-  if (r->max_samples > 0 && size > 4 * r->max_samples + AF_CHUNK_OVERHEAD_BYTES)
-    throw refused_message{AF_ESIZE, on + "a SignalChunk of " + std::to_string(size) +
-                                        " bytes (about " + std::to_string(size / 4) +
-                                        " samples), above the cap of " +
-                                        std::to_string(r->max_samples) +
-                                        " samples (the ring; a longer chunk can never be used)"};
-  r->raw.resize(size);
-  ros::serialization::OStream out(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
-  mi.write(out);
+  if (!write_into_room(r, mi)) {
+    const std::size_t size = mi.size();
+    if (r->max_samples > 0 && size > 4 * r->max_samples + AF_CHUNK_OVERHEAD_BYTES)
+      throw refused_message{AF_ESIZE, mi.getTopic() + ": a SignalChunk of " + std::to_string(size) +
+                                          " bytes (about " + std::to_string(size / 4) +
+                                          " samples), above the cap of " +
+                                          std::to_string(r->max_samples) +
+                                          " samples (the ring; a longer chunk can never be used)"};
+    r->raw.resize(size);
+    ros::serialization::OStream out(r->raw.data(), static_cast<uint32_t>(r->raw.size()));
+    mi.write(out);
+  }
   uint32_t samples;
   std::string why;
   switch (
       af_shim::signal_chunk_check(r->raw.data(), r->raw.size(), r->max_samples, &samples, &why)) {
   case af_shim::chunk_wire::ok: return;
-  case af_shim::chunk_wire::oversized: throw refused_message{AF_ESIZE, on + why};
+  case af_shim::chunk_wire::oversized: throw refused_message{AF_ESIZE, mi.getTopic() + ": " + why};
   default:
-    throw refused_message{AF_EINVAL, on + why +
+    throw refused_message{AF_EINVAL, mi.getTopic() + ": " + why +
                                          ": not a SignalChunk as its connection says (a "
                                          "wrong message type on this topic, or cut)"};
   }
@@ -324,11 +351,12 @@ af_status af_bag_read_next(af_bag_reader *r, af_bag_message *m)
       r->topic = mi.getTopic();
       m->topic = r->topic.c_str();
       af_shim::from_ros(mi.getTime(), m->bag_time);
-      if (!type_of(mi.getDataType(), t) && !r->listed) {
+      const bool known = type_of(mi.getDataType(), t);
+      if (!known && !r->listed) {
         ++r->it;
         continue;
       }
-      if (!type_of(mi.getDataType(), t)) {
+      if (!known) {
         ++r->it;
         set_error(r, r->topic + ": a message of type " + mi.getDataType() +
                          ", a wrong message type on this topic");

@@ -36,8 +36,10 @@ typedef struct {
 } af_audio_clip;
 
 /* Judges x[0..n) (finite samples; the lane reads windows without lost
- * samples). Allocation-free, one pass for the extremes and the quantum and
- * one for the runs. n 0: not clipped. */
+ * samples). Allocation-free: a pass for the extremes, one for a step finer
+ * than the quantum test needs (it stops at the first), one counting the
+ * samples at the extremes, and one for the runs only when an extreme is
+ * held more than once. n 0: not clipped. */
 void af_audio_clip_check(const float *x, size_t n, af_audio_clip *out);
 
 #ifdef __cplusplus

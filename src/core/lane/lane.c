@@ -40,6 +40,8 @@
  * more than AF_LANE_ID_GAP_MAX is a new numbering, not lost estimates. */
 #define AF_LANE_ID_STEPS_MIN 8
 #define AF_LANE_ID_GAP_MAX 1000u
+/* Samples counted per 32-bit count in count_bad. */
+#define AF_LANE_COUNT_RUN ((size_t)1 << 16)
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -393,12 +395,23 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
 
 /* --- the audio window ----------------------------------------------------------- */
 
+/* The non-finite samples of x[0..n): those whose exponent field is all
+ * ones, counted by integer tests that the compiler vectorises (a float
+ * test per sample it does not), in 32-bit counts of at most 2^16 each. */
 static size_t count_bad(const float *x, size_t n)
 {
-  size_t b = 0;
-  for (size_t k = 0; k < n; k++)
-    b += !isfinite(x[k]);
-  return b;
+  size_t bad = 0, k = 0;
+  while (k < n) {
+    const size_t end = n - k > AF_LANE_COUNT_RUN ? k + AF_LANE_COUNT_RUN : n;
+    uint32_t run = 0;
+    for (; k < end; k++) {
+      uint32_t b;
+      memcpy(&b, &x[k], sizeof b);
+      run += (b & 0x7f800000u) == 0x7f800000u;
+    }
+    bad += run;
+  }
+  return bad;
 }
 
 /* The noise reference: the audio ending a guard before the contact, when held. */
@@ -1046,16 +1059,20 @@ static void on_strike(const af_strike_event *ev, void *user)
 
 /* An accepted force chunk into the detector, in newtons (a force in V
  * converted), block by block in the stream's scratch, a refused
- * (non-finite) sample as NaN: a lost sample to the detector. Only the
- * chunk's new samples: the head of an overlap (stream.h, last_held) was
+ * (non-finite) sample as NaN: a lost sample to the detector; samples the
+ * stream held as sent (stream.h, last_as_sent) straight from the chunk.
+ * Only the chunk's new samples: the head of an overlap (last_held) was
  * held, and detected, with the chunk before. */
 static void detect(af_lane *l, const af_chunk *c)
 {
   for (size_t at = l->force.last_held; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
-    (void)af_stream_to_si(l->cfg->force.to_si, c->x + at, m, l->force.si);
-    (void)af_strike_write(l->detector, c->first_sample + at - l->force_origin, l->force.si, m,
-                          on_strike, l);
+    const float *x = c->x + at;
+    if (!l->force.last_as_sent) {
+      (void)af_stream_to_si(l->cfg->force.to_si, x, m, l->force.si);
+      x = l->force.si;
+    }
+    (void)af_strike_write(l->detector, c->first_sample + at - l->force_origin, x, m, on_strike, l);
   }
 }
 

@@ -90,15 +90,38 @@ static void note_spans(af_stream *s, const float *y, size_t m, uint64_t at, bool
   }
 }
 
+/* Whether every sample of x[0..n) is finite: its exponent field not all
+ * ones. Integer tests on the bit patterns, which the compiler vectorises
+ * (a float compare per sample would not be). */
+static bool all_finite(const float *x, size_t n)
+{
+  uint32_t bad = 0;
+  for (size_t k = 0; k < n; k++) {
+    uint32_t b;
+    memcpy(&b, &x[k], sizeof b);
+    bad |= (b & 0x7f800000u) == 0x7f800000u;
+  }
+  return bad == 0;
+}
+
 /* The chunk into the ring, converted (and non-finite samples made NaN)
  * block by block in the scratch; *w: what the first block's write found
  * (gaps and restarts can only come before it, the blocks follow each other).
+ * Samples already in the lane's unit and all finite go in as sent, without
+ * the scratch (the same floats: the conversion would copy them unchanged).
  * Returns the samples refused. */
 static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *w)
 {
+  const double to_si = s->cfg->to_si;
+  s->last_as_sent = false;
   if (c->n == 0) { /* nothing to convert (x may be NULL), but its index still tells of a
                       gap or a restart */
     (void)af_ring_write(s->ring, s->si, 0, c->first_sample, w);
+    return 0;
+  }
+  if ((to_si == 0.0 || to_si == 1.0) && all_finite(c->x, c->n)) {
+    (void)af_ring_write(s->ring, c->x, c->n, c->first_sample, w);
+    s->last_as_sent = true;
     return 0;
   }
   uint64_t refused = 0;
@@ -106,7 +129,7 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
   for (size_t at = 0; at < c->n; at += AF_STREAM_BLOCK) {
     size_t m = c->n - at < AF_STREAM_BLOCK ? c->n - at : AF_STREAM_BLOCK;
     af_ring_write_info block;
-    size_t r = af_stream_to_si(s->cfg->to_si, c->x + at, m, s->si);
+    size_t r = af_stream_to_si(to_si, c->x + at, m, s->si);
     if (r > 0) {
       refused += r;
       note_spans(s, s->si, m, c->first_sample + at, &open);
@@ -175,6 +198,16 @@ static size_t overlap_held(af_stream *s, const af_chunk *c)
     return 0;
   const size_t m = (size_t)(end - c->first_sample);
   return repeats(s, c, m) ? m : 0;
+}
+
+/* src into dst[0..len), cut to fit, '\0'-terminated: snprintf's "%s" without
+ * its format parsing (a frame id with every chunk). */
+static void copy_text(char *dst, size_t len, const char *src)
+{
+  size_t k = 0;
+  for (; k + 1 < len && src[k] != '\0'; k++)
+    dst[k] = src[k];
+  dst[k] = '\0';
 }
 
 static bool unit_accepted(const af_stream_config *cfg, const char *unit)
@@ -328,7 +361,7 @@ af_chunk_verdict af_stream_push(af_stream *s, const af_chunk *c, int64_t now_ns,
     s->anchors[s->anchor_next] = (af_stream_anchor){c->stamp_ns, c->first_sample};
     s->anchor_next = (s->anchor_next + 1) % AF_STREAM_ANCHORS;
     s->anchor_count += s->anchor_count < AF_STREAM_ANCHORS;
-    snprintf(s->frame_id, sizeof s->frame_id, "%s", c->frame_id ? c->frame_id : "");
+    copy_text(s->frame_id, sizeof s->frame_id, c->frame_id ? c->frame_id : "");
     if (w.gap_samples > 0) {
       s->gaps++;
       s->lost_samples += w.gap_samples;

@@ -100,6 +100,8 @@ typedef struct {
   uint64_t last_refused;   /* refused samples of the latest accepted chunk */
   size_t last_held;        /* samples at the head of the latest accepted chunk already held (an
                               overlap): its new samples start at x[last_held] */
+  bool last_as_sent;       /* those new samples were held as sent (in the lane's unit, every
+                              one finite): a reader may take them from the chunk itself */
   af_stream_span spans[AF_STREAM_SPANS]; /* newest at span_next - 1 */
   size_t span_next, span_count;
   bool seen;          /* a chunk was accepted */
