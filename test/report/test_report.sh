@@ -40,34 +40,6 @@ EOF
 if [ "$(grep -c 'reliable' "$tmp/s.txt")" -ge $N ] && grep -q "strikes $N: $N on an apple" "$tmp/s.txt"; then ok; else bad "text report: $(cat "$tmp/s.txt")"; fi
 "$FM" "$tmp/s.bag" --bench >/dev/null 2>"$tmp/err"
 if grep -Eq '[0-9]+ x real time' "$tmp/err"; then ok; else bad "--bench: $(cat "$tmp/err")"; fi
-# The table: every stage once, in order, its figures finite and ordered
-# (median and p99 at most the max), one sample a strike for the measurement's
-# stages; "other" either a cost of zero or more or the line that says why it is
-# not known (the stages' monotonic time can exceed the workers' CPU time on a
-# loaded machine), never a negative cost.
-if $PY - "$tmp/err" $N <<'EOF'; then ok; else bad "--bench table: $(cat "$tmp/err")"; fi
-import math, re, sys
-text, n = open(sys.argv[1]).read(), int(sys.argv[2])
-stages = ['setup', 'detect', 'window', 'predict', 'fft', 'modes', 'fit', 'verdict', 'serialize']
-rows = {}
-for line in text.splitlines():
-    f = line.split()
-    if f and f[0] in stages + ['other', 'all']:
-        assert f[0] not in rows, line
-        rows[f[0]] = f
-assert list(rows) == stages + ['other', 'all'], list(rows)
-for s in stages:
-    v = [float(x) for x in rows[s][2:8]]  # median, mean, total, share, p99, max
-    assert all(math.isfinite(x) and x >= 0 for x in v), rows[s]
-    assert v[0] <= v[5] and v[4] <= v[5], rows[s]
-assert int(rows['fit'][1]) == n and int(rows['modes'][1]) == n, (rows['fit'], rows['modes'])
-o = ' '.join(rows['other'])
-if 'not known' in o:
-    assert re.search(r"exceeds the workers' CPU time by [0-9.]+ us", o), o
-else:
-    assert float(rows['other'][3]) >= 0 and float(rows['other'][4]) >= 0, o
-assert float(rows['all'][3]) > 0, rows['all']
-EOF
 
 # --fields: the table of a strike's fields. --json: one row per key of a JSON
 # strike and per CSV column (the report's apple fields after them), in order,
