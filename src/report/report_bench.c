@@ -165,10 +165,11 @@ void af_report_bench_print(FILE *out, const af_report_bench *b, size_t strikes, 
   }
   const double rest_ns = all_ns - (double)stages_ns;
   if (rest_ns >= 0.0)
-    fprintf(out,
-            "  %-10s %10s %14s %14.2f %16.1f %7.2f %12s %12s   (reading the bags, streams, match)\n",
-            "other", "-", "-", ratio(rest_ns, (double)strikes) * AF_US_PER_NS,
-            rest_ns * AF_US_PER_NS, 100.0 * ratio(rest_ns, all_ns), "-", "-");
+    fprintf(
+        out,
+        "  %-10s %10s %14s %14.2f %16.1f %7.2f %12s %12s   (reading the bags, streams, match)\n",
+        "other", "-", "-", ratio(rest_ns, (double)strikes) * AF_US_PER_NS, rest_ns * AF_US_PER_NS,
+        100.0 * ratio(rest_ns, all_ns), "-", "-");
   else /* the stages' clock counted time the thread waited for a core (stage.h) */
     fprintf(out,
             "  %-10s %10s %14s %14s %16s %7s %12s %12s   (reading the bags, streams, match: not "
