@@ -657,6 +657,7 @@ typedef struct {
   int band_fig;      /* per-lobe figure of the band's low edge */
   int stencil_b0;    /* the gamma stencil stencil_kind is of; -1: none yet */
   int stencil_kind;  /* STENCIL_* */
+  bool low_zero;     /* the band's low edge 0 at every node of the shifted stencil */
 } af_fp_search;
 
 /* chi of the strike (evaluate's cache of it). */
@@ -706,11 +707,22 @@ static void search_prepare(af_fp_search *s)
   s->ready = true;
 }
 
+/* Figure k is zero at every node of the stencil: its interpolation is
+ * exactly +0 (0.0 plus products of zeros with finite weights). */
+static bool zero_on(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b, int k)
+{
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++)
+      if (f->q[node_index(a->i0 + i, b->i0 + j) * NQ + k] != 0.0)
+        return false;
+  return true;
+}
+
 /* evaluate's checks that read gamma stencil b alone (with the chi stencils):
  * the rows built (a row's state is final once asked), the lobes of one
  * number, a band edge clipped at all nodes or none, the shifted chi stencil
  * inside the grid with the same lobes. */
-static int stencil_kind(const af_fp_search *s, const af_fp_weights *b)
+static int stencil_kind(af_fp_search *s, const af_fp_weights *b)
 {
   af_fp_table *tb = s->f->t;
   if (!rows_ready(tb, s->a.i0 - 1, s->a.i0 + 4) || !lobes_agree(tb, &s->a, b))
@@ -721,11 +733,12 @@ static int stencil_kind(const af_fp_search *s, const af_fp_weights *b)
   if ((int)s->q.lobe > n)
     return STENCIL_TABLE; /* no band: nothing more read */
   int base = Q_LOBES + (int)(s->q.lobe - 1) * AF_FP_LOBE_FIGS + s->band_fig;
-  return clipped_mixed(tb, &s->a, b, base, base - s->band_fig) ||
-                 clipped_mixed(tb, &s->a, b, base + 1, base - s->band_fig + 1) || !s->a2_ok ||
-                 !lobes_agree(tb, &s->a2, b)
-             ? STENCIL_FALLBACK
-             : STENCIL_TABLE;
+  if (clipped_mixed(tb, &s->a, b, base, base - s->band_fig) ||
+      clipped_mixed(tb, &s->a, b, base + 1, base - s->band_fig + 1) || !s->a2_ok ||
+      !lobes_agree(tb, &s->a2, b))
+    return STENCIL_FALLBACK;
+  s->low_zero = zero_on(tb, &s->a2, b, base); /* the main lobe's: from 0 Hz */
+  return STENCIL_TABLE;
 }
 
 /* The band's edges [Hz] at time scale t_s [s] into band; false when the two
@@ -736,9 +749,8 @@ static bool search_band(const af_fp_search *s, const af_fp_weights *b, double t_
   int base = Q_LOBES + (int)(s->q.lobe - 1) * AF_FP_LOBE_FIGS + s->band_fig;
   band->band_low_hz = s->q.lobe == 1 ? 0.0 : bicubic_q(tb, &s->a, b, base) / t_s;
   band->band_high_hz = bicubic_q(tb, &s->a, b, base + 1) / t_s;
-  double hi = band->band_high_hz * t_s;
-  return !(fabs(bicubic_q(tb, &s->a2, b, base) - band->band_low_hz * t_s) >
-               AF_FP_EDGE_AGREEMENT * hi ||
+  double hi = band->band_high_hz * t_s, low2 = s->low_zero ? 0.0 : bicubic_q(tb, &s->a2, b, base);
+  return !(fabs(low2 - band->band_low_hz * t_s) > AF_FP_EDGE_AGREEMENT * hi ||
            fabs(bicubic_q(tb, &s->a2, b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi);
 }
 
