@@ -421,6 +421,28 @@ static double bicubic_q(const af_fp_table *f, const af_fp_weights *a, const af_f
   return s;
 }
 
+/* The strike's figures and each lobe's: blocks of this many in q. */
+#define AF_FP_BLOCK 8
+_Static_assert(Q_LOBES == AF_FP_BLOCK && AF_FP_LOBE_FIGS == AF_FP_BLOCK, "q in blocks of 8");
+
+/* bicubic_q of figures k .. k + 7 (a block) into out, each by the same
+ * operations in the same order (the same bits), side by side: one pass over
+ * the stencil's rows for a lobe's figures. */
+static void bicubic_block(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
+                          int k, double out[AF_FP_BLOCK])
+{
+  double s[AF_FP_BLOCK] = {0}; /* local: no aliasing with q, so the compiler pairs the lanes */
+  for (int i = 0; i < 4; i++) {
+    const double *row = f->q + node_index(a->i0 + i, b->i0) * NQ + k;
+    for (int m = 0; m < AF_FP_BLOCK; m++) {
+      double r = row[m] * b->w[0] + row[NQ + m] * b->w[1] + row[2 * NQ + m] * b->w[2] +
+                 row[3 * NQ + m] * b->w[3];
+      s[m] += a->w[i] * r;
+    }
+  }
+  memcpy(out, s, sizeof s);
+}
+
 /* |X| / (F0 T) at phi: bicubic in (chi, gamma), cubic in phi. */
 static double magnitude(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                         const af_fp_weights *c)
@@ -563,13 +585,15 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
   for (int l = full ? 0 : lobe - 1; l < (full || lobe > n ? n : lobe); l++) {
     int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe *lb = &r->lobes[l];
+    double g[AF_FP_BLOCK];
+    bicubic_block(tb, &a, &b, base, g);
     lb->index = (unsigned)(l + 1);
-    lb->start_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 0) / t;
-    lb->end_hz = bicubic_q(tb, &a, &b, base + 1) / t;
-    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 2) / t;
-    lb->peak_magnitude_n_s = bicubic_q(tb, &a, &b, base + 3) * f0 * t;
-    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + band_fig) / t;
-    lb->band_high_hz = bicubic_q(tb, &a, &b, base + band_fig + 1) / t;
+    lb->start_hz = l == 0 ? 0.0 : g[0] / t;
+    lb->end_hz = g[1] / t;
+    lb->peak_hz = l == 0 ? 0.0 : g[2] / t;
+    lb->peak_magnitude_n_s = g[3] * f0 * t;
+    lb->band_low_hz = l == 0 ? 0.0 : g[band_fig] / t;
+    lb->band_high_hz = g[band_fig + 1] / t;
   }
   r->band_found = p->lobe <= r->n_lobes;
   if (r->band_found) {
@@ -593,20 +617,22 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
       return fallback(f, p, r);
   }
   r->resonance_hz = res_hz;
+  double g[AF_FP_BLOCK]; /* the strike's figures (Q_*) */
   if (full) {
+    bicubic_block(tb, &a, &b, 0, g);
     af_impact_result *im = &r->impact;
-    im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
-    im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
-    im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
-    im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
-    im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
+    im->contact_time_s = g[Q_TAU_C] * t;
+    im->peak_force_n = g[Q_F_PEAK] * f0;
+    im->time_of_peak_s = g[Q_TAU_PEAK] * t;
+    im->max_deformation_m = g[Q_X_MAX] * d;
+    im->delivered_restitution = g[Q_E_DELIVERED];
     im->chi = chi;
     im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
     im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
-    r->excitation_at_resonance_db =
-        20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
-  }
-  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(tb, &a, &b, Q_PMAX);
+    r->excitation_at_resonance_db = 20.0 * log10(magnitude(tb, &a, &b, &c) / g[Q_MAG_MAX]);
+  } else
+    g[Q_PMAX] = bicubic_q(tb, &a, &b, Q_PMAX);
+  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * g[Q_PMAX];
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
   af_yield_law law = af_model_yield_law(p);
   r->yield_shear_stress_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
