@@ -421,6 +421,28 @@ static double bicubic_q(const af_fp_table *f, const af_fp_weights *a, const af_f
   return s;
 }
 
+/* The strike's figures and each lobe's: blocks of this many in q. */
+#define AF_FP_BLOCK 8
+_Static_assert(Q_LOBES == AF_FP_BLOCK && AF_FP_LOBE_FIGS == AF_FP_BLOCK, "q in blocks of 8");
+
+/* bicubic_q of figures k .. k + 7 (a block) into out, each by the same
+ * operations in the same order (the same bits), side by side: one pass over
+ * the stencil's rows for a lobe's figures. */
+static void bicubic_block(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
+                          int k, double out[AF_FP_BLOCK])
+{
+  double s[AF_FP_BLOCK] = {0}; /* local: no aliasing with q, so the compiler pairs the lanes */
+  for (int i = 0; i < 4; i++) {
+    const double *row = f->q + node_index(a->i0 + i, b->i0) * NQ + k;
+    for (int m = 0; m < AF_FP_BLOCK; m++) {
+      double r = row[m] * b->w[0] + row[NQ + m] * b->w[1] + row[2 * NQ + m] * b->w[2] +
+                 row[3 * NQ + m] * b->w[3];
+      s[m] += a->w[i] * r;
+    }
+  }
+  memcpy(out, s, sizeof s);
+}
+
 /* |X| / (F0 T) at phi: bicubic in (chi, gamma), cubic in phi. */
 static double magnitude(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b,
                         const af_fp_weights *c)
@@ -563,13 +585,15 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
   for (int l = full ? 0 : lobe - 1; l < (full || lobe > n ? n : lobe); l++) {
     int base = Q_LOBES + l * AF_FP_LOBE_FIGS;
     af_lobe *lb = &r->lobes[l];
+    double g[AF_FP_BLOCK];
+    bicubic_block(tb, &a, &b, base, g);
     lb->index = (unsigned)(l + 1);
-    lb->start_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 0) / t;
-    lb->end_hz = bicubic_q(tb, &a, &b, base + 1) / t;
-    lb->peak_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + 2) / t;
-    lb->peak_magnitude_n_s = bicubic_q(tb, &a, &b, base + 3) * f0 * t;
-    lb->band_low_hz = l == 0 ? 0.0 : bicubic_q(tb, &a, &b, base + band_fig) / t;
-    lb->band_high_hz = bicubic_q(tb, &a, &b, base + band_fig + 1) / t;
+    lb->start_hz = l == 0 ? 0.0 : g[0] / t;
+    lb->end_hz = g[1] / t;
+    lb->peak_hz = l == 0 ? 0.0 : g[2] / t;
+    lb->peak_magnitude_n_s = g[3] * f0 * t;
+    lb->band_low_hz = l == 0 ? 0.0 : g[band_fig] / t;
+    lb->band_high_hz = g[band_fig + 1] / t;
   }
   r->band_found = p->lobe <= r->n_lobes;
   if (r->band_found) {
@@ -593,20 +617,22 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
       return fallback(f, p, r);
   }
   r->resonance_hz = res_hz;
+  double g[AF_FP_BLOCK]; /* the strike's figures (Q_*) */
   if (full) {
+    bicubic_block(tb, &a, &b, 0, g);
     af_impact_result *im = &r->impact;
-    im->contact_time_s = bicubic_q(tb, &a, &b, Q_TAU_C) * t;
-    im->peak_force_n = bicubic_q(tb, &a, &b, Q_F_PEAK) * f0;
-    im->time_of_peak_s = bicubic_q(tb, &a, &b, Q_TAU_PEAK) * t;
-    im->max_deformation_m = bicubic_q(tb, &a, &b, Q_X_MAX) * d;
-    im->delivered_restitution = bicubic_q(tb, &a, &b, Q_E_DELIVERED);
+    im->contact_time_s = g[Q_TAU_C] * t;
+    im->peak_force_n = g[Q_F_PEAK] * f0;
+    im->time_of_peak_s = g[Q_TAU_PEAK] * t;
+    im->max_deformation_m = g[Q_X_MAX] * d;
+    im->delivered_restitution = g[Q_E_DELIVERED];
     im->chi = chi;
     im->dt_s = af_impact_hertz_contact_time_s(ip) / AF_FP_SAMPLES_PER_PULSE;
     im->n_samples = (size_t)lround(tb->q[node_index(a.l0, b.l0) * NQ + Q_N_SAMPLES]);
-    r->excitation_at_resonance_db =
-        20.0 * log10(magnitude(tb, &a, &b, &c) / bicubic_q(tb, &a, &b, Q_MAG_MAX));
-  }
-  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(tb, &a, &b, Q_PMAX);
+    r->excitation_at_resonance_db = 20.0 * log10(magnitude(tb, &a, &b, &c) / g[Q_MAG_MAX]);
+  } else
+    g[Q_PMAX] = bicubic_q(tb, &a, &b, Q_PMAX);
+  r->max_contact_pressure_pa = 3.0 * f0 / (2.0 * M_PI * radius * d) * g[Q_PMAX];
   r->max_shear_stress_pa = ratio * r->max_contact_pressure_pa;
   af_yield_law law = af_model_yield_law(p);
   r->yield_shear_stress_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
@@ -624,14 +650,186 @@ af_status af_fastpath_execute(af_fastpath *f, const af_model_params *p, af_model
   return evaluate(f, p, r, true);
 }
 
-/* The R2_min search's callback: it reads r->reliable only. */
-static af_status evaluate_fast(void *ctx, const af_model_params *p, af_model_result *r)
+/* The R2_min search: the strike p at each radius of the scan and the
+ * bisection. Only the radius changes, and with it the length, time and force
+ * scales (D goes as R^(-1/5)), gamma and the stencil in gamma: the checks of
+ * the other parameters, chi, the 0S2, the shear ratio, the yield and the chi
+ * stencil are the same at every radius and are worked out once
+ * (search_prepare), and what reads a stencil alone (its rows, lobes and
+ * clipping) once per stencil. Each radius then takes the same steps as
+ * evaluate with full false, in the same order of operations (the same bits),
+ * down to the verdict: the same fallbacks, the same counts. */
+
+/* What a gamma stencil (with the search's chi stencils) says of a strike on
+ * it, whatever the weights. */
+enum {
+  STENCIL_TABLE,    /* interpolated */
+  STENCIL_FALLBACK, /* by the ODE path: rows, lobes or clipping */
+  STENCIL_EVALUATE  /* no lobe tabulated: left to evaluate itself */
+};
+
+typedef struct {
+  af_fastpath *f;
+  af_model_params q; /* the strike; its radius set per evaluation */
+  bool ready;        /* the fields below hold; else each radius by evaluate */
+  af_fp_weights a;   /* chi stencil */
+  af_fp_weights a2;  /* the shifted one (a2_ok: inside the grid) */
+  bool a2_ok;
+  double res_hz;     /* 0S2 [Hz] */
+  double ratio;      /* shear / centre pressure [-] */
+  double yield_pa;   /* the yield shear stress [Pa] */
+  double k_per_root; /* Hertz stiffness / sqrt(R) [N m^-3/2]: 4/3 E* */
+  double scale_num;  /* 5/4 m1 v0^2 [J]: D^(5/2) = this / stiffness */
+  int band_fig;      /* per-lobe figure of the band's low edge */
+  int stencil_b0;    /* the gamma stencil stencil_kind is of; -1: none yet */
+  int stencil_kind;  /* STENCIL_* */
+  bool low_zero;     /* the band's low edge 0 at every node of the shifted stencil */
+} af_fp_search;
+
+/* chi of the strike (evaluate's cache of it). */
+static af_status search_chi(af_fastpath *f, const af_impact_params *ip, double *chi)
 {
-  return evaluate(ctx, p, r, false);
+  af_status st = AF_OK;
+  if (!(ip->restitution == f->chi_e && ip->damping == f->chi_law)) {
+    st = af_impact_chi(f->impact, ip->damping, ip->restitution, chi);
+    f->chi = *chi;
+    f->chi_e = st == AF_OK ? ip->restitution : NAN;
+    f->chi_law = ip->damping;
+  }
+  *chi = f->chi;
+  return st;
+}
+
+/* The radius-independent part of evaluate for s->q (full false); ready
+ * false when a step would not go as on the table at every radius (a check
+ * to make in full, a cache that failed, chi off the grid). */
+static void search_prepare(af_fp_search *s)
+{
+  af_fastpath *f = s->f;
+  const af_model_params *p = &s->q;
+  const af_impact_params *ip = &p->impact;
+  double chi, xi;
+  s->ready = false;
+  s->stencil_b0 = -1;
+  if (f->t == NULL)
+    f->t = shared_table();
+  if (f->t == NULL || !quick_check(f->t, p) || search_chi(f, ip, &chi) != AF_OK ||
+      af_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi) != AF_OK ||
+      af_stress_shear_ratio_cached(&f->shear, p->shear_ratio, ip->fruit_poisson, &s->ratio) !=
+          AF_OK ||
+      !weights(chi / AF_FP_CHI_STEP, AF_FP_NCHI, &s->a))
+    return;
+  s->res_hz = af_lamb_frequency_hz(xi, p->modulus_factor * ip->fruit_modulus_pa, ip->fruit_poisson,
+                                   p->fruit_density_kg_m3, p->fruit_mass_kg);
+  s->a2 = s->a;
+  s->a2.i0 = s->a.i0 + 1 <= s->a.l0 && s->a.i0 + 4 <= AF_FP_NCHI - 1 ? s->a.i0 + 1 : s->a.i0 - 1;
+  s->a2_ok = !(s->a2.i0 < 0 || s->a2.i0 + 3 > AF_FP_NCHI - 1);
+  cubic_weights(chi / AF_FP_CHI_STEP - s->a2.i0, s->a2.w);
+  af_yield_law law = af_model_yield_law(p);
+  s->yield_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
+  s->k_per_root = 4.0 / 3.0 * af_impact_effective_modulus_pa(ip);
+  s->scale_num = 1.25 * ip->hammer_mass_kg * ip->velocity_m_s * ip->velocity_m_s;
+  s->band_fig = p->band_level == AF_BAND_POWER_HALF ? 4 : 6;
+  s->ready = true;
+}
+
+/* Figure k is zero at every node of the stencil: its interpolation is
+ * exactly +0 (0.0 plus products of zeros with finite weights). */
+static bool zero_on(const af_fp_table *f, const af_fp_weights *a, const af_fp_weights *b, int k)
+{
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++)
+      if (f->q[node_index(a->i0 + i, b->i0 + j) * NQ + k] != 0.0)
+        return false;
+  return true;
+}
+
+/* evaluate's checks that read gamma stencil b alone (with the chi stencils):
+ * the rows built (a row's state is final once asked), the lobes of one
+ * number, a band edge clipped at all nodes or none, the shifted chi stencil
+ * inside the grid with the same lobes. */
+static int stencil_kind(af_fp_search *s, const af_fp_weights *b)
+{
+  af_fp_table *tb = s->f->t;
+  if (!rows_ready(tb, s->a.i0 - 1, s->a.i0 + 4) || !lobes_agree(tb, &s->a, b))
+    return STENCIL_FALLBACK;
+  int n = tb->n_lobes[node_index(s->a.i0, b->i0)];
+  if (n < 0)
+    return STENCIL_EVALUATE;
+  if ((int)s->q.lobe > n)
+    return STENCIL_TABLE; /* no band: nothing more read */
+  int base = Q_LOBES + (int)(s->q.lobe - 1) * AF_FP_LOBE_FIGS + s->band_fig;
+  if (clipped_mixed(tb, &s->a, b, base, base - s->band_fig) ||
+      clipped_mixed(tb, &s->a, b, base + 1, base - s->band_fig + 1) || !s->a2_ok ||
+      !lobes_agree(tb, &s->a2, b))
+    return STENCIL_FALLBACK;
+  s->low_zero = zero_on(tb, &s->a2, b, base); /* the main lobe's: from 0 Hz */
+  return STENCIL_TABLE;
+}
+
+/* The band's edges [Hz] at time scale t_s [s] into band; false when the two
+ * chi stencils disagree on them (the strike goes to the ODE path). */
+static bool search_band(const af_fp_search *s, const af_fp_weights *b, double t_s, af_lobe *band)
+{
+  const af_fp_table *tb = s->f->t;
+  int base = Q_LOBES + (int)(s->q.lobe - 1) * AF_FP_LOBE_FIGS + s->band_fig;
+  band->band_low_hz = s->q.lobe == 1 ? 0.0 : bicubic_q(tb, &s->a, b, base) / t_s;
+  band->band_high_hz = bicubic_q(tb, &s->a, b, base + 1) / t_s;
+  double hi = band->band_high_hz * t_s, low2 = s->low_zero ? 0.0 : bicubic_q(tb, &s->a2, b, base);
+  return !(fabs(low2 - band->band_low_hz * t_s) > AF_FP_EDGE_AGREEMENT * hi ||
+           fabs(bicubic_q(tb, &s->a2, b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi);
+}
+
+/* The strike s->q (radius set) by evaluate, or by the ODE path, into a verdict. */
+static af_status search_other(af_fp_search *s, bool by_ode, bool *ok)
+{
+  af_model_result r;
+  af_status st = by_ode ? fallback(s->f, &s->q, &r) : evaluate(s->f, &s->q, &r, false);
+  *ok = st == AF_OK && r.reliable;
+  return st;
+}
+
+/* The search's verdict at radius_m [m]: evaluate's with full false. */
+static af_status search_reliable(void *ctx, double radius_m, bool *ok)
+{
+  af_fp_search *s = ctx;
+  const af_impact_params *ip = &s->q.impact;
+  s->q.impact.strike_radius_m = radius_m;
+  if (!s->ready ||
+      !af_setting_range_contains(&s->f->t->ranges[AF_SETTING_STRIKE_RADIUS_MIN_M], radius_m))
+    return search_other(s, false, ok);
+  double m1 = ip->hammer_mass_kg, v0 = ip->velocity_m_s;
+  double radius = af_impact_effective_radius_m(ip);
+  double d = pow(s->scale_num / (s->k_per_root * sqrt(radius)), 0.4);
+  double t = d / v0, f0 = m1 * v0 * v0 / d;
+  double gamma = ip->gravity_m_s2 * d / (v0 * v0), phi = s->res_hz * t / AF_FP_PHI_STEP;
+  af_fp_weights b;
+  if (!weights(gamma / AF_FP_GAM_STEP, AF_FP_NGAM, &b) || !(phi >= 0.0 && phi <= AF_FP_NPHI - 1))
+    return search_other(s, true, ok);
+  if (b.i0 != s->stencil_b0) {
+    s->stencil_b0 = b.i0;
+    s->stencil_kind = stencil_kind(s, &b);
+  }
+  if (s->stencil_kind != STENCIL_TABLE)
+    return search_other(s, s->stencil_kind == STENCIL_FALLBACK, ok);
+  af_lobe band = {0};
+  bool band_found = (int)s->q.lobe <= s->f->t->n_lobes[node_index(s->a.i0, b.i0)];
+  if (band_found && !search_band(s, &b, t, &band))
+    return search_other(s, true, ok);
+  s->f->from_table++;
+  *ok = af_criteria_excites_mode(band_found ? &band : NULL, s->res_hz);
+  if (*ok) { /* else the shear is not needed */
+    double pressure = 3.0 * f0 / (2.0 * M_PI * radius * d) * bicubic_q(s->f->t, &s->a, &b, Q_PMAX);
+    *ok = af_criteria_no_damage(s->ratio * pressure, s->yield_pa);
+  }
+  return AF_OK;
 }
 
 af_status af_fastpath_min_strike_radius(af_fastpath *f, const af_model_params *p, double r_lo_m,
                                         double r_hi_m, double *r_min_m)
 {
-  return af_r2_search(evaluate_fast, f, p, r_lo_m, r_hi_m, r_min_m);
+  af_fp_search s = {.f = f, .q = *p};
+  s.q.impact.strike_radius_m = r_hi_m; /* search_prepare's checks at a radius of the search */
+  search_prepare(&s);
+  return af_r2_search_radius(search_reliable, &s, r_lo_m, r_hi_m, r_min_m);
 }

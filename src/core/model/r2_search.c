@@ -2,7 +2,6 @@
 #include "r2_search.h"
 
 #include <math.h>
-#include <stdbool.h>
 
 /* Scan points over the bracket, then bisection to this relative width. */
 #define AF_R2_SEARCH_SCAN 24
@@ -12,26 +11,14 @@
  * any bracket of doubles), with room to spare: it guards the loop. */
 #define AF_R2_SEARCH_BUDGET 80
 
-/* Whether p with strike radius radius_m [m] is reliable under evaluate. */
-static af_status reliable_at(af_r2_evaluate_fn evaluate, void *ctx, const af_model_params *p,
-                             double radius_m, bool *ok)
-{
-  af_model_params q = *p;
-  af_model_result r;
-  q.impact.strike_radius_m = radius_m;
-  af_status st = evaluate(ctx, &q, &r);
-  *ok = st == AF_OK && r.reliable;
-  return st;
-}
-
-af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_params *p,
-                       double r_lo_m, double r_hi_m, double *r_min_m)
+af_status af_r2_search_radius(af_r2_reliable_fn reliable, void *ctx, double r_lo_m, double r_hi_m,
+                              double *r_min_m)
 {
   bool ok;
   int budget = AF_R2_SEARCH_BUDGET - 1;
   if (!(r_lo_m > 0.0 && r_hi_m > r_lo_m && isfinite(r_hi_m)))
     return AF_EINVAL;
-  af_status st = reliable_at(evaluate, ctx, p, r_hi_m, &ok);
+  af_status st = reliable(ctx, r_hi_m, &ok);
   if (st != AF_OK)
     return st;
   if (!ok)
@@ -44,7 +31,7 @@ af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_par
   for (int k = 1; k < AF_R2_SEARCH_SCAN; k++) {
     double r = k == AF_R2_SEARCH_SCAN - 1 ? r_lo_m : r_hi_m * pow(step, k);
     budget--;
-    st = reliable_at(evaluate, ctx, p, r, &ok);
+    st = reliable(ctx, r, &ok);
     if (st != AF_OK)
       return st;
     if (!ok) {
@@ -61,7 +48,7 @@ af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_par
     if (budget-- <= 0)
       return AF_EBUDGET_SEARCH;
     double mid = sqrt(good * bad);
-    st = reliable_at(evaluate, ctx, p, mid, &ok);
+    st = reliable(ctx, mid, &ok);
     if (st != AF_OK)
       return st;
     if (ok)
@@ -71,4 +58,29 @@ af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_par
   }
   *r_min_m = good;
   return AF_OK;
+}
+
+/* af_r2_search's verdict: its evaluate on a copy of the strike whose radius
+ * is set per call (the copy made once per search). */
+typedef struct {
+  af_r2_evaluate_fn evaluate;
+  void *ctx;
+  af_model_params q;
+} af_r2_evaluation;
+
+static af_status reliable_at(void *ctx, double radius_m, bool *ok)
+{
+  af_r2_evaluation *e = ctx;
+  af_model_result r;
+  e->q.impact.strike_radius_m = radius_m;
+  af_status st = e->evaluate(e->ctx, &e->q, &r);
+  *ok = st == AF_OK && r.reliable;
+  return st;
+}
+
+af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_params *p,
+                       double r_lo_m, double r_hi_m, double *r_min_m)
+{
+  af_r2_evaluation e = {evaluate, ctx, *p};
+  return af_r2_search_radius(reliable_at, &e, r_lo_m, r_hi_m, r_min_m);
 }

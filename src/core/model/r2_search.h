@@ -8,6 +8,8 @@
 #ifndef AF_R2_SEARCH_H
 #define AF_R2_SEARCH_H
 
+#include <stdbool.h>
+
 #include "model.h"
 #include "status.h"
 
@@ -28,6 +30,16 @@ typedef af_status (*af_r2_evaluate_fn)(void *ctx, const af_model_params *p, af_m
  * bracket); any status of evaluate. */
 af_status af_r2_search(af_r2_evaluate_fn evaluate, void *ctx, const af_model_params *p,
                        double r_lo_m, double r_hi_m, double *r_min_m);
+
+/* The verdict at strike radius radius_m [m], all else fixed by ctx: *ok the
+ * strike is reliable (false when the status is not AF_OK). */
+typedef af_status (*af_r2_reliable_fn)(void *ctx, double radius_m, bool *ok);
+
+/* The same search over a verdict alone, for a caller that works out what
+ * does not depend on the radius once per search (fastpath.c);
+ * af_r2_search is this over its evaluate. */
+af_status af_r2_search_radius(af_r2_reliable_fn reliable, void *ctx, double r_lo_m, double r_hi_m,
+                              double *r_min_m);
 
 #ifdef __cplusplus
 }
