@@ -8,6 +8,7 @@
 #include "af_test.h"
 #include "fastpath.h"
 #include "model.h"
+#include "r2_search.h"
 
 /* The issue's tolerance: 0.1 % [relative]. The resonance level is compared
  * as |X(f_res)| / max|X|, a magnitude ratio, to 0.1 % of the maximum
@@ -110,6 +111,54 @@ static void test_closed_forms(af_fastpath *f)
   AF_CHECK_REL(r.impact.contact_time_s, 1.33217e-3, 1e-4);
 }
 
+/* The R2_min search's own per-radius path (af_fastpath_min_strike_radius:
+ * what does not depend on the radius worked out once) against the generic
+ * search over af_fastpath_execute's verdicts: the same radius to the bit, the
+ * same status, the same table and fallback counts, over random strikes of
+ * both profiles, both band levels and lobes 1 and 2. */
+static af_status execute_verdict(void *ctx, const af_model_params *p, af_model_result *r)
+{
+  return af_fastpath_execute(ctx, p, r);
+}
+
+static void test_search_same(af_fastpath *f)
+{
+  unsigned seed = 777u;
+  size_t same = 0, found = 0, on_table = 0; /* on_table: every radius from the table */
+  for (int n = 0; n < 400; n++) {
+    af_model_params p = n % 2 ? af_model_params_paper() : af_model_params_default();
+    af_impact_params *ip = &p.impact;
+    ip->hammer_mass_kg = uniform(&seed, 0.002, 0.05);
+    ip->velocity_m_s = uniform(&seed, 0.3, 3.0);
+    ip->fruit_modulus_pa = uniform(&seed, 2e6, 12e6);
+    ip->restitution = uniform(&seed, 0.3, 0.95);
+    ip->fruit_poisson = uniform(&seed, 0.2, 0.49);
+    p.fruit_mass_kg = uniform(&seed, 0.1, 0.25);
+    p.lobe = n % 8 == 7 ? 2u : 1u;
+    p.band_level = n % 4 < 2 ? AF_BAND_POWER_HALF : AF_BAND_AMPLITUDE_HALF;
+    const double lo = 0.002, hi = uniform(&seed, 0.05, 1.0);
+    double r_own = NAN, r_generic = NAN;
+    size_t t0, f0, t1, f1, t2, f2;
+    af_fastpath_counts(f, &t0, &f0);
+    af_status s_own = af_fastpath_min_strike_radius(f, &p, lo, hi, &r_own);
+    af_fastpath_counts(f, &t1, &f1);
+    af_status s_generic = af_r2_search(execute_verdict, f, &p, lo, hi, &r_generic);
+    af_fastpath_counts(f, &t2, &f2);
+    AF_CHECK(s_own == s_generic);
+    AF_CHECK(t1 - t0 == t2 - t1 && f1 - f0 == f2 - f1);
+    on_table += s_own == AF_OK && t1 > t0 && f1 == f0;
+    if (s_own == AF_OK) {
+      found++;
+      AF_CHECK(memcmp(&r_own, &r_generic, sizeof r_own) == 0);
+      same += memcmp(&r_own, &r_generic, sizeof r_own) == 0;
+    }
+  }
+  printf("R2_min search: %zu of 400 strikes with a radius (%zu of them every radius from the "
+         "table), %zu the same bits by both paths\n",
+         found, on_table, same);
+  AF_CHECK(found > 150 && on_table > 100);
+}
+
 static void test_bad_input(af_fastpath *f)
 {
   af_model_params p = af_model_params_default();
@@ -128,6 +177,7 @@ int main(void)
   AF_CHECK_STATUS(af_fastpath_create(&f), AF_OK);
   test_closed_forms(f);
   test_random(f);
+  test_search_same(f);
   test_bad_input(f);
   af_fastpath_destroy(f);
   return af_test_summary("test_fastpath");
