@@ -106,6 +106,97 @@ double complex af_response_mode_at(const af_response *r, const af_mode_k *q, siz
   return q->c * t + conj(q->c) * tc;
 }
 
+/* ---- two bins at a time (af_cv2) ------------------------------------------------
+ * windowed_side and af_response_mode_at on a pair of bins, each complex
+ * operation written as GCC expands it in the scalar code (response_private.h
+ * on af_v2d): the same doubles, about 2.5 times fewer instructions (the
+ * subtraction was 14 % of the peak list's on the 600-strike line bag). */
+
+static inline af_cv2 cv2_mul(af_cv2 a, af_cv2 b)
+{
+  af_cv2 p = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+  return p;
+}
+
+/* z in both lanes. */
+static inline af_cv2 cv2_splat(double complex z)
+{
+  af_cv2 p = {{creal(z), creal(z)}, {cimag(z), cimag(z)}};
+  return p;
+}
+
+/* t[0], t[1] apart into real and imaginary parts. */
+static inline af_cv2 cv2_load(const double complex *t)
+{
+  af_cv2 p = {{creal(t[0]), creal(t[1])}, {cimag(t[0]), cimag(t[1])}};
+  return p;
+}
+
+/* windowed_side, operation for operation: 1 - a is (1 - re, -im), a real
+ * times a complex scales each part, complex_recip divides conj(b) by |b|^2. */
+static inline af_cv2 windowed_side2(af_cv2 a, af_cv2 am, af_cv2 al, double kappa, double half_cos)
+{
+  af_cv2 d = {1.0 - a.re, -a.im}, d2 = cv2_mul(d, d);
+  af_cv2 q = {d2.re + kappa * a.re, d2.im + kappa * a.im};
+  af_cv2 s = {(0.5 - am.re) + 0.5 * al.re, -am.im + 0.5 * al.im};
+  af_cv2 h = {half_cos * (1.0 + al.re), half_cos * al.im};
+  af_cv2 sq = cv2_mul(s, q), hd = cv2_mul(h, d2), den = cv2_mul(d, q);
+  af_cv2 num = {sq.re - hd.re, sq.im - hd.im};
+  af_v2d n2 = den.re * den.re + den.im * den.im;
+  af_cv2 rec = {den.re / n2, -den.im / n2};
+  return cv2_mul(num, rec);
+}
+
+/* A mode's constants in both lanes: c, z, z^m, z^L and their conjugates. */
+typedef struct {
+  af_cv2 c, z, zm, zl, cc, zc, zmc, zlc;
+  double kappa, half_cos; /* windowed_side's, as af_response_mode_at computes them */
+} mode_pair;
+
+static mode_pair mode_pair_consts(const af_response *r, const af_mode_k *q)
+{
+  double s = cimag(r->fade_eh);
+  mode_pair k = {cv2_splat(q->c),        cv2_splat(q->z),        cv2_splat(q->zm),
+                 cv2_splat(q->zl),       cv2_splat(conj(q->c)),  cv2_splat(conj(q->z)),
+                 cv2_splat(conj(q->zm)), cv2_splat(conj(q->zl)), 4.0 * s * s,
+                 0.5 * creal(r->fade_eh)};
+  return k;
+}
+
+/* The mode at bins i and i + 1 (af_response_mode_at with a fade-in). */
+static inline af_cv2 mode_at2(const af_response *r, const mode_pair *k, size_t i)
+{
+  af_cv2 u = cv2_load(r->phase_u + i), um = cv2_load(r->phase_um + i);
+  af_cv2 ul = cv2_load(r->phase_ul + i);
+  af_cv2 t = windowed_side2(cv2_mul(k->z, u), cv2_mul(k->zm, um), cv2_mul(k->zl, ul), k->kappa,
+                            k->half_cos);
+  af_cv2 tc = windowed_side2(cv2_mul(k->zc, u), cv2_mul(k->zmc, um), cv2_mul(k->zlc, ul), k->kappa,
+                             k->half_cos);
+  af_cv2 ct = cv2_mul(k->c, t), cct = cv2_mul(k->cc, tc);
+  af_cv2 x = {ct.re + cct.re, ct.im + cct.im};
+  return x;
+}
+
+void af_response_mode_subtract(af_response *r, const af_mode_k *q, size_t lo, size_t hi)
+{
+  size_t i = lo;
+  if (r->fade_samples > 0) {
+    const mode_pair k = mode_pair_consts(r, q);
+    for (; i + 1 <= hi; i += 2) {
+      af_cv2 x = mode_at2(r, &k, i), sp = cv2_load(r->spec + i);
+      af_v2d re = sp.re - x.re, im = sp.im - x.im, pw = re * re + im * im;
+      r->spec[i] = CMPLX(re[0], im[0]);
+      r->spec[i + 1] = CMPLX(re[1], im[1]);
+      r->power[i] = pw[0];
+      r->power[i + 1] = pw[1];
+    }
+  }
+  for (; i <= hi; ++i) { /* an odd last bin; every bin without a fade-in */
+    r->spec[i] -= af_response_mode_at(r, q, i);
+    r->power[i] = creal(r->spec[i] * conj(r->spec[i]));
+  }
+}
+
 /* The same, by the three geometric sums (fade_sum): what windowed_side
  * rearranges, for the tests. */
 double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i)

@@ -169,6 +169,18 @@ typedef struct {
 #define AF_NUMERIC_KERNEL
 #endif
 
+/* Two doubles in one SSE2 register (the vector extension of GCC and clang):
+ * each lane gets the IEEE operation a scalar would, so a loop over two bins
+ * at once written as the scalar complex arithmetic expands (GCC under
+ * -fcx-limited-range: (a + ib)(c + id) = (ac - bd) + i(ad + bc), a real
+ * operand acting on each part alone) gives its doubles bit for bit (the
+ * baseline x86-64 target has no FMA to contract either differently). */
+typedef double af_v2d __attribute__((vector_size(16)));
+/* Complex values of two bins, real and imaginary parts apart. */
+typedef struct {
+  af_v2d re, im;
+} af_cv2;
+
 /* 1 / b without the C library's careful complex division (b is never near
  * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
  * Inline: it sits in the innermost loops of the fits and the subtractions. */
@@ -282,6 +294,9 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);
 /* The mode q as the window holds it over the m analysed samples, at bin i. */
 double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i);
+/* r->spec[i] -= af_response_mode_at(r, q, i) and r->power[i] = |r->spec[i]|^2
+ * over [lo, hi]: the same doubles, two bins at a time. */
+void af_response_mode_subtract(af_response *r, const af_mode_k *q, size_t lo, size_t hi);
 /* The same by the fade-in's three geometric sums (af_response_fade_part),
  * which af_response_mode_at rearranges over one denominator. */
 double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i);
