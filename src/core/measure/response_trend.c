@@ -12,10 +12,12 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
+#include "af_defaults.h" /* the parameter table's defaults */
 #include "memo.h"
 
 /* Only harmonics at or below AF_RESPONSE_HUM_MARGIN f_lo are removed, clear
@@ -155,47 +157,68 @@ static size_t trend_fold(af_response *r, const float *x, size_t start, size_t m)
       y[j] = (double)x[start + j];
     return m;
   }
-  for (size_t j = 0; j < period; ++j)
-    y[j] = 0.0;
-  for (size_t k0 = 0; k0 < m; k0 += period) /* period by period: no wrap test per sample */
+  for (size_t j = 0; j < period; ++j) /* the first period onto zeros, as one loop */
+    y[j] = 0.0 + (double)x[start + j];
+  for (size_t k0 = period; k0 < m; k0 += period) /* period by period: no wrap test per sample */
     for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
       y[j] += (double)x[start + k0 + j];
   return period;
 }
 
-/* sums[0] += sum_j c[j] y[j], sums[1] += sum_j s[j] y[j] (j < len, in order),
- * s = c + period: two columns of the table in one pass over y. */
-static void column_pair(const double *c, size_t period, const double *y, size_t len, double *sums)
+/* rhs[0] += sum_j y[j] and, per harmonic h < 'harmonics', (rhs[2h + 1],
+ * rhs[2h + 2]) += sum_j (cos, sin)_h(j) y[j], j < len, each sum in order: one
+ * pass over y, a harmonic's two sums in one register (af_v2d: the same
+ * doubles) from the table's row j, where its cos and sin stand side by side.
+ * Inlined with the count constant (table_sums), so the sums stay in
+ * registers. */
+static inline __attribute__((always_inline)) void
+table_sums_n(const af_response *r, const double *y, size_t len, size_t harmonics, double *rhs)
 {
-  const double *s = c + period;
-  double a = sums[0], b = sums[1];
+  size_t terms = 1 + 2 * r->cfg.hum_harmonics;
+  af_v2d acc[AF_RESPONSE_MAX_HUM_HARMONICS];
+  double sum = rhs[0];
+  for (size_t h = 0; h < harmonics; ++h)
+    acc[h] = (af_v2d){rhs[2 * h + 1], rhs[2 * h + 2]};
   for (size_t j = 0; j < len; ++j) {
-    a += c[j] * y[j];
-    b += s[j] * y[j];
+    const double *row = r->trend_table + j * terms + 1;
+    const af_v2d yj = {y[j], y[j]};
+    sum += y[j]; /* the DC's column: 1 x y_j is y_j */
+#pragma GCC unroll 8
+    for (size_t h = 0; h < harmonics; ++h) {
+      af_v2d t;
+      memcpy(&t, row + 2 * h, sizeof t); /* rows of odd length: unaligned */
+      acc[h] += t * yj;
+    }
   }
-  sums[0] = a;
-  sums[1] = b;
+  rhs[0] = sum;
+  for (size_t h = 0; h < harmonics; ++h) {
+    rhs[2 * h + 1] = acc[h][0];
+    rhs[2 * h + 2] = acc[h][1];
+  }
+}
+
+/* table_sums_n, the configuration's default count of harmonics apart. */
+static void table_sums(const af_response *r, const double *y, size_t len, size_t harmonics,
+                       double *rhs)
+{
+  if (harmonics == AF_DEFAULT_MEASURE_HUM_HARMONICS)
+    table_sums_n(r, y, len, AF_DEFAULT_MEASURE_HUM_HARMONICS, rhs);
+  else
+    table_sums_n(r, y, len, harmonics, rhs);
 }
 
 /* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
  * basis repeats every P samples: x is first folded onto one period
  * (trend_fold), then the basis runs over P samples only (~4x fewer for 4096
- * samples at 48 kHz and a 960-sample period), term by term from the table's
- * columns (each rhs_i the same products in the same order as row by row, in
- * a contiguous loop); else the rotor over all m. */
+ * samples at 48 kHz and a 960-sample period), all terms in one pass
+ * (table_sums: each rhs_i the same products in the same order as term by
+ * term); else the rotor over all m. */
 static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
                       double *rhs)
 {
   size_t p = 1 + 2 * harmonics, period = r->hum_period;
   if (harmonics > 0 && period > 0) {
-    size_t len = trend_fold(r, x, start, m);
-    const double *y = r->trend_fold, *dc = r->trend_cols;
-    double sum = rhs[0];
-    for (size_t j = 0; j < len; ++j) /* the DC's column: 1 x y_j is y_j */
-      sum += y[j];
-    rhs[0] = sum;
-    for (size_t h = 1; h <= harmonics; ++h) /* a harmonic's cos and sin in one pass */
-      column_pair(dc + (2 * h - 1) * period, period, y, len, rhs + 2 * h - 1);
+    table_sums(r, r->trend_fold, trend_fold(r, x, start, m), harmonics, rhs);
     return;
   }
   if (harmonics == 0) { /* the constant alone: the sum (1 x sample is the sample) */
