@@ -241,8 +241,12 @@ double complex af_response_phase(size_t k, size_t fft_size, double power);
 void af_response_fade_phases(size_t fade_samples, double complex *e, double complex *eh);
 /* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
 af_status af_response_mean(const float *x, size_t n, double *mean);
-/* First sample whose |x - mean| reaches fraction of the largest. */
-size_t af_response_onset(const float *x, size_t n, double mean, double fraction);
+/* The same, with the smallest and largest sample into *lo, *hi (n > 0). */
+af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi);
+/* First sample whose |x - mean| reaches fraction of the largest (the
+ * samples' range [lo, hi], from af_response_mean_range). */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction, float lo,
+                         float hi);
 /* The raised-cosine fade-in's weight at sample k of length samples (1 beyond). */
 double af_response_fade(size_t k, size_t length);
 /* Fills r->window and the phase factors (at create). */

@@ -26,22 +26,42 @@ af_status af_response_mean(const float *x, size_t n, double *mean)
   return AF_OK;
 }
 
+/* af_response_mean with the smallest and largest sample (the onset's
+ * largest deviation from them, af_response_onset): in the mean's pass, whose
+ * chain of additions leaves the core idle between them. */
+af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi)
+{
+  double sum = 0.0;
+  float a = x[0], b = x[0];
+  for (size_t k = 0; k < n; ++k) {
+    sum += x[k];
+    a = x[k] < a ? x[k] : a;
+    b = x[k] > b ? x[k] : b;
+  }
+  if (!isfinite(sum))
+    return AF_ENUMERIC;
+  *mean = sum / (double)n;
+  *lo = a;
+  *hi = b;
+  return AF_OK;
+}
+
 /* First sample whose |x - mean| reaches fraction of the largest, kept at
  * least AF_RESPONSE_MIN_SAMPLES from the end; 0 when fraction is 0. Starting
  * the analysis there makes the ringing start at the window's first sample,
  * where the exponential window and the model of the fit expect it; a start a
- * little after the true onset costs only amplitude. */
-size_t af_response_onset(const float *x, size_t n, double mean, double fraction)
+ * little after the true onset costs only amplitude. The largest |x - mean|
+ * from the samples' range [lo, hi] (af_response_mean_range): rounding is
+ * monotone, so the largest of the rounded x - mean is hi - mean rounded, the
+ * largest of mean - x is mean - lo rounded, and |x - mean| rounded is one of
+ * the two: the same double as the largest over every sample. */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction, float lo, float hi)
 {
   if (!(fraction > 0.0))
     return 0;
-  /* a comparison, not fmax (a call per sample): the samples are finite
-   * (af_response_mean passed them), so both give the same largest value */
-  double peak = 0.0;
-  for (size_t k = 0; k < n; ++k) {
-    double d = fabs((double)x[k] - mean);
-    peak = d > peak ? d : peak;
-  }
+  double above = (double)hi - mean, below = mean - (double)lo, peak = 0.0;
+  peak = above > peak ? above : peak;
+  peak = below > peak ? below : peak;
   size_t k = 0;
   while (k + AF_RESPONSE_MIN_SAMPLES < n && fabs((double)x[k] - mean) < fraction * peak)
     ++k;
