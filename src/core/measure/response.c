@@ -149,6 +149,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->noise_cum = fftw_alloc_real(r->bins + 1);
   r->share_terms = af_response_share_terms(cfg);
   r->trend_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
+  r->noise_gram = gsl_matrix_alloc(AF_RESPONSE_MAX_TERMS, AF_RESPONSE_MAX_TERMS);
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in.samples == NULL || r->noise_in.samples == NULL || r->spec == NULL ||
@@ -156,8 +157,8 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
       r->scratch == NULL || r->work == NULL || r->work_power == NULL || r->orig == NULL ||
       r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL || r->trend_fold == NULL ||
       (r->hum_period > 0 && (r->trend_table == NULL || r->trend_cols == NULL)) ||
-      r->noise_cum == NULL || r->trend_gram == NULL || r->trend_rhs == NULL ||
-      r->trend_coef == NULL) {
+      r->noise_cum == NULL || r->trend_gram == NULL || r->noise_gram == NULL ||
+      r->trend_rhs == NULL || r->trend_coef == NULL) {
     af_response_destroy(r);
     return AF_ENOMEM;
   }
@@ -206,6 +207,8 @@ void af_response_destroy(af_response *r)
   fftw_free(r->noise_cum);
   if (r->trend_gram != NULL)
     gsl_matrix_free(r->trend_gram);
+  if (r->noise_gram != NULL)
+    gsl_matrix_free(r->noise_gram);
   if (r->trend_rhs != NULL)
     gsl_vector_free(r->trend_rhs);
   if (r->trend_coef != NULL)
@@ -311,7 +314,8 @@ af_status af_response_begin(af_response *r, const float *audio, size_t n, double
   if (s != AF_OK)
     return s;
   *start = af_response_onset(audio, n, mean, r->cfg.onset_fraction, lo, hi);
-  af_response_trend_fit(r, audio, *start, n, af_response_hum_harmonics(r, f_lo_hz));
+  /* the samples are finite (af_response_mean_range): the fit's status is AF_OK */
+  (void)af_response_trend_fit(r, audio, *start, n, af_response_hum_harmonics(r, f_lo_hz), 0);
   af_response_transform(r, &r->in, audio, n, *start, periodogram_bins(r, f_hi_hz), energy);
   return AF_OK;
 }

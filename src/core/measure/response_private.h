@@ -118,28 +118,30 @@ struct af_response {
   size_t noise_bins;              /* bins of noise_ref and noise_cum (+ 1) that hold it */
   double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
   double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
-  size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
-                                         1 or 2 the poles of a truncated fit */
-  af_fit_ctx ctx;                     /* the fit under way */
-  gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
-  gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
-  size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
-  size_t hum_period;                  /* af_response_hum_period; 0 = none */
-  double *trend_fold;                 /* one hum period: folded samples, then the trend */
-  double *trend_table;                /* the basis over one hum period (NULL without one):
-                                         row j holds sample j's 1 + 2 hum_harmonics terms */
-  double *trend_cols;                 /* the same by term: column i's hum_period values in a
-                                         row of its own (contiguous loops over the samples) */
-  double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
-  size_t share_terms;                 /* the trend's terms as windowed poles: the DC and
-                                         hum_harmonics (with a hum), 0 without the exponential
-                                         window */
-  const double complex *share_g;      /* bin by bin, per term and side (its pole, then the
-                                         conjugate): 1 / (1 - z u) less the fade-in's part */
-  const double complex *share_p;      /*   and 1 / (1 - z u) (af_response_add_trend_share);
-                                         both the process's (memo.h), or in share_own */
-  double complex *share_own;          /* the tables when the process could not keep them */
-  af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
+  size_t split_poles;                    /* model of the fit under way: 0 the pole pair of stage 2,
+                                            1 or 2 the poles of a truncated fit */
+  af_fit_ctx ctx;                        /* the fit under way */
+  gsl_matrix *trend_gram;                /* DC + hum least squares, MAX_TERMS square */
+  gsl_matrix *noise_gram;                /* the same for the noise reference, factored */
+  size_t noise_gram_m, noise_gram_terms; /* its samples and terms; terms 0: none */
+  gsl_vector *trend_rhs, *trend_coef;    /* its right-hand side and solution */
+  size_t trend_terms;                    /* terms of the last trend fit: 1 + 2 harmonics */
+  size_t hum_period;                     /* af_response_hum_period; 0 = none */
+  double *trend_fold;                    /* one hum period: folded samples, then the trend */
+  double *trend_table;                   /* the basis over one hum period (NULL without one):
+                                            row j holds sample j's 1 + 2 hum_harmonics terms */
+  double *trend_cols;                    /* the same by term: column i's hum_period values in a
+                                            row of its own (contiguous loops over the samples) */
+  double *noise_cum;               /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
+  size_t share_terms;              /* the trend's terms as windowed poles: the DC and
+                                      hum_harmonics (with a hum), 0 without the exponential
+                                      window */
+  const double complex *share_g;   /* bin by bin, per term and side (its pole, then the
+                                      conjugate): 1 / (1 - z u) less the fade-in's part */
+  const double complex *share_p;   /*   and 1 / (1 - z u) (af_response_add_trend_share);
+                                      both the process's (memo.h), or in share_own */
+  double complex *share_own;       /* the tables when the process could not keep them */
+  af_response_fit_stats fit_stats; /* the fits run, by status (response.h) */
 };
 
 /* A mode of the spectrum as the refinement sees it, before the window's decay
@@ -210,9 +212,13 @@ int af_response_read_peak(af_response *r, size_t k, double noise, af_peak *pk,
 /* ---- response_trend.c ---- */
 /* Harmonics of the hum to remove for a range starting at f_lo_hz. */
 size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
-/* Least-squares DC + harmonics of x[start..n) into r->trend_coef. */
-void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
-                           size_t harmonics);
+/* Least-squares DC + harmonics of x[start..n) into r->trend_coef (the mean
+ * alone when the normal equations are singular); 'noise': the noise
+ * reference's fit, on its own normal matrix (r->noise_gram, kept between
+ * calls), else on r->trend_gram (af_response_add_trend_share reads its
+ * factor). AF_ENUMERIC, r's trend untouched, for a non-finite sample. */
+af_status af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
+                                size_t harmonics, int noise);
 /* dst[k] = x[start + k] less the fitted trend, k < m. */
 void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst);
 /* The hum's period [samples] when whole and at most window_samples (48 kHz
@@ -239,9 +245,8 @@ double complex af_response_phase(size_t k, size_t fft_size, double power);
 /* exp(i theta) and exp(i theta / 2), theta = pi / L, of a fade-in of L
  * samples (theta 0 without one): the constants of af_response_fade_part. */
 void af_response_fade_phases(size_t fade_samples, double complex *e, double complex *eh);
-/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
-af_status af_response_mean(const float *x, size_t n, double *mean);
-/* The same, with the smallest and largest sample into *lo, *hi (n > 0). */
+/* Mean of x[0..n) and its smallest and largest sample into *lo, *hi (n > 0);
+ * AF_ENUMERIC for a non-finite sample. */
 af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi);
 /* First sample whose |x - mean| reaches fraction of the largest (the
  * samples' range [lo, hi], from af_response_mean_range). */

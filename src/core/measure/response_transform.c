@@ -11,24 +11,13 @@
 
 #include "memo.h"
 
-/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. Tested once, on
- * the sum: a sum of finite floats in double stays finite (|x| < 3.5e38,
- * n < 1e269), a NaN or an infinity makes it NaN or infinite; one test per
- * sample was 40 % of the loop. */
-af_status af_response_mean(const float *x, size_t n, double *mean)
-{
-  double sum = 0.0;
-  for (size_t k = 0; k < n; ++k)
-    sum += x[k];
-  if (!isfinite(sum))
-    return AF_ENUMERIC;
-  *mean = sum / (double)n;
-  return AF_OK;
-}
-
-/* af_response_mean with the smallest and largest sample (the onset's
- * largest deviation from them, af_response_onset): in the mean's pass, whose
- * chain of additions leaves the core idle between them. */
+/* Mean of x[0..n) with its smallest and largest sample (the onset's largest
+ * deviation from them, af_response_onset); AF_ENUMERIC for a non-finite
+ * sample. Finiteness is tested once, on the sum: a sum of finite floats in
+ * double stays finite (|x| < 3.5e38, n < 1e269), a NaN or an infinity makes
+ * it NaN or infinite; one test per sample was 40 % of the loop. The range
+ * comes in the mean's pass, whose chain of additions leaves the core idle
+ * between them. */
 af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi)
 {
   double sum = 0.0;

@@ -235,29 +235,50 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
   }
 }
 
-/* Least-squares DC + harmonics of x[start..n) into r->trend_coef; falls back
- * to the mean alone when the normal equations are singular (a segment far
- * shorter than a hum period). */
-void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n, size_t harmonics)
+/* The Cholesky factor of the normal matrix of 1 + 2 harmonics terms over m
+ * samples into gram's leading block; 0 if it is singular. With 'kept' (the
+ * noise reference's matrix, whose segment has the same length every strike)
+ * the factor of the last call is reused when m and the terms are the same:
+ * the same doubles, without the trigonometry and the factoring (5 k
+ * instructions a strike). */
+static int gram_factor(af_response *r, gsl_matrix *gram, size_t m, size_t harmonics, int kept)
+{
+  size_t p = 1 + 2 * harmonics;
+  if (kept && r->noise_gram_terms == p && r->noise_gram_m == m)
+    return 1;
+  gsl_matrix_view g = gsl_matrix_submatrix(gram, 0, 0, p, p);
+  trend_gram(2.0 * AF_PI * r->cfg.hum_hz / r->cfg.sample_rate_hz, m, harmonics, &g.matrix);
+  int ok = gsl_linalg_cholesky_decomp1(&g.matrix) == GSL_SUCCESS;
+  if (kept) {
+    r->noise_gram_terms = ok ? p : 0;
+    r->noise_gram_m = m;
+  }
+  return ok;
+}
+
+af_status af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
+                                size_t harmonics, int noise)
 {
   size_t p = 1 + 2 * harmonics;
   double rhs[AF_RESPONSE_MAX_TERMS] = {0};
   trend_rhs(r, x, start, n - start, harmonics, rhs);
-  gsl_matrix_view g = gsl_matrix_submatrix(r->trend_gram, 0, 0, p, p);
+  /* rhs[0] sums the samples themselves (the constant's column is 1): a sum
+   * of finite floats in double stays finite, a NaN or an infinity does not */
+  if (!isfinite(rhs[0]))
+    return AF_ENUMERIC;
+  gsl_matrix *gram = noise ? r->noise_gram : r->trend_gram;
+  gsl_matrix_view g = gsl_matrix_submatrix(gram, 0, 0, p, p);
   gsl_vector_view b = gsl_vector_subvector(r->trend_rhs, 0, p);
   gsl_vector_view a = gsl_vector_subvector(r->trend_coef, 0, p);
   for (size_t i = 0; i < p; ++i)
     gsl_vector_set(&b.vector, i, rhs[i]);
   r->trend_terms = p;
-  if (p > 1) {
-    trend_gram(2.0 * AF_PI * r->cfg.hum_hz / r->cfg.sample_rate_hz, n - start, harmonics,
-               &g.matrix);
-    if (gsl_linalg_cholesky_decomp1(&g.matrix) == GSL_SUCCESS &&
-        gsl_linalg_cholesky_solve(&g.matrix, &b.vector, &a.vector) == GSL_SUCCESS)
-      return;
-  }
+  if (p > 1 && gram_factor(r, gram, n - start, harmonics, noise) &&
+      gsl_linalg_cholesky_solve(&g.matrix, &b.vector, &a.vector) == GSL_SUCCESS)
+    return AF_OK;
   r->trend_terms = 1;
   gsl_vector_set(r->trend_coef, 0, rhs[0] / (double)(n - start));
+  return AF_OK;
 }
 
 /* The trend of the last fit at sample k (basis_at). */
@@ -271,22 +292,49 @@ static double trend_at(const af_response *r, rotor *rot, size_t harmonics, size_
   return trend;
 }
 
+/* The trend of the last fit (coef, terms of them) at samples j..j + 1 of
+ * the hum period from the table's columns (dc, period apart): trend_at's
+ * sum, 0 + 1 x coef_0, then each harmonic's cos and sin in order, two
+ * samples a register (af_v2d: the same doubles). Inlined with the count
+ * constant (trend_period), so the coefficients stay in registers. */
+static inline __attribute__((always_inline)) af_v2d
+trend_pair(const double *dc, size_t period, const af_v2d *coef, size_t terms, size_t j)
+{
+  af_v2d t = (af_v2d){0.0, 0.0} + (af_v2d){dc[j], dc[j + 1]} * coef[0];
+#pragma GCC unroll 16
+  for (size_t i = 1; i + 1 < terms; i += 2) {
+    const double *c = dc + i * period + j, *s = c + period;
+    t = (t + (af_v2d){c[0], c[1]} * coef[i]) + (af_v2d){s[0], s[1]} * coef[i + 1];
+  }
+  return t;
+}
+
 /* The trend of the last fit (coef) at samples 0..len of one hum period, len
- * <= the period, into r->trend_fold: term by term from the table's columns,
- * each value the same sum in the same order as trend_at's, in loops over
- * the samples that the compiler vectorises. */
+ * <= the period, into r->trend_fold: all terms in one pass over the samples
+ * (trend_pair; an odd last sample by trend_at's sum alone), each value the
+ * same sum in the same order as trend_at's. */
 static void trend_period(af_response *r, const double *coef, size_t len)
 {
   double *t = r->trend_fold;
   const double *dc = r->trend_cols;
-  size_t period = r->hum_period;
-  for (size_t j = 0; j < len; ++j)
-    t[j] = 0.0 + dc[j] * coef[0];
-  for (size_t i = 1; i + 1 < r->trend_terms; i += 2) { /* a harmonic's cos and sin */
-    const double *c = dc + i * period, *s = c + period;
-    const double cc = coef[i], cs = coef[i + 1];
-    for (size_t j = 0; j < len; ++j)
-      t[j] = (t[j] + c[j] * cc) + s[j] * cs;
+  size_t period = r->hum_period, terms = r->trend_terms, j = 0;
+  af_v2d k[AF_RESPONSE_MAX_TERMS];
+  for (size_t i = 0; i < terms; ++i)
+    k[i] = (af_v2d){coef[i], coef[i]};
+  if (terms == 1 + 2 * AF_DEFAULT_MEASURE_HUM_HARMONICS)
+    for (; j + 1 < len; j += 2) {
+      af_v2d v = trend_pair(dc, period, k, 1 + 2 * AF_DEFAULT_MEASURE_HUM_HARMONICS, j);
+      memcpy(t + j, &v, sizeof v);
+    }
+  for (; j + 1 < len; j += 2) {
+    af_v2d v = trend_pair(dc, period, k, terms, j);
+    memcpy(t + j, &v, sizeof v);
+  }
+  for (; j < len; ++j) { /* an odd last sample */
+    double v = 0.0 + dc[j] * coef[0];
+    for (size_t i = 1; i + 1 < terms; i += 2)
+      v = (v + dc[i * period + j] * coef[i]) + dc[(i + 1) * period + j] * coef[i + 1];
+    t[j] = v;
   }
 }
 
