@@ -112,26 +112,6 @@ double complex af_response_mode_at(const af_response *r, const af_mode_k *q, siz
  * on af_v2d): the same doubles, about 2.5 times fewer instructions (the
  * subtraction was 14 % of the peak list's on the 600-strike line bag). */
 
-static inline af_cv2 cv2_mul(af_cv2 a, af_cv2 b)
-{
-  af_cv2 p = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
-  return p;
-}
-
-/* z in both lanes. */
-static inline af_cv2 cv2_splat(double complex z)
-{
-  af_cv2 p = {{creal(z), creal(z)}, {cimag(z), cimag(z)}};
-  return p;
-}
-
-/* t[0], t[1] apart into real and imaginary parts. */
-static inline af_cv2 cv2_load(const double complex *t)
-{
-  af_cv2 p = {{creal(t[0]), creal(t[1])}, {cimag(t[0]), cimag(t[1])}};
-  return p;
-}
-
 /* windowed_side, operation for operation: 1 - a is (1 - re, -im), a real
  * times a complex scales each part, complex_recip divides conj(b) by |b|^2. */
 static inline af_cv2 windowed_side2(af_cv2 a, af_cv2 am, af_cv2 al, double kappa, double half_cos)

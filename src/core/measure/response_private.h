@@ -183,6 +183,27 @@ typedef struct {
   af_v2d re, im;
 } af_cv2;
 
+/* a b as the scalar complex product expands: (ac - bd) + i(ad + bc). */
+static inline af_cv2 cv2_mul(af_cv2 a, af_cv2 b)
+{
+  af_cv2 p = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+  return p;
+}
+
+/* z in both lanes. */
+static inline af_cv2 cv2_splat(double complex z)
+{
+  af_cv2 p = {{creal(z), creal(z)}, {cimag(z), cimag(z)}};
+  return p;
+}
+
+/* t[0], t[1] apart into real and imaginary parts. */
+static inline af_cv2 cv2_load(const double complex *t)
+{
+  af_cv2 p = {{creal(t[0]), creal(t[1])}, {cimag(t[0]), cimag(t[1])}};
+  return p;
+}
+
 /* 1 / b without the C library's careful complex division (b is never near
  * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
  * Inline: it sits in the innermost loops of the fits and the subtractions. */

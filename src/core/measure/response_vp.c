@@ -109,6 +109,68 @@ vp_fill_bin(const af_response *r, const vp_pole *pc, size_t poles, size_t k, vp_
   }
 }
 
+/* vp_term on two bins (af_cv2), operation for operation: 1 - a is
+ * (1 - re, -im), complex_recip divides conj(b) by |b|^2, a real times a
+ * complex scales each part. */
+AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) af_cv2
+vp_term2(int truncated, af_cv2 a, af_cv2 am, af_cv2 am1, double m, af_cv2 *e)
+{
+  af_cv2 d = {1.0 - a.re, -a.im};
+  af_v2d n2 = d.re * d.re + d.im * d.im;
+  af_cv2 inv = {d.re / n2, -d.im / n2};
+  if (!truncated) {
+    *e = cv2_mul(cv2_mul(a, inv), inv);
+    return inv;
+  }
+  af_cv2 t = cv2_mul((af_cv2){1.0 - am.re, -am.im}, inv);
+  *e = cv2_mul(cv2_mul(a, (af_cv2){t.re - m * am1.re, t.im - m * am1.im}), inv);
+  return t;
+}
+
+/* Part i of lane pair x as a complex. */
+static inline double complex cv2_at(af_cv2 x, size_t i)
+{
+  return CMPLX(x.re[i], x.im[i]);
+}
+
+/* vp_fill_bin for bins k and k + 1 into b[0], b[1]: its operations two bins
+ * a register (af_cv2; response_private.h: the same doubles; a NaN's sign
+ * may differ, and a NaN ends the evaluation either way), 15 k fewer
+ * instructions a strike on the 600-strike line bag. norm i (t - tc) is
+ * (-(norm Im), norm Re) of t - tc, as the scalar product by the constant i
+ * expands. */
+AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void
+vp_fill_pair(const af_response *r, const vp_pole *pc, size_t poles, size_t k, vp_bin *b)
+{
+  const af_fit_ctx *f = &r->ctx;
+  int truncated = r->split_poles > 0;
+  double m = r->split_len, norm = f->norm;
+  af_cv2 u = cv2_load(r->phase_u + k), um = {{0.0, 0.0}, {0.0, 0.0}}, um1 = um;
+  if (truncated) {
+    um = cv2_load(r->phase_um + k);
+    um1 = cv2_mul(um, (af_cv2){u.re, -u.im});
+  }
+  for (size_t i = 0; i < 2; ++i) {
+    b[i].y = f->gain * f->data[k + i];
+    b[i].xb = ((double)(k + i) - f->center) / f->half;
+  }
+  for (size_t j = 0; j < poles; ++j) {
+    af_cv2 z = cv2_splat(pc[j].z), zm = cv2_splat(pc[j].zm), zm1 = cv2_splat(pc[j].zm1);
+    af_cv2 zc = cv2_splat(conj(pc[j].z)), zmc = cv2_splat(conj(pc[j].zm));
+    af_cv2 zm1c = cv2_splat(conj(pc[j].zm1)), e, ec;
+    af_cv2 t = vp_term2(truncated, cv2_mul(z, u), cv2_mul(zm, um), cv2_mul(zm1, um1), m, &e);
+    af_cv2 tc = vp_term2(truncated, cv2_mul(zc, u), cv2_mul(zmc, um), cv2_mul(zm1c, um1), m, &ec);
+    af_cv2 sum = {norm * (t.re + tc.re), norm * (t.im + tc.im)};
+    af_cv2 dif = {-(norm * (t.im - tc.im)), norm * (t.re - tc.re)};
+    for (size_t i = 0; i < 2; ++i) {
+      b[i].e[j] = cv2_at(e, i);
+      b[i].ec[j] = cv2_at(ec, i);
+      b[i].col[2 * j] = cv2_at(sum, i);
+      b[i].col[2 * j + 1] = cv2_at(dif, i);
+    }
+  }
+}
+
 /* Adds bin b to g = Phi^T Phi (upper triangle, nl x nl) and h = Phi^T y;
  * npc pole columns, then the background's six. */
 AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void
@@ -239,7 +301,10 @@ vp_eval(const af_response *r, const double *theta, double *cost, double *a, doub
   vp_poles(r, theta, poles, pc);
   memset(beta, 0, nl * sizeof *beta);
   for (size_t i = 0; i < count; ++i) {
-    vp_fill_bin(r, pc, poles, r->ctx.first + i, &bins[i]);
+    if (i % 2 == 0 && i + 1 < count) /* two bins' terms at once; an odd last alone */
+      vp_fill_pair(r, pc, poles, r->ctx.first + i, &bins[i]);
+    else if (i % 2 == 0)
+      vp_fill_bin(r, pc, poles, r->ctx.first + i, &bins[i]);
     vp_gram_add(&bins[i], npc, nl, gram, beta);
     double xq = 1.0;
     for (size_t q = 0; q < 5; ++q, xq *= bins[i].xb)
