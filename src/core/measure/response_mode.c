@@ -165,8 +165,8 @@ void af_response_mode_subtract(af_response *r, const af_mode_k *q, size_t lo, si
     for (; i + 1 <= hi; i += 2) {
       af_cv2 x = mode_at2(r, &k, i), sp = cv2_load(r->spec + i);
       af_v2d re = sp.re - x.re, im = sp.im - x.im, pw = re * re + im * im;
-      r->spec[i] = CMPLX(re[0], im[0]);
-      r->spec[i + 1] = CMPLX(re[1], im[1]);
+      r->spec[i] = complex_of(re[0], im[0]);
+      r->spec[i + 1] = complex_of(re[1], im[1]);
       r->power[i] = pw[0];
       r->power[i + 1] = pw[1];
     }

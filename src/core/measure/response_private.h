@@ -183,6 +183,18 @@ typedef struct {
   af_v2d re, im;
 } af_cv2;
 
+/* The complex re + i im with its parts set, not computed (C11: a complex is
+ * laid out as the array of its two parts); glibc's CMPLX, which does the
+ * same, is defined for GCC alone. */
+static inline double complex complex_of(double re, double im)
+{
+  union {
+    double parts[2];
+    double complex z;
+  } u = {{re, im}};
+  return u.z;
+}
+
 /* a b as the scalar complex product expands: (ac - bd) + i(ad + bc). */
 static inline af_cv2 cv2_mul(af_cv2 a, af_cv2 b)
 {

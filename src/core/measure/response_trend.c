@@ -555,7 +555,7 @@ static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, s
     af_v2d u = v2d_of(r->phase_um[i]);
     af_v2d up = (af_v2d){u[0], u[0]} * p + (af_v2d){-u[1], u[1]} * v2d_swap(p);
     af_v2d x = v2d_of(r->spec[i]) + (g - up);
-    r->spec[i] = CMPLX(x[0], x[1]);
+    r->spec[i] = complex_of(x[0], x[1]);
   }
 }
 
