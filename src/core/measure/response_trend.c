@@ -542,12 +542,14 @@ static inline void share_side(const share_k *k, size_t s, const double complex *
  * order of the scalar loop it replaces, with each bin's complex in one
  * register (response_private.h on af_v2d: the same doubles, 2.5 times fewer
  * instructions). */
-static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, size_t hi)
+static inline __attribute__((always_inline)) void share_apply_n(af_response *r, const share_k *k,
+                                                                size_t n, size_t lo, size_t hi)
 {
   size_t sides = 2 * r->share_terms;
   for (size_t i = lo; i <= hi; ++i) {
     const double complex *gt = r->share_g + i * sides, *pt = r->share_p + i * sides;
     af_v2d g = {0.0, 0.0}, p = {0.0, 0.0};
+#pragma GCC unroll 9
     for (size_t t = 0; t < n; t += 2) { /* a pole and its conjugate a pass */
       share_side(k, t, gt, pt, &g, &p);
       share_side(k, t + 1, gt, pt, &g, &p);
@@ -557,6 +559,16 @@ static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, s
     af_v2d x = v2d_of(r->spec[i]) + (g - up);
     r->spec[i] = complex_of(x[0], x[1]);
   }
+}
+
+/* share_apply_n, inlined with the sides of the default count of harmonics
+ * constant (the loop over them unrolled: 7 k instructions a strike). */
+static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, size_t hi)
+{
+  if (n == 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS))
+    share_apply_n(r, k, 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS), lo, hi);
+  else
+    share_apply_n(r, k, n, lo, hi);
 }
 
 void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, size_t hi)
