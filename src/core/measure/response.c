@@ -131,6 +131,7 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->spec = fftw_alloc_complex(r->bins);
   r->window = fftw_alloc_real(cfg->window_samples);
   r->window_energy = fftw_alloc_real(cfg->window_samples + 1);
+  r->fade_rest = fftw_alloc_real(cfg->window_samples);
   r->power = fftw_alloc_real(r->bins);
   r->noise_ref = fftw_alloc_real(r->bins);
   r->scratch = fftw_alloc_real(r->bins);
@@ -153,9 +154,10 @@ af_status af_response_create(const af_response_config *cfg, af_response **out)
   r->trend_rhs = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   r->trend_coef = gsl_vector_alloc(AF_RESPONSE_MAX_TERMS);
   if (r->in.samples == NULL || r->noise_in.samples == NULL || r->spec == NULL ||
-      r->window == NULL || r->window_energy == NULL || r->power == NULL || r->noise_ref == NULL ||
-      r->scratch == NULL || r->work == NULL || r->work_power == NULL || r->orig == NULL ||
-      r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL || r->trend_fold == NULL ||
+      r->window == NULL || r->window_energy == NULL || r->fade_rest == NULL || r->power == NULL ||
+      r->noise_ref == NULL || r->scratch == NULL || r->work == NULL || r->work_power == NULL ||
+      r->orig == NULL || r->phase_u == NULL || r->phase_ul == NULL || r->phase_um == NULL ||
+      r->trend_fold == NULL ||
       (r->hum_period > 0 && (r->trend_table == NULL || r->trend_cols == NULL)) ||
       r->noise_cum == NULL || r->trend_gram == NULL || r->noise_gram == NULL ||
       r->trend_rhs == NULL || r->trend_coef == NULL) {
@@ -191,6 +193,7 @@ void af_response_destroy(af_response *r)
   fftw_free(r->spec);
   fftw_free(r->window);
   fftw_free(r->window_energy);
+  fftw_free(r->fade_rest);
   fftw_free(r->power);
   fftw_free(r->noise_ref);
   fftw_free(r->scratch);

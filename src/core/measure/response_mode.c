@@ -30,7 +30,7 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
   double rr = exp(-sigma_windowed / r->cfg.sample_rate_hz);
   double sum = 1.0 / (1.0 - rr), rk = 1.0;
   for (size_t k = 0; k < r->fade_samples; ++k, rk *= rr)
-    sum -= (1.0 - af_response_fade(k, r->fade_samples)) * rk;
+    sum -= r->fade_rest[k] * rk; /* 1 - f_k, tabled at create */
   return creal(c * conj(c)) * sum * sum;
 }
 

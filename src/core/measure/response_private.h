@@ -102,6 +102,8 @@ struct af_response {
   double *window_energy;          /* window_energy[m] = sum_{k < m} window[k]^2, summed in
                                      order: the energy of an m-sample transform */
   size_t fade_samples;            /* length of the fade-in [samples] */
+  double *fade_rest;              /* 1 - the fade-in's weight, fade_samples of them (window
+                                     samples allocated: the fade-in is at most a quarter) */
   double *power;                  /* periodogram |X_k|^2 of the last transform */
   double *noise_ref;              /* mean reference periodogram per unit window energy */
   double *scratch;                /* median workspace (noise band) */

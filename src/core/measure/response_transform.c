@@ -102,6 +102,10 @@ void af_response_fill_window(af_response *r)
   r->window_energy[0] = 0.0;
   for (size_t k = 0; k < c->window_samples; ++k)
     r->window_energy[k + 1] = r->window_energy[k] + r->window[k] * r->window[k];
+  /* what the fade-in takes of each of its samples, for a mode's own peak
+   * power (af_response_mode_peak_power: a cos per sample per mode read) */
+  for (size_t k = 0; k < r->fade_samples; ++k)
+    r->fade_rest[k] = 1.0 - af_response_fade(k, r->fade_samples);
 }
 
 /* The phase tables' arguments (no padding: the key is its bytes). */
