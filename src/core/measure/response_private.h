@@ -254,8 +254,10 @@ size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
  * factor). AF_ENUMERIC, r's trend untouched, for a non-finite sample. */
 af_status af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
                                 size_t harmonics, int noise);
-/* dst[k] = x[start + k] less the fitted trend, k < m. */
-void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst);
+/* dst[k] = (x[start + k] less the fitted trend) w[k], k < m: the window's
+ * product in the same pass (the same doubles as a pass of its own after). */
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m,
+                              const double *w, double *dst);
 /* The hum's period [samples] when whole and at most window_samples (48 kHz
  * and 50 or 60 Hz: 960, 800), else 0: the trend then repeats exactly. */
 size_t af_response_hum_period(const af_response_config *c);

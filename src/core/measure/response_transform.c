@@ -176,9 +176,7 @@ void af_response_transform(af_response *r, af_response_input *in, const float *x
 {
   size_t m = n - start;
   double *samples = in->samples;
-  af_response_trend_remove(r, x, start, m, samples);
-  for (size_t k = 0; k < m; ++k)
-    samples[k] *= r->window[k];
+  af_response_trend_remove(r, x, start, m, r->window, samples);
   /* the padding: only what an earlier, longer transform left there (FFTW's
    * out-of-place r2c preserves its input); a whole 16384-point buffer per
    * call was 1.8 % of firmness_report's instructions */

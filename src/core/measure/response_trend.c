@@ -338,11 +338,14 @@ static void trend_period(af_response *r, const double *coef, size_t len)
   }
 }
 
-/* dst[k] = x[start + k] less the trend of the last fit, k < m: the DC and
- * harmonics of r->trend_coef, the rotor restarted at start (the fit's phase
- * origin); with a whole hum period, one period of the trend computed and
- * repeated. */
-void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst)
+/* dst[k] = (x[start + k] less the trend of the last fit) w[k], k < m: the
+ * DC and harmonics of r->trend_coef, the rotor restarted at start (the fit's
+ * phase origin); with a whole hum period, one period of the trend computed
+ * and repeated. The window's product w[k] in the same pass: each value the
+ * same two roundings as a pass of its own after, one pass over the samples
+ * fewer. */
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m,
+                              const double *w, double *dst)
 {
   size_t harmonics = (r->trend_terms - 1) / 2, period = r->hum_period;
   double coef[AF_RESPONSE_MAX_TERMS];
@@ -353,18 +356,18 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
     trend_period(r, coef, m < period ? m : period);
     for (size_t k0 = 0; k0 < m; k0 += period)
       for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
-        dst[k0 + j] = (double)x[start + k0 + j] - t[j];
+        dst[k0 + j] = ((double)x[start + k0 + j] - t[j]) * w[k0 + j];
     return;
   }
   if (harmonics == 0) { /* the constant alone: trend_at's 0 + 1 x coef, once */
     const double t0 = 0.0 + coef[0];
     for (size_t k = 0; k < m; ++k)
-      dst[k] = (double)x[start + k] - t0;
+      dst[k] = ((double)x[start + k] - t0) * w[k];
     return;
   }
   rotor rot = rotor_start(r);
   for (size_t k = 0; k < m; ++k)
-    dst[k] = (double)x[start + k] - trend_at(r, &rot, harmonics, k, coef);
+    dst[k] = ((double)x[start + k] - trend_at(r, &rot, harmonics, k, coef)) * w[k];
 }
 
 /* ---- the trend's share of a mode (peak list) -----------------------------------
