@@ -12,13 +12,20 @@
 
 #include <math.h>
 
-/* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
-double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
-                                     double complex c, size_t k)
+/* The pole z = exp(-sigma' / fs + i 2 pi bin / N) of a mode. */
+double complex af_response_pole(const af_response *r, double bin, double sigma_windowed)
 {
   double n_fft = (double)r->cfg.fft_size;
-  double complex u = cexp(-I * 2.0 * AF_PI * (double)k / n_fft);
-  double complex z = cexp(-sigma_windowed / r->cfg.sample_rate_hz + I * 2.0 * AF_PI * bin / n_fft);
+  return cexp(-sigma_windowed / r->cfg.sample_rate_hz + I * 2.0 * AF_PI * bin / n_fft);
+}
+
+/* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k, u from the phase
+ * table (the same double as cexp(-i 2 pi k / N) computed here: the table's
+ * entry is that cexp, af_response_phase). */
+double complex af_response_pole_pair(const af_response *r, double complex z, double complex c,
+                                     size_t k)
+{
+  double complex u = r->phase_u[k];
   return c / (1.0 - z * u) + conj(c) / (1.0 - conj(z) * u);
 }
 

@@ -328,9 +328,11 @@ int af_response_stage1(const af_response *r, const double *p, const double compl
 void af_response_log_parabola(const af_response *r, size_t k, af_peak *out);
 
 /* ---- response_mode.c ---- */
+/* The pole z = exp(-sigma' / fs + i 2 pi bin / N) of a mode at bin (fractional). */
+double complex af_response_pole(const af_response *r, double bin, double sigma_windowed);
 /* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
-double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
-                                     double complex c, size_t k);
+double complex af_response_pole_pair(const af_response *r, double complex z, double complex c,
+                                     size_t k);
 /* The fade-in's part F(a) of sum_k a^k (al = a^L, inv_1a = 1 / (1 - a);
  * e, eh: exp(i pi / L), exp(i pi / 2L)); 0 without a fade-in. */
 double complex af_response_fade_part(size_t fade_samples, double complex e, double complex eh,
