@@ -20,8 +20,9 @@ double complex af_response_pole(const af_response *r, double bin, double sigma_w
 }
 
 /* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k, u from the phase
- * table (the same double as cexp(-i 2 pi k / N) computed here: the table's
- * entry is that cexp, af_response_phase). */
+ * table: its entry (af_response_phase) is the cexp of the same angle,
+ * -2 pi k / N, so the same double as a cexp a bin (two with the pole's,
+ * which af_response_pole gives once a mode). */
 double complex af_response_pole_pair(const af_response *r, double complex z, double complex c,
                                      size_t k)
 {
