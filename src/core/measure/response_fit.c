@@ -230,8 +230,9 @@ static void subtract(af_response *r, const af_peak *pk, size_t k, size_t j)
   size_t a = k < j ? k : j, b = k < j ? j : k, reach = AF_RESPONSE_FIT_MAX_HALF + 2;
   size_t lo = a > reach ? a - reach : 0;
   size_t hi = b + reach < r->bins ? b + reach : r->bins - 1;
+  double complex z = af_response_pole(r, pk->bin, pk->sigma_windowed);
   for (size_t i = lo; i <= hi; ++i) {
-    r->work[i] = r->spec[i] - af_response_pole_pair(r, pk->bin, pk->sigma_windowed, pk->c, i);
+    r->work[i] = r->spec[i] - af_response_pole_pair(r, z, pk->c, i);
     r->work_power[i] = creal(r->work[i] * conj(r->work[i]));
   }
 }

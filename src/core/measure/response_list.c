@@ -115,10 +115,7 @@ static void list_subtract(af_response *r, const af_peak *pk, size_t lo, size_t h
 {
   af_mode_k q = af_response_mode_consts(r, pk);
   af_response_add_trend_share(r, pk, lo, hi);
-  for (size_t i = lo; i <= hi; ++i) {
-    r->spec[i] -= af_response_mode_at(r, &q, i);
-    r->power[i] = creal(r->spec[i] * conj(r->spec[i]));
-  }
+  af_response_mode_subtract(r, &q, lo, hi);
 }
 
 /* Sorts a[0..n) by frequency (insertion: n <= AF_RESPONSE_MAX_PEAKS). */

@@ -61,12 +61,14 @@ af_status af_response_add_noise_below(af_response *r, const float *noise, size_t
     return AF_EINVAL;
   if (n > r->cfg.window_samples)
     return AF_ESIZE;
-  double mean = 0.0, energy = 0.0;
-  af_status s = af_response_mean(noise, n, &mean);
+  double energy = 0.0;
+  /* the reference does not know the range: every configured harmonic goes;
+   * the fit checks the samples' finiteness (its sum of them: no pass of its
+   * own) */
+  af_status s =
+      af_response_trend_fit(r, noise, 0, n, r->cfg.hum_hz > 0.0 ? r->cfg.hum_harmonics : 0, 1);
   if (s != AF_OK)
     return s;
-  /* the reference does not know the range: every configured harmonic goes */
-  af_response_trend_fit(r, noise, 0, n, r->cfg.hum_hz > 0.0 ? r->cfg.hum_harmonics : 0);
   /* only the bins read: the rest of the periodogram and the running mean
    * (~80 % of the bins for the peak list's band at the default rate) is
    * not computed; the bins computed are the same doubles */

@@ -14,15 +14,17 @@
 /* ---- peak ----------------------------------------------------------------- */
 
 /* On each side of k the lowest power within AF_RESPONSE_FIT_MAX_HALF bins
- * before the spectrum climbs above p[k] again. */
+ * before the spectrum climbs above p[k] again. A comparison, not fmin (a
+ * call per bin): the bins compared are no NaN (each passed p <= p[k]) and no
+ * power is -0, so both give the same value. */
 void af_response_side_floors(const af_response *r, size_t k, double *left, double *right)
 {
   const double *p = r->power;
   double lo = p[k], hi = p[k];
   for (size_t i = 1; i <= AF_RESPONSE_FIT_MAX_HALF && i < k && p[k - i] <= p[k]; ++i)
-    lo = fmin(lo, p[k - i]);
+    lo = p[k - i] < lo ? p[k - i] : lo;
   for (size_t i = 1; i <= AF_RESPONSE_FIT_MAX_HALF && k + i < r->bins && p[k + i] <= p[k]; ++i)
-    hi = fmin(hi, p[k + i]);
+    hi = p[k + i] < hi ? p[k + i] : hi;
   *left = lo;
   *right = hi;
 }

@@ -102,6 +102,8 @@ struct af_response {
   double *window_energy;          /* window_energy[m] = sum_{k < m} window[k]^2, summed in
                                      order: the energy of an m-sample transform */
   size_t fade_samples;            /* length of the fade-in [samples] */
+  double *fade_rest;              /* 1 - the fade-in's weight, fade_samples of them (window
+                                     samples allocated: the fade-in is at most a quarter) */
   double *power;                  /* periodogram |X_k|^2 of the last transform */
   double *noise_ref;              /* mean reference periodogram per unit window energy */
   double *scratch;                /* median workspace (noise band) */
@@ -118,28 +120,30 @@ struct af_response {
   size_t noise_bins;              /* bins of noise_ref and noise_cum (+ 1) that hold it */
   double fit_start[AF_RESPONSE_SPLIT_PARAMS]; /* a fit's starting point */
   double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
-  size_t split_poles;                 /* model of the fit under way: 0 the pole pair of stage 2,
-                                         1 or 2 the poles of a truncated fit */
-  af_fit_ctx ctx;                     /* the fit under way */
-  gsl_matrix *trend_gram;             /* DC + hum least squares, MAX_TERMS square */
-  gsl_vector *trend_rhs, *trend_coef; /* its right-hand side and solution */
-  size_t trend_terms;                 /* terms of the last trend fit: 1 + 2 harmonics */
-  size_t hum_period;                  /* af_response_hum_period; 0 = none */
-  double *trend_fold;                 /* one hum period: folded samples, then the trend */
-  double *trend_table;                /* the basis over one hum period (NULL without one):
-                                         row j holds sample j's 1 + 2 hum_harmonics terms */
-  double *trend_cols;                 /* the same by term: column i's hum_period values in a
-                                         row of its own (contiguous loops over the samples) */
-  double *noise_cum;                  /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
-  size_t share_terms;                 /* the trend's terms as windowed poles: the DC and
-                                         hum_harmonics (with a hum), 0 without the exponential
-                                         window */
-  const double complex *share_g;      /* bin by bin, per term and side (its pole, then the
-                                         conjugate): 1 / (1 - z u) less the fade-in's part */
-  const double complex *share_p;      /*   and 1 / (1 - z u) (af_response_add_trend_share);
-                                         both the process's (memo.h), or in share_own */
-  double complex *share_own;          /* the tables when the process could not keep them */
-  af_response_fit_stats fit_stats;    /* the fits run, by status (response.h) */
+  size_t split_poles;                    /* model of the fit under way: 0 the pole pair of stage 2,
+                                            1 or 2 the poles of a truncated fit */
+  af_fit_ctx ctx;                        /* the fit under way */
+  gsl_matrix *trend_gram;                /* DC + hum least squares, MAX_TERMS square */
+  gsl_matrix *noise_gram;                /* the same for the noise reference, factored */
+  size_t noise_gram_m, noise_gram_terms; /* its samples and terms; terms 0: none */
+  gsl_vector *trend_rhs, *trend_coef;    /* its right-hand side and solution */
+  size_t trend_terms;                    /* terms of the last trend fit: 1 + 2 harmonics */
+  size_t hum_period;                     /* af_response_hum_period; 0 = none */
+  double *trend_fold;                    /* one hum period: folded samples, then the trend */
+  double *trend_table;                   /* the basis over one hum period (NULL without one):
+                                            row j holds sample j's 1 + 2 hum_harmonics terms */
+  double *trend_cols;                    /* the same by term: column i's hum_period values in a
+                                            row of its own (contiguous loops over the samples) */
+  double *noise_cum;               /* noise_ref's running sum: cum[k] = sum_{j < k}, bins + 1 */
+  size_t share_terms;              /* the trend's terms as windowed poles: the DC and
+                                      hum_harmonics (with a hum), 0 without the exponential
+                                      window */
+  const double complex *share_g;   /* bin by bin, per term and side (its pole, then the
+                                      conjugate): 1 / (1 - z u) less the fade-in's part */
+  const double complex *share_p;   /*   and 1 / (1 - z u) (af_response_add_trend_share);
+                                      both the process's (memo.h), or in share_own */
+  double complex *share_own;       /* the tables when the process could not keep them */
+  af_response_fit_stats fit_stats; /* the fits run, by status (response.h) */
 };
 
 /* A mode of the spectrum as the refinement sees it, before the window's decay
@@ -168,6 +172,58 @@ typedef struct {
 #else
 #define AF_NUMERIC_KERNEL
 #endif
+/* The small loops' unroll pragmas (#pragma GCC unroll) are for GCC, the
+ * build whose speed counts; clang (the sanitizer and fuzzing build) takes
+ * them as a count to unroll by and warns where a bound is not a constant:
+ * there it may leave them rolled. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
+/* Two doubles in one SSE2 register (the vector extension of GCC and clang):
+ * each lane gets the IEEE operation a scalar would, so a loop over two bins
+ * at once written as the scalar complex arithmetic expands (GCC under
+ * -fcx-limited-range: (a + ib)(c + id) = (ac - bd) + i(ad + bc), a real
+ * operand acting on each part alone) gives its doubles bit for bit (the
+ * baseline x86-64 target has no FMA to contract either differently). */
+typedef double af_v2d __attribute__((vector_size(16)));
+/* Complex values of two bins, real and imaginary parts apart. */
+typedef struct {
+  af_v2d re, im;
+} af_cv2;
+
+/* The complex re + i im with its parts set, not computed (C11: a complex is
+ * laid out as the array of its two parts); glibc's CMPLX, which does the
+ * same, is defined for GCC alone. */
+static inline double complex complex_of(double re, double im)
+{
+  union {
+    double parts[2];
+    double complex z;
+  } u = {{re, im}};
+  return u.z;
+}
+
+/* a b as the scalar complex product expands: (ac - bd) + i(ad + bc). */
+static inline af_cv2 cv2_mul(af_cv2 a, af_cv2 b)
+{
+  af_cv2 p = {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+  return p;
+}
+
+/* z in both lanes. */
+static inline af_cv2 cv2_splat(double complex z)
+{
+  af_cv2 p = {{creal(z), creal(z)}, {cimag(z), cimag(z)}};
+  return p;
+}
+
+/* t[0], t[1] apart into real and imaginary parts. */
+static inline af_cv2 cv2_load(const double complex *t)
+{
+  af_cv2 p = {{creal(t[0]), creal(t[1])}, {cimag(t[0]), cimag(t[1])}};
+  return p;
+}
 
 /* 1 / b without the C library's careful complex division (b is never near
  * 0 or overflow here: 1 - a with |a| < 1 bounded away from 1 by the decay).
@@ -198,11 +254,17 @@ int af_response_read_peak(af_response *r, size_t k, double noise, af_peak *pk,
 /* ---- response_trend.c ---- */
 /* Harmonics of the hum to remove for a range starting at f_lo_hz. */
 size_t af_response_hum_harmonics(const af_response *r, double f_lo_hz);
-/* Least-squares DC + harmonics of x[start..n) into r->trend_coef. */
-void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
-                           size_t harmonics);
-/* dst[k] = x[start + k] less the fitted trend, k < m. */
-void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst);
+/* Least-squares DC + harmonics of x[start..n) into r->trend_coef (the mean
+ * alone when the normal equations are singular); 'noise': the noise
+ * reference's fit, on its own normal matrix (r->noise_gram, kept between
+ * calls), else on r->trend_gram (af_response_add_trend_share reads its
+ * factor). AF_ENUMERIC, r's trend untouched, for a non-finite sample. */
+af_status af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
+                                size_t harmonics, int noise);
+/* dst[k] = (x[start + k] less the fitted trend) w[k], k < m: the window's
+ * product in the same pass (the same doubles as a pass of its own after). */
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m,
+                              const double *w, double *dst);
 /* The hum's period [samples] when whole and at most window_samples (48 kHz
  * and 50 or 60 Hz: 960, 800), else 0: the trend then repeats exactly. */
 size_t af_response_hum_period(const af_response_config *c);
@@ -227,10 +289,13 @@ double complex af_response_phase(size_t k, size_t fft_size, double power);
 /* exp(i theta) and exp(i theta / 2), theta = pi / L, of a fade-in of L
  * samples (theta 0 without one): the constants of af_response_fade_part. */
 void af_response_fade_phases(size_t fade_samples, double complex *e, double complex *eh);
-/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. */
-af_status af_response_mean(const float *x, size_t n, double *mean);
-/* First sample whose |x - mean| reaches fraction of the largest. */
-size_t af_response_onset(const float *x, size_t n, double mean, double fraction);
+/* Mean of x[0..n) and its smallest and largest sample into *lo, *hi (n > 0);
+ * AF_ENUMERIC for a non-finite sample. */
+af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi);
+/* First sample whose |x - mean| reaches fraction of the largest (the
+ * samples' range [lo, hi], from af_response_mean_range). */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction, float lo,
+                         float hi);
 /* The raised-cosine fade-in's weight at sample k of length samples (1 beyond). */
 double af_response_fade(size_t k, size_t length);
 /* Fills r->window and the phase factors (at create). */
@@ -270,9 +335,11 @@ int af_response_stage1(const af_response *r, const double *p, const double compl
 void af_response_log_parabola(const af_response *r, size_t k, af_peak *out);
 
 /* ---- response_mode.c ---- */
+/* The pole z = exp(-sigma' / fs + i 2 pi bin / N) of a mode at bin (fractional). */
+double complex af_response_pole(const af_response *r, double bin, double sigma_windowed);
 /* c / (1 - z u) + conj(c) / (1 - conj(z) u) at bin k. */
-double complex af_response_pole_pair(const af_response *r, double bin, double sigma_windowed,
-                                     double complex c, size_t k);
+double complex af_response_pole_pair(const af_response *r, double complex z, double complex c,
+                                     size_t k);
 /* The fade-in's part F(a) of sum_k a^k (al = a^L, inv_1a = 1 / (1 - a);
  * e, eh: exp(i pi / L), exp(i pi / 2L)); 0 without a fade-in. */
 double complex af_response_fade_part(size_t fade_samples, double complex e, double complex eh,
@@ -282,6 +349,9 @@ double af_response_mode_peak_power(const af_response *r, double complex c, doubl
 af_mode_k af_response_mode_consts(const af_response *r, const af_peak *pk);
 /* The mode q as the window holds it over the m analysed samples, at bin i. */
 double complex af_response_mode_at(const af_response *r, const af_mode_k *q, size_t i);
+/* r->spec[i] -= af_response_mode_at(r, q, i) and r->power[i] = |r->spec[i]|^2
+ * over [lo, hi]: the same doubles, two bins at a time. */
+void af_response_mode_subtract(af_response *r, const af_mode_k *q, size_t lo, size_t hi);
 /* The same by the fade-in's three geometric sums (af_response_fade_part),
  * which af_response_mode_at rearranges over one denominator. */
 double complex af_response_mode_at_sums(const af_response *r, const af_mode_k *q, size_t i);

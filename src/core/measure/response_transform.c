@@ -11,18 +11,27 @@
 
 #include "memo.h"
 
-/* Mean of x[0..n); AF_ENUMERIC for a non-finite sample. Tested once, on
- * the sum: a sum of finite floats in double stays finite (|x| < 3.5e38,
- * n < 1e269), a NaN or an infinity makes it NaN or infinite; one test per
- * sample was 40 % of the loop. */
-af_status af_response_mean(const float *x, size_t n, double *mean)
+/* Mean of x[0..n) with its smallest and largest sample (the onset's largest
+ * deviation from them, af_response_onset); AF_ENUMERIC for a non-finite
+ * sample. Finiteness is tested once, on the sum: a sum of finite floats in
+ * double stays finite (|x| < 3.5e38, n < 1e269), a NaN or an infinity makes
+ * it NaN or infinite; one test per sample was 40 % of the loop. The range
+ * comes in the mean's pass, whose chain of additions leaves the core idle
+ * between them. */
+af_status af_response_mean_range(const float *x, size_t n, double *mean, float *lo, float *hi)
 {
   double sum = 0.0;
-  for (size_t k = 0; k < n; ++k)
+  float a = x[0], b = x[0];
+  for (size_t k = 0; k < n; ++k) {
     sum += x[k];
+    a = x[k] < a ? x[k] : a;
+    b = x[k] > b ? x[k] : b;
+  }
   if (!isfinite(sum))
     return AF_ENUMERIC;
   *mean = sum / (double)n;
+  *lo = a;
+  *hi = b;
   return AF_OK;
 }
 
@@ -30,18 +39,18 @@ af_status af_response_mean(const float *x, size_t n, double *mean)
  * least AF_RESPONSE_MIN_SAMPLES from the end; 0 when fraction is 0. Starting
  * the analysis there makes the ringing start at the window's first sample,
  * where the exponential window and the model of the fit expect it; a start a
- * little after the true onset costs only amplitude. */
-size_t af_response_onset(const float *x, size_t n, double mean, double fraction)
+ * little after the true onset costs only amplitude. The largest |x - mean|
+ * from the samples' range [lo, hi] (af_response_mean_range): rounding is
+ * monotone, so the largest of the rounded x - mean is hi - mean rounded, the
+ * largest of mean - x is mean - lo rounded, and |x - mean| rounded is one of
+ * the two: the same double as the largest over every sample. */
+size_t af_response_onset(const float *x, size_t n, double mean, double fraction, float lo, float hi)
 {
   if (!(fraction > 0.0))
     return 0;
-  /* a comparison, not fmax (a call per sample): the samples are finite
-   * (af_response_mean passed them), so both give the same largest value */
-  double peak = 0.0;
-  for (size_t k = 0; k < n; ++k) {
-    double d = fabs((double)x[k] - mean);
-    peak = d > peak ? d : peak;
-  }
+  double above = (double)hi - mean, below = mean - (double)lo, peak = 0.0;
+  peak = above > peak ? above : peak;
+  peak = below > peak ? below : peak;
   size_t k = 0;
   while (k + AF_RESPONSE_MIN_SAMPLES < n && fabs((double)x[k] - mean) < fraction * peak)
     ++k;
@@ -93,6 +102,10 @@ void af_response_fill_window(af_response *r)
   r->window_energy[0] = 0.0;
   for (size_t k = 0; k < c->window_samples; ++k)
     r->window_energy[k + 1] = r->window_energy[k] + r->window[k] * r->window[k];
+  /* what the fade-in takes of each of its samples, for a mode's own peak
+   * power (af_response_mode_peak_power: a cos per sample per mode read) */
+  for (size_t k = 0; k < r->fade_samples; ++k)
+    r->fade_rest[k] = 1.0 - af_response_fade(k, r->fade_samples);
 }
 
 /* The phase tables' arguments (no padding: the key is its bytes). */
@@ -163,9 +176,7 @@ void af_response_transform(af_response *r, af_response_input *in, const float *x
 {
   size_t m = n - start;
   double *samples = in->samples;
-  af_response_trend_remove(r, x, start, m, samples);
-  for (size_t k = 0; k < m; ++k)
-    samples[k] *= r->window[k];
+  af_response_trend_remove(r, x, start, m, r->window, samples);
   /* the padding: only what an earlier, longer transform left there (FFTW's
    * out-of-place r2c preserves its input); a whole 16384-point buffer per
    * call was 1.8 % of firmness_report's instructions */

@@ -12,10 +12,12 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
+#include "af_defaults.h" /* the parameter table's defaults */
 #include "memo.h"
 
 /* Only harmonics at or below AF_RESPONSE_HUM_MARGIN f_lo are removed, clear
@@ -155,47 +157,68 @@ static size_t trend_fold(af_response *r, const float *x, size_t start, size_t m)
       y[j] = (double)x[start + j];
     return m;
   }
-  for (size_t j = 0; j < period; ++j)
-    y[j] = 0.0;
-  for (size_t k0 = 0; k0 < m; k0 += period) /* period by period: no wrap test per sample */
+  for (size_t j = 0; j < period; ++j) /* the first period onto zeros, as one loop */
+    y[j] = 0.0 + (double)x[start + j];
+  for (size_t k0 = period; k0 < m; k0 += period) /* period by period: no wrap test per sample */
     for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
       y[j] += (double)x[start + k0 + j];
   return period;
 }
 
-/* sums[0] += sum_j c[j] y[j], sums[1] += sum_j s[j] y[j] (j < len, in order),
- * s = c + period: two columns of the table in one pass over y. */
-static void column_pair(const double *c, size_t period, const double *y, size_t len, double *sums)
+/* rhs[0] += sum_j y[j] and, per harmonic h < 'harmonics', (rhs[2h + 1],
+ * rhs[2h + 2]) += sum_j (cos, sin)_h(j) y[j], j < len, each sum in order: one
+ * pass over y, a harmonic's two sums in one register (af_v2d: the same
+ * doubles) from the table's row j, where its cos and sin stand side by side.
+ * Inlined with the count constant (table_sums), so the sums stay in
+ * registers. */
+static inline __attribute__((always_inline)) void
+table_sums_n(const af_response *r, const double *y, size_t len, size_t harmonics, double *rhs)
 {
-  const double *s = c + period;
-  double a = sums[0], b = sums[1];
+  size_t terms = 1 + 2 * r->cfg.hum_harmonics;
+  af_v2d acc[AF_RESPONSE_MAX_HUM_HARMONICS];
+  double sum = rhs[0];
+  for (size_t h = 0; h < harmonics; ++h)
+    acc[h] = (af_v2d){rhs[2 * h + 1], rhs[2 * h + 2]};
   for (size_t j = 0; j < len; ++j) {
-    a += c[j] * y[j];
-    b += s[j] * y[j];
+    const double *row = r->trend_table + j * terms + 1;
+    const af_v2d yj = {y[j], y[j]};
+    sum += y[j]; /* the DC's column: 1 x y_j is y_j */
+#pragma GCC unroll 8
+    for (size_t h = 0; h < harmonics; ++h) {
+      af_v2d t;
+      memcpy(&t, row + 2 * h, sizeof t); /* rows of odd length: unaligned */
+      acc[h] += t * yj;
+    }
   }
-  sums[0] = a;
-  sums[1] = b;
+  rhs[0] = sum;
+  for (size_t h = 0; h < harmonics; ++h) {
+    rhs[2 * h + 1] = acc[h][0];
+    rhs[2 * h + 2] = acc[h][1];
+  }
+}
+
+/* table_sums_n, the configuration's default count of harmonics apart. */
+static void table_sums(const af_response *r, const double *y, size_t len, size_t harmonics,
+                       double *rhs)
+{
+  if (harmonics == AF_DEFAULT_MEASURE_HUM_HARMONICS)
+    table_sums_n(r, y, len, AF_DEFAULT_MEASURE_HUM_HARMONICS, rhs);
+  else
+    table_sums_n(r, y, len, harmonics, rhs);
 }
 
 /* rhs_i = sum_k phi_i(k) x[start + k], k < m. With a whole hum period P the
  * basis repeats every P samples: x is first folded onto one period
  * (trend_fold), then the basis runs over P samples only (~4x fewer for 4096
- * samples at 48 kHz and a 960-sample period), term by term from the table's
- * columns (each rhs_i the same products in the same order as row by row, in
- * a contiguous loop); else the rotor over all m. */
+ * samples at 48 kHz and a 960-sample period), all terms in one pass
+ * (table_sums: each rhs_i the same products in the same order as term by
+ * term); else the rotor over all m. */
 static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, size_t harmonics,
                       double *rhs)
 {
   size_t p = 1 + 2 * harmonics, period = r->hum_period;
   if (harmonics > 0 && period > 0) {
-    size_t len = trend_fold(r, x, start, m);
-    const double *y = r->trend_fold, *dc = r->trend_cols;
-    double sum = rhs[0];
-    for (size_t j = 0; j < len; ++j) /* the DC's column: 1 x y_j is y_j */
-      sum += y[j];
-    rhs[0] = sum;
-    for (size_t h = 1; h <= harmonics; ++h) /* a harmonic's cos and sin in one pass */
-      column_pair(dc + (2 * h - 1) * period, period, y, len, rhs + 2 * h - 1);
+    table_sums(r, r->trend_fold, trend_fold(r, x, start, m), harmonics, rhs);
     return;
   }
   if (harmonics == 0) { /* the constant alone: the sum (1 x sample is the sample) */
@@ -212,29 +235,50 @@ static void trend_rhs(af_response *r, const float *x, size_t start, size_t m, si
   }
 }
 
-/* Least-squares DC + harmonics of x[start..n) into r->trend_coef; falls back
- * to the mean alone when the normal equations are singular (a segment far
- * shorter than a hum period). */
-void af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n, size_t harmonics)
+/* The Cholesky factor of the normal matrix of 1 + 2 harmonics terms over m
+ * samples into gram's leading block; 0 if it is singular. With 'kept' (the
+ * noise reference's matrix, whose segment has the same length every strike)
+ * the factor of the last call is reused when m and the terms are the same:
+ * the same doubles, without the trigonometry and the factoring (5 k
+ * instructions a strike). */
+static int gram_factor(af_response *r, gsl_matrix *gram, size_t m, size_t harmonics, int kept)
+{
+  size_t p = 1 + 2 * harmonics;
+  if (kept && r->noise_gram_terms == p && r->noise_gram_m == m)
+    return 1;
+  gsl_matrix_view g = gsl_matrix_submatrix(gram, 0, 0, p, p);
+  trend_gram(2.0 * AF_PI * r->cfg.hum_hz / r->cfg.sample_rate_hz, m, harmonics, &g.matrix);
+  int ok = gsl_linalg_cholesky_decomp1(&g.matrix) == GSL_SUCCESS;
+  if (kept) {
+    r->noise_gram_terms = ok ? p : 0;
+    r->noise_gram_m = m;
+  }
+  return ok;
+}
+
+af_status af_response_trend_fit(af_response *r, const float *x, size_t start, size_t n,
+                                size_t harmonics, int noise)
 {
   size_t p = 1 + 2 * harmonics;
   double rhs[AF_RESPONSE_MAX_TERMS] = {0};
   trend_rhs(r, x, start, n - start, harmonics, rhs);
-  gsl_matrix_view g = gsl_matrix_submatrix(r->trend_gram, 0, 0, p, p);
+  /* rhs[0] sums the samples themselves (the constant's column is 1): a sum
+   * of finite floats in double stays finite, a NaN or an infinity does not */
+  if (!isfinite(rhs[0]))
+    return AF_ENUMERIC;
+  gsl_matrix *gram = noise ? r->noise_gram : r->trend_gram;
+  gsl_matrix_view g = gsl_matrix_submatrix(gram, 0, 0, p, p);
   gsl_vector_view b = gsl_vector_subvector(r->trend_rhs, 0, p);
   gsl_vector_view a = gsl_vector_subvector(r->trend_coef, 0, p);
   for (size_t i = 0; i < p; ++i)
     gsl_vector_set(&b.vector, i, rhs[i]);
   r->trend_terms = p;
-  if (p > 1) {
-    trend_gram(2.0 * AF_PI * r->cfg.hum_hz / r->cfg.sample_rate_hz, n - start, harmonics,
-               &g.matrix);
-    if (gsl_linalg_cholesky_decomp1(&g.matrix) == GSL_SUCCESS &&
-        gsl_linalg_cholesky_solve(&g.matrix, &b.vector, &a.vector) == GSL_SUCCESS)
-      return;
-  }
+  if (p > 1 && gram_factor(r, gram, n - start, harmonics, noise) &&
+      gsl_linalg_cholesky_solve(&g.matrix, &b.vector, &a.vector) == GSL_SUCCESS)
+    return AF_OK;
   r->trend_terms = 1;
   gsl_vector_set(r->trend_coef, 0, rhs[0] / (double)(n - start));
+  return AF_OK;
 }
 
 /* The trend of the last fit at sample k (basis_at). */
@@ -248,30 +292,60 @@ static double trend_at(const af_response *r, rotor *rot, size_t harmonics, size_
   return trend;
 }
 
+/* The trend of the last fit (coef, terms of them) at samples j..j + 1 of
+ * the hum period from the table's columns (dc, period apart): trend_at's
+ * sum, 0 + 1 x coef_0, then each harmonic's cos and sin in order, two
+ * samples a register (af_v2d: the same doubles). Inlined with the count
+ * constant (trend_period), so the coefficients stay in registers. */
+static inline __attribute__((always_inline)) af_v2d
+trend_pair(const double *dc, size_t period, const af_v2d *coef, size_t terms, size_t j)
+{
+  af_v2d t = (af_v2d){0.0, 0.0} + (af_v2d){dc[j], dc[j + 1]} * coef[0];
+#pragma GCC unroll 16
+  for (size_t i = 1; i + 1 < terms; i += 2) {
+    const double *c = dc + i * period + j, *s = c + period;
+    t = (t + (af_v2d){c[0], c[1]} * coef[i]) + (af_v2d){s[0], s[1]} * coef[i + 1];
+  }
+  return t;
+}
+
 /* The trend of the last fit (coef) at samples 0..len of one hum period, len
- * <= the period, into r->trend_fold: term by term from the table's columns,
- * each value the same sum in the same order as trend_at's, in loops over
- * the samples that the compiler vectorises. */
+ * <= the period, into r->trend_fold: all terms in one pass over the samples
+ * (trend_pair; an odd last sample by trend_at's sum alone), each value the
+ * same sum in the same order as trend_at's. */
 static void trend_period(af_response *r, const double *coef, size_t len)
 {
   double *t = r->trend_fold;
   const double *dc = r->trend_cols;
-  size_t period = r->hum_period;
-  for (size_t j = 0; j < len; ++j)
-    t[j] = 0.0 + dc[j] * coef[0];
-  for (size_t i = 1; i + 1 < r->trend_terms; i += 2) { /* a harmonic's cos and sin */
-    const double *c = dc + i * period, *s = c + period;
-    const double cc = coef[i], cs = coef[i + 1];
-    for (size_t j = 0; j < len; ++j)
-      t[j] = (t[j] + c[j] * cc) + s[j] * cs;
+  size_t period = r->hum_period, terms = r->trend_terms, j = 0;
+  af_v2d k[AF_RESPONSE_MAX_TERMS];
+  for (size_t i = 0; i < terms; ++i)
+    k[i] = (af_v2d){coef[i], coef[i]};
+  if (terms == 1 + 2 * AF_DEFAULT_MEASURE_HUM_HARMONICS)
+    for (; j + 1 < len; j += 2) {
+      af_v2d v = trend_pair(dc, period, k, 1 + 2 * AF_DEFAULT_MEASURE_HUM_HARMONICS, j);
+      memcpy(t + j, &v, sizeof v);
+    }
+  for (; j + 1 < len; j += 2) {
+    af_v2d v = trend_pair(dc, period, k, terms, j);
+    memcpy(t + j, &v, sizeof v);
+  }
+  for (; j < len; ++j) { /* an odd last sample */
+    double v = 0.0 + dc[j] * coef[0];
+    for (size_t i = 1; i + 1 < terms; i += 2)
+      v = (v + dc[i * period + j] * coef[i]) + dc[(i + 1) * period + j] * coef[i + 1];
+    t[j] = v;
   }
 }
 
-/* dst[k] = x[start + k] less the trend of the last fit, k < m: the DC and
- * harmonics of r->trend_coef, the rotor restarted at start (the fit's phase
- * origin); with a whole hum period, one period of the trend computed and
- * repeated. */
-void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m, double *dst)
+/* dst[k] = (x[start + k] less the trend of the last fit) w[k], k < m: the
+ * DC and harmonics of r->trend_coef, the rotor restarted at start (the fit's
+ * phase origin); with a whole hum period, one period of the trend computed
+ * and repeated. The window's product w[k] in the same pass: each value the
+ * same two roundings as a pass of its own after, one pass over the samples
+ * fewer. */
+void af_response_trend_remove(af_response *r, const float *x, size_t start, size_t m,
+                              const double *w, double *dst)
 {
   size_t harmonics = (r->trend_terms - 1) / 2, period = r->hum_period;
   double coef[AF_RESPONSE_MAX_TERMS];
@@ -282,18 +356,18 @@ void af_response_trend_remove(af_response *r, const float *x, size_t start, size
     trend_period(r, coef, m < period ? m : period);
     for (size_t k0 = 0; k0 < m; k0 += period)
       for (size_t j = 0, len = m - k0 < period ? m - k0 : period; j < len; ++j)
-        dst[k0 + j] = (double)x[start + k0 + j] - t[j];
+        dst[k0 + j] = ((double)x[start + k0 + j] - t[j]) * w[k0 + j];
     return;
   }
   if (harmonics == 0) { /* the constant alone: trend_at's 0 + 1 x coef, once */
     const double t0 = 0.0 + coef[0];
     for (size_t k = 0; k < m; ++k)
-      dst[k] = (double)x[start + k] - t0;
+      dst[k] = ((double)x[start + k] - t0) * w[k];
     return;
   }
   rotor rot = rotor_start(r);
   for (size_t k = 0; k < m; ++k)
-    dst[k] = (double)x[start + k] - trend_at(r, &rot, harmonics, k, coef);
+    dst[k] = ((double)x[start + k] - trend_at(r, &rot, harmonics, k, coef)) * w[k];
 }
 
 /* ---- the trend's share of a mode (peak list) -----------------------------------
@@ -433,6 +507,73 @@ static int share_coefficients(const af_response *r, const af_peak *pk, double *a
   return 1;
 }
 
+/* z as (re, im) and its swap (im, re) in one register each. */
+static inline af_v2d v2d_of(double complex z)
+{
+  af_v2d v = {creal(z), cimag(z)};
+  return v;
+}
+
+static inline af_v2d v2d_swap(af_v2d v)
+{
+  af_v2d s = {v[1], v[0]};
+  return s;
+}
+
+/* The share's coefficients per side, one complex in a register: k_re =
+ * (cr, cr) and k_im = (-ci, ci), so that k_re x + k_im swap(x) is, part by
+ * part, the scalar c x = (cr xr - ci xi) + i (cr xi + ci xr) ((-ci) xi is
+ * -(ci xi) exactly). */
+typedef struct {
+  af_v2d c_re[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)],
+      c_im[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)];
+  af_v2d p_re[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)],
+      p_im[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)];
+} share_k;
+
+/* Side s's terms of a bin (its tables' row gt, pt) added to the sums g, p. */
+static inline void share_side(const share_k *k, size_t s, const double complex *gt,
+                              const double complex *pt, af_v2d *g, af_v2d *p)
+{
+  af_v2d x = v2d_of(gt[s]), y = v2d_of(pt[s]);
+  *g += k->c_re[s] * x + k->c_im[s] * v2d_swap(x);
+  *p += k->p_re[s] * y + k->p_im[s] * v2d_swap(y);
+}
+
+/* r->spec[i] += sum_t c[t] g_t(i) - u_i^m sum_t czm[t] p_t(i) over the first
+ * n sides (n even: a pole and its conjugate), i in [lo, hi]: each sum in the
+ * order of the scalar loop it replaces, with each bin's complex in one
+ * register (response_private.h on af_v2d: the same doubles, 2.5 times fewer
+ * instructions). */
+static inline __attribute__((always_inline)) void share_apply_n(af_response *r, const share_k *k,
+                                                                size_t n, size_t lo, size_t hi)
+{
+  size_t sides = 2 * r->share_terms;
+  for (size_t i = lo; i <= hi; ++i) {
+    const double complex *gt = r->share_g + i * sides, *pt = r->share_p + i * sides;
+    af_v2d g = {0.0, 0.0}, p = {0.0, 0.0};
+#pragma GCC unroll 9
+    for (size_t t = 0; t < n; t += 2) { /* a pole and its conjugate a pass */
+      share_side(k, t, gt, pt, &g, &p);
+      share_side(k, t + 1, gt, pt, &g, &p);
+    }
+    af_v2d u = v2d_of(r->phase_um[i]);
+    af_v2d up = (af_v2d){u[0], u[0]} * p + (af_v2d){-u[1], u[1]} * v2d_swap(p);
+    af_v2d x = v2d_of(r->spec[i]) + (g - up);
+    r->spec[i] = complex_of(x[0], x[1]);
+  }
+}
+
+/* share_apply_n, inlined with the sides of the default count of harmonics
+ * constant (the loop over them unrolled: 7 k instructions a strike). */
+static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, size_t hi)
+{
+  if (n == 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS))
+    share_apply_n(r, k, 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS), lo, hi);
+  else
+    share_apply_n(r, k, n, lo, hi);
+}
+
 void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, size_t hi)
 {
   size_t terms = (r->trend_terms - 1) / 2 + 1;
@@ -441,32 +582,21 @@ void af_response_add_trend_share(af_response *r, const af_peak *pk, size_t lo, s
     return;
   /* per term and side: its amplitude c (the DC a_0 is c = a_0 / 2 on a real
    * pole; a_c cos + a_s sin is c = (a_c - i a_s) / 2) and c z^m */
-  double complex c[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)],
-      czm[2 * (AF_RESPONSE_MAX_HUM_HARMONICS + 1)];
+  share_k k;
   const af_response_config *cf = &r->cfg;
   double m = r->split_len;
   for (size_t h = 0; h < terms; ++h) {
     double complex ch = h == 0 ? 0.5 * a[0] : 0.5 * (a[2 * h - 1] - I * a[2 * h]);
     double complex zm =
         cexp(m * term_log_pole(cf->sample_rate_hz, cf->window_time_constant_s, cf->hum_hz, h));
-    c[2 * h] = ch;
-    c[2 * h + 1] = conj(ch);
-    czm[2 * h] = ch * zm;
-    czm[2 * h + 1] = conj(ch * zm);
-  }
-  size_t sides = 2 * r->share_terms;
-  for (size_t i = lo; i <= hi; ++i) {
-    const double complex *g = r->share_g + i * sides, *pinv = r->share_p + i * sides;
-    /* real arithmetic: a complex product would check for NaN and call the C
-     * library's __muldc3 */
-    double gr = 0.0, gi = 0.0, pr = 0.0, pi = 0.0;
-    for (size_t t = 0; t < 2 * terms; ++t) {
-      gr += creal(c[t]) * creal(g[t]) - cimag(c[t]) * cimag(g[t]);
-      gi += creal(c[t]) * cimag(g[t]) + cimag(c[t]) * creal(g[t]);
-      pr += creal(czm[t]) * creal(pinv[t]) - cimag(czm[t]) * cimag(pinv[t]);
-      pi += creal(czm[t]) * cimag(pinv[t]) + cimag(czm[t]) * creal(pinv[t]);
+    double complex czm = ch * zm;
+    for (size_t s = 0; s < 2; ++s) { /* the pole, then its conjugate */
+      double sign = s == 0 ? 1.0 : -1.0;
+      k.c_re[2 * h + s] = (af_v2d){creal(ch), creal(ch)};
+      k.c_im[2 * h + s] = (af_v2d){-sign * cimag(ch), sign * cimag(ch)};
+      k.p_re[2 * h + s] = (af_v2d){creal(czm), creal(czm)};
+      k.p_im[2 * h + s] = (af_v2d){-sign * cimag(czm), sign * cimag(czm)};
     }
-    double ur = creal(r->phase_um[i]), ui = cimag(r->phase_um[i]);
-    r->spec[i] += (gr - (ur * pr - ui * pi)) + I * (gi - (ur * pi + ui * pr));
   }
+  share_apply(r, &k, 2 * terms, lo, hi);
 }

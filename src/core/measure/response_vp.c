@@ -109,27 +109,101 @@ vp_fill_bin(const af_response *r, const vp_pole *pc, size_t poles, size_t k, vp_
   }
 }
 
+/* vp_term on two bins (af_cv2), operation for operation: 1 - a is
+ * (1 - re, -im), complex_recip divides conj(b) by |b|^2, a real times a
+ * complex scales each part. */
+AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) af_cv2
+vp_term2(int truncated, af_cv2 a, af_cv2 am, af_cv2 am1, double m, af_cv2 *e)
+{
+  af_cv2 d = {1.0 - a.re, -a.im};
+  af_v2d n2 = d.re * d.re + d.im * d.im;
+  af_cv2 inv = {d.re / n2, -d.im / n2};
+  if (!truncated) {
+    *e = cv2_mul(cv2_mul(a, inv), inv);
+    return inv;
+  }
+  af_cv2 t = cv2_mul((af_cv2){1.0 - am.re, -am.im}, inv);
+  *e = cv2_mul(cv2_mul(a, (af_cv2){t.re - m * am1.re, t.im - m * am1.im}), inv);
+  return t;
+}
+
+/* Part i of lane pair x as a complex. */
+static inline double complex cv2_at(af_cv2 x, size_t i)
+{
+  return complex_of(x.re[i], x.im[i]);
+}
+
+/* vp_fill_bin for bins k and k + 1 into b[0], b[1]: its operations two bins
+ * a register (af_cv2; response_private.h: the same doubles; a NaN's sign
+ * may differ, and a NaN ends the evaluation either way), 15 k fewer
+ * instructions a strike on the 600-strike line bag. norm i (t - tc) is
+ * (-(norm Im), norm Re) of t - tc, as the scalar product by the constant i
+ * expands. */
+AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void
+vp_fill_pair(const af_response *r, const vp_pole *pc, size_t poles, size_t k, vp_bin *b)
+{
+  const af_fit_ctx *f = &r->ctx;
+  int truncated = r->split_poles > 0;
+  double m = r->split_len, norm = f->norm;
+  af_cv2 u = cv2_load(r->phase_u + k), um = {{0.0, 0.0}, {0.0, 0.0}}, um1 = um;
+  if (truncated) {
+    um = cv2_load(r->phase_um + k);
+    um1 = cv2_mul(um, (af_cv2){u.re, -u.im});
+  }
+  for (size_t i = 0; i < 2; ++i) {
+    b[i].y = f->gain * f->data[k + i];
+    b[i].xb = ((double)(k + i) - f->center) / f->half;
+  }
+  for (size_t j = 0; j < poles; ++j) {
+    af_cv2 z = cv2_splat(pc[j].z), zm = cv2_splat(pc[j].zm), zm1 = cv2_splat(pc[j].zm1);
+    af_cv2 zc = cv2_splat(conj(pc[j].z)), zmc = cv2_splat(conj(pc[j].zm));
+    af_cv2 zm1c = cv2_splat(conj(pc[j].zm1)), e, ec;
+    af_cv2 t = vp_term2(truncated, cv2_mul(z, u), cv2_mul(zm, um), cv2_mul(zm1, um1), m, &e);
+    af_cv2 tc = vp_term2(truncated, cv2_mul(zc, u), cv2_mul(zmc, um), cv2_mul(zm1c, um1), m, &ec);
+    af_cv2 sum = {norm * (t.re + tc.re), norm * (t.im + tc.im)};
+    af_cv2 dif = {-(norm * (t.im - tc.im)), norm * (t.re - tc.re)};
+    for (size_t i = 0; i < 2; ++i) {
+      b[i].e[j] = cv2_at(e, i);
+      b[i].ec[j] = cv2_at(ec, i);
+      b[i].col[2 * j] = cv2_at(sum, i);
+      b[i].col[2 * j + 1] = cv2_at(dif, i);
+    }
+  }
+}
+
+/* p[0], p[1] += v[0], v[1]: a real and imaginary pair of sums in one
+ * register (af_v2d: each sum's own addition). */
+static inline __attribute__((always_inline)) void v2d_add_to(double *p, af_v2d v)
+{
+  af_v2d s;
+  memcpy(&s, p, sizeof s);
+  s += v;
+  memcpy(p, &s, sizeof s);
+}
+
 /* Adds bin b to g = Phi^T Phi (upper triangle, nl x nl) and h = Phi^T y;
  * npc pole columns, then the background's six. */
 AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) void
 vp_gram_add(const vp_bin *b, size_t npc, size_t nl, double *g, double *h)
 {
   const double xp[3] = {1.0, b->xb, b->xb * b->xb};
+#pragma GCC unroll 4
   for (size_t l = 0; l < npc; ++l) {
     double cr = creal(b->col[l]), ci = cimag(b->col[l]);
     double *row = g + l * nl;
+#pragma GCC unroll 4
     for (size_t j = l; j < npc; ++j)
       row[j] += cr * creal(b->col[j]) + ci * cimag(b->col[j]);
-    for (size_t q = 0; q < 3; ++q) {
-      row[npc + 2 * q] += cr * xp[q];
-      row[npc + 2 * q + 1] += ci * xp[q];
-    }
+    const af_v2d c = {cr, ci};
+#pragma GCC unroll 3
+    for (size_t q = 0; q < 3; ++q) /* the background's x^q and i x^q: (cr, ci) x^q */
+      v2d_add_to(row + npc + 2 * q, c * xp[q]);
     h[l] += cr * creal(b->y) + ci * cimag(b->y);
   }
-  for (size_t q = 0; q < 3; ++q) {
-    h[npc + 2 * q] += xp[q] * creal(b->y);
-    h[npc + 2 * q + 1] += xp[q] * cimag(b->y);
-  }
+  const af_v2d y = {creal(b->y), cimag(b->y)};
+#pragma GCC unroll 3
+  for (size_t q = 0; q < 3; ++q)
+    v2d_add_to(h + npc + 2 * q, xp[q] * y);
 }
 
 /* The background block of g: sum x^(q + t) on both real and imaginary. */
@@ -161,38 +235,47 @@ vp_derivs(const af_response *r, const vp_bin *b, const double *beta, size_t pole
 }
 
 /* The second pass: the residual at beta, the cost, and (when a is not NULL)
- * g_theta = v^T f, a = v^T v and w = Phi^T v (nl x nt). */
+ * g_theta = v^T f, a = v^T v and w = Phi^T v (nl x nt, stored by column:
+ * w[k nl + i] is row i of column k). */
 AF_NUMERIC_KERNEL static inline __attribute__((always_inline)) double
 vp_second_pass(const af_response *r, const vp_bin *bins, size_t count, size_t poles,
                const double *beta, double *a, double *g, double *w)
 {
-  size_t npc = 2 * poles, nt = npc; /* as many nonlinear parameters as pole columns */
+  size_t npc = 2 * poles, nt = npc, nl = npc + 6; /* nt: one per pole column */
   double sum = 0.0;
   for (size_t i = 0; i < count; ++i) {
     const vp_bin *b = &bins[i];
     const double xp[3] = {1.0, b->xb, b->xb * b->xb};
     double complex model = 0.0, v[VP_MAX_THETA];
+#pragma GCC unroll 4
     for (size_t l = 0; l < npc; ++l)
       model += beta[l] * b->col[l];
-    for (size_t q = 0; q < 3; ++q)
-      model += xp[q] * (beta[npc + 2 * q] + I * beta[npc + 2 * q + 1]);
+    af_v2d mv = {creal(model), cimag(model)};
+#pragma GCC unroll 3
+    for (size_t q = 0; q < 3; ++q) /* x^q (beta_re + i beta_im), part by part */
+      mv += xp[q] * (af_v2d){beta[npc + 2 * q], beta[npc + 2 * q + 1]};
+    model = complex_of(mv[0], mv[1]);
     double complex res = model - b->y;
     double fr = creal(res), fi = cimag(res);
     sum += fr * fr + fi * fi;
     if (a == NULL)
       continue;
     vp_derivs(r, b, beta, poles, v);
+#pragma GCC unroll 4
     for (size_t k = 0; k < nt; ++k) {
       double vr = creal(v[k]), vi = cimag(v[k]);
       g[k] += vr * fr + vi * fi;
+#pragma GCC unroll 4
       for (size_t j = k; j < nt; ++j)
         a[k * nt + j] += vr * creal(v[j]) + vi * cimag(v[j]);
+      double *wk = w + k * nl; /* column k of w, its rows side by side */
+#pragma GCC unroll 4
       for (size_t l = 0; l < npc; ++l)
-        w[l * nt + k] += creal(b->col[l]) * vr + cimag(b->col[l]) * vi;
-      for (size_t q = 0; q < 3; ++q) {
-        w[(npc + 2 * q) * nt + k] += xp[q] * vr;
-        w[(npc + 2 * q + 1) * nt + k] += xp[q] * vi;
-      }
+        wk[l] += creal(b->col[l]) * vr + cimag(b->col[l]) * vi;
+      const af_v2d vk = {vr, vi};
+#pragma GCC unroll 3
+      for (size_t q = 0; q < 3; ++q)
+        v2d_add_to(wk + npc + 2 * q, xp[q] * vk);
     }
   }
   return sum;
@@ -206,12 +289,12 @@ vp_project(const double *l, size_t nl, size_t nt, const double *w, double *a)
   for (size_t k = 0; k < nt; ++k) {
     double z[VP_MAX_LINEAR];
     for (size_t i = 0; i < nl; ++i)
-      z[i] = w[i * nt + k];
+      z[i] = w[k * nl + i];
     af_response_chol_solve(l, nl, z);
     for (size_t j = k; j < nt; ++j) {
       double s = 0.0;
       for (size_t i = 0; i < nl; ++i)
-        s += w[i * nt + j] * z[i];
+        s += w[j * nl + i] * z[i];
       a[k * nt + j] -= s;
     }
   }
@@ -239,9 +322,13 @@ vp_eval(const af_response *r, const double *theta, double *cost, double *a, doub
   vp_poles(r, theta, poles, pc);
   memset(beta, 0, nl * sizeof *beta);
   for (size_t i = 0; i < count; ++i) {
-    vp_fill_bin(r, pc, poles, r->ctx.first + i, &bins[i]);
+    if (i % 2 == 0 && i + 1 < count) /* two bins' terms at once; an odd last alone */
+      vp_fill_pair(r, pc, poles, r->ctx.first + i, &bins[i]);
+    else if (i % 2 == 0)
+      vp_fill_bin(r, pc, poles, r->ctx.first + i, &bins[i]);
     vp_gram_add(&bins[i], npc, nl, gram, beta);
     double xq = 1.0;
+#pragma GCC unroll 5
     for (size_t q = 0; q < 5; ++q, xq *= bins[i].xb)
       moment[q] += xq;
   }
