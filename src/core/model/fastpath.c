@@ -534,6 +534,42 @@ static bool quick_check(const af_fp_table *f, const af_model_params *p)
 /* af_fastpath_execute; with full false only what the criteria read (the
  * configured lobe, the 0S2, the shear and yield, the verdicts), the same
  * numbers and the same fallbacks: the R2_min search's evaluation. */
+/* chi of the strike, from the handle's cache of the last (law, e) asked. */
+static af_status chi_cached(af_fastpath *f, const af_impact_params *ip, double *chi)
+{
+  af_status st = AF_OK;
+  if (!(ip->restitution == f->chi_e && ip->damping == f->chi_law)) {
+    st = af_impact_chi(f->impact, ip->damping, ip->restitution, chi);
+    f->chi = *chi;
+    f->chi_e = st == AF_OK ? ip->restitution : NAN;
+    f->chi_law = ip->damping;
+  }
+  *chi = f->chi;
+  return st;
+}
+
+/* The error estimate's stencil: the same cubic in chi on the stencil a
+ * shifted by one node (both hold the strike's interval); false when it
+ * would leave the grid. */
+static bool shifted_stencil(const af_fp_weights *a, double chi, af_fp_weights *a2)
+{
+  *a2 = *a;
+  a2->i0 = a->i0 + 1 <= a->l0 && a->i0 + 4 <= AF_FP_NCHI - 1 ? a->i0 + 1 : a->i0 - 1;
+  if (a2->i0 < 0 || a2->i0 + 3 > AF_FP_NCHI - 1)
+    return false;
+  cubic_weights(chi / AF_FP_CHI_STEP - a2->i0, a2->w);
+  return true;
+}
+
+/* Whether the band's edges low2, high2 on the shifted stencil agree with
+ * low, high on the strike's (all in units of 1 / T) to the table's
+ * tolerance, relative to the upper edge. */
+static bool edges_agree(double low2, double high2, double low, double high)
+{
+  return !(fabs(low2 - low) > AF_FP_EDGE_AGREEMENT * high ||
+           fabs(high2 - high) > AF_FP_EDGE_AGREEMENT * high);
+}
+
 static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_result *r, bool full)
 {
   const af_impact_params *ip = &p->impact;
@@ -551,12 +587,7 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
       return st;
     }
   }
-  if (!(ip->restitution == f->chi_e && ip->damping == f->chi_law)) {
-    st = af_impact_chi(f->impact, ip->damping, ip->restitution, &chi);
-    f->chi = chi;
-    f->chi_e = st == AF_OK ? ip->restitution : NAN;
-    f->chi_law = ip->damping;
-  }
+  st = chi_cached(f, ip, &chi);
   if (st == AF_OK)
     st = af_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi);
   if (st == AF_OK)
@@ -604,16 +635,10 @@ static af_status evaluate(af_fastpath *f, const af_model_params *p, af_model_res
     if (clipped_mixed(tb, &a, &b, base, base - band_fig) ||
         clipped_mixed(tb, &a, &b, base + 1, base - band_fig + 1))
       return fallback(f, p, r);
-    /* The error estimate: the same cubic on the chi stencil shifted by one
-     * node (both hold the strike's interval). */
-    af_fp_weights a2 = a;
-    a2.i0 = a.i0 + 1 <= a.l0 && a.i0 + 4 <= AF_FP_NCHI - 1 ? a.i0 + 1 : a.i0 - 1;
-    if (a2.i0 < 0 || a2.i0 + 3 > AF_FP_NCHI - 1 || !lobes_agree(tb, &a2, &b))
-      return fallback(f, p, r);
-    cubic_weights(chi / AF_FP_CHI_STEP - a2.i0, a2.w);
-    double hi = r->band.band_high_hz * t;
-    if (fabs(bicubic_q(tb, &a2, &b, base) - r->band.band_low_hz * t) > AF_FP_EDGE_AGREEMENT * hi ||
-        fabs(bicubic_q(tb, &a2, &b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi)
+    af_fp_weights a2;
+    if (!shifted_stencil(&a, chi, &a2) || !lobes_agree(tb, &a2, &b) ||
+        !edges_agree(bicubic_q(tb, &a2, &b, base), bicubic_q(tb, &a2, &b, base + 1),
+                     r->band.band_low_hz * t, r->band.band_high_hz * t))
       return fallback(f, p, r);
   }
   r->resonance_hz = res_hz;
@@ -686,20 +711,6 @@ typedef struct {
   bool low_zero;     /* the band's low edge 0 at every node of the shifted stencil */
 } af_fp_search;
 
-/* chi of the strike (evaluate's cache of it). */
-static af_status search_chi(af_fastpath *f, const af_impact_params *ip, double *chi)
-{
-  af_status st = AF_OK;
-  if (!(ip->restitution == f->chi_e && ip->damping == f->chi_law)) {
-    st = af_impact_chi(f->impact, ip->damping, ip->restitution, chi);
-    f->chi = *chi;
-    f->chi_e = st == AF_OK ? ip->restitution : NAN;
-    f->chi_law = ip->damping;
-  }
-  *chi = f->chi;
-  return st;
-}
-
 /* The radius-independent part of evaluate for s->q (full false); ready
  * false when a step would not go as on the table at every radius (a check
  * to make in full, a cache that failed, chi off the grid). */
@@ -713,7 +724,7 @@ static void search_prepare(af_fp_search *s)
   s->stencil_b0 = -1;
   if (f->t == NULL)
     f->t = shared_table();
-  if (f->t == NULL || !quick_check(f->t, p) || search_chi(f, ip, &chi) != AF_OK ||
+  if (f->t == NULL || !quick_check(f->t, p) || chi_cached(f, ip, &chi) != AF_OK ||
       af_lamb_root_cached(&f->xi, ip->fruit_poisson, &xi) != AF_OK ||
       af_stress_shear_ratio_cached(&f->shear, p->shear_ratio, ip->fruit_poisson, &s->ratio) !=
           AF_OK ||
@@ -721,10 +732,7 @@ static void search_prepare(af_fp_search *s)
     return;
   s->res_hz = af_lamb_frequency_hz(xi, p->modulus_factor * ip->fruit_modulus_pa, ip->fruit_poisson,
                                    p->fruit_density_kg_m3, p->fruit_mass_kg);
-  s->a2 = s->a;
-  s->a2.i0 = s->a.i0 + 1 <= s->a.l0 && s->a.i0 + 4 <= AF_FP_NCHI - 1 ? s->a.i0 + 1 : s->a.i0 - 1;
-  s->a2_ok = !(s->a2.i0 < 0 || s->a2.i0 + 3 > AF_FP_NCHI - 1);
-  cubic_weights(chi / AF_FP_CHI_STEP - s->a2.i0, s->a2.w);
+  s->a2_ok = shifted_stencil(&s->a, chi, &s->a2);
   af_yield_law law = af_model_yield_law(p);
   s->yield_pa = af_yield_shear_pa(&law, ip->fruit_modulus_pa);
   s->k_per_root = 4.0 / 3.0 * af_impact_effective_modulus_pa(ip);
@@ -775,9 +783,9 @@ static bool search_band(const af_fp_search *s, const af_fp_weights *b, double t_
   int base = Q_LOBES + (int)(s->q.lobe - 1) * AF_FP_LOBE_FIGS + s->band_fig;
   band->band_low_hz = s->q.lobe == 1 ? 0.0 : bicubic_q(tb, &s->a, b, base) / t_s;
   band->band_high_hz = bicubic_q(tb, &s->a, b, base + 1) / t_s;
-  double hi = band->band_high_hz * t_s, low2 = s->low_zero ? 0.0 : bicubic_q(tb, &s->a2, b, base);
-  return !(fabs(low2 - band->band_low_hz * t_s) > AF_FP_EDGE_AGREEMENT * hi ||
-           fabs(bicubic_q(tb, &s->a2, b, base + 1) - hi) > AF_FP_EDGE_AGREEMENT * hi);
+  double low2 = s->low_zero ? 0.0 : bicubic_q(tb, &s->a2, b, base);
+  return edges_agree(low2, bicubic_q(tb, &s->a2, b, base + 1), band->band_low_hz * t_s,
+                     band->band_high_hz * t_s);
 }
 
 /* The strike s->q (radius set) by evaluate, or by the ODE path, into a verdict. */
