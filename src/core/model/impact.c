@@ -740,19 +740,15 @@ static bool params_valid(const af_impact_params *p)
          in_range(p->gravity_m_s2, 0.0, INFINITY, false, true);
 }
 
-/* Sets w's control to AF_EPS_ABS and AF_EPS_REL times factor: the very
- * numbers control_y_new took at factor 1, so that af_impact_execute's runs
- * stay the same whatever ran before them. */
+/* Sets w's control to AF_EPS_ABS and AF_EPS_REL times factor: at factor 1
+ * the very numbers control_y_new took (x 1.0 is exact), so that
+ * af_impact_execute's runs stay the same whatever ran before them. */
 static af_status set_tolerance(af_impact *w, double factor)
 {
   if (factor == w->tol_factor)
     return AF_OK;
-  double abs_tol = AF_EPS_ABS, rel_tol = AF_EPS_REL;
-  if (factor != 1.0) {
-    abs_tol *= factor;
-    rel_tol *= factor;
-  }
-  if (gsl_odeiv2_control_init(w->control, abs_tol, rel_tol, 1.0, 0.0) != GSL_SUCCESS)
+  if (gsl_odeiv2_control_init(w->control, AF_EPS_ABS * factor, AF_EPS_REL * factor, 1.0, 0.0) !=
+      GSL_SUCCESS)
     return AF_EINVAL;
   w->tol_factor = factor;
   return AF_OK;
