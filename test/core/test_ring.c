@@ -1,11 +1,15 @@
 /* test_ring.c — the stream ring: writes and reads by absolute index across
  * the wrap, gaps held as NaN and reported, restarts, oversize blocks, and
- * the error cases. */
+ * the error cases; the lost samples of a block (samples.h) against
+ * isfinite. */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "af_test.h"
 #include "ring.h"
+#include "samples.h"
 
 /* Sample value of absolute index i: lets every read be checked exactly. */
 static float value(uint64_t i)
@@ -142,8 +146,41 @@ static void test_restart_and_oversize(void)
   af_ring_destroy(r);
 }
 
+/* af_samples_nonfinite against a count by isfinite over random bit
+ * patterns (every exponent, NaN payloads of both signs, infinities,
+ * zeros, subnormals), over lengths about its 2^16-sample runs. */
+static void test_nonfinite_count(void)
+{
+  const size_t n = 3 * ((size_t)1 << 16) + 17;
+  float *x = malloc(n * sizeof *x);
+  AF_CHECK(x != NULL);
+  if (x == NULL)
+    return;
+  uint32_t state = 12345u;
+  for (size_t k = 0; k < n; k++) {
+    state = state * 1664525u + 1013904223u;
+    uint32_t b = state;
+    if (k % 5 == 0) /* a fifth with the exponent all ones: NaN or infinity */
+      b |= 0x7f800000u;
+    if (k % 7 == 0)
+      b &= ~0x7f800000u; /* zeros and subnormals */
+    memcpy(&x[k], &b, sizeof b);
+  }
+  const size_t lengths[] = {0, 1, 5, 65535, 65536, 65537, 131072, n};
+  for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
+    for (size_t off = 0; off < 3 && off + lengths[i] <= n; off++) {
+      size_t expect = 0;
+      for (size_t k = off; k < off + lengths[i]; k++)
+        expect += !isfinite(x[k]);
+      AF_CHECK(af_samples_nonfinite(x + off, lengths[i]) == expect);
+    }
+  }
+  free(x);
+}
+
 int main(void)
 {
+  test_nonfinite_count();
   test_errors();
   test_stream_and_wrap();
   test_first_block_partial();

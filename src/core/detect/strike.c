@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "ring.h"
+#include "samples.h"
 #include "strike_private.h"
 #include "strike_pulse.h"
 
@@ -189,20 +190,6 @@ void af_strike_get_tracker(const af_strike *d, af_strike_tracker *out)
 /* ------------------------------------------------------------------------ */
 /* the event's span, measured */
 
-/* The lost (non-finite) samples of x[0..n), n <= AF_STRIKE_MAX_SPAN: those
- * whose exponent field is all ones, by integer tests that the compiler
- * vectorises (as the conversion to double beside it). */
-static size_t count_lost(const float *x, size_t n)
-{
-  uint32_t lost = 0;
-  for (size_t k = 0; k < n; k++) {
-    uint32_t b;
-    memcpy(&b, &x[k], sizeof b);
-    lost += (b & 0x7f800000u) == 0x7f800000u;
-  }
-  return lost;
-}
-
 /* Fills d->out from the span [d->ev.begin, end) of the ring; false when the
  * ring does not hold it (cannot happen while the sizes hold). */
 static bool measure(af_strike *d, uint64_t end)
@@ -213,7 +200,7 @@ static bool measure(af_strike *d, uint64_t end)
       af_ring_read(d->ring, begin, (size_t)(end - begin), d->span_f) != AF_OK)
     return false;
   long n = (long)(end - begin);
-  uint64_t lost = ev->lost + (begin - ev->begin) + count_lost(d->span_f, (size_t)n);
+  uint64_t lost = ev->lost + (begin - ev->begin) + af_samples_nonfinite(d->span_f, (size_t)n);
   for (long k = 0; k < n; k++)
     d->x[k] = d->span_f[k];
   af_strike_pulse_input in = {.x = d->x,

@@ -10,6 +10,7 @@
 #include "audio_clip.h"
 #include "audio_lag.h"
 #include "median.h"
+#include "samples.h"
 #include "onset.h"
 #include "text.h"
 
@@ -40,8 +41,6 @@
  * more than AF_LANE_ID_GAP_MAX is a new numbering, not lost estimates. */
 #define AF_LANE_ID_STEPS_MIN 8
 #define AF_LANE_ID_GAP_MAX 1000u
-/* Samples counted per 32-bit count in count_bad. */
-#define AF_LANE_COUNT_RUN ((size_t)1 << 16)
 
 typedef struct {
   af_strike_event ev; /* ev.pulse_n points at pulse */
@@ -395,25 +394,6 @@ af_status af_lane_apple(af_lane *l, const af_apple *a, int64_t now_ns, const af_
 
 /* --- the audio window ----------------------------------------------------------- */
 
-/* The non-finite samples of x[0..n): those whose exponent field is all
- * ones, counted by integer tests that the compiler vectorises (a float
- * test per sample it does not), in 32-bit counts of at most 2^16 each. */
-static size_t count_bad(const float *x, size_t n)
-{
-  size_t bad = 0, k = 0;
-  while (k < n) {
-    const size_t end = n - k > AF_LANE_COUNT_RUN ? k + AF_LANE_COUNT_RUN : n;
-    uint32_t run = 0;
-    for (; k < end; k++) {
-      uint32_t b;
-      memcpy(&b, &x[k], sizeof b);
-      run += (b & 0x7f800000u) == 0x7f800000u;
-    }
-    bad += run;
-  }
-  return bad;
-}
-
 /* The noise reference: the audio ending a guard before the contact, when held. */
 static size_t read_noise(af_lane *l, const af_pending *p)
 {
@@ -431,7 +411,8 @@ static size_t read_noise(af_lane *l, const af_pending *p)
     return 0;
   const uint64_t j1 = i - b, j0 = j1 - nn;
   if (j0 < af_ring_begin(s->ring) || j1 > af_ring_end(s->ring) ||
-      af_ring_read(s->ring, j0, nn, l->noise_buf) != AF_OK || count_bad(l->noise_buf, nn) > 0)
+      af_ring_read(s->ring, j0, nn, l->noise_buf) != AF_OK ||
+      af_samples_nonfinite(l->noise_buf, nn) > 0)
     return 0;
   return nn;
 }
@@ -500,7 +481,7 @@ static af_decision audio_for(af_lane *l, const af_pending *p, af_verdict *v)
   v->audio_cause = AF_AUDIO_UNREADABLE;
   if (af_ring_read(s->ring, i0, n, l->audio_buf) != AF_OK)
     return AF_NONE;
-  v->n_audio = count_bad(l->audio_buf, n);
+  v->n_audio = af_samples_nonfinite(l->audio_buf, n);
   v->audio_cause = AF_AUDIO_LOST_IN_WINDOW;
   const uint64_t refused = af_stream_refused_in(s, i0, n);
   if (refused > 0) { /* the samples were there, but not finite */
@@ -553,8 +534,8 @@ static af_decision measure_lag(af_lane *l, af_pending *p)
     return AF_READY;
   const size_t n = last - i0 < l->lag_cap ? (size_t)(last - i0) : l->lag_cap;
   size_t at;
-  if (af_ring_read(s->ring, i0, n, l->lag_buf) != AF_OK || count_bad(l->lag_buf, n) > 0 ||
-      !af_audio_onset_find(l->lag_buf, n, block, &at)) {
+  if (af_ring_read(s->ring, i0, n, l->lag_buf) != AF_OK ||
+      af_samples_nonfinite(l->lag_buf, n) > 0 || !af_audio_onset_find(l->lag_buf, n, block, &at)) {
     l->stats.lag_no_onset++;
     return AF_READY;
   }

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "samples.h"
+
 /* Rates are configured and sent as the same nominal number; this only
  * absorbs a rate that went through a float. */
 #define AF_RATE_RTOL 1e-6
@@ -90,20 +92,6 @@ static void note_spans(af_stream *s, const float *y, size_t m, uint64_t at, bool
   }
 }
 
-/* Whether every sample of x[0..n) is finite: its exponent field not all
- * ones. Integer tests on the bit patterns, which the compiler vectorises
- * (a float compare per sample would not be). */
-static bool all_finite(const float *x, size_t n)
-{
-  uint32_t bad = 0;
-  for (size_t k = 0; k < n; k++) {
-    uint32_t b;
-    memcpy(&b, &x[k], sizeof b);
-    bad |= (b & 0x7f800000u) == 0x7f800000u;
-  }
-  return bad == 0;
-}
-
 /* The chunk into the ring, converted (and non-finite samples made NaN)
  * block by block in the scratch; *w: what the first block's write found
  * (gaps and restarts can only come before it, the blocks follow each other).
@@ -119,7 +107,7 @@ static uint64_t write_ring(af_stream *s, const af_chunk *c, af_ring_write_info *
     (void)af_ring_write(s->ring, s->si, 0, c->first_sample, w);
     return 0;
   }
-  if ((to_si == 0.0 || to_si == 1.0) && all_finite(c->x, c->n)) {
+  if ((to_si == 0.0 || to_si == 1.0) && af_samples_nonfinite(c->x, c->n) == 0) {
     (void)af_ring_write(s->ring, c->x, c->n, c->first_sample, w);
     s->last_as_sent = true;
     return 0;
