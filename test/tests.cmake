@@ -27,6 +27,19 @@ if(CATKIN_ENABLE_TESTING)
     af_add_test(NAME cli_${name} COMMAND bash ${src} $<TARGET_FILE:firmness_model> LABELS cli)
   endforeach()
   add_dependencies(tests firmness_model)
+  # analyze's session (the fuzz harness's way in) against analyze alone.
+  add_executable(test_analyze_session EXCLUDE_FROM_ALL
+                 ${PROJECT_SOURCE_DIR}/src/tools/analyze.c ${PROJECT_SOURCE_DIR}/src/tools/cli_flags.c
+                 ${PROJECT_SOURCE_DIR}/src/tools/recording.c
+                 ${PROJECT_SOURCE_DIR}/test/cli/test_analyze_session.c)
+  target_include_directories(test_analyze_session PRIVATE ${PROJECT_SOURCE_DIR}/test/core
+                                                          ${PROJECT_SOURCE_DIR}/src/tools)
+  target_compile_definitions(test_analyze_session PRIVATE AF_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+  target_compile_options(test_analyze_session PRIVATE ${AF_WARNINGS})
+  target_link_libraries(test_analyze_session af_core)
+  add_dependencies(tests test_analyze_session)
+  af_add_test(NAME cli_test_analyze_session COMMAND test_analyze_session
+              WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} LABELS cli unit)
   # firmness_report on a small strike_bag against its truth, and every kind of
   # bad input; the bad bags are written with rosbag's Python (devel space env).
   if(TARGET firmness_report AND TARGET strike_bag)

@@ -71,7 +71,25 @@ typedef struct {
 typedef struct {
   af_lane_strike *rows;
   size_t n_rows, cap_rows, dropped;
+  size_t room; /* rows allocated: the largest cap_rows of the session's runs */
 } af_analyze_ctx;
+
+/* What a session keeps from run to run (analyze.h): the flags, the YAML
+ * files as read, the lane and the configuration it points into. */
+struct af_analyze_session {
+  int argc;
+  char **argv;
+  int first;
+  af_analyze_args flags; /* as parsed; each run's copy takes the files' rates */
+  af_settings files;     /* the YAML files and the rig's hammer, read at the first run */
+  bool files_read;
+  af_settings derived_from; /* the last run's settings, when have_derived */
+  af_lane_config derived;   /* what af_lane_config_derive made of them */
+  bool have_derived;
+  af_lane_config cfg; /* the lane's: it reads it, so it lives here */
+  af_lane *lane;      /* NULL until a run makes it */
+  af_analyze_ctx ctx;
+};
 
 static double cpu_time_s(void)
 {
@@ -279,8 +297,6 @@ static bool parse_args(int argc, char **argv, int first, af_analyze_args *a)
 
 /* ---- configuration --------------------------------------------------------- */
 
-/* The settings the node would run with: table defaults, the two files, the
- * recording's rates, the hammer when no file gives it, then the flags. */
 /* Table defaults, the two files, the hammer when no file gives it: what
  * the flags then change (and what --help shows as their defaults). */
 static bool analyze_files(const af_analyze_args *a, af_settings *s)
@@ -302,12 +318,15 @@ static bool analyze_files(const af_analyze_args *a, af_settings *s)
   return true;
 }
 
-static bool analyze_settings(int argc, char **argv, int first, const af_analyze_args *a,
-                             af_settings *s)
+/* The settings the node would run with: the files (read once a session),
+ * the recordings' rates, then the flags. */
+static bool analyze_settings(af_analyze_session *ss, const af_analyze_args *a, af_settings *s)
 {
   char rate[64];
-  if (!analyze_files(a, s))
+  if (!ss->files_read && !analyze_files(a, &ss->files))
     return false;
+  ss->files_read = true;
+  *s = ss->files;
   snprintf(rate, sizeof rate, "%.17g", a->rate_force_hz);
   if (a->force_path != NULL && !set_row(s, "--rate-force", "force_sample_rate_hz", rate))
     return false;
@@ -317,7 +336,7 @@ static bool analyze_settings(int argc, char **argv, int first, const af_analyze_
   if (!set_row(s, "--rate-audio", "audio_sample_rate_hz", rate))
     return false;
   /* The settings flags, in order (parse_args checked the rest). */
-  return analyze_parse(argc, argv, first, NULL, s);
+  return analyze_parse(ss->argc, ss->argv, ss->first, NULL, s);
 }
 
 /* ---- the lane's strikes --------------------------------------------------------- */
@@ -539,27 +558,65 @@ static void warn_inverted(const af_analyze_args *a, const af_analyze_ctx *c,
             a->force_path, g.down_n, g.down_at, peak_n);
 }
 
-/* Runs the lane over the recordings; prints the JSON (and why no strike). */
-static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
+/* This run's rows: at most one strike per post_s of force (the detector
+ * waits that long after each), or one onset per hold-off (tap-only); the
+ * buffer grows to the largest run's. false: out of memory. */
+static bool rows_ready(af_analyze_ctx *c, const af_analyze_args *a, const af_lane_config *cfg,
                        const af_recording *force, const af_recording *audio)
 {
-  af_analyze_ctx c = {0};
-  af_lane *lane = NULL;
+  c->cap_rows = cfg->strikes.tap_only
+                    ? audio->n / (size_t)ceil(cfg->strikes.onset.holdoff_s * a->rate_audio_hz) + 1
+                    : force->n / (size_t)ceil(cfg->strikes.strike.post_s * a->rate_force_hz) + 1;
+  if (c->cap_rows > AF_ANALYZE_MAX_STRIKES)
+    c->cap_rows = AF_ANALYZE_MAX_STRIKES;
+  c->n_rows = c->dropped = 0;
+  if (c->cap_rows <= c->room)
+    return true;
+  af_lane_strike *rows = realloc(c->rows, c->cap_rows * sizeof *rows);
+  if (rows == NULL)
+    return false;
+  c->rows = rows;
+  c->room = c->cap_rows;
+  return true;
+}
+
+/* The session's lane for cfg: the last run's, reset (af_lane_reset: as
+ * af_lane_create leaves it), when it was made with the same configuration
+ * to the byte; else a new one. 0 or the exit status. */
+static int lane_ready(af_analyze_session *ss, const af_lane_config *cfg)
+{
+  if (ss->lane != NULL && memcmp(&ss->cfg, cfg, sizeof *cfg) == 0) {
+    af_lane_reset(ss->lane);
+    return 0;
+  }
+  af_lane_destroy(ss->lane);
+  ss->lane = NULL;
+  memcpy(&ss->cfg, cfg, sizeof *cfg);
   const char *what = "";
-  /* At most one strike per post_s of force (the detector waits that long
-   * after each): the rows are sized once. */
-  c.cap_rows = cfg->strikes.tap_only /* tap-only: one onset per hold-off */
-                   ? audio->n / (size_t)ceil(cfg->strikes.onset.holdoff_s * a->rate_audio_hz) + 1
-                   : force->n / (size_t)ceil(cfg->strikes.strike.post_s * a->rate_force_hz) + 1;
-  if (c.cap_rows > AF_ANALYZE_MAX_STRIKES)
-    c.cap_rows = AF_ANALYZE_MAX_STRIKES;
-  c.rows = calloc(c.cap_rows, sizeof *c.rows);
-  af_status st = c.rows ? af_lane_create(cfg, on_strike, &c, &lane, &what) : AF_ENOMEM;
-  if (st != AF_OK) {
-    fprintf(stderr, "firmness_model analyze: could not create %s: %s\n", what, af_strerror(st));
-    free(c.rows);
+  af_status st = af_lane_create(&ss->cfg, on_strike, &ss->ctx, &ss->lane, &what);
+  if (st == AF_OK)
+    return 0;
+  fprintf(stderr, "firmness_model analyze: could not create %s: %s\n", what, af_strerror(st));
+  return 1;
+}
+
+/* Runs the session's lane over the recordings; prints the JSON (and why no
+ * strike). */
+static int analyze_run(af_analyze_session *ss, const af_analyze_args *a,
+                       const af_lane_config *run_cfg, const af_recording *force,
+                       const af_recording *audio)
+{
+  af_analyze_ctx *c = &ss->ctx;
+  if (!rows_ready(c, a, run_cfg, force, audio)) {
+    fprintf(stderr, "firmness_model analyze: could not create the strike rows: %s\n",
+            af_strerror(AF_ENOMEM));
     return 1;
   }
+  const int made = lane_ready(ss, run_cfg);
+  if (made != 0)
+    return made;
+  af_lane *lane = ss->lane;
+  const af_lane_config *cfg = &ss->cfg;
   af_apple apple = analyze_apple(a, cfg);
   const af_prediction *pr = NULL;
   int code = 0;
@@ -581,7 +638,7 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
     feed(lane, a, cfg, force, audio);
     double cpu_s = cpu_time_s() - t0;
     char why[AF_ERR_MAX] = "";
-    if (c.n_rows == 0) {
+    if (c->n_rows == 0) {
       if (cfg->strikes.tap_only)
         snprintf(why, sizeof why,
                  "tap-only: no audio onset %g dB above the noise floor (onset_snr_db) in %s",
@@ -592,22 +649,20 @@ static int analyze_run(const af_analyze_args *a, const af_lane_config *cfg,
         why_no_strike(a, lane, force, why, sizeof why);
       fprintf(stderr, "firmness_model analyze: no strike found: %s\n", why);
     } else if (!cfg->strikes.tap_only)
-      warn_inverted(a, &c, force);
+      warn_inverted(a, c, force);
     warn_refused(af_lane_force_stream(lane), a->force_path);
     warn_refused(af_lane_audio_stream(lane), a->audio_path);
-    json_print(stdout, &c, lane, c.n_rows == 0 ? why : NULL);
-    if (c.dropped > 0) {
+    json_print(stdout, c, lane, c->n_rows == 0 ? why : NULL);
+    if (c->dropped > 0) {
       fprintf(stderr, "firmness_model analyze: %zu strikes beyond the %zu expected at most\n",
-              c.dropped, c.cap_rows);
+              c->dropped, c->cap_rows);
       code = 1;
     }
     if (a->bench && cfg->strikes.tap_only)
-      print_bench(a->rate_audio_hz, &c, cpu_s, audio->n);
+      print_bench(a->rate_audio_hz, c, cpu_s, audio->n);
     else if (a->bench)
-      print_bench(a->rate_force_hz, &c, cpu_s, force->n);
+      print_bench(a->rate_force_hz, c, cpu_s, force->n);
   }
-  af_lane_destroy(lane);
-  free(c.rows);
   return code;
 }
 
@@ -683,48 +738,105 @@ static int analyze_inputs(const af_analyze_args *a, const af_lane_config *cfg,
   return 0;
 }
 
+/* The lane's apple stays fresh for longer than any recording the flags
+ * admit (--max-samples at the slower rate read, and the offset) [s]: the
+ * configuration then does not depend on this recording's length, and a
+ * session's next run can reuse the lane. */
+static double stale_bound_s(const af_analyze_args *a, const af_lane_config *cfg)
+{
+  const double rate_hz =
+      cfg->strikes.tap_only ? a->rate_audio_hz : fmin(a->rate_force_hz, a->rate_audio_hz);
+  return (double)a->max_samples / rate_hz + fabs(a->audio_offset_s) + 1.0;
+}
+
+/* The lane's configuration for these recordings into cfg; 0 or the exit
+ * status. */
+static int run_config(af_analyze_session *ss, const af_analyze_args *a, const af_recording *force,
+                      const af_recording *audio, af_lane_config *cfg)
+{
+  af_settings s;
+  if (!analyze_settings(ss, a, &s))
+    return AF_CLI_EXIT_USAGE;
+  /* The same settings derive the same configuration (the last run's rates
+   * and flags: every run of a session over raw files). */
+  if (!ss->have_derived || memcmp(&s, &ss->derived_from, sizeof s) != 0) {
+    char err[AF_ERR_MAX];
+    ss->have_derived = false;
+    if (af_lane_config_derive(&s, &ss->derived, err, sizeof err) != AF_OK)
+      return print_usage("%s%s", err, "");
+    memcpy(&ss->derived_from, &s, sizeof s);
+    ss->have_derived = true;
+  }
+  memcpy(cfg, &ss->derived, sizeof *cfg);
+  int code = analyze_inputs(a, cfg, force, audio);
+  if (code != 0)
+    return code;
+  /* One apple for the whole recording: it must match every strike in it. */
+  cfg->strikes.apple_stale_after_s = stale_bound_s(a, cfg);
+  cfg->strikes.single_apple = true;
+  /* An integer WAV's step bounds the onset detector's floor (onset.h), and
+   * the strike detector's: one step after exact zeros is no strike. */
+  cfg->strikes.onset.quantum = audio->quantum;
+  if (force->quantum > 0.0 &&
+      cfg->strikes.strike.threshold_min_n < AF_ANALYZE_FORCE_STEPS * force->quantum)
+    cfg->strikes.strike.threshold_min_n = AF_ANALYZE_FORCE_STEPS * force->quantum;
+  return 0;
+}
+
+int af_analyze_session_create(int argc, char **argv, int first, af_analyze_session **out)
+{
+  *out = NULL;
+  af_analyze_session *ss = calloc(1, sizeof *ss);
+  if (ss == NULL) {
+    fprintf(stderr, "firmness_model analyze: %s\n", af_strerror(AF_ENOMEM));
+    return 1;
+  }
+  ss->argc = argc;
+  ss->argv = argv;
+  ss->first = first;
+  if (!parse_args(argc, argv, first, &ss->flags)) {
+    free(ss);
+    return AF_CLI_EXIT_USAGE;
+  }
+  *out = ss;
+  return 0;
+}
+
+int af_analyze_session_run(af_analyze_session *ss)
+{
+  af_analyze_args a = ss->flags;
+  af_recording force = {0}, audio = {0};
+  if (!analyze_load(&a, &force, &audio))
+    return AF_CLI_EXIT_USAGE;
+  af_lane_config cfg;
+  int code = run_config(ss, &a, &force, &audio, &cfg);
+  if (code == 0)
+    code = analyze_run(ss, &a, &cfg, &force, &audio);
+  af_recording_destroy(&force);
+  af_recording_destroy(&audio);
+  return code;
+}
+
+void af_analyze_session_destroy(af_analyze_session *ss)
+{
+  if (ss == NULL)
+    return;
+  af_lane_destroy(ss->lane);
+  free(ss->ctx.rows);
+  free(ss);
+}
+
 int af_analyze_main(int argc, char **argv, int first)
 {
   if (af_options_want_help(argc, argv, first)) {
     analyze_help();
     return 0;
   }
-  af_analyze_args a;
-  af_settings s;
-  af_lane_config cfg;
-  char err[AF_ERR_MAX];
-  af_recording force = {0}, audio = {0};
-  if (!parse_args(argc, argv, first, &a) || !analyze_load(&a, &force, &audio))
-    return AF_CLI_EXIT_USAGE;
-  int code = 0;
-  if (!analyze_settings(argc, argv, first, &a, &s))
-    code = AF_CLI_EXIT_USAGE;
-  else if (af_lane_config_derive(&s, &cfg, err, sizeof err) != AF_OK)
-    code = print_usage("%s%s", err, "");
-  if (code != 0) {
-    af_recording_destroy(&force);
-    af_recording_destroy(&audio);
+  af_analyze_session *ss;
+  int code = af_analyze_session_create(argc, argv, first, &ss);
+  if (code != 0)
     return code;
-  }
-  code = analyze_inputs(&a, &cfg, &force, &audio);
-  if (code != 0) {
-    af_recording_destroy(&force);
-    af_recording_destroy(&audio);
-    return code;
-  }
-  /* One apple for the whole recording: it must match every strike in it. */
-  double span_s = fmax(force.n > 0 ? (double)force.n / a.rate_force_hz : 0.0,
-                       (double)audio.n / a.rate_audio_hz);
-  cfg.strikes.apple_stale_after_s = span_s + fabs(a.audio_offset_s) + 1.0;
-  cfg.strikes.single_apple = true;
-  /* An integer WAV's step bounds the onset detector's floor (onset.h), and
-   * the strike detector's: one step after exact zeros is no strike. */
-  cfg.strikes.onset.quantum = audio.quantum;
-  if (force.quantum > 0.0 &&
-      cfg.strikes.strike.threshold_min_n < AF_ANALYZE_FORCE_STEPS * force.quantum)
-    cfg.strikes.strike.threshold_min_n = AF_ANALYZE_FORCE_STEPS * force.quantum;
-  code = analyze_run(&a, &cfg, &force, &audio);
-  af_recording_destroy(&force);
-  af_recording_destroy(&audio);
+  code = af_analyze_session_run(ss);
+  af_analyze_session_destroy(ss);
   return code;
 }

@@ -13,6 +13,17 @@
  * Returns the process exit code (2 for bad input). */
 int af_analyze_main(int argc, char **argv, int first);
 
+/* The same, its set-up kept for many runs over files that change between
+ * them (the fuzz harness's): create parses the flags (0, or the exit status
+ * and *out NULL); each run reads the two files as they are then, the YAML
+ * files once (at the first run), and judges them as af_analyze_main does,
+ * with the last run's lane reset rather than made again when the
+ * configuration came out the same; it returns the run's exit status. */
+typedef struct af_analyze_session af_analyze_session;
+int af_analyze_session_create(int argc, char **argv, int first, af_analyze_session **out);
+int af_analyze_session_run(af_analyze_session *ss);
+void af_analyze_session_destroy(af_analyze_session *ss); /* NULL-safe */
+
 /* Its flag table (the usage of firmness_model lists it); *n entries. */
 const af_option *af_analyze_options(size_t *n);
 
