@@ -154,6 +154,15 @@ static size_t list_output(af_response_result *list, size_t n, af_response_result
   return n;
 }
 
+/* The largest peak power of the n listed modes; 0 for none. */
+static double list_strongest(const af_peak *modes, size_t n)
+{
+  double strongest = 0.0;
+  for (size_t j = 0; j < n; ++j)
+    strongest = fmax(strongest, modes[j].peak_power);
+  return strongest;
+}
+
 /* Lists the mode res (spectral reading pk) unless the list is full or it
  * repeats a listed mode: within a bin of one, or within two windowed
  * half-widths of one and AF_RESPONSE_SPLIT_MIN_RATIO (-20 dB) below it in
@@ -165,10 +174,8 @@ static size_t list_output(af_response_result *list, size_t n, af_response_result
 static int list_add(af_response_result *list, af_peak *modes, size_t *n,
                     const af_response_result *res, const af_peak *pk, double bin_hz)
 {
-  double strongest = 0.0;
-  for (size_t j = 0; j < *n; ++j)
-    strongest = fmax(strongest, modes[j].peak_power);
-  if (*n >= AF_RESPONSE_MAX_PEAKS || pk->peak_power < AF_RESPONSE_LIST_RANGE * strongest)
+  if (*n >= AF_RESPONSE_MAX_PEAKS ||
+      pk->peak_power < AF_RESPONSE_LIST_RANGE * list_strongest(modes, *n))
     return 0;
   for (size_t j = 0; j < *n; ++j) {
     double reach = 2.0 * modes[j].sigma_windowed / (2.0 * AF_PI * bin_hz);
@@ -248,11 +255,9 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
   for (size_t tries = 0; tries < AF_RESPONSE_LIST_TRIES && kept < AF_RESPONSE_MAX_PEAKS; ++tries) {
     double noise = NAN;
     /* the rise is reported only when no mode is listed, and a listed one stays */
-    double strongest = 0.0;
-    for (size_t j = 0; j < kept; ++j)
-      strongest = fmax(strongest, modes[j].peak_power);
-    size_t k = list_candidate(r, k_lo, k_hi, band_floor, energy, AF_RESPONSE_LIST_RANGE * strongest,
-                              excluded, n_excluded, &noise, kept == 0 ? &rise_snr_db : NULL);
+    size_t k = list_candidate(r, k_lo, k_hi, band_floor, energy,
+                              AF_RESPONSE_LIST_RANGE * list_strongest(modes, kept), excluded,
+                              n_excluded, &noise, kept == 0 ? &rise_snr_db : NULL);
     if (k == 0)
       break;
     /* the truncated fits from the stage-1 reading (one pole, or two for a
