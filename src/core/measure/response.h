@@ -224,13 +224,16 @@ af_status af_response_execute(af_response *r, const float *audio, size_t n, doub
  *    modes ~10 % apart fill the valley between them to 4-5 dB below either,
  *    which af_response_execute's 6 dB on both sides refuses; the ripples and
  *    humps that rule keeps out belong to a stronger mode, already
- *    subtracted), whose top bin could still clear snr_threshold_db;
+ *    subtracted), whose top bin could still clear snr_threshold_db and,
+ *    once a mode is listed, stand within 30 dB of the strongest listed (a
+ *    top bin raised by the 1.5 dB a fitted peak may stand above it);
  *  - reading: a fit of one pole (plus a quadratic background) whose model
  *    includes the window's end; if it leaves a misfit above 4x the noise's,
  *    two poles (a split 0S2, the 0T2 or a support mode a few per cent away:
  *    one peak for two modes, which one pole reads between them), accepted
  *    when they cut the residual 10x, to the noise, both decay, both clear
- *    the threshold and the weaker is within 20 dB of the stronger; where
+ *    the threshold and the weaker is within 20 dB of the stronger (up to
+ *    three starts, the next only when a fit was cut short by its cap); where
  *    neither holds, af_response_execute's refinement (one neighbour);
  *  - listed when it decays (Q finite), clears snr_threshold_db, lies in the
  *    band, repeats no listed mode (within a bin, or within two half-widths

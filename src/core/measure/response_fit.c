@@ -195,8 +195,9 @@ int af_response_split_run(af_response *r, size_t poles, const double *start, dou
   memcpy(r->split_x, start, params * sizeof *start);
   /* a truncated fit that reaches its cap or stalls is judged where it
    * stands (its residual decides); only a failed one is refused */
-  if (run(r, params, r->split_x, AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, rss) ==
-      AF_RESPONSE_FIT_FAILED)
+  r->split_status =
+      run(r, params, r->split_x, AF_RESPONSE_SPLIT_MAX_ITER, AF_RESPONSE_SPLIT_XTOL, rss);
+  if (r->split_status == AF_RESPONSE_FIT_FAILED)
     return 0;
   return isfinite(*rss);
 }

@@ -48,10 +48,17 @@ static int is_excluded(const size_t *excluded, size_t n_excluded, size_t k)
  * (8 % of the list's instructions when read at every maximum) are read only
  * where they may decide: for a maximum that could be the best by the cheap
  * tests, or whose rise could raise *rise_snr_db (a rise is at most the top's
- * SNR; the 1e-9 dB spares that bound's rounding). */
+ * SNR; the 1e-9 dB spares that bound's rounding). A maximum whose top,
+ * raised by the most a mode's peak may stand above it
+ * (AF_RESPONSE_PEAK_BOUND), stays under min_power (the list's range below its
+ * strongest mode, 0 while none is listed) is no candidate either: list_add
+ * would refuse its mode unless a fit put the peak more than that bound above
+ * the data, a pole extrapolated beyond them. Without this, every weak maximum
+ * left after the modes were taken off was read by the fits and then refused
+ * (on the 600-strike line bag 196 of the 204 refused candidates). */
 static size_t list_candidate(const af_response *r, size_t k_lo, size_t k_hi, double band_floor,
-                             double energy, const size_t *excluded, size_t n_excluded,
-                             double *noise, double *rise_snr_db)
+                             double energy, double min_power, const size_t *excluded,
+                             size_t n_excluded, double *noise, double *rise_snr_db)
 {
   const double *p = r->power;
   double threshold = pow(10.0, 0.1 * r->cfg.snr_threshold_db);
@@ -61,6 +68,7 @@ static size_t list_candidate(const af_response *r, size_t k_lo, size_t k_hi, dou
       continue;
     double noise_k = af_response_list_noise(r, (double)k * r->bin_hz, band_floor, energy);
     int may_be_best = !(AF_RESPONSE_PEAK_BOUND * p[k] < threshold * noise_k) &&
+                      !(AF_RESPONSE_PEAK_BOUND * p[k] < min_power) &&
                       (best == 0 || p[k] > p[best]) && !is_excluded(excluded, n_excluded, k);
     int may_rise =
         rise_snr_db != NULL && !(af_response_snr_db(p[k], noise_k) + 1e-9 < *rise_snr_db);
@@ -146,6 +154,15 @@ static size_t list_output(af_response_result *list, size_t n, af_response_result
   return n;
 }
 
+/* The largest peak power of the n listed modes; 0 for none. */
+static double list_strongest(const af_peak *modes, size_t n)
+{
+  double strongest = 0.0;
+  for (size_t j = 0; j < n; ++j)
+    strongest = fmax(strongest, modes[j].peak_power);
+  return strongest;
+}
+
 /* Lists the mode res (spectral reading pk) unless the list is full or it
  * repeats a listed mode: within a bin of one, or within two windowed
  * half-widths of one and AF_RESPONSE_SPLIT_MIN_RATIO (-20 dB) below it in
@@ -157,10 +174,8 @@ static size_t list_output(af_response_result *list, size_t n, af_response_result
 static int list_add(af_response_result *list, af_peak *modes, size_t *n,
                     const af_response_result *res, const af_peak *pk, double bin_hz)
 {
-  double strongest = 0.0;
-  for (size_t j = 0; j < *n; ++j)
-    strongest = fmax(strongest, modes[j].peak_power);
-  if (*n >= AF_RESPONSE_MAX_PEAKS || pk->peak_power < AF_RESPONSE_LIST_RANGE * strongest)
+  if (*n >= AF_RESPONSE_MAX_PEAKS ||
+      pk->peak_power < AF_RESPONSE_LIST_RANGE * list_strongest(modes, *n))
     return 0;
   for (size_t j = 0; j < *n; ++j) {
     double reach = 2.0 * modes[j].sigma_windowed / (2.0 * AF_PI * bin_hz);
@@ -240,8 +255,9 @@ af_status af_response_execute_peaks(af_response *r, const float *audio, size_t n
   for (size_t tries = 0; tries < AF_RESPONSE_LIST_TRIES && kept < AF_RESPONSE_MAX_PEAKS; ++tries) {
     double noise = NAN;
     /* the rise is reported only when no mode is listed, and a listed one stays */
-    size_t k = list_candidate(r, k_lo, k_hi, band_floor, energy, excluded, n_excluded, &noise,
-                              kept == 0 ? &rise_snr_db : NULL);
+    size_t k = list_candidate(r, k_lo, k_hi, band_floor, energy,
+                              AF_RESPONSE_LIST_RANGE * list_strongest(modes, kept), excluded,
+                              n_excluded, &noise, kept == 0 ? &rise_snr_db : NULL);
     if (k == 0)
       break;
     /* the truncated fits from the stage-1 reading (one pole, or two for a

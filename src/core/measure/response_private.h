@@ -122,6 +122,7 @@ struct af_response {
   double split_x[AF_RESPONSE_SPLIT_PARAMS];   /* the last truncated fit's solution */
   size_t split_poles;                    /* model of the fit under way: 0 the pole pair of stage 2,
                                             1 or 2 the poles of a truncated fit */
+  af_response_fit_status split_status;   /* how the last truncated fit ended (response.h) */
   af_fit_ctx ctx;                        /* the fit under way */
   gsl_matrix *trend_gram;                /* DC + hum least squares, MAX_TERMS square */
   gsl_matrix *noise_gram;                /* the same for the noise reference, factored */
@@ -376,7 +377,8 @@ void af_response_fit_noise(af_response *r, double noise);
 /* Starting point of pole 'slot' in x0, scaled as the fit's parameters. */
 void af_response_fit_seed(const af_response *r, double *x0, size_t slot, double bin, double sigma,
                           double complex c);
-/* The truncated fit of 'poles' poles from start on r->ctx; rss into *rss. */
+/* The truncated fit of 'poles' poles from start on r->ctx; rss into *rss,
+ * how it ended into r->split_status. */
 int af_response_split_run(af_response *r, size_t poles, const double *start, double *rss);
 /* Pole j of a truncated fit's parameters p; 0 unless in the span and decaying. */
 int af_response_split_pole(const af_response *r, const double *p, size_t j, af_peak *out);
