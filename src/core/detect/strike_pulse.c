@@ -59,6 +59,13 @@
 #define AF_STRIKE_MIN_WINDOW 4
 #define AF_STRIKE_PI 3.14159265358979323846
 
+/* Two doubles in one SSE2 register (the vector extension of GCC and
+ * clang): each lane gets the IEEE operation the scalar code does, and the
+ * baseline x86-64 target has no FMA to contract them differently, so a
+ * loop over two independent values at once gives their doubles bit for
+ * bit. */
+typedef double af_strike_v2d __attribute__((vector_size(16)));
+
 /* Mean and centre of the finite samples of x in [lo, hi) (clipped to
  * [0, n)); returns their count (fewer than AF_STRIKE_MIN_WINDOW: 0, the
  * window is not used). */
@@ -133,11 +140,23 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
     s->slope = 0.0;
     s->b0 = pre ? m1 : post ? m2 : s->fallback;
   }
-  /* A non-finite sample makes the sum non-finite: one add a sample instead
-   * of fill_holes' test (a sum that overflows only runs fill_holes on a
-   * finite r, which leaves it as it is). */
-  double sum = 0.0;
-  for (long k = 0; k < s->n; k++) {
+  /* A non-finite sample makes its lane's sum non-finite: one add a sample
+   * instead of fill_holes' test (a sum that overflows only runs fill_holes
+   * on a finite r, which leaves it as it is). Two samples a step
+   * (af_strike_v2d): each r[k] the same double. */
+  af_strike_v2d b0 = {s->b0, s->b0}, slope = {s->slope, s->slope}, at = {0.0, 1.0},
+                sum2 = {0.0, 0.0};
+  const af_strike_v2d two = {2.0, 2.0};
+  long k = 0;
+  for (; k + 1 < s->n; k += 2, at += two) { /* at = k, k + 1: exact below 2^53 */
+    af_strike_v2d x, r;
+    __builtin_memcpy(&x, s->x + k, sizeof x);
+    r = x - (b0 + slope * at);
+    __builtin_memcpy(s->r + k, &r, sizeof r);
+    sum2 += r;
+  }
+  double sum = sum2[0] + sum2[1];
+  for (; k < s->n; k++) {
     s->r[k] = s->x[k] - (s->b0 + s->slope * (double)k);
     sum += s->r[k];
   }
@@ -441,15 +460,12 @@ static void edge_lattice_sums(const af_edge *e, const af_edge_lattice *t, long z
 /* Four zeros of the scan at once: lane j the zero i_j = i + j side, the
  * next ones in the scan's order. Its m at k is m_0(k) - j, so the four
  * lanes' basis values at k are the four table entries m_0 - 3 .. m_0 in a
- * row, two SSE2 registers (the vector extension of GCC and clang; each lane
- * gets the IEEE operation the scalar loop does, and the baseline x86-64
- * target has no FMA to contract them differently). The lanes run over the
+ * row, two af_strike_v2d registers. The lanes run over the
  * union of their sides; at a k outside its own side a lane's m is 0 or
  * below, where the table holds 0: the sum adds 0 x r[k] = +-0, which leaves
  * every partial sum the same double (0 + -0 = 0), r being finite (e->yy
  * is). False, nothing computed, when some lane's extra samples would reach
  * past the table's zeros (a side clipped to the window). */
-typedef double af_strike_v2d __attribute__((vector_size(16)));
 #define AF_STRIKE_LANES 4
 
 static bool edge_lattice_group(const af_edge *e, const af_edge_lattice *t, long zl, long i,
@@ -621,6 +637,32 @@ static double poly_value(const double *c, double u)
   return (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
 }
 
+/* The largest of poly_value at u = ulo + i du, i = 0 .. steps, and its u
+ * (the first on a tie) into *best, *ub: two u's a step (af_strike_v2d),
+ * each value the same double, compared in i's order. */
+static void peak_scan(const double *c, double ulo, double du, long steps, double *best, double *ub)
+{
+  const af_strike_v2d lo = {ulo, ulo}, step = {du, du}, two = {2.0, 2.0};
+  af_strike_v2d at = {0.0, 1.0}; /* i, i + 1: exact below 2^53 */
+  long i = 0;
+  for (; i + 1 <= steps; i += 2, at += two) {
+    af_strike_v2d u = lo + at * step;
+    af_strike_v2d v = (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
+    for (int j = 0; j < 2; j++)
+      if (v[j] > *best) {
+        *best = v[j];
+        *ub = u[j];
+      }
+  }
+  for (; i <= steps; i++) {
+    double u = ulo + (double)i * du, v = poly_value(c, u);
+    if (v > *best) {
+      *best = v;
+      *ub = u;
+    }
+  }
+}
+
 /* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
 static void poly_eval(const double *c, double u, double *v, double *d1, double *d2)
 {
@@ -757,23 +799,18 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
       pw[i] = p;
     for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) {
       t[i] += r[k] * pw[i];
-      for (int j = 0; j < AF_STRIKE_PEAK_TERMS; j++)
+      for (int j = 0; j <= i; j++)
         m[i][j] += pw[i] * pw[j];
     }
   }
+  for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) /* pw[j] pw[i] is the same double */
+    for (int j = i + 1; j < AF_STRIKE_PEAK_TERMS; j++)
+      m[i][j] = m[j][i];
   if (!solve_spd(m, t, AF_STRIKE_PEAK_TERMS, c))
     return top;
   double ulo = (double)(lo - ipk) / w, uhi = (double)(hi - ipk) / w, du = AF_STRIKE_PEAK_STEP / w;
   double best = -INFINITY, ub = 0.0, v, d1, d2;
-  long steps = (long)floor((uhi - ulo) / du);
-  for (long i = 0; i <= steps; i++) {
-    double u = ulo + (double)i * du;
-    v = poly_value(c, u);
-    if (v > best) {
-      best = v;
-      ub = u;
-    }
-  }
+  peak_scan(c, ulo, du, (long)floor((uhi - ulo) / du), &best, &ub);
   double un = ub; /* Newton on the derivative, from the best scanned point */
   for (int it = 0; it < 8; it++) {
     poly_eval(c, un, &v, &d1, &d2);
