@@ -458,18 +458,24 @@ static void grid_fill(af_spectrum *s, size_t top)
  * grid is only computed as far as the search goes (and a block ahead). */
 static void locate_minima(af_spectrum *s)
 {
-  size_t last = s->cfg.fft_size / 2;
+  size_t last = s->cfg.fft_size / 2, j = 1;
   const double *g = s->mag2;
   s->lobe_count = 0;
   grid_fill(s, 1);
-  for (size_t j = 1; j < last && s->lobe_count < s->cfg.max_lobes; j++) {
+  while (j < last && s->lobe_count < s->cfg.max_lobes) {
     if (j + 1 >= s->grid_top)
       grid_fill(s, j + AF_SPECTRUM_GRID_BLOCK < last ? j + AF_SPECTRUM_GRID_BLOCK : last);
-    if (!(g[j] < g[j - 1] && g[j] < g[j + 1]))
+    /* the bins below stop have their upper neighbour computed: a tight loop
+     * over them to the next minimum */
+    size_t stop = s->grid_top - 1 < last ? s->grid_top - 1 : last;
+    while (j < stop && !(g[j] < g[j - 1] && g[j] < g[j + 1]))
+      j++;
+    if (j == stop)
       continue;
     size_t i = s->lobe_count++;
     s->min_bin[i] = j;
     s->min_theta[i] = refine_bin(s, j, -1.0, &s->min_g[i]);
+    j++;
   }
 }
 
