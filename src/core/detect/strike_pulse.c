@@ -400,7 +400,26 @@ static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
   t->q00[1] = t->q10[1] = t->q11[1] = 0.0;
   for (long m = 1 - AF_STRIKE_LATTICE_PAD; m <= 0; m++)
     t->p0[AF_STRIKE_LATTICE_PAD + m] = t->p1[AF_STRIKE_LATTICE_PAD + m] = 0.0;
-  for (long m = 1; m <= m_max; m++) {
+  /* m and m + 1 a step (af_strike_v2d): each sum runs over one parity, so
+   * q[m + 1], q[m + 2] are q[m - 1], q[m] plus the pair's terms, the same
+   * additions as one m at a time; edge_basis' operations per lane. */
+  long m = 1;
+  for (; m + 1 <= m_max; m += 2) {
+    af_strike_v2d s = {(double)m * 0.5 * scale, (double)(m + 1) * 0.5 * scale}, s2 = s * s;
+    af_strike_v2d root = {sqrt(s[0]), sqrt(s[1])}, p0 = s * root, p1 = s2 * s2, q00, q10, q11;
+    __builtin_memcpy(&q00, &t->q00[m - 1], sizeof q00);
+    __builtin_memcpy(&q10, &t->q10[m - 1], sizeof q10);
+    __builtin_memcpy(&q11, &t->q11[m - 1], sizeof q11);
+    q00 += p0 * p0;
+    q10 += p1 * p0;
+    q11 += p1 * p1;
+    __builtin_memcpy(&t->p0[AF_STRIKE_LATTICE_PAD + m], &p0, sizeof p0);
+    __builtin_memcpy(&t->p1[AF_STRIKE_LATTICE_PAD + m], &p1, sizeof p1);
+    __builtin_memcpy(&t->q00[m + 1], &q00, sizeof q00);
+    __builtin_memcpy(&t->q10[m + 1], &q10, sizeof q10);
+    __builtin_memcpy(&t->q11[m + 1], &q11, sizeof q11);
+  }
+  for (; m <= m_max; m++) {
     double *p0 = &t->p0[AF_STRIKE_LATTICE_PAD + m], *p1 = &t->p1[AF_STRIKE_LATTICE_PAD + m];
     edge_basis((double)m * 0.5 * scale, p0, p1);
     t->q00[m + 1] = t->q00[m - 1] + *p0 * *p0;
