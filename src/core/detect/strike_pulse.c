@@ -78,13 +78,25 @@ typedef double af_strike_v2d __attribute__((vector_size(16)));
  * window is not used). */
 static long window_mean(const double *x, long n, long lo, long hi, double *mean, double *centre)
 {
+  long first = lo < 0 ? 0 : lo, end = hi < n ? hi : n;
   double sum = 0.0, at = 0.0;
   long count = 0;
-  for (long k = lo < 0 ? 0 : lo; k < hi && k < n; k++) {
-    if (isfinite(x[k])) {
-      sum += x[k];
-      at += (double)k;
-      count++;
+  /* Every sample finite (their sum is then finite; a sum that overflows
+   * only takes the loop below): the same sum, and the sum of the indices,
+   * exact integers below 2^53 either way, in closed form. */
+  for (long k = first; k < end; k++)
+    sum += x[k];
+  if (isfinite(sum)) {
+    count = end > first ? end - first : 0;
+    at = (double)((first + end - 1) * count / 2);
+  } else {
+    sum = 0.0;
+    for (long k = first; k < end; k++) {
+      if (isfinite(x[k])) {
+        sum += x[k];
+        at += (double)k;
+        count++;
+      }
     }
   }
   if (count < AF_STRIKE_MIN_WINDOW)
