@@ -525,9 +525,10 @@ static int tail_below(const af_spectrum *s, const af_spectrum_bounds *b, size_t 
  * exactly. Otherwise the grid argmax, refined unless at DC or Nyquist, where
  * |A| of a real pulse is even about the bin and the bin is the extremum.
  * The grid's argmax is searched upwards only until the bound of the bins
- * left (tail_below) falls below the largest g so far: none of them could
- * be taken (a bin is taken only when it exceeds every one before it), so
- * the argmax is the whole grid's, without computing g there. */
+ * left (tail_below, tested once a block of bins) falls below the largest g
+ * so far: none of them could be taken (a bin is taken only when it exceeds
+ * every one before it), so the argmax is the whole grid's, without
+ * computing or reading g there. */
 static void locate_maximum(af_spectrum *s, const double *x, int one_signed)
 {
   size_t last = s->cfg.fft_size / 2, jmax = 0;
@@ -536,10 +537,11 @@ static void locate_maximum(af_spectrum *s, const double *x, int one_signed)
     return;
   af_spectrum_bounds b = pulse_bounds(x, s->n);
   for (size_t j = 1; j <= last; j++) {
-    if (j >= s->grid_top) {
+    if (j % AF_SPECTRUM_GRID_BLOCK == 0 || j >= s->grid_top) { /* a block's first bin */
       if (tail_below(s, &b, j, s->mag2[jmax]))
         break;
-      grid_fill(s, j + AF_SPECTRUM_GRID_BLOCK < last ? j + AF_SPECTRUM_GRID_BLOCK : last);
+      if (j >= s->grid_top)
+        grid_fill(s, j + AF_SPECTRUM_GRID_BLOCK < last ? j + AF_SPECTRUM_GRID_BLOCK : last);
     }
     if (s->mag2[j] > s->mag2[jmax])
       jmax = j;
