@@ -5,6 +5,13 @@
 
 #include <math.h>
 
+/* The unroll pragmas (#pragma GCC unroll) are for GCC, the build whose
+ * speed counts; clang (the sanitizer and fuzzing build) may leave them
+ * rolled and warn. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
 /* The peak is the maximum of a least-squares quartic through the samples
  * above this fraction of the largest (about 30 samples of a 1.4 ms pulse at
  * 50 kHz): a parabola would need a higher level (fewer samples, more noise)
@@ -59,18 +66,37 @@
 #define AF_STRIKE_MIN_WINDOW 4
 #define AF_STRIKE_PI 3.14159265358979323846
 
+/* Two doubles in one SSE2 register (the vector extension of GCC and
+ * clang): each lane gets the IEEE operation the scalar code does, and the
+ * baseline x86-64 target has no FMA to contract them differently, so a
+ * loop over two independent values at once gives their doubles bit for
+ * bit. */
+typedef double af_strike_v2d __attribute__((vector_size(16)));
+
 /* Mean and centre of the finite samples of x in [lo, hi) (clipped to
  * [0, n)); returns their count (fewer than AF_STRIKE_MIN_WINDOW: 0, the
  * window is not used). */
 static long window_mean(const double *x, long n, long lo, long hi, double *mean, double *centre)
 {
+  long first = lo < 0 ? 0 : lo, end = hi < n ? hi : n;
   double sum = 0.0, at = 0.0;
   long count = 0;
-  for (long k = lo < 0 ? 0 : lo; k < hi && k < n; k++) {
-    if (isfinite(x[k])) {
-      sum += x[k];
-      at += (double)k;
-      count++;
+  /* Every sample finite (their sum is then finite; a sum that overflows
+   * only takes the loop below): the same sum, and the sum of the indices,
+   * exact integers below 2^53 either way, in closed form. */
+  for (long k = first; k < end; k++)
+    sum += x[k];
+  if (isfinite(sum)) {
+    count = end > first ? end - first : 0;
+    at = (double)((first + end - 1) * count / 2);
+  } else {
+    sum = 0.0;
+    for (long k = first; k < end; k++) {
+      if (isfinite(x[k])) {
+        sum += x[k];
+        at += (double)k;
+        count++;
+      }
     }
   }
   if (count < AF_STRIKE_MIN_WINDOW)
@@ -133,11 +159,23 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
     s->slope = 0.0;
     s->b0 = pre ? m1 : post ? m2 : s->fallback;
   }
-  /* A non-finite sample makes the sum non-finite: one add a sample instead
-   * of fill_holes' test (a sum that overflows only runs fill_holes on a
-   * finite r, which leaves it as it is). */
-  double sum = 0.0;
-  for (long k = 0; k < s->n; k++) {
+  /* A non-finite sample makes its lane's sum non-finite: one add a sample
+   * instead of fill_holes' test (a sum that overflows only runs fill_holes
+   * on a finite r, which leaves it as it is). Two samples a step
+   * (af_strike_v2d): each r[k] the same double. */
+  af_strike_v2d b0 = {s->b0, s->b0}, slope = {s->slope, s->slope}, at = {0.0, 1.0},
+                sum2 = {0.0, 0.0};
+  const af_strike_v2d two = {2.0, 2.0};
+  long k = 0;
+  for (; k + 1 < s->n; k += 2, at += two) { /* at = k, k + 1: exact below 2^53 */
+    af_strike_v2d x, r;
+    __builtin_memcpy(&x, s->x + k, sizeof x);
+    r = x - (b0 + slope * at);
+    __builtin_memcpy(s->r + k, &r, sizeof r);
+    sum2 += r;
+  }
+  double sum = sum2[0] + sum2[1];
+  for (; k < s->n; k++) {
     s->r[k] = s->x[k] - (s->b0 + s->slope * (double)k);
     sum += s->r[k];
   }
@@ -360,11 +398,15 @@ static double edge_brent(const af_edge *e, double a, double b)
  * Windows longer than the table are scanned by edge_rss. */
 #define AF_STRIKE_EDGE_LATTICE 1024
 
-/* The edge's lattice: p0[m], p1[m] the basis at s = (m / 2) scale, and
- * q00[m], q10[m], q11[m] the sums of p0 p0, p1 p0, p1 p1 over m, m - 2, ...
- * down to 1 or 2 (index 0 and -1, i.e. [m + 1] stored, hold 0). */
+/* The edge's lattice: p0[m], p1[m] the basis at s = (m / 2) scale, stored
+ * at [AF_STRIKE_LATTICE_PAD + m] with 0 below m = 1 (edge_lattice_group
+ * reads down to m = 1 - AF_STRIKE_LATTICE_PAD), and q00[m], q10[m], q11[m]
+ * the sums of p0 p0, p1 p0, p1 p1 over m, m - 2, ... down to 1 or 2 (index
+ * 0 and -1, i.e. [m + 1] stored, hold 0). */
+#define AF_STRIKE_LATTICE_PAD 4
 typedef struct {
-  double p0[AF_STRIKE_EDGE_LATTICE], p1[AF_STRIKE_EDGE_LATTICE];
+  double p0[AF_STRIKE_LATTICE_PAD + AF_STRIKE_EDGE_LATTICE];
+  double p1[AF_STRIKE_LATTICE_PAD + AF_STRIKE_EDGE_LATTICE];
   double q00[AF_STRIKE_EDGE_LATTICE + 1], q10[AF_STRIKE_EDGE_LATTICE + 1],
       q11[AF_STRIKE_EDGE_LATTICE + 1];
 } af_edge_lattice;
@@ -375,11 +417,33 @@ static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
 {
   t->q00[0] = t->q10[0] = t->q11[0] = 0.0;
   t->q00[1] = t->q10[1] = t->q11[1] = 0.0;
-  for (long m = 1; m <= m_max; m++) {
-    edge_basis((double)m * 0.5 * scale, &t->p0[m], &t->p1[m]);
-    t->q00[m + 1] = t->q00[m - 1] + t->p0[m] * t->p0[m];
-    t->q10[m + 1] = t->q10[m - 1] + t->p1[m] * t->p0[m];
-    t->q11[m + 1] = t->q11[m - 1] + t->p1[m] * t->p1[m];
+  for (long m = 1 - AF_STRIKE_LATTICE_PAD; m <= 0; m++)
+    t->p0[AF_STRIKE_LATTICE_PAD + m] = t->p1[AF_STRIKE_LATTICE_PAD + m] = 0.0;
+  /* m and m + 1 a step (af_strike_v2d): each sum runs over one parity, so
+   * q[m + 1], q[m + 2] are q[m - 1], q[m] plus the pair's terms, the same
+   * additions as one m at a time; edge_basis' operations per lane. */
+  long m = 1;
+  for (; m + 1 <= m_max; m += 2) {
+    af_strike_v2d s = {(double)m * 0.5 * scale, (double)(m + 1) * 0.5 * scale}, s2 = s * s;
+    af_strike_v2d root = {sqrt(s[0]), sqrt(s[1])}, p0 = s * root, p1 = s2 * s2, q00, q10, q11;
+    __builtin_memcpy(&q00, &t->q00[m - 1], sizeof q00);
+    __builtin_memcpy(&q10, &t->q10[m - 1], sizeof q10);
+    __builtin_memcpy(&q11, &t->q11[m - 1], sizeof q11);
+    q00 += p0 * p0;
+    q10 += p1 * p0;
+    q11 += p1 * p1;
+    __builtin_memcpy(&t->p0[AF_STRIKE_LATTICE_PAD + m], &p0, sizeof p0);
+    __builtin_memcpy(&t->p1[AF_STRIKE_LATTICE_PAD + m], &p1, sizeof p1);
+    __builtin_memcpy(&t->q00[m + 1], &q00, sizeof q00);
+    __builtin_memcpy(&t->q10[m + 1], &q10, sizeof q10);
+    __builtin_memcpy(&t->q11[m + 1], &q11, sizeof q11);
+  }
+  for (; m <= m_max; m++) {
+    double *p0 = &t->p0[AF_STRIKE_LATTICE_PAD + m], *p1 = &t->p1[AF_STRIKE_LATTICE_PAD + m];
+    edge_basis((double)m * 0.5 * scale, p0, p1);
+    t->q00[m + 1] = t->q00[m - 1] + *p0 * *p0;
+    t->q10[m + 1] = t->q10[m - 1] + *p1 * *p0;
+    t->q11[m + 1] = t->q11[m - 1] + *p1 * *p1;
   }
 }
 
@@ -393,25 +457,89 @@ static void edge_lattice_side(const af_edge *e, long zl, long i, long *k0, long 
   *k1 = hi > e->hi ? e->hi : hi;
 }
 
-/* The rss of the lattice's zero z = zl + i / 2, its contact side k0 .. k1. */
-static double edge_lattice_rss(const af_edge *e, const af_edge_lattice *t, long zl, long i, long k0,
-                               long k1)
+/* m of the zero z = zl + i / 2 at sample k: 2 side (k - z). */
+static long edge_lattice_m(const af_edge *e, long zl, long i, long k)
 {
-  double a00 = 0.0, a10 = 0.0, a11 = 0.0, b0 = 0.0, b1 = 0.0;
+  return e->side * (2 * (k - zl) - i);
+}
+
+/* The rss of the lattice's zero z = zl + i / 2, its contact side k0 .. k1,
+ * from the data's sums b0, b1 over it (0 when it is empty). */
+static double edge_lattice_rss(const af_edge *e, const af_edge_lattice *t, long zl, long i, long k0,
+                               long k1, double b0, double b1)
+{
+  double a00 = 0.0, a10 = 0.0, a11 = 0.0;
   if (k1 >= k0) {
-    /* m at k0, stepping by dm per sample; the smallest and largest m. */
-    long m = e->side * (2 * (k0 - zl) - i), dm = 2 * e->side;
-    long m_in = e->side > 0 ? m : e->side * (2 * (k1 - zl) - i), m_out = m_in + 2 * (k1 - k0);
-    for (long k = k0; k <= k1; k++, m += dm) {
-      double y = e->r[k];
-      b0 += t->p0[m] * y;
-      b1 += t->p1[m] * y;
-    }
+    /* the smallest and largest m */
+    long m_in = edge_lattice_m(e, zl, i, e->side > 0 ? k0 : k1), m_out = m_in + 2 * (k1 - k0);
     a00 = t->q00[m_out + 1] - t->q00[m_in - 1];
     a10 = t->q10[m_out + 1] - t->q10[m_in - 1];
     a11 = t->q11[m_out + 1] - t->q11[m_in - 1];
   }
   return edge_rss_of(e->yy, a00, a10, a11, b0, b1);
+}
+
+/* The data's sums b0 = sum p0[m] r[k], b1 = sum p1[m] r[k] of the zero
+ * zl + i / 2 over k0 .. k1, in k's order. */
+static void edge_lattice_sums(const af_edge *e, const af_edge_lattice *t, long zl, long i, long k0,
+                              long k1, double *b0, double *b1)
+{
+  double s0 = 0.0, s1 = 0.0;
+  long m = edge_lattice_m(e, zl, i, k0), dm = 2 * e->side;
+  for (long k = k0; k <= k1; k++, m += dm) {
+    double y = e->r[k];
+    s0 += t->p0[AF_STRIKE_LATTICE_PAD + m] * y;
+    s1 += t->p1[AF_STRIKE_LATTICE_PAD + m] * y;
+  }
+  *b0 = s0;
+  *b1 = s1;
+}
+
+/* Four zeros of the scan at once: lane j the zero i_j = i + j side, the
+ * next ones in the scan's order. Its m at k is m_0(k) - j, so the four
+ * lanes' basis values at k are the four table entries m_0 - 3 .. m_0 in a
+ * row, two af_strike_v2d registers. The lanes run over the
+ * union of their sides; at a k outside its own side a lane's m is 0 or
+ * below, where the table holds 0: the sum adds 0 x r[k] = +-0, which leaves
+ * every partial sum the same double (0 + -0 = 0), r being finite (e->yy
+ * is). False, nothing computed, when some lane's extra samples would reach
+ * past the table's zeros (a side clipped to the window). */
+#define AF_STRIKE_LANES 4
+
+static bool edge_lattice_group(const af_edge *e, const af_edge_lattice *t, long zl, long i,
+                               const long *k0, const long *k1, double *b0, double *b1)
+{
+  long lo = k0[0], hi = k1[0];
+  for (int j = 1; j < AF_STRIKE_LANES; j++) {
+    lo = k0[j] < lo ? k0[j] : lo;
+    hi = k1[j] > hi ? k1[j] : hi;
+  }
+  for (int j = 0; j < AF_STRIKE_LANES; j++) {
+    long ij = i + j * e->side, m_lo = edge_lattice_m(e, zl, ij, lo);
+    long m_hi = edge_lattice_m(e, zl, ij, hi);
+    bool lo_in = lo >= k0[j] && lo <= k1[j], hi_in = hi >= k0[j] && hi <= k1[j];
+    if ((!lo_in && (m_lo > 0 || m_lo <= -AF_STRIKE_LATTICE_PAD)) ||
+        (!hi_in && (m_hi > 0 || m_hi <= -AF_STRIKE_LATTICE_PAD)))
+      return false;
+  }
+  af_strike_v2d s0_hi = {0.0, 0.0}, s0_lo = {0.0, 0.0}, s1_hi = {0.0, 0.0}, s1_lo = {0.0, 0.0};
+  const double *p0 = t->p0 + AF_STRIKE_LATTICE_PAD - 3, *p1 = t->p1 + AF_STRIKE_LATTICE_PAD - 3;
+  long m = edge_lattice_m(e, zl, i, lo), dm = 2 * e->side;
+  for (long k = lo; k <= hi; k++, m += dm) {
+    af_strike_v2d y = {e->r[k], e->r[k]}, a, b, c, d; /* a, b: m - 3, m - 2, m - 1, m */
+    __builtin_memcpy(&a, p0 + m, sizeof a);
+    __builtin_memcpy(&b, p0 + m + 2, sizeof b);
+    __builtin_memcpy(&c, p1 + m, sizeof c);
+    __builtin_memcpy(&d, p1 + m + 2, sizeof d);
+    s0_lo += a * y;
+    s0_hi += b * y;
+    s1_lo += c * y;
+    s1_hi += d * y;
+  }
+  /* lane j sits at m - j: element 1 - j of hi, 3 - j of lo */
+  b0[0] = s0_hi[1], b0[1] = s0_hi[0], b0[2] = s0_lo[1], b0[3] = s0_lo[0];
+  b1[0] = s1_hi[1], b1[1] = s1_hi[0], b1[2] = s1_lo[1], b1[3] = s1_lo[0];
+  return true;
 }
 
 /* Far enough past the edge the quiet side holds signal: the rss of every
@@ -423,7 +551,31 @@ static double edge_lattice_rss(const af_edge *e, const af_edge_lattice *t, long 
  * backwards, ties still to the smaller zero), where the sum grows. */
 #define AF_STRIKE_EDGE_PRUNE_MARGIN 1e-9
 
-/* The scan of fit_edge over the lattice; the best zero and its rss. */
+/* The data's sums of the scan's zeros done .. done + AF_STRIKE_LANES - 1
+ * (i = done rising, steps - done falling) into b0, b1: four at once when
+ * they all lie on the scan (edge_lattice_group), else the first alone.
+ * Returns how many it computed. */
+static int edge_lattice_next(const af_edge *e, const af_edge_lattice *t, long zl, long done,
+                             long steps, double *b0, double *b1)
+{
+  long i = e->side > 0 ? done : steps - done, k0[AF_STRIKE_LANES], k1[AF_STRIKE_LANES];
+  if (done + AF_STRIKE_LANES - 1 <= steps && isfinite(e->yy)) {
+    for (int j = 0; j < AF_STRIKE_LANES; j++)
+      edge_lattice_side(e, zl, i + j * e->side, &k0[j], &k1[j]);
+    if (edge_lattice_group(e, t, zl, i, k0, k1, b0, b1))
+      return AF_STRIKE_LANES;
+  }
+  edge_lattice_side(e, zl, i, &k0[0], &k1[0]);
+  b0[0] = b1[0] = 0.0;
+  if (k1[0] >= k0[0])
+    edge_lattice_sums(e, t, zl, i, k0[0], k1[0], &b0[0], &b1[0]);
+  return 1;
+}
+
+/* The scan of fit_edge over the lattice; the best zero and its rss. The
+ * data's sums are computed a group of zeros ahead (edge_lattice_next),
+ * after the prune test of the group's first: a group the pruning cuts
+ * short only costs its unused lanes. */
 static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_max, double *best,
                               double *best_rss)
 {
@@ -433,14 +585,20 @@ static void edge_scan_lattice(const af_edge *e, double zlo, long steps, long m_m
   const double margin = AF_STRIKE_EDGE_PRUNE_MARGIN * e->yy;
   double quiet = 0.0;                      /* sum of r^2 on the quiet side of the zero */
   long next = e->side > 0 ? e->lo : e->hi; /* the next sample to join it */
-  for (long done = 0; done <= steps; done++) {
+  double b0[AF_STRIKE_LANES], b1[AF_STRIKE_LANES];
+  int have = 0, at = 0; /* zeros whose sums are computed, the next one's lane */
+  for (long done = 0; done <= steps; done++, at++) {
     long i = e->side > 0 ? done : steps - done, k0, k1;
     edge_lattice_side(e, zl, i, &k0, &k1);
     for (; e->side > 0 ? next < k0 && next <= e->hi : next > k1 && next >= e->lo; next += e->side)
       quiet += e->r[next] * e->r[next];
     if (quiet > *best_rss + margin)
       break;
-    double rss = edge_lattice_rss(e, &t, zl, i, k0, k1);
+    if (at == have) {
+      have = edge_lattice_next(e, &t, zl, done, steps, b0, b1);
+      at = 0;
+    }
+    double rss = edge_lattice_rss(e, &t, zl, i, k0, k1, b0[at], b1[at]);
     if (e->side > 0 ? rss < *best_rss : rss <= *best_rss) {
       *best_rss = rss;
       *best = zlo + (double)i * AF_STRIKE_EDGE_STEP;
@@ -515,6 +673,32 @@ _Static_assert(AF_STRIKE_PEAK_TERMS == 5, "poly_value is written out for a quart
 static double poly_value(const double *c, double u)
 {
   return (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
+}
+
+/* The largest of poly_value at u = ulo + i du, i = 0 .. steps, and its u
+ * (the first on a tie) into *best, *ub: two u's a step (af_strike_v2d),
+ * each value the same double, compared in i's order. */
+static void peak_scan(const double *c, double ulo, double du, long steps, double *best, double *ub)
+{
+  const af_strike_v2d lo = {ulo, ulo}, step = {du, du}, two = {2.0, 2.0};
+  af_strike_v2d at = {0.0, 1.0}; /* i, i + 1: exact below 2^53 */
+  long i = 0;
+  for (; i + 1 <= steps; i += 2, at += two) {
+    af_strike_v2d u = lo + at * step;
+    af_strike_v2d v = (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
+    for (int j = 0; j < 2; j++)
+      if (v[j] > *best) {
+        *best = v[j];
+        *ub = u[j];
+      }
+  }
+  for (; i <= steps; i++) {
+    double u = ulo + (double)i * du, v = poly_value(c, u);
+    if (v > *best) {
+      *best = v;
+      *ub = u;
+    }
+  }
 }
 
 /* Value and derivatives of the polynomial c[0..AF_STRIKE_PEAK_TERMS) at u. */
@@ -651,25 +835,23 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
     double u = (double)(k - ipk) / w, p = 1.0, pw[AF_STRIKE_PEAK_TERMS];
     for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++, p *= u)
       pw[i] = p;
+      /* unrolled (a constant count: the sums stay in registers) */
+#pragma GCC unroll 5
     for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) {
       t[i] += r[k] * pw[i];
-      for (int j = 0; j < AF_STRIKE_PEAK_TERMS; j++)
+#pragma GCC unroll 5
+      for (int j = 0; j <= i; j++)
         m[i][j] += pw[i] * pw[j];
     }
   }
+  for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) /* pw[j] pw[i] is the same double */
+    for (int j = i + 1; j < AF_STRIKE_PEAK_TERMS; j++)
+      m[i][j] = m[j][i];
   if (!solve_spd(m, t, AF_STRIKE_PEAK_TERMS, c))
     return top;
   double ulo = (double)(lo - ipk) / w, uhi = (double)(hi - ipk) / w, du = AF_STRIKE_PEAK_STEP / w;
   double best = -INFINITY, ub = 0.0, v, d1, d2;
-  long steps = (long)floor((uhi - ulo) / du);
-  for (long i = 0; i <= steps; i++) {
-    double u = ulo + (double)i * du;
-    v = poly_value(c, u);
-    if (v > best) {
-      best = v;
-      ub = u;
-    }
-  }
+  peak_scan(c, ulo, du, (long)floor((uhi - ulo) / du), &best, &ub);
   double un = ub; /* Newton on the derivative, from the best scanned point */
   for (int it = 0; it < 8; it++) {
     poly_eval(c, un, &v, &d1, &d2);

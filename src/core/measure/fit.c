@@ -429,7 +429,7 @@ static void fit_match(af_fit *w)
   double impulse_model = 0.0, impulse_data = 0.0;
   if (w->on_table) /* the table's integral, in units of m1 v0 */
     impulse_model =
-        w->shape.impulse * w->start.hammer_mass_kg * w->start.velocity_m_s *
+        w->start_figures.impulse * w->start.hammer_mass_kg * w->start.velocity_m_s *
         exp(w->ix_velocity != AF_IX_NONE ? gsl_vector_get(w->x_start, w->ix_velocity) : 0.0);
   else
     for (size_t j = 0; j < w->base_res.n_samples; j++)
@@ -470,7 +470,7 @@ static af_status fit_start(af_fit *w)
     double x[AF_FIT_MAX_PARAMS] = {0}, t0_s;
     for (size_t i = 0; i < w->n_params; i++)
       x[i] = gsl_vector_get(w->x_start, i);
-    st = af_fit_table_figures(w, x, &sc, &t0_s);
+    st = af_fit_table_start_figures(w, x, &sc, &t0_s);
   } else {
     st = af_fit_base(w, w->x_start);
   }
@@ -553,12 +553,28 @@ const gsl_vector *af_fit_residual(const af_fit *w)
   return w->on_table ? &w->res_view.vector : gsl_multifit_nlinear_residual(w->nls);
 }
 
+/* J^T J into the lower triangle of w->normal: the table search's own
+ * (lm_jtj) while jac_n is its J, else gsl_blas_dsyrk's. Both are the sums
+ * of J_ki J_kj over k = 0 .. n - 1 in k's order from 0 (GSL's CBLAS syrk:
+ * 0 + 1 x the sum), the same doubles. */
+static void fit_normal(af_fit *w, const gsl_matrix *J)
+{
+  const size_t p = w->n_params;
+  if (!(w->on_table && w->lm_jtj_kept)) {
+    gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, w->normal);
+    return;
+  }
+  for (size_t i = 0; i < p; i++)
+    for (size_t j = 0; j <= i; j++)
+      gsl_matrix_set(w->normal, i, j, w->lm_jtj[i * p + j]);
+}
+
 /* The covariance of the scaled parameters, s^2 (J^T J)^-1 with
- * s^2 = |r|^2 / (n - p), into the lower triangle of w->normal.
- * gsl_multifit_nlinear_covar would allocate an n x p copy on every call, so
- * the p x p normal matrix is inverted here instead, by Cholesky after
- * scaling its columns to unit norm (the condition number that squaring J
- * costs is then only that of the parameter correlations). */
+ * s^2 = |r|^2 / (n - p), into the lower triangle of w->normal, |r| into
+ * res_norm. gsl_multifit_nlinear_covar would allocate an n x p copy on
+ * every call, so the p x p normal matrix is inverted here instead, by
+ * Cholesky after scaling its columns to unit norm (the condition number
+ * that squaring J costs is then only that of the parameter correlations). */
 static af_status fit_covariance(af_fit *w)
 {
   const gsl_matrix *J = af_fit_jacobian(w);
@@ -571,14 +587,14 @@ static af_status fit_covariance(af_fit *w)
     if (!(norm[j] > 0.0))
       return AF_ENUMERIC;
   }
-  gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, w->normal);
+  fit_normal(w, J);
   for (size_t i = 0; i < p; i++)
     for (size_t j = 0; j <= i; j++)
       gsl_matrix_set(w->normal, i, j, gsl_matrix_get(w->normal, i, j) / (norm[i] * norm[j]));
   if (gsl_linalg_cholesky_decomp1(w->normal) != GSL_SUCCESS ||
       gsl_linalg_cholesky_invert(w->normal) != GSL_SUCCESS)
     return AF_ENUMERIC;
-  double r_norm = gsl_blas_dnrm2(r);
+  double r_norm = w->res_norm = gsl_blas_dnrm2(r);
   double s2 = r_norm * r_norm / (double)(w->n - p);
   for (size_t i = 0; i < p; i++)
     for (size_t j = 0; j <= i; j++)

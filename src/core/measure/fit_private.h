@@ -20,6 +20,14 @@
 #define AF_IX_RESTITUTION 1
 #define AF_IX_NONE SIZE_MAX
 
+/* The scalars of one interpolated pulse (af_pulse_shape's) that the
+ * figures read, for the (chi, gamma) they were interpolated at. */
+typedef struct {
+  double chi, gamma;
+  double tau_c, dln_tau_c[2], impulse, peak;
+  bool valid;
+} af_fit_figures;
+
 struct af_fit {
   af_fit_config cfg;
   size_t n_params;    /* p */
@@ -39,16 +47,22 @@ struct af_fit {
   double probe_contact_time_s[AF_FIT_MAX_PARAMS]; /* at x + step e_j, last Jacobian */
 
   /* The table path. */
-  const af_pulse_table *table;         /* the process's, shared read-only */
-  af_pulse_shape shape;                /* the base point's interpolated pulse */
-  double *jac_n;                       /* max_samples x AF_FIT_MAX_PARAMS, row-major, the
-                                          columns past n_params 0: the base's Jacobian
-                                          [scaled residual per unit x] */
-  double *res_n;                       /* the base's scaled residual [-] */
-  gsl_matrix_view jac_view;            /* n x p over jac_n, for this fit */
-  gsl_vector_view res_view;            /* n over res_n */
-  double lm_x[AF_FIT_MAX_PARAMS];      /* the table search's position */
-  size_t lm_iterations;                /* its accepted steps */
+  const af_pulse_table *table;    /* the process's, shared read-only */
+  af_pulse_shape shape;           /* the base point's interpolated pulse */
+  af_fit_figures start_figures;   /* the last matched start's, kept from fit to
+                                     fit (af_fit_table_start_figures) */
+  double *jac_n;                  /* max_samples x AF_FIT_MAX_PARAMS, row-major, the
+                                     columns past n_params 0: the base's Jacobian
+                                     [scaled residual per unit x] */
+  double *res_n;                  /* the base's scaled residual [-] */
+  gsl_matrix_view jac_view;       /* n x p over jac_n, for this fit */
+  gsl_vector_view res_view;       /* n over res_n */
+  double lm_x[AF_FIT_MAX_PARAMS]; /* the table search's position */
+  double lm_jtj[AF_FIT_MAX_PARAMS * AF_FIT_MAX_PARAMS]; /* J^T J of the base's jac_n, p x p
+                                                           (lm_normal) ... */
+  bool lm_jtj_kept;                                     /* ... while jac_n is that J */
+  double res_norm;                                      /* |r| at the reported point */
+  size_t lm_iterations;                                 /* its accepted steps */
   double *check_n;                     /* the ODE model at k dt - t0, the check [N] */
   double tc_grad_s[AF_FIT_MAX_PARAMS]; /* d t_c / d x_j at the base [s] */
   size_t from_table, fallbacks;        /* af_fit_counts */
@@ -98,6 +112,7 @@ const gsl_vector *af_fit_residual(const af_fit *w);
 
 /* fit_table.c */
 af_status af_fit_table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s);
+af_status af_fit_table_start_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s);
 af_status af_fit_table_model(af_fit *w, const double *x);
 af_status af_fit_table_search(af_fit *w);
 af_status af_fit_check_run(af_fit *w, const double *x, af_fit_result *out);

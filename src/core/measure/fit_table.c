@@ -133,32 +133,87 @@ static void table_sample(af_fit *w, const af_fit_scales *sc, size_t k, double t0
   w->res_n[k] = w->scale * (w->base_at_n[k] - w->pulse_n[k]);
 }
 
-/* The table's figures at x: the shape, base_res's contact time, peak and
- * sample count (as the ODE would write them) and the contact time's
- * gradient. AF_EINVAL (and left_table) off the grid; AF_ESIZE when the
- * ODE's pulse would overflow its buffer, as on the ODE path. */
-af_status af_fit_table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
+/* base_res's contact time, peak and sample count (as the ODE would write
+ * them) and the contact time's gradient from the figures f at scales sc.
+ * AF_ESIZE when the ODE's pulse would overflow its buffer, as on the ODE
+ * path. */
+static af_status table_figures_from(af_fit *w, const af_fit_scales *sc, const af_fit_figures *f)
 {
-  af_impact_params p;
-  af_fit_unpack(w, x, &p, t0_s);
-  if (table_scales(w, &p, x, sc) != AF_OK ||
-      af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
-    w->left_table = true;
-    return AF_EINVAL;
-  }
-  double tc_s = w->shape.tau_c * sc->t_s, samples = floor(tc_s / w->h_s) + 1.0;
+  double tc_s = f->tau_c * sc->t_s, samples = floor(tc_s / w->h_s) + 1.0;
   if (!(samples <= (double)w->model_cap))
     return AF_ESIZE;
   w->base_res = (af_impact_result){.contact_time_s = tc_s,
-                                   .peak_force_n = w->shape.peak * sc->f0_n,
+                                   .peak_force_n = f->peak * sc->f0_n,
                                    .dt_s = w->h_s,
                                    .n_samples = (size_t)samples};
   for (size_t j = 0; j < w->n_params; j++)
-    w->tc_grad_s[j] = j == w->ix_time
-                          ? 0.0
-                          : tc_s * (sc->dln_t[j] + w->shape.dln_tau_c[0] * sc->dchi[j] +
-                                    w->shape.dln_tau_c[1] * sc->gamma * sc->dln_gamma[j]);
+    w->tc_grad_s[j] = j == w->ix_time ? 0.0
+                                      : tc_s * (sc->dln_t[j] + f->dln_tau_c[0] * sc->dchi[j] +
+                                                f->dln_tau_c[1] * sc->gamma * sc->dln_gamma[j]);
   return AF_OK;
+}
+
+static af_fit_figures figures_of(const af_pulse_shape *s)
+{
+  return (af_fit_figures){.chi = s->chi,
+                          .gamma = s->gamma,
+                          .tau_c = s->tau_c,
+                          .dln_tau_c = {s->dln_tau_c[0], s->dln_tau_c[1]},
+                          .impulse = s->impulse,
+                          .peak = s->peak,
+                          .valid = true};
+}
+
+/* The scales at x, AF_EINVAL (and left_table) off the grid. */
+static af_status table_point(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
+{
+  af_impact_params p;
+  af_fit_unpack(w, x, &p, t0_s);
+  if (table_scales(w, &p, x, sc) != AF_OK || !af_pulse_table_covers(sc->chi, sc->gamma)) {
+    w->left_table = true;
+    return AF_EINVAL;
+  }
+  return AF_OK;
+}
+
+/* The table's figures at x: the shape, base_res's contact time, peak and
+ * sample count and the contact time's gradient (table_figures_from).
+ * AF_EINVAL (and left_table) off the grid; AF_ESIZE when the ODE's pulse
+ * would overflow its buffer. */
+af_status af_fit_table_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
+{
+  af_status st = table_point(w, x, sc, t0_s);
+  if (st != AF_OK)
+    return st;
+  if (af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
+    w->left_table = true;
+    return AF_EINVAL;
+  }
+  af_fit_figures f = figures_of(&w->shape);
+  return table_figures_from(w, sc, &f);
+}
+
+/* The same figures at the unmatched start x, for fit_match, which reads
+ * only the shape's scalars, into start_figures: the shape is interpolated
+ * only when (chi, gamma) differ from the last start's (the apple's nominal
+ * parameters, the same from strike to strike on a line). The table is a
+ * pure function of (chi, gamma): the same doubles as a new interpolation,
+ * without its 3 x 65-node sums over 16 grid nodes. */
+af_status af_fit_table_start_figures(af_fit *w, const double *x, af_fit_scales *sc, double *t0_s)
+{
+  af_status st = table_point(w, x, sc, t0_s);
+  if (st != AF_OK)
+    return st;
+  af_fit_figures *f = &w->start_figures;
+  if (!(f->valid && f->chi == sc->chi && f->gamma == sc->gamma)) {
+    f->valid = false;
+    if (af_pulse_table_shape(w->table, sc->chi, sc->gamma, &w->shape) != AF_OK) {
+      w->left_table = true;
+      return AF_EINVAL;
+    }
+    *f = figures_of(&w->shape);
+  }
+  return table_figures_from(w, sc, f);
 }
 
 /* ... and the model at the data times: values, slopes, Jacobian rows and
@@ -172,6 +227,7 @@ af_status af_fit_table_model(af_fit *w, const double *x)
     return st;
   for (size_t k = 0; k < w->n; k++)
     table_sample(w, &sc, k, t0_s);
+  w->lm_jtj_kept = false; /* a new J */
   return AF_OK;
 }
 
@@ -216,9 +272,9 @@ static bool lm_solve(size_t p, const double *a, const double *d2, double mu, con
  * over all four columns of jac_n whatever p (those past p are 0), written
  * out so that they stay in registers (the loops over a run-time p cost
  * three times their multiply-adds); adding 0 x 0 leaves the other sums the
- * same doubles. */
+ * same doubles. J^T J is kept for the covariance (lm_jtj). */
 _Static_assert(AF_FIT_MAX_PARAMS == 4, "lm_normal's sums are written out for 4 columns");
-static double lm_normal(const af_fit *w, double *a, double *g)
+static double lm_normal(af_fit *w, double *a, double *g)
 {
   double g0 = 0.0, g1 = 0.0, g2 = 0.0, g3 = 0.0, cost = 0.0;
   double a00 = 0.0, a10 = 0.0, a11 = 0.0, a20 = 0.0, a21 = 0.0, a22 = 0.0;
@@ -249,8 +305,9 @@ static double lm_normal(const af_fit *w, double *a, double *g)
   for (size_t i = 0; i < p; i++) {
     g[i] = gg[i];
     for (size_t j = 0; j < p; j++)
-      a[i * p + j] = aa[i][j];
+      a[i * p + j] = w->lm_jtj[i * p + j] = aa[i][j];
   }
+  w->lm_jtj_kept = true;
   return cost;
 }
 
@@ -436,8 +493,7 @@ double af_fit_check_shift(const af_fit *w)
     for (size_t j = 0; j < p; j++)
       g[j] += row[j] * w->scale * (w->check_n[k] - w->base_at_n[k]);
   }
-  double r_norm = gsl_blas_dnrm2(af_fit_residual(w));
-  double s2 = r_norm * r_norm / (double)(w->n - p); /* normal holds s2 (J^T J)^-1 */
+  double s2 = w->res_norm * w->res_norm / (double)(w->n - p); /* normal: s2 (J^T J)^-1 */
   if (!(s2 > 0.0))
     return INFINITY;
   double worst = 0.0;

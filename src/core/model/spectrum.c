@@ -458,34 +458,94 @@ static void grid_fill(af_spectrum *s, size_t top)
  * grid is only computed as far as the search goes (and a block ahead). */
 static void locate_minima(af_spectrum *s)
 {
-  size_t last = s->cfg.fft_size / 2;
+  size_t last = s->cfg.fft_size / 2, j = 1;
   const double *g = s->mag2;
   s->lobe_count = 0;
   grid_fill(s, 1);
-  for (size_t j = 1; j < last && s->lobe_count < s->cfg.max_lobes; j++) {
+  while (j < last && s->lobe_count < s->cfg.max_lobes) {
     if (j + 1 >= s->grid_top)
       grid_fill(s, j + AF_SPECTRUM_GRID_BLOCK < last ? j + AF_SPECTRUM_GRID_BLOCK : last);
-    if (!(g[j] < g[j - 1] && g[j] < g[j + 1]))
+    /* the bins below stop have their upper neighbour computed: a tight loop
+     * over them to the next minimum */
+    size_t stop = s->grid_top - 1 < last ? s->grid_top - 1 : last;
+    while (j < stop && !(g[j] < g[j - 1] && g[j] < g[j + 1]))
+      j++;
+    if (j == stop)
       continue;
     size_t i = s->lobe_count++;
     s->min_bin[i] = j;
     s->min_theta[i] = refine_bin(s, j, -1.0, &s->min_g[i]);
+    j++;
   }
+}
+
+/* Bounds of the pulse's transform away from DC: with d1, d2 its first
+ * and second differences (x = 0 outside [0, n)), D1 (theta) = (1 - e^-i
+ * theta) A and D2 = (1 - e^-i theta)^2 A, and |1 - e^-i theta| =
+ * 2 sin(theta / 2), so |A(theta)| <= min(sum |x|, sum |d1| / (2 sin(theta / 2)),
+ * sum |d2| / (4 sin^2(theta / 2))): a smooth pulse's transform falls off
+ * as theta^-2 whatever its sign changes. */
+typedef struct {
+  double s0, s1, s2; /* sum |x|, sum |d1|, sum |d2| [N] */
+} af_spectrum_bounds;
+
+static af_spectrum_bounds pulse_bounds(const double *x, size_t n)
+{
+  af_spectrum_bounds b = {0.0, 0.0, 0.0};
+  double x1 = 0.0, x2 = 0.0; /* x[k - 1], x[k - 2] */
+  for (size_t k = 0; k < n + 2; k++) {
+    double v = k < n ? x[k] : 0.0;
+    b.s0 += fabs(v);
+    b.s1 += fabs(v - x1);
+    b.s2 += fabs(v - 2.0 * x1 + x2);
+    x2 = x1;
+    x1 = v;
+  }
+  return b;
+}
+
+/* Relative slack of the tail's bound, far above the rounding of the sums
+ * (n eps), of the sine and of |out|^2, and the FFT's own error on a bin as a
+ * share of sum |x| (a radix-2 transform of N points: ~eps log2 N sqrt N
+ * ||x||_2, below 1e-11 sum |x| at 2^20 points). */
+#define AF_SPECTRUM_BOUND_SLACK 1e-9
+#define AF_SPECTRUM_FFT_ERROR 1e-9
+
+/* Whether no computed g at bin j or above can exceed g_max: the bound at
+ * theta_j, the smallest in [theta_j, pi], widened by the slacks. */
+static int tail_below(const af_spectrum *s, const af_spectrum_bounds *b, size_t j, double g_max)
+{
+  double half = sin(0.5 * (double)j * (2.0 * AF_PI / (double)s->cfg.fft_size));
+  double a = fmin(b->s0, fmin(b->s1 / (2.0 * half), b->s2 / (4.0 * half * half)));
+  a = a * (1.0 + AF_SPECTRUM_BOUND_SLACK) + AF_SPECTRUM_FFT_ERROR * b->s0;
+  return half > 0.0 && a * a * (1.0 + AF_SPECTRUM_BOUND_SLACK) < g_max;
 }
 
 /* Global maximum. For a one-signed pulse |A(theta)| <= sum |x| = |A(0)|: DC,
  * exactly. Otherwise the grid argmax, refined unless at DC or Nyquist, where
- * |A| of a real pulse is even about the bin and the bin is the extremum. */
-static void locate_maximum(af_spectrum *s, int one_signed)
+ * |A| of a real pulse is even about the bin and the bin is the extremum.
+ * The grid's argmax is searched upwards only until the bound of the bins
+ * left (tail_below, tested once a block of bins) falls below the largest g
+ * so far: none of them could be taken (a bin is taken only when it exceeds
+ * every one before it), so the argmax is the whole grid's, without
+ * computing or reading g there. */
+static void locate_maximum(af_spectrum *s, const double *x, int one_signed)
 {
   size_t last = s->cfg.fft_size / 2, jmax = 0;
   s->max_g = s->mag2[0];
   if (one_signed)
     return;
-  grid_fill(s, last);
-  for (size_t j = 1; j <= last; j++)
+  af_spectrum_bounds b = pulse_bounds(x, s->n);
+  for (size_t j = 1; j <= last; j++) {
+    if (j % AF_SPECTRUM_GRID_BLOCK == 0 || j >= s->grid_top) { /* a block's first bin */
+      if (tail_below(s, &b, j, s->mag2[jmax]))
+        break;
+      if (j >= s->grid_top)
+        grid_fill(s, j + AF_SPECTRUM_GRID_BLOCK < last ? j + AF_SPECTRUM_GRID_BLOCK : last);
+    }
     if (s->mag2[j] > s->mag2[jmax])
       jmax = j;
+  }
   s->max_g = s->mag2[jmax];
   if (jmax > 0 && jmax < last) {
     double g;
@@ -514,7 +574,7 @@ af_status af_spectrum_execute(af_spectrum *s, const double *x, size_t n, double 
   s->dt_s = dt_s;
   s->grid_top = 0;
   locate_minima(s);
-  locate_maximum(s, one_signed);
+  locate_maximum(s, x, one_signed);
   return AF_OK;
 }
 
