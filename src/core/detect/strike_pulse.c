@@ -5,6 +5,8 @@
 
 #include <math.h>
 
+#include "numeric.h"
+
 /* The unroll pragmas (#pragma GCC unroll) are for GCC, the build whose
  * speed counts; clang (the sanitizer and fuzzing build) may leave them
  * rolled and warn. */
@@ -65,13 +67,6 @@
 /* A baseline window with fewer samples than this is not used. */
 #define AF_STRIKE_MIN_WINDOW 4
 #define AF_STRIKE_PI 3.14159265358979323846
-
-/* Two doubles in one SSE2 register (the vector extension of GCC and
- * clang): each lane gets the IEEE operation the scalar code does, and the
- * baseline x86-64 target has no FMA to contract them differently, so a
- * loop over two independent values at once gives their doubles bit for
- * bit. */
-typedef double af_strike_v2d __attribute__((vector_size(16)));
 
 /* Mean and centre of the finite samples of x in [lo, hi) (clipped to
  * [0, n)); returns their count (fewer than AF_STRIKE_MIN_WINDOW: 0, the
@@ -162,13 +157,12 @@ static void remove_baseline(af_span *s, long a, long e, long guard)
   /* A non-finite sample makes its lane's sum non-finite: one add a sample
    * instead of fill_holes' test (a sum that overflows only runs fill_holes
    * on a finite r, which leaves it as it is). Two samples a step
-   * (af_strike_v2d): each r[k] the same double. */
-  af_strike_v2d b0 = {s->b0, s->b0}, slope = {s->slope, s->slope}, at = {0.0, 1.0},
-                sum2 = {0.0, 0.0};
-  const af_strike_v2d two = {2.0, 2.0};
+   * (af_v2d): each r[k] the same double. */
+  af_v2d b0 = {s->b0, s->b0}, slope = {s->slope, s->slope}, at = {0.0, 1.0}, sum2 = {0.0, 0.0};
+  const af_v2d two = {2.0, 2.0};
   long k = 0;
   for (; k + 1 < s->n; k += 2, at += two) { /* at = k, k + 1: exact below 2^53 */
-    af_strike_v2d x, r;
+    af_v2d x, r;
     __builtin_memcpy(&x, s->x + k, sizeof x);
     r = x - (b0 + slope * at);
     __builtin_memcpy(s->r + k, &r, sizeof r);
@@ -419,13 +413,13 @@ static void edge_lattice(double scale, long m_max, af_edge_lattice *t)
   t->q00[1] = t->q10[1] = t->q11[1] = 0.0;
   for (long m = 1 - AF_STRIKE_LATTICE_PAD; m <= 0; m++)
     t->p0[AF_STRIKE_LATTICE_PAD + m] = t->p1[AF_STRIKE_LATTICE_PAD + m] = 0.0;
-  /* m and m + 1 a step (af_strike_v2d): each sum runs over one parity, so
+  /* m and m + 1 a step (af_v2d): each sum runs over one parity, so
    * q[m + 1], q[m + 2] are q[m - 1], q[m] plus the pair's terms, the same
    * additions as one m at a time; edge_basis' operations per lane. */
   long m = 1;
   for (; m + 1 <= m_max; m += 2) {
-    af_strike_v2d s = {(double)m * 0.5 * scale, (double)(m + 1) * 0.5 * scale}, s2 = s * s;
-    af_strike_v2d root = {sqrt(s[0]), sqrt(s[1])}, p0 = s * root, p1 = s2 * s2, q00, q10, q11;
+    af_v2d s = {(double)m * 0.5 * scale, (double)(m + 1) * 0.5 * scale}, s2 = s * s;
+    af_v2d root = {sqrt(s[0]), sqrt(s[1])}, p0 = s * root, p1 = s2 * s2, q00, q10, q11;
     __builtin_memcpy(&q00, &t->q00[m - 1], sizeof q00);
     __builtin_memcpy(&q10, &t->q10[m - 1], sizeof q10);
     __builtin_memcpy(&q11, &t->q11[m - 1], sizeof q11);
@@ -498,7 +492,7 @@ static void edge_lattice_sums(const af_edge *e, const af_edge_lattice *t, long z
 /* Four zeros of the scan at once: lane j the zero i_j = i + j side, the
  * next ones in the scan's order. Its m at k is m_0(k) - j, so the four
  * lanes' basis values at k are the four table entries m_0 - 3 .. m_0 in a
- * row, two af_strike_v2d registers. The lanes run over the
+ * row, two af_v2d registers. The lanes run over the
  * union of their sides; at a k outside its own side a lane's m is 0 or
  * below, where the table holds 0: the sum adds 0 x r[k] = +-0, which leaves
  * every partial sum the same double (0 + -0 = 0), r being finite (e->yy
@@ -522,11 +516,11 @@ static bool edge_lattice_group(const af_edge *e, const af_edge_lattice *t, long 
         (!hi_in && (m_hi > 0 || m_hi <= -AF_STRIKE_LATTICE_PAD)))
       return false;
   }
-  af_strike_v2d s0_hi = {0.0, 0.0}, s0_lo = {0.0, 0.0}, s1_hi = {0.0, 0.0}, s1_lo = {0.0, 0.0};
+  af_v2d s0_hi = {0.0, 0.0}, s0_lo = {0.0, 0.0}, s1_hi = {0.0, 0.0}, s1_lo = {0.0, 0.0};
   const double *p0 = t->p0 + AF_STRIKE_LATTICE_PAD - 3, *p1 = t->p1 + AF_STRIKE_LATTICE_PAD - 3;
   long m = edge_lattice_m(e, zl, i, lo), dm = 2 * e->side;
   for (long k = lo; k <= hi; k++, m += dm) {
-    af_strike_v2d y = {e->r[k], e->r[k]}, a, b, c, d; /* a, b: m - 3, m - 2, m - 1, m */
+    af_v2d y = {e->r[k], e->r[k]}, a, b, c, d; /* a, b: m - 3, m - 2, m - 1, m */
     __builtin_memcpy(&a, p0 + m, sizeof a);
     __builtin_memcpy(&b, p0 + m + 2, sizeof b);
     __builtin_memcpy(&c, p1 + m, sizeof c);
@@ -676,16 +670,16 @@ static double poly_value(const double *c, double u)
 }
 
 /* The largest of poly_value at u = ulo + i du, i = 0 .. steps, and its u
- * (the first on a tie) into *best, *ub: two u's a step (af_strike_v2d),
+ * (the first on a tie) into *best, *ub: two u's a step (af_v2d),
  * each value the same double, compared in i's order. */
 static void peak_scan(const double *c, double ulo, double du, long steps, double *best, double *ub)
 {
-  const af_strike_v2d lo = {ulo, ulo}, step = {du, du}, two = {2.0, 2.0};
-  af_strike_v2d at = {0.0, 1.0}; /* i, i + 1: exact below 2^53 */
+  const af_v2d lo = {ulo, ulo}, step = {du, du}, two = {2.0, 2.0};
+  af_v2d at = {0.0, 1.0}; /* i, i + 1: exact below 2^53 */
   long i = 0;
   for (; i + 1 <= steps; i += 2, at += two) {
-    af_strike_v2d u = lo + at * step;
-    af_strike_v2d v = (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
+    af_v2d u = lo + at * step;
+    af_v2d v = (((c[4] * u + c[3]) * u + c[2]) * u + c[1]) * u + c[0];
     for (int j = 0; j < 2; j++)
       if (v[j] > *best) {
         *best = v[j];
@@ -723,7 +717,7 @@ _Static_assert(AF_STRIKE_SINC_HALF == 16, "the window's step constants are for 1
  * d = k0 - j, sin(pi (t - j)) = (-1)^d sin(pi f) and the window's angle
  * pi (f + d) / AF_STRIKE_SINC_HALF steps by a fixed rotation from tap to tap:
  * three sines and cosines per call instead of two per tap. */
-static double sinc_at(const double *r, long n, double t)
+AF_NUMERIC_KERNEL static double sinc_at(const double *r, long n, double t)
 {
   long k0 = (long)floor(t);
   double f = t - (double)k0, sf = sin(AF_STRIKE_PI * f), sum = 0.0;

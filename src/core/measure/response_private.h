@@ -33,6 +33,7 @@
 #include <gsl/gsl_vector.h>
 
 #include "fft_plan.h"
+#include "numeric.h"
 
 #define AF_PI 3.14159265358979323846
 /* Shortest window or noise segment accepted [samples]: below this neither a
@@ -163,16 +164,6 @@ typedef struct {
   double complex c, z, zm, zl; /* z^m (m = r->split_len), z^L (the fade-in) */
 } af_mode_k;
 
-/* The fits' numeric kernels (the model's pass over the bins, the solver)
- * carry no coverage instrumentation in the fuzzing build: libFuzzer's hook
- * on every loop comparison made them several times slower there (GSL's
- * solver, which they replace, was never instrumented) and their branches are
- * arithmetic, not input structure. ASan and UBSan still check them. */
-#if defined(__clang__) /* clang's spelling; gcc builds no fuzzer */
-#define AF_NUMERIC_KERNEL __attribute__((no_sanitize("coverage")))
-#else
-#define AF_NUMERIC_KERNEL
-#endif
 /* The small loops' unroll pragmas (#pragma GCC unroll) are for GCC, the
  * build whose speed counts; clang (the sanitizer and fuzzing build) takes
  * them as a count to unroll by and warns where a bound is not a constant:
@@ -181,13 +172,10 @@ typedef struct {
 #pragma clang diagnostic ignored "-Wpass-failed"
 #endif
 
-/* Two doubles in one SSE2 register (the vector extension of GCC and clang):
- * each lane gets the IEEE operation a scalar would, so a loop over two bins
- * at once written as the scalar complex arithmetic expands (GCC under
- * -fcx-limited-range: (a + ib)(c + id) = (ac - bd) + i(ad + bc), a real
- * operand acting on each part alone) gives its doubles bit for bit (the
- * baseline x86-64 target has no FMA to contract either differently). */
-typedef double af_v2d __attribute__((vector_size(16)));
+/* af_v2d (numeric.h): a loop over two bins at once written as the scalar
+ * complex arithmetic expands (GCC under -fcx-limited-range: (a + ib)(c + id)
+ * = (ac - bd) + i(ad + bc), a real operand acting on each part alone) gives
+ * its doubles bit for bit. */
 /* Complex values of two bins, real and imaginary parts apart. */
 typedef struct {
   af_v2d re, im;

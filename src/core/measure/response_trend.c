@@ -532,8 +532,9 @@ typedef struct {
 } share_k;
 
 /* Side s's terms of a bin (its tables' row gt, pt) added to the sums g, p. */
-static inline void share_side(const share_k *k, size_t s, const double complex *gt,
-                              const double complex *pt, af_v2d *g, af_v2d *p)
+AF_NUMERIC_KERNEL static inline void share_side(const share_k *k, size_t s,
+                                                const double complex *gt, const double complex *pt,
+                                                af_v2d *g, af_v2d *p)
 {
   af_v2d x = v2d_of(gt[s]), y = v2d_of(pt[s]);
   *g += k->c_re[s] * x + k->c_im[s] * v2d_swap(x);
@@ -566,7 +567,8 @@ static inline __attribute__((always_inline)) void share_apply_n(af_response *r, 
 
 /* share_apply_n, inlined with the sides of the default count of harmonics
  * constant (the loop over them unrolled: 7 k instructions a strike). */
-static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo, size_t hi)
+AF_NUMERIC_KERNEL static void share_apply(af_response *r, const share_k *k, size_t n, size_t lo,
+                                          size_t hi)
 {
   if (n == 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS))
     share_apply_n(r, k, 2 * (1 + AF_DEFAULT_MEASURE_HUM_HARMONICS), lo, hi);

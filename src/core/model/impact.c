@@ -24,6 +24,7 @@
 #include <threads.h>
 
 #include "af_defaults.h"
+#include "numeric.h"
 
 /* Elastic contact time without gravity in units of (m1^2/(R E*^2 v0))^(1/5):
  * tau_c (15/16)^(2/5), with tau_c = 2 int_0^1 dx / sqrt(1 - x^2.5)
@@ -395,7 +396,7 @@ static af_status locate(af_impact *w, af_event ev, const af_state *a, const af_s
 
 /* Quintic Hermite on s in [0, 1]; c = {f0, f0', f0'', f1, f1', f1''} with the
  * derivatives already scaled by the interval length (and its square). */
-static double quintic_fit(const double c[6], double s)
+AF_NUMERIC_KERNEL static double quintic_fit(const double c[6], double s)
 {
   double s2 = s * s, s3 = s2 * s, s4 = s3 * s, s5 = s4 * s;
   return c[0] * (1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5) +

@@ -13,6 +13,7 @@
 #include <threads.h>
 
 #include "impact.h"
+#include "numeric.h"
 
 /* Per-node figures besides the profile. */
 enum { FIG_LN_TAU_C, FIG_IMPULSE, FIG_PEAK, N_FIGS };
@@ -147,7 +148,8 @@ static int stencil(double x, double step, int count, double w[4], double dw[4])
   return i0;
 }
 
-af_status af_pulse_table_shape(const af_pulse_table *t, double chi, double gamma, af_pulse_shape *s)
+AF_NUMERIC_KERNEL af_status af_pulse_table_shape(const af_pulse_table *t, double chi, double gamma,
+                                                 af_pulse_shape *s)
 {
   if (t == NULL || s == NULL || !af_pulse_table_covers(chi, gamma))
     return AF_EINVAL;
