@@ -22,7 +22,6 @@
  * fallback's result is the ODE fit's, bit for bit.
  */
 #include "fit_private.h"
-#include "numeric.h"
 
 #include <math.h>
 #include <string.h>
@@ -219,7 +218,7 @@ af_status af_fit_table_start_figures(af_fit *w, const double *x, af_fit_scales *
 
 /* ... and the model at the data times: values, slopes, Jacobian rows and
  * the scaled residual. */
-AF_NUMERIC_KERNEL af_status af_fit_table_model(af_fit *w, const double *x)
+af_status af_fit_table_model(af_fit *w, const double *x)
 {
   af_fit_scales sc;
   double t0_s;
