@@ -39,7 +39,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_analyze_session af_core)
   add_dependencies(tests test_analyze_session)
   af_add_test(NAME cli_test_analyze_session COMMAND test_analyze_session
-              WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} LABELS cli unit)
+              WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} LABELS cli)
   # firmness_report on a small strike_bag against its truth, and every kind of
   # bad input; the bad bags are written with rosbag's Python (devel space env).
   if(TARGET firmness_report AND TARGET strike_bag)
