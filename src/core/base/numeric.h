@@ -14,6 +14,14 @@
 #define AF_NUMERIC_KERNEL
 #endif
 
+/* The small loops' unroll pragmas (#pragma GCC unroll) are for GCC, the
+ * build whose speed counts; clang (the sanitizer and fuzzing build) takes
+ * them as a count to unroll by and warns where a bound is not a constant:
+ * there it may leave them rolled. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
 /* Two doubles in one SSE2 register (the vector extension of GCC and clang):
  * each lane gets the IEEE operation a scalar would, and the baseline x86-64
  * target has no FMA to contract it differently, so a loop over two values at

@@ -7,13 +7,6 @@
 
 #include "numeric.h"
 
-/* The unroll pragmas (#pragma GCC unroll) are for GCC, the build whose
- * speed counts; clang (the sanitizer and fuzzing build) may leave them
- * rolled and warn. */
-#if defined(__clang__)
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
-
 /* The peak is the maximum of a least-squares quartic through the samples
  * above this fraction of the largest (about 30 samples of a 1.4 ms pulse at
  * 50 kHz): a parabola would need a higher level (fewer samples, more noise)
@@ -829,8 +822,7 @@ static double refine_peak(const double *r, long n, long ipk, double *at)
     double u = (double)(k - ipk) / w, p = 1.0, pw[AF_STRIKE_PEAK_TERMS];
     for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++, p *= u)
       pw[i] = p;
-      /* unrolled (a constant count: the sums stay in registers) */
-#pragma GCC unroll 5
+#pragma GCC unroll 5 /* a constant count: the sums stay in registers */
     for (int i = 0; i < AF_STRIKE_PEAK_TERMS; i++) {
       t[i] += r[k] * pw[i];
 #pragma GCC unroll 5

@@ -164,14 +164,6 @@ typedef struct {
   double complex c, z, zm, zl; /* z^m (m = r->split_len), z^L (the fade-in) */
 } af_mode_k;
 
-/* The small loops' unroll pragmas (#pragma GCC unroll) are for GCC, the
- * build whose speed counts; clang (the sanitizer and fuzzing build) takes
- * them as a count to unroll by and warns where a bound is not a constant:
- * there it may leave them rolled. */
-#if defined(__clang__)
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
-
 /* af_v2d (numeric.h): a loop over two bins at once written as the scalar
  * complex arithmetic expands (GCC under -fcx-limited-range: (a + ib)(c + id)
  * = (ac - bd) + i(ad + bc), a real operand acting on each part alone) gives
