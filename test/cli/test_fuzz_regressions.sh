@@ -14,6 +14,11 @@ for f in "$fuzz"/cli/regress_*; do
   mapfile -d '' args <"$f"
   expect_bounded 2 "firmness_model" "${args[@]}"
 done
+# yaml: the input is a settings file (fuzz_yaml.c); design reads it as the cultivar's
+for f in "$fuzz"/yaml/regress_*; do
+  [ -e "$f" ] || continue
+  expect_bounded 2 "$(basename "$f")" design --cultivar "$f"
+done
 # bag: the input is the file (fuzz_bag.c); firmness_report reads it
 if [ -x "$report" ]; then
   for f in "$fuzz"/bag/regress_*; do

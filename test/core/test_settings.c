@@ -715,6 +715,21 @@ static void test_yaml_bytes(void)
   CHECK_WORDS(LOAD_BYTES(&s, "lobe: 2\n\xef\xbb\xbflobe: 3\n", err, path), AF_EINVAL, err,
               ":2:2: did not find expected key while parsing a block mapping");
   remove(path);
+  /* A text row is one line: a line break folded into a quoted value, or a
+   * tab from an escape, is refused by name and place, in one line (the
+   * grade list's messages quote its class names). */
+  CHECK_WORDS(LOAD_BYTES(&s, "grade_classes: \"soft | 1e5\n\n  | firm\"\n", err, path), AF_EINVAL,
+              err,
+              "grade_classes = 'soft | 1e5?| firm' holds a control character (0x0a at "
+              "character 11)");
+  remove(path);
+  CHECK_WORDS(LOAD_BYTES(&s, "cultivar: \"Gala\\tRed\"\n", err, path), AF_EINVAL, err,
+              "cultivar = 'Gala?Red' holds a control character (0x09 at character 5)");
+  remove(path);
+  CHECK_ERROR(af_settings_set_string(&s, AF_SETTING_FRAME_PREFIX, "lane\x7f", err, sizeof err),
+              AF_EINVAL, err,
+              "frame_prefix = 'lane?' holds a control character (0x7f at character 5)");
+  AF_CHECK(strcmp(af_settings_string(&s, AF_SETTING_CULTIVAR), "Gala") == 0);
   /* 1023 bytes of a line are accepted, 1024 refused (with its CR LF or not) */
   static char line[1100];
   memset(line, 'x', sizeof line);

@@ -72,8 +72,8 @@ static af_status parse_name(const char *tok, size_t n, const char *name, af_grad
 {
   char *dst = g->names[g->n_classes];
   if (!trimmed(tok, n, dst, AF_GRADE_NAME_MAX)) {
-    af_text(err, len, "%s: class %zu's name '%.40s...' is longer than %d characters", name,
-            g->n_classes + 1, tok, AF_GRADE_NAME_MAX - 1);
+    af_text_line(err, len, "%s: class %zu's name '%.40s...' is longer than %d characters", name,
+                 g->n_classes + 1, tok, AF_GRADE_NAME_MAX - 1);
     return AF_EINVAL;
   }
   if (dst[0] == '\0') {
@@ -82,12 +82,12 @@ static af_status parse_name(const char *tok, size_t n, const char *name, af_grad
     return AF_EINVAL;
   }
   if (strcmp(dst, AF_GRADE_UNGRADED) == 0) {
-    af_text(err, len, "%s: '%s' is reserved for strikes without a class", name, dst);
+    af_text_line(err, len, "%s: '%s' is reserved for strikes without a class", name, dst);
     return AF_EINVAL;
   }
   for (size_t k = 0; k < g->n_classes; k++)
     if (strcmp(g->names[k], dst) == 0) {
-      af_text(err, len, "%s: class name '%s' is given twice", name, dst);
+      af_text_line(err, len, "%s: class name '%s' is given twice", name, dst);
       return AF_EINVAL;
     }
   g->n_classes++;
@@ -102,14 +102,14 @@ static af_status parse_bound(const char *tok, size_t n, const char *name, af_gra
   af_grade_quantity_range(g->quantity, &lo, &hi);
   const char *after = g->names[g->n_classes - 1];
   if (!trimmed(tok, n, text, sizeof text) || text[0] == '\0') {
-    af_text(err, len, "%s: no boundary after class '%s' (expected a number in %s)", name, after,
-            af_grade_quantity_unit(g->quantity));
+    af_text_line(err, len, "%s: no boundary after class '%s' (expected a number in %s)", name,
+                 after, af_grade_quantity_unit(g->quantity));
     return AF_EINVAL;
   }
   errno = 0;
   double v = strtod(text, &end);
   if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
-    af_text(err, len, "%s: boundary '%s' after class '%s' is not a number", name, text, after);
+    af_text_line(err, len, "%s: boundary '%s' after class '%s' is not a number", name, text, after);
     return AF_EINVAL;
   }
   if (!(v >= lo && v <= hi)) {
@@ -120,8 +120,8 @@ static af_status parse_bound(const char *tok, size_t n, const char *name, af_gra
     return AF_EINVAL;
   }
   if (g->n_classes >= 2 && !(v > g->lower[g->n_classes - 1])) {
-    af_text(err, len, "%s: boundary %g after class '%s' must be above the one before (%g)", name, v,
-            after, g->lower[g->n_classes - 1]);
+    af_text_line(err, len, "%s: boundary %g after class '%s' must be above the one before (%g)",
+                 name, v, after, g->lower[g->n_classes - 1]);
     return AF_EINVAL;
   }
   if (g->n_classes >= AF_GRADE_CLASSES_MAX) {
@@ -178,7 +178,8 @@ af_status af_grade_config_from_settings(const af_settings *s, af_grade_config *o
   const af_setting_def *d = af_setting_def_of(AF_SETTING_GRADE_QUANTITY);
   if (af_settings_choice(s, AF_SETTING_GRADE_QUANTITY, word, sizeof word) != AF_OK ||
       af_grade_quantity_parse(word, &q) != AF_OK) {
-    af_text(err, len, "%s%s = '%s' is not one of: %s", s->name_prefix, d->name, word, d->choices);
+    af_text_line(err, len, "%s%s = '%s' is not one of: %s", s->name_prefix, d->name, word,
+                 d->choices);
     return AF_EINVAL;
   }
   snprintf(name, sizeof name, "%s%s", s->name_prefix,

@@ -129,6 +129,16 @@ static af_status store_string(af_settings *s, af_setting_id id, const char *v, c
                  af_settings_name_of(s, id).text, v, d->max_chars);
     return AF_EINVAL;
   }
+  /* Every text row is one line (a frame, a link, a path, a class list): a
+   * newline or tab from a YAML escape would split the messages, names and
+   * markers that quote it. */
+  for (size_t k = 0; v[k] != '\0'; k++)
+    if (af_text_is_control(v[k])) {
+      af_text_line(err, len, "%s = '%.40s%s' holds a control character (0x%02x at character %zu)",
+                   af_settings_name_of(s, id).text, v, strlen(v) > 40 ? "..." : "",
+                   (unsigned)(unsigned char)v[k], k + 1);
+      return AF_EINVAL;
+    }
   snprintf(s->text[slot], sizeof s->text[slot], "%s", v);
   s->present[id] = true;
   s->given[id] = true;
