@@ -115,14 +115,18 @@ for n in "${names[@]}"; do
   pids+=($!)
   pid_of[$n]=$!
   if [ "${#pids[@]}" -ge "$jobs" ]; then
-    wait "${pids[0]}"
-    code_of[${pids[0]}]=$?
+    # (a harness's failure is its exit code, kept: under set -e a bare
+    # wait would end this script before the table and the other harnesses)
+    code=0
+    wait "${pids[0]}" || code=$?
+    code_of[${pids[0]}]=$code
     pids=("${pids[@]:1}")
   fi
 done
 for p in "${pids[@]}"; do
-  wait "$p"
-  code_of[$p]=$?
+  code=0
+  wait "$p" || code=$?
+  code_of[$p]=$code
 done
 
 printf '%-10s %8s %12s %10s %8s  %s\n' harness seconds executions "exec/s" corpus result
@@ -168,9 +172,13 @@ for n in "${names[@]}"; do
   # a harness removes its scratch files when it exits (test/fuzz/fuzz_scratch.h)
   # (a machine without /dev/shm: find's complaint is no failure of the harness)
   left=$( (find /dev/shm /tmp -maxdepth 1 -name "af_fuzz_*_${pid_of[$n]}.*" 2>/dev/null || true) | wc -l)
-  if [ "$left" -gt 0 ]; then
+  # (a harness that crashed never reached its exit handler: the crash is the
+  # finding, and its scratch files are removed here)
+  if [ "$left" -gt 0 ] && [ "$result" = ok ]; then
     result="FAILED ($left scratch file(s) af_fuzz_*_${pid_of[$n]}.* left in /dev/shm or /tmp)"
     status=1
+  elif [ "$left" -gt 0 ]; then
+    find /dev/shm /tmp -maxdepth 1 -name "af_fuzz_*_${pid_of[$n]}.*" -delete 2>/dev/null || true
   fi
   printf '%-10s %8s %12s %10s %8s  %s\n' "$n" "$seconds" "${execs:-?}" "${rate:-?}" "$corpus" "$result"
 done
