@@ -29,14 +29,10 @@ if(CATKIN_ENABLE_TESTING)
   add_dependencies(tests firmness_model)
   # analyze's session (the fuzz harness's way in) against analyze alone.
   add_executable(test_analyze_session EXCLUDE_FROM_ALL
-                 ${PROJECT_SOURCE_DIR}/src/tools/analyze.c ${PROJECT_SOURCE_DIR}/src/tools/cli_flags.c
-                 ${PROJECT_SOURCE_DIR}/src/tools/recording.c
                  ${PROJECT_SOURCE_DIR}/test/cli/test_analyze_session.c)
-  target_include_directories(test_analyze_session PRIVATE ${PROJECT_SOURCE_DIR}/test/core
-                                                          ${PROJECT_SOURCE_DIR}/src/tools)
-  target_compile_definitions(test_analyze_session PRIVATE AF_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+  target_include_directories(test_analyze_session PRIVATE ${PROJECT_SOURCE_DIR}/test/core)
   target_compile_options(test_analyze_session PRIVATE ${AF_WARNINGS})
-  target_link_libraries(test_analyze_session af_core)
+  target_link_libraries(test_analyze_session af_analyze af_core)
   add_dependencies(tests test_analyze_session)
   af_add_test(NAME cli_test_analyze_session COMMAND test_analyze_session
               WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} LABELS cli)
@@ -283,16 +279,13 @@ if(CATKIN_ENABLE_TESTING)
       target_link_options(${name} PRIVATE -fsanitize=fuzzer)
       target_link_libraries(${name} af_shim af_core)
       set_target_properties(${name} PROPERTIES LINKER_LANGUAGE CXX)
-      # The CLI's own sources (they are built into firmness_model, not a library).
+      # The CLI's own libraries (src/tools), as firmness_model links them.
       if(name STREQUAL "fuzz_cli")
-        target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/src/tools/cli_flags.c)
+        target_link_libraries(${name} af_cli_flags)
       elseif(name STREQUAL "fuzz_analyze")
-        target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/src/tools/analyze.c
-                                       ${PROJECT_SOURCE_DIR}/src/tools/recording.c
-                                       ${PROJECT_SOURCE_DIR}/src/tools/cli_flags.c)
-        target_compile_definitions(${name} PRIVATE AF_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
+        target_link_libraries(${name} af_analyze)
       elseif(name STREQUAL "fuzz_wav")
-        target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/src/tools/recording.c)
+        target_link_libraries(${name} af_recording)
       endif()
       add_dependencies(tests ${name})
       af_add_test(NAME ${name}_corpus
