@@ -110,23 +110,24 @@ run_one() {
 status=0
 pids=()
 declare -A pid_of code_of
+# Waits for harness job $1 and keeps its exit code (under set -e a bare wait
+# on a failed harness would end this script before the table and the others).
+reap() {
+  local code=0
+  wait "$1" || code=$?
+  code_of[$1]=$code
+}
 for n in "${names[@]}"; do
   run_one "$n" &
   pids+=($!)
   pid_of[$n]=$!
   if [ "${#pids[@]}" -ge "$jobs" ]; then
-    # (a harness's failure is its exit code, kept: under set -e a bare
-    # wait would end this script before the table and the other harnesses)
-    code=0
-    wait "${pids[0]}" || code=$?
-    code_of[${pids[0]}]=$code
+    reap "${pids[0]}"
     pids=("${pids[@]:1}")
   fi
 done
 for p in "${pids[@]}"; do
-  code=0
-  wait "$p" || code=$?
-  code_of[$p]=$code
+  reap "$p"
 done
 
 printf '%-10s %8s %12s %10s %8s  %s\n' harness seconds executions "exec/s" corpus result
